@@ -1,0 +1,114 @@
+// host/app/run_command.cpp: `rubble run SCENE`: step a scene, write its trajectory and metrics.
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <optional>
+
+#include "host/app/commands.h"
+#include "host/io/metrics.h"
+#include "host/io/trajectory_writer.h"
+#include "rubble/world.h"
+
+namespace rubble::app {
+namespace {
+
+std::atomic<bool> gInterrupted{false};
+extern "C" void onInterrupt(int) { gInterrupted = true; }
+
+// A one-line progress bar on stderr, redrawn at most ten times a second.
+class Progress {
+  public:
+    Progress(bool enabled, int total) : enabled_(enabled && total > 0), total_(total) {}
+    void update(int done, double msPerStep) {
+        if (!enabled_) return;
+        const auto now = Clock::now();
+        if (done < total_ && now - last_ < std::chrono::milliseconds(100)) return;
+        last_ = now;
+        const int width = 30;
+        const int filled = int(double(width) * done / total_);
+        std::fprintf(stderr, "\r[%.*s%*s] %3d%% %d/%d steps, %.2f ms/step", filled,
+                     "##############################", width - filled, "", 100 * done / total_,
+                     done, total_, msPerStep);
+        std::fflush(stderr);
+    }
+    void clear() {
+        if (enabled_) std::fprintf(stderr, "\r\033[K");
+    }
+
+  private:
+    using Clock = std::chrono::steady_clock;
+    bool enabled_;
+    int total_;
+    Clock::time_point last_{};
+};
+
+} // namespace
+
+int runCommand(const RunArgs& args) {
+    Result<Scene> scene = loadScene(args.scene);
+    if (!scene) return report(scene.error());
+    if (Status s = applyOverrides(args.overrides, *scene); !s) return report(s.error());
+    if (args.every < 1) return report(makeError(ErrorKind::BadInput, "--every", "must be 1 or more"));
+    Result<World> world = World::create(*scene, args.run);
+    if (!world) return report(world.error());
+
+    std::optional<TrajectoryWriter> out;
+    if (!args.out.empty()) {
+        Result<TrajectoryWriter> w = TrajectoryWriter::open(args.out);
+        if (!w) return report(w.error());
+        out.emplace(std::move(*w));
+        if (Status s = out->write(*world); !s) return report(s.error());
+    }
+
+    MetricsRecorder metrics;
+    metrics.start(*world);
+    std::signal(SIGINT, onInterrupt);
+    Progress progress(!args.quiet && isatty(STDERR_FILENO), scene->simulation.steps);
+    std::optional<Error> failure;
+    for (int step = 1; step <= scene->simulation.steps; ++step) {
+        if (gInterrupted) break;
+        if (Status s = world->step(); !s) {
+            failure = s.error();
+            break;
+        }
+        metrics.afterStep(*world);
+        if (out && step % args.every == 0)
+            if (Status s = out->write(*world); !s) {
+                progress.clear();
+                return report(s.error());
+            }
+        progress.update(step, metrics.medianMs());
+    }
+    progress.clear();
+    std::signal(SIGINT, SIG_DFL);
+
+    if (gInterrupted) {
+        std::fprintf(stderr, "rubble: interrupted after step %lld; the partial output is %s\n",
+                     static_cast<long long>(world->stepIndex()),
+                     out ? out->partialPath().c_str() : "(none)");
+        return kExitInterrupted;
+    }
+    // A run that blew up keeps every step it wrote, under the final name, and says so.
+    if (out)
+        if (Status s = out->finish(); !s) return report(s.error());
+    if (!args.metrics.empty())
+        if (Status s = writeFileAtomically(args.metrics, metrics.toJson(*world)); !s)
+            return report(s.error());
+    if (failure) {
+        const int code = report(*failure);
+        std::fprintf(stderr, "rubble: stopped at step %lld; %s holds the steps before it\n",
+                     static_cast<long long>(world->stepIndex()),
+                     out ? out->path().c_str() : "no trajectory file");
+        return code;
+    }
+    std::printf("%s: %lld steps, %u bodies, %u contacts, %.3f ms/step (median), %.2f s%s%s\n",
+                world->sceneName().c_str(), static_cast<long long>(world->stepIndex()),
+                world->bodyCount(), metrics.lastContacts(), metrics.medianMs(),
+                metrics.wallSeconds(), out ? ", wrote " : "", out ? out->path().c_str() : "");
+    return kExitOk;
+}
+
+} // namespace rubble::app

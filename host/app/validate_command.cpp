@@ -1,0 +1,60 @@
+// host/app/validate_command.cpp: `rubble validate SCENE`: load, build, summarise.
+#include <cstdio>
+#include <map>
+
+#include "host/app/commands.h"
+#include "rubble/world.h"
+
+namespace rubble::app {
+namespace {
+
+const char* shapeTypeName(ShapeType t) {
+    switch (t) {
+    case ShapeType::Box: return "box";
+    case ShapeType::Sphere: return "sphere";
+    case ShapeType::Convex: return "convex";
+    case ShapeType::Mesh: return "mesh";
+    case ShapeType::Plane: return "plane";
+    }
+    return "?";
+}
+
+} // namespace
+
+int validateCommand(const ValidateArgs& args) {
+    Result<Scene> scene = loadScene(args.scene);
+    if (!scene) return report(scene.error());
+    Result<World> world = World::create(*scene);
+    if (!world) return report(world.error());
+
+    std::size_t statics = 0;
+    double totalMass = 0.0;
+    for (std::uint32_t i = 0; i < world->bodyCount(); ++i) {
+        const BodyState b = world->body(i);
+        statics += b.isStatic ? 1 : 0;
+        totalMass += b.mass;
+    }
+    std::printf("scene %s (%s): valid\n", scene->name.c_str(), args.scene.c_str());
+    std::printf("bodies: %u (%zu static, %zu dynamic), total mass %.6g kg\n", world->bodyCount(),
+                statics, world->bodyCount() - statics, totalMass);
+    std::printf("shapes: %zu", scene->shapes.size());
+    for (std::size_t i = 0; i < scene->shapes.size(); ++i)
+        std::printf("%s%s (%s)", i ? ", " : ": ", scene->shapes[i].name.c_str(),
+                    shapeTypeName(scene->shapes[i].type));
+    std::printf("\n");
+    std::size_t balls = 0;
+    for (const JointDesc& j : scene->joints) balls += j.type == JointType::Ball ? 1 : 0;
+    std::printf("joints: %zu (%zu ball, %zu hinge)\n", scene->joints.size(), balls,
+                scene->joints.size() - balls);
+    std::printf("simulation: dt %.6g s, %d steps, %s integrator, %s backend, %s collision, %s "
+                "solver (%d iterations)\n",
+                double(scene->simulation.dt), scene->simulation.steps,
+                std::string(toString(scene->simulation.integrator)).c_str(),
+                std::string(toString(scene->simulation.backend)).c_str(),
+                std::string(toString(scene->simulation.collisionMethod())).c_str(),
+                std::string(toString(scene->simulation.solver.type)).c_str(),
+                scene->simulation.solver.iterations);
+    return kExitOk;
+}
+
+} // namespace rubble::app

@@ -1,0 +1,100 @@
+// host/core/mass_properties.cpp: closed forms for boxes and spheres, and polyhedral integration
+// over triangles for hulls and meshes (Eberly 2002). Doubles throughout: thin or large meshes lose
+// too much in float.
+#include <numbers>
+#include "host/core/mass_properties.h"
+
+namespace rubble {
+
+MassProperties boxMassProperties(glm::vec3 halfExtents) {
+    const glm::dvec3 h(halfExtents);
+    MassProperties mp;
+    mp.volume = 8.0 * h.x * h.y * h.z;
+    // I = m/3 diag(b^2 + c^2, a^2 + c^2, a^2 + b^2) for half extents a, b, c.
+    const double k = mp.volume / 3.0;
+    mp.inertia = glm::dmat3(0.0);
+    mp.inertia[0][0] = k * (h.y * h.y + h.z * h.z);
+    mp.inertia[1][1] = k * (h.x * h.x + h.z * h.z);
+    mp.inertia[2][2] = k * (h.x * h.x + h.y * h.y);
+    return mp;
+}
+
+MassProperties sphereMassProperties(float radius) {
+    const double r = radius;
+    MassProperties mp;
+    mp.volume = 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    mp.inertia = glm::dmat3(0.4 * mp.volume * r * r);
+    return mp;
+}
+
+namespace {
+
+// The per-axis sums of one triangle's coordinates w0, w1, w2 that the face integrals need.
+struct AxisSums {
+    double f1, f2, f3, g0, g1, g2;
+};
+
+AxisSums axisSums(double w0, double w1, double w2) {
+    const double t0 = w0 + w1;
+    AxisSums s;
+    s.f1 = t0 + w2;
+    const double t1 = w0 * w0;
+    const double t2 = t1 + w1 * t0;
+    s.f2 = t2 + w2 * s.f1;
+    s.f3 = w0 * t1 + w1 * t2 + w2 * s.f2;
+    s.g0 = s.f2 + w0 * (s.f1 + w0);
+    s.g1 = s.f2 + w1 * (s.f1 + w1);
+    s.g2 = s.f2 + w2 * (s.f1 + w2);
+    return s;
+}
+
+} // namespace
+
+MassProperties polyhedronMassProperties(std::span<const glm::vec3> vertices,
+                                        std::span<const glm::uvec3> triangles) {
+    // Integrals of 1, x, y, z, x^2, y^2, z^2, xy, yz, zx over the solid.
+    double in[10] = {};
+    for (const glm::uvec3& t : triangles) {
+        const glm::dvec3 p0(vertices[t.x]), p1(vertices[t.y]), p2(vertices[t.z]);
+        // Unnormalised outward normal, twice the triangle's area.
+        const glm::dvec3 d = glm::cross(p1 - p0, p2 - p0);
+        const AxisSums sx = axisSums(p0.x, p1.x, p2.x);
+        const AxisSums sy = axisSums(p0.y, p1.y, p2.y);
+        const AxisSums sz = axisSums(p0.z, p1.z, p2.z);
+        in[0] += d.x * sx.f1;
+        in[1] += d.x * sx.f2;
+        in[2] += d.y * sy.f2;
+        in[3] += d.z * sz.f2;
+        in[4] += d.x * sx.f3;
+        in[5] += d.y * sy.f3;
+        in[6] += d.z * sz.f3;
+        in[7] += d.x * (p0.y * sx.g0 + p1.y * sx.g1 + p2.y * sx.g2);
+        in[8] += d.y * (p0.z * sy.g0 + p1.z * sy.g1 + p2.z * sy.g2);
+        in[9] += d.z * (p0.x * sz.g0 + p1.x * sz.g1 + p2.x * sz.g2);
+    }
+    const double scale[10] = {1.0 / 6,   1.0 / 24,  1.0 / 24,  1.0 / 24,  1.0 / 60,
+                              1.0 / 60,  1.0 / 60,  1.0 / 120, 1.0 / 120, 1.0 / 120};
+    for (int i = 0; i < 10; ++i) in[i] *= scale[i];
+
+    MassProperties mp;
+    mp.volume = in[0];
+    if (mp.volume == 0.0) return mp;
+    const glm::dvec3 c(in[1] / mp.volume, in[2] / mp.volume, in[3] / mp.volume);
+    mp.centre = c;
+    // Second moments about the origin, moved to the centre of mass (parallel axis theorem).
+    const double m = mp.volume;
+    const double xx = in[5] + in[6] - m * (c.y * c.y + c.z * c.z);
+    const double yy = in[4] + in[6] - m * (c.z * c.z + c.x * c.x);
+    const double zz = in[4] + in[5] - m * (c.x * c.x + c.y * c.y);
+    const double xy = -(in[7] - m * c.x * c.y);
+    const double yz = -(in[8] - m * c.y * c.z);
+    const double zx = -(in[9] - m * c.z * c.x);
+    mp.inertia = glm::dmat3(xx, xy, zx, xy, yy, yz, zx, yz, zz);
+    return mp;
+}
+
+glm::mat3 inertiaForMass(const MassProperties& mp, double mass) {
+    return glm::mat3(mp.inertia * (mass / mp.volume));
+}
+
+} // namespace rubble

@@ -1,0 +1,34 @@
+// host/core/mass_properties.h: volume, centre of mass and inertia tensor of the shapes, at unit
+// density; a body's mass or density scales them (host/world builds the BodyMass records).
+#pragma once
+
+#include <span>
+
+#include <glm/glm.hpp>
+
+namespace rubble {
+
+/// Mass properties of a solid of density 1 kg/m^3, in the shape's frame.
+struct MassProperties {
+    double volume = 0.0;         ///< m^3, equal to the mass at unit density
+    glm::dvec3 centre{0.0};      ///< centre of mass, m
+    glm::dmat3 inertia{0.0};     ///< inertia tensor about the centre of mass, kg m^2
+};
+
+/// A solid box with the given half extents (m), centred on the origin.
+MassProperties boxMassProperties(glm::vec3 halfExtents);
+
+/// A solid sphere of radius r (m), centred on the origin.
+MassProperties sphereMassProperties(float radius);
+
+/// A closed triangle mesh whose triangles wind counter-clockwise seen from outside, by the
+/// polyhedral integration of Eberly ("Polyhedral Mass Properties (Revisited)", 2002), which
+/// reduces the volume integrals to sums over the triangles (divergence theorem). The volume is
+/// negative when the winding is inward and meaningless when the mesh is not closed.
+MassProperties polyhedronMassProperties(std::span<const glm::vec3> vertices,
+                                        std::span<const glm::uvec3> triangles);
+
+/// The inertia tensor of mp scaled from unit density to a total mass (kg).
+glm::mat3 inertiaForMass(const MassProperties& mp, double mass);
+
+} // namespace rubble

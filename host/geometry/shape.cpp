@@ -1,0 +1,103 @@
+// host/geometry/shape.cpp: ShapeDesc to Shape: hulls, mass properties, centre-of-mass shift.
+#include "host/geometry/shape.h"
+
+#include <algorithm>
+#include <map>
+#include <tuple>
+
+namespace rubble {
+
+ConvexPolygons boxPolygons(glm::vec3 h) {
+    ConvexPolygons p;
+    // Corner i has x = +h.x when bit 0 is set, y when bit 1, z when bit 2.
+    for (int i = 0; i < 8; ++i)
+        p.vertices.emplace_back(i & 1 ? h.x : -h.x, i & 2 ? h.y : -h.y, i & 4 ? h.z : -h.z);
+    p.faces = {{1, 3, 7, 5}, {0, 4, 6, 2}, {2, 6, 7, 3}, {0, 1, 5, 4}, {4, 5, 7, 6}, {0, 2, 3, 1}};
+    return p;
+}
+
+bool isClosedMesh(const TriangleMesh& mesh) {
+    // Weld vertices by position, then count directed edges.
+    std::map<std::tuple<float, float, float>, std::uint32_t> weld;
+    std::vector<std::uint32_t> id(mesh.vertices.size());
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+        const glm::vec3& v = mesh.vertices[i];
+        id[i] = weld.try_emplace({v.x, v.y, v.z}, std::uint32_t(weld.size())).first->second;
+    }
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+    for (const glm::uvec3& t : mesh.triangles) {
+        const std::uint32_t a = id[t.x], b = id[t.y], c = id[t.z];
+        if (a == b || b == c || c == a) return false;
+        for (auto e : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
+            if (++directed[e] > 1) return false;
+    }
+    for (const auto& [e, n] : directed)
+        if (!directed.count({e.second, e.first})) return false;
+    return true;
+}
+
+namespace {
+
+float boundingRadiusOf(const std::vector<glm::vec3>& vertices) {
+    float r = 0.0f;
+    for (const glm::vec3& v : vertices) r = std::max(r, glm::length(v));
+    return r;
+}
+
+} // namespace
+
+Result<Shape> buildShape(const ShapeDesc& d) {
+    Shape s;
+    s.name = d.name;
+    s.type = d.type;
+    switch (d.type) {
+    case ShapeType::Box:
+        s.halfExtents = d.halfExtents;
+        s.hull = boxPolygons(d.halfExtents);
+        s.unitMass = boxMassProperties(d.halfExtents);
+        s.boundingRadius = glm::length(d.halfExtents);
+        return s;
+    case ShapeType::Sphere:
+        s.radius = d.radius;
+        s.unitMass = sphereMassProperties(d.radius);
+        s.boundingRadius = d.radius;
+        return s;
+    case ShapeType::Plane:
+        s.normal = d.normal;
+        s.offset = d.offset;
+        return s;
+    case ShapeType::Convex:
+    case ShapeType::Mesh:
+        break;
+    }
+
+    const std::string where = d.where + (d.type == ShapeType::Convex ? ".vertices" : ".file");
+    Result<ConvexPolygons> hull = computeConvexHull(d.points, where);
+    RUBBLE_TRY(hull);
+    s.hull = std::move(*hull);
+    const std::vector<glm::uvec3> hullTriangles = s.hull.triangles();
+    s.unitMass = polyhedronMassProperties(s.hull.vertices, hullTriangles);
+    if (d.type == ShapeType::Mesh) {
+        s.mesh.vertices = d.points;
+        s.mesh.triangles = d.triangles;
+        if (isClosedMesh(s.mesh)) {
+            const MassProperties own = polyhedronMassProperties(s.mesh.vertices, s.mesh.triangles);
+            if (own.volume > 0.0) s.unitMass = own; // an inward-wound mesh keeps the hull's
+        }
+    }
+    // The hull of a thin sliver passes Qhull but holds no volume worth simulating.
+    const float extent = boundingRadiusOf(s.hull.vertices);
+    if (!(s.unitMass.volume > 1e-9 * double(extent) * extent * extent))
+        return makeError(ErrorKind::BadInput, where,
+                         "the shape encloses no volume (its points are nearly coplanar)");
+
+    // Move the centre of mass to the origin; the file's frame keeps its orientation.
+    s.centreShift = glm::vec3(s.unitMass.centre);
+    for (glm::vec3& v : s.hull.vertices) v -= s.centreShift;
+    for (glm::vec3& v : s.mesh.vertices) v -= s.centreShift;
+    s.unitMass.centre = glm::dvec3(0.0);
+    s.boundingRadius = boundingRadiusOf(s.hull.vertices);
+    return s;
+}
+
+} // namespace rubble

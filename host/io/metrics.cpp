@@ -1,0 +1,90 @@
+// host/io/metrics.cpp: conserved quantities and the per-run summary.
+#include "host/io/metrics.h"
+
+#include <algorithm>
+
+#include <nlohmann/json.hpp>
+
+namespace rubble {
+
+Invariants measureInvariants(const World& world) {
+    Invariants inv;
+    for (std::uint32_t i = 0; i < world.bodyCount(); ++i) {
+        const BodyState b = world.body(i);
+        if (b.isStatic) continue;
+        const glm::dvec3 v(b.linearVelocity), w(b.angularVelocity), p(b.linearMomentum),
+            l(b.angularMomentum), x(b.position);
+        inv.kineticEnergy += 0.5 * glm::dot(v, p) + 0.5 * glm::dot(w, l);
+        inv.linearMomentum += p;
+        inv.angularMomentum += glm::cross(x, p) + l;
+    }
+    return inv;
+}
+
+void MetricsRecorder::start(const World& world) {
+    scene_ = world.sceneName();
+    bodies_ = world.bodyCount();
+    first_ = last_ = measureInvariants(world);
+}
+
+void MetricsRecorder::afterStep(const World& world) {
+    const StepStats& s = world.lastStep();
+    stepMs_.push_back(s.totalMs);
+    totals_.applyForcesMs += s.applyForcesMs;
+    totals_.integrateVelocitiesMs += s.integrateVelocitiesMs;
+    totals_.broadPhaseMs += s.broadPhaseMs;
+    totals_.narrowPhaseMs += s.narrowPhaseMs;
+    totals_.buildContactRowsMs += s.buildContactRowsMs;
+    totals_.solveMs += s.solveMs;
+    totals_.integratePositionsMs += s.integratePositionsMs;
+    wallS_ += s.totalMs / 1000.0;
+    largestPenetration_ = std::max(largestPenetration_, s.largestPenetration);
+    lastContacts_ = s.contactCount;
+    maxContacts_ = std::max(maxContacts_, s.contactCount);
+    solverResidual_ = s.solverResidual;
+    last_ = measureInvariants(world);
+}
+
+namespace {
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const double pos = q * double(v.size() - 1);
+    const std::size_t lo = std::size_t(pos);
+    const std::size_t hi = std::min(lo + 1, v.size() - 1);
+    return v[lo] + (v[hi] - v[lo]) * (pos - double(lo));
+}
+nlohmann::json vec(glm::dvec3 v) { return {v.x, v.y, v.z}; }
+} // namespace
+
+double MetricsRecorder::medianMs() const { return percentile(stepMs_, 0.5); }
+double MetricsRecorder::p90Ms() const { return percentile(stepMs_, 0.9); }
+
+std::string MetricsRecorder::toJson(const World& world) const {
+    nlohmann::ordered_json j;
+    j["scene"] = scene_;
+    j["steps"] = stepMs_.size();
+    j["bodies"] = bodies_;
+    j["wall_s"] = wallS_;
+    j["ms_per_step"] = {{"median", medianMs()}, {"p90", p90Ms()}};
+    j["stages_ms"] = {{"apply_forces", totals_.applyForcesMs},
+                      {"integrate_velocities", totals_.integrateVelocitiesMs},
+                      {"broad_phase", totals_.broadPhaseMs},
+                      {"narrow_phase", totals_.narrowPhaseMs},
+                      {"build_contact_rows", totals_.buildContactRowsMs},
+                      {"solve", totals_.solveMs},
+                      {"integrate_positions", totals_.integratePositionsMs}};
+    j["kinetic_energy"] = {{"first", first_.kineticEnergy}, {"last", last_.kineticEnergy}};
+    j["linear_momentum"] = {{"first", vec(first_.linearMomentum)},
+                            {"last", vec(last_.linearMomentum)}};
+    j["angular_momentum"] = {{"first", vec(first_.angularMomentum)},
+                             {"last", vec(last_.angularMomentum)}};
+    j["largest_penetration"] = largestPenetration_;
+    j["contact_count"] = {{"last", lastContacts_}, {"max", maxContacts_}};
+    j["solver_residual"] = solverResidual_;
+    j["backend"] = std::string(toString(world.options().backend));
+    j["device"] = world.deviceName();
+    return j.dump(2) + "\n";
+}
+
+} // namespace rubble

@@ -1,0 +1,53 @@
+// host/io/metrics.h: the run summary of `--metrics FILE.json` (SCENE_FORMAT.md, Outputs) and the
+// conserved quantities it reports.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "rubble/error.h"
+#include "rubble/world.h"
+
+namespace rubble {
+
+/// Totals over the dynamic bodies, world frame, about the world origin.
+struct Invariants {
+    double kineticEnergy = 0;         ///< J, translational plus rotational
+    glm::dvec3 linearMomentum{0.0};   ///< kg m/s
+    glm::dvec3 angularMomentum{0.0};  ///< kg m^2/s, sum of x cross P + L
+};
+
+/// The world's kinetic energy and momenta now.
+Invariants measureInvariants(const World& world);
+
+/// Collects per-step figures while a world runs, then writes them as JSON.
+class MetricsRecorder {
+  public:
+    /// Records the initial state; call before the first step.
+    void start(const World& world);
+    /// Records the step that just ran.
+    void afterStep(const World& world);
+
+    double medianMs() const;
+    double p90Ms() const;
+    double wallSeconds() const { return wallS_; }
+    std::uint32_t lastContacts() const { return lastContacts_; }
+
+    /// The summary as JSON text.
+    std::string toJson(const World& world) const;
+
+  private:
+    std::string scene_;
+    std::uint32_t bodies_ = 0;
+    std::vector<double> stepMs_;
+    StepStats totals_;
+    Invariants first_, last_;
+    float largestPenetration_ = 0;
+    std::uint32_t lastContacts_ = 0, maxContacts_ = 0;
+    float solverResidual_ = 0;
+    double wallS_ = 0;
+};
+
+} // namespace rubble

@@ -1,0 +1,165 @@
+// host/io/trajectory_writer.cpp: CSV and JSON-lines trajectories. Numbers are written in the
+// shortest form that reads back to the same float. Quaternions go back to the file order [w,x,y,z].
+#include "host/io/trajectory_writer.h"
+
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <filesystem>
+
+namespace rubble {
+namespace {
+
+constexpr std::size_t kFileBuffer = 1 << 20;
+
+// Appends the shortest round-trip text of v.
+void appendNumber(std::string& out, float v) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    out.append(buf, r.ptr);
+}
+void appendNumber(std::string& out, double v) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    out.append(buf, r.ptr);
+}
+
+// The JSON text of a body name (quotes and control characters escaped).
+void appendJsonString(std::string& out, const std::string& s) {
+    out += '"';
+    for (char c : s) {
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += c;
+        } else if (static_cast<unsigned char>(c) < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", c);
+            out += buf;
+        } else {
+            out += c;
+        }
+    }
+    out += '"';
+}
+
+Error ioError(const std::string& path, const std::string& what) {
+    return makeError(ErrorKind::Io, path, what + ": " + std::strerror(errno));
+}
+
+} // namespace
+
+TrajectoryWriter::TrajectoryWriter(std::string path, TrajectoryFormat format, std::FILE* file)
+    : path_(std::move(path)), format_(format), file_(file), buffer_(new char[kFileBuffer]) {
+    std::setvbuf(file_, buffer_.get(), _IOFBF, kFileBuffer);
+}
+
+TrajectoryWriter::TrajectoryWriter(TrajectoryWriter&& o) noexcept
+    : path_(std::move(o.path_)), format_(o.format_), file_(o.file_),
+      buffer_(std::move(o.buffer_)) {
+    o.file_ = nullptr;
+}
+
+TrajectoryWriter& TrajectoryWriter::operator=(TrajectoryWriter&& o) noexcept {
+    if (this != &o) {
+        if (file_) std::fclose(file_);
+        path_ = std::move(o.path_);
+        format_ = o.format_;
+        file_ = o.file_;
+        buffer_ = std::move(o.buffer_);
+        o.file_ = nullptr;
+    }
+    return *this;
+}
+
+TrajectoryWriter::~TrajectoryWriter() {
+    if (file_) std::fclose(file_); // unfinished: the .partial file stays, under its own name
+}
+
+Result<TrajectoryWriter> TrajectoryWriter::open(const std::string& path) {
+    const std::string ext = std::filesystem::path(path).extension().string();
+    TrajectoryFormat format;
+    if (ext == ".csv")
+        format = TrajectoryFormat::Csv;
+    else if (ext == ".jsonl")
+        format = TrajectoryFormat::Jsonl;
+    else
+        return makeError(ErrorKind::BadInput, "--out " + path,
+                         "the trajectory file must end in .csv or .jsonl");
+    const std::string partial = path + ".partial";
+    std::FILE* f = std::fopen(partial.c_str(), "wb");
+    if (!f) return ioError(partial, "cannot open for writing");
+    TrajectoryWriter w(path, format, f);
+    if (format == TrajectoryFormat::Csv)
+        std::fputs("step,time,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n", f);
+    return w;
+}
+
+Status TrajectoryWriter::write(const World& world) {
+    std::string out;
+    out.reserve(world.bodyCount() * 160 + 64);
+    const std::int64_t step = world.stepIndex();
+    const double time = world.time();
+    if (format_ == TrajectoryFormat::Jsonl) {
+        out += "{\"step\":" + std::to_string(step) + ",\"time\":";
+        appendNumber(out, time);
+        out += ",\"bodies\":[";
+    }
+    static const char* const kKeys[] = {"px", "py", "pz", "qw", "qx", "qy", "qz",
+                                        "vx", "vy", "vz", "wx", "wy", "wz"};
+    for (std::uint32_t i = 0; i < world.bodyCount(); ++i) {
+        const BodyState b = world.body(i);
+        const float values[13] = {b.position.x,       b.position.y,       b.position.z,
+                                  b.orientation.w,    b.orientation.x,    b.orientation.y,
+                                  b.orientation.z,    b.linearVelocity.x, b.linearVelocity.y,
+                                  b.linearVelocity.z, b.angularVelocity.x, b.angularVelocity.y,
+                                  b.angularVelocity.z};
+        if (format_ == TrajectoryFormat::Csv) {
+            out += std::to_string(step);
+            out += ',';
+            appendNumber(out, time);
+            out += ',';
+            out += world.bodyName(i);
+            for (float v : values) {
+                out += ',';
+                appendNumber(out, v);
+            }
+            out += '\n';
+        } else {
+            out += i ? ",{\"body\":" : "{\"body\":";
+            appendJsonString(out, world.bodyName(i));
+            for (int k = 0; k < 13; ++k) {
+                out += ",\"";
+                out += kKeys[k];
+                out += "\":";
+                appendNumber(out, values[k]);
+            }
+            out += '}';
+        }
+    }
+    if (format_ == TrajectoryFormat::Jsonl) out += "]}\n";
+    if (std::fwrite(out.data(), 1, out.size(), file_) != out.size())
+        return ioError(partialPath(), "write failed");
+    return {};
+}
+
+Status TrajectoryWriter::finish() {
+    std::FILE* f = file_;
+    file_ = nullptr;
+    if (std::fclose(f) != 0) return ioError(partialPath(), "close failed");
+    if (std::rename(partialPath().c_str(), path_.c_str()) != 0)
+        return ioError(path_, "cannot rename " + partialPath() + " to it");
+    return {};
+}
+
+Status writeFileAtomically(const std::string& path, const std::string& text) {
+    const std::string partial = path + ".partial";
+    std::FILE* f = std::fopen(partial.c_str(), "wb");
+    if (!f) return ioError(partial, "cannot open for writing");
+    const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    if (std::fclose(f) != 0 || !written) return ioError(partial, "write failed");
+    if (std::rename(partial.c_str(), path.c_str()) != 0)
+        return ioError(path, "cannot rename " + partial + " to it");
+    return {};
+}
+
+} // namespace rubble

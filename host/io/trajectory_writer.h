@@ -1,0 +1,47 @@
+// host/io/trajectory_writer.h: trajectories as CSV or JSON lines (SCENE_FORMAT.md, Outputs),
+// written under a temporary name and renamed when complete.
+#pragma once
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "rubble/error.h"
+#include "rubble/world.h"
+
+namespace rubble {
+
+enum class TrajectoryFormat { Csv, Jsonl };
+
+/// Writes one row per body per written step. The file is `path.partial` until finish(); a run
+/// that stops early leaves the partial file, never a truncated file under the final name.
+class TrajectoryWriter {
+  public:
+    /// Opens `path.partial` for writing. The format follows the extension (.csv or .jsonl);
+    /// anything else is BadInput at `--out`.
+    static Result<TrajectoryWriter> open(const std::string& path);
+
+    TrajectoryWriter(TrajectoryWriter&&) noexcept;
+    TrajectoryWriter& operator=(TrajectoryWriter&&) noexcept;
+    ~TrajectoryWriter();
+
+    /// Appends the world's current state: step, time and every body.
+    Status write(const World& world);
+    /// Flushes, closes and renames the file to its final name.
+    Status finish();
+
+    const std::string& path() const { return path_; }
+    std::string partialPath() const { return path_ + ".partial"; }
+
+  private:
+    TrajectoryWriter(std::string path, TrajectoryFormat format, std::FILE* file);
+    std::string path_;
+    TrajectoryFormat format_;
+    std::FILE* file_;
+    std::unique_ptr<char[]> buffer_;
+};
+
+/// Writes `text` to `path` through a temporary file renamed into place.
+Status writeFileAtomically(const std::string& path, const std::string& text);
+
+} // namespace rubble

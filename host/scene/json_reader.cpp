@@ -1,0 +1,283 @@
+// host/scene/json_reader.cpp: checked field reads for the scene loader.
+#include "host/scene/json_reader.h"
+
+#include <cmath>
+#include <set>
+#include <vector>
+
+namespace rubble {
+namespace {
+
+std::string typeName(const Json& v) {
+    if (v.is_number_integer()) return "an integer";
+    if (v.is_number()) return "a number";
+    if (v.is_string()) return "a string";
+    if (v.is_boolean()) return "a boolean";
+    if (v.is_array()) return "an array";
+    if (v.is_object()) return "an object";
+    return "null";
+}
+
+// Line and column (1-based) of a byte offset in text.
+std::pair<int, int> lineColumn(std::string_view text, std::size_t byte) {
+    int line = 1, column = 1;
+    for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            column = 1;
+        } else {
+            ++column;
+        }
+    }
+    return {line, column};
+}
+
+// Tracks the JSON path while the parser walks the text, to find keys given twice.
+class DuplicateKeyFinder {
+  public:
+    bool onEvent(int depth, Json::parse_event_t event, const Json& parsed) {
+        (void)depth;
+        switch (event) {
+        case Json::parse_event_t::object_start:
+            frames_.push_back(Frame{false, 0, {}, {}});
+            break;
+        case Json::parse_event_t::array_start:
+            frames_.push_back(Frame{true, 0, {}, {}});
+            break;
+        case Json::parse_event_t::key: {
+            Frame& f = frames_.back();
+            f.key = parsed.get<std::string>();
+            if (!f.keys.insert(f.key).second && duplicatePath_.empty()) duplicatePath_ = path();
+            break;
+        }
+        case Json::parse_event_t::object_end:
+        case Json::parse_event_t::array_end:
+            frames_.pop_back();
+            elementDone();
+            break;
+        case Json::parse_event_t::value:
+            elementDone();
+            break;
+        }
+        return true;
+    }
+    const std::string& duplicatePath() const { return duplicatePath_; }
+
+  private:
+    struct Frame {
+        bool isArray;
+        std::size_t index;
+        std::set<std::string> keys;
+        std::string key;
+    };
+    void elementDone() {
+        if (!frames_.empty() && frames_.back().isArray) ++frames_.back().index;
+    }
+    std::string path() const {
+        std::string p;
+        for (const Frame& f : frames_) {
+            if (f.isArray) {
+                p += "[" + std::to_string(f.index) + "]";
+            } else {
+                if (!p.empty()) p += ".";
+                p += f.key;
+            }
+        }
+        return p;
+    }
+    std::vector<Frame> frames_;
+    std::string duplicatePath_;
+};
+
+} // namespace
+
+std::string brief(const Json& value) {
+    std::string s = value.dump();
+    if (s.size() > 40) s = s.substr(0, 37) + "...";
+    return s;
+}
+
+Result<Json> parseJsonText(std::string_view text, const std::string& file) {
+    DuplicateKeyFinder finder;
+    Json json;
+    try {
+        json = Json::parse(
+            text.begin(), text.end(),
+            [&finder](int depth, Json::parse_event_t event, Json& parsed) {
+                return finder.onEvent(depth, event, parsed);
+            },
+            true, false);
+    } catch (const Json::parse_error& e) {
+        const auto [line, column] = lineColumn(text, e.byte > 0 ? e.byte - 1 : 0);
+        std::string what = e.what();
+        // Keep the library's description of the problem, drop its own prefix and position.
+        if (const auto colon = what.find(": "); colon != std::string::npos)
+            what = what.substr(colon + 2);
+        return makeError(ErrorKind::BadInput, file,
+                         "malformed JSON at line " + std::to_string(line) + ", column " +
+                             std::to_string(column) + ": " + what);
+    }
+    if (!finder.duplicatePath().empty())
+        return makeError(ErrorKind::BadInput, file + ": " + finder.duplicatePath(),
+                         "this key is given twice in the same object");
+    return json;
+}
+
+ObjectReader::ObjectReader(const Json& json, std::string path, const std::string& file)
+    : json_(json), path_(std::move(path)), file_(file) {}
+
+Status ObjectReader::checkIsObject() const {
+    if (!json_.is_object())
+        return makeError(ErrorKind::BadInput, where(),
+                         "expected an object, got " + typeName(json_) + " " + brief(json_));
+    return {};
+}
+
+Status ObjectReader::checkKeys(std::initializer_list<std::string_view> allowed) const {
+    for (const auto& [key, value] : json_.items()) {
+        bool known = false;
+        for (std::string_view a : allowed) known = known || a == key;
+        if (!known) {
+            std::string list;
+            for (std::string_view a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+            return makeError(ErrorKind::BadInput, where(key),
+                             "unknown key (allowed here: " + list + ")");
+        }
+    }
+    return {};
+}
+
+bool ObjectReader::has(std::string_view key) const { return json_.contains(key); }
+const Json& ObjectReader::at(std::string_view key) const { return json_.at(std::string(key)); }
+
+std::string ObjectReader::pathOf(std::string_view key) const {
+    return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
+}
+std::string ObjectReader::where(std::string_view key) const { return file_ + ": " + pathOf(key); }
+std::string ObjectReader::where() const { return path_.empty() ? file_ : file_ + ": " + path_; }
+
+Error ObjectReader::fail(std::string_view key, std::string message) const {
+    return makeError(ErrorKind::BadInput, where(key), std::move(message));
+}
+
+Status ObjectReader::require(std::string_view key) const {
+    if (!has(key)) return fail(key, "is required but missing");
+    return {};
+}
+
+namespace {
+
+Result<double> numberFromJson(const Json& v, const std::string& where, Range range) {
+    auto fail = [&](std::string m) { return makeError(ErrorKind::BadInput, where, std::move(m)); };
+    if (!v.is_number()) return fail("expected a number, got " + typeName(v) + " " + brief(v));
+    const double out = v.get<double>();
+    if (!std::isfinite(out)) return fail("expected a finite number, got " + brief(v));
+    if (!std::isfinite(float(out))) return fail("is too large for single precision: " + brief(v));
+    switch (range) {
+    case Range::Finite:
+        break;
+    case Range::Positive:
+        if (!(out > 0.0)) return fail("must be greater than 0, got " + brief(v));
+        break;
+    case Range::NonNegative:
+        if (!(out >= 0.0)) return fail("must be 0 or more, got " + brief(v));
+        break;
+    case Range::UnitInterval:
+        if (!(out >= 0.0 && out <= 1.0)) return fail("must be between 0 and 1, got " + brief(v));
+        break;
+    }
+    return out;
+}
+
+} // namespace
+
+Status ObjectReader::read(std::string_view key, float& out, Range range) const {
+    if (!has(key)) return {};
+    Result<double> d = numberFromJson(at(key), where(key), range);
+    RUBBLE_TRY(d);
+    out = float(*d);
+    return {};
+}
+
+Status ObjectReader::read(std::string_view key, std::int64_t& out, std::int64_t min,
+                          std::int64_t max) const {
+    if (!has(key)) return {};
+    const Json& v = at(key);
+    if (!v.is_number_integer())
+        return fail(key, "expected an integer, got " + typeName(v) + " " + brief(v));
+    const std::int64_t i = v.get<std::int64_t>();
+    if (i < min || i > max)
+        return fail(key, "must be between " + std::to_string(min) + " and " +
+                             std::to_string(max) + ", got " + brief(v));
+    out = i;
+    return {};
+}
+
+Status ObjectReader::read(std::string_view key, bool& out) const {
+    if (!has(key)) return {};
+    const Json& v = at(key);
+    if (!v.is_boolean())
+        return fail(key, "expected true or false, got " + typeName(v) + " " + brief(v));
+    out = v.get<bool>();
+    return {};
+}
+
+Status ObjectReader::read(std::string_view key, std::string& out) const {
+    if (!has(key)) return {};
+    const Json& v = at(key);
+    if (!v.is_string()) return fail(key, "expected a string, got " + typeName(v) + " " + brief(v));
+    out = v.get<std::string>();
+    return {};
+}
+
+Status ObjectReader::read(std::string_view key, glm::vec3& out, Range range) const {
+    if (!has(key)) return {};
+    Result<glm::vec3> v = vec3FromJson(at(key), where(key), range);
+    RUBBLE_TRY(v);
+    out = *v;
+    return {};
+}
+
+Result<glm::vec3> vec3FromJson(const Json& value, const std::string& where, Range range) {
+    if (!value.is_array() || value.size() != 3)
+        return makeError(ErrorKind::BadInput, where,
+                         "expected an array of 3 numbers, got " + brief(value));
+    glm::vec3 r(0.0f);
+    for (std::size_t i = 0; i < 3; ++i) {
+        Result<double> d = numberFromJson(value[i], where + "[" + std::to_string(i) + "]", range);
+        RUBBLE_TRY(d);
+        r[int(i)] = float(*d);
+    }
+    return r;
+}
+
+Status ObjectReader::readQuaternion(std::string_view key, glm::quat& out) const {
+    if (!has(key)) return {};
+    const Json& v = at(key);
+    if (!v.is_array() || v.size() != 4)
+        return fail(key, "expected a quaternion [w, x, y, z], got " + brief(v));
+    double q[4];
+    for (std::size_t i = 0; i < 4; ++i) {
+        Result<double> d = numberFromJson(v[i], where(key) + "[" + std::to_string(i) + "]", Range::Finite);
+        RUBBLE_TRY(d);
+        q[i] = *d;
+    }
+    const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (norm < 1e-6)
+        return fail(key, "the quaternion " + brief(v) + " has zero length and cannot be normalised");
+    out = glm::quat(float(q[0] / norm), float(q[1] / norm), float(q[2] / norm),
+                    float(q[3] / norm));
+    return {};
+}
+
+Status ObjectReader::readDirection(std::string_view key, glm::vec3& out) const {
+    if (!has(key)) return {};
+    glm::vec3 d(0.0f);
+    RUBBLE_TRY(read(key, d));
+    const float len = glm::length(d);
+    if (!(len > 1e-6f)) return fail(key, "a direction must not have zero length, got " + brief(at(key)));
+    out = d / len;
+    return {};
+}
+
+} // namespace rubble

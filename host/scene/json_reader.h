@@ -1,0 +1,84 @@
+// host/scene/json_reader.h: typed, range-checked reads of JSON fields that name the file and the
+// JSON path of the field in every error (`scenes/a.json: bodies[3].mass: ...`).
+#pragma once
+
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
+
+#include "rubble/error.h"
+
+namespace rubble {
+
+using Json = nlohmann::json;
+
+/// Parses JSON text. Malformed text is BadInput at `file` with the line and column; a key that
+/// appears twice in one object is BadInput at its path (the JSON library would keep only one).
+Result<Json> parseJsonText(std::string_view text, const std::string& file);
+
+/// What a number field may hold.
+enum class Range {
+    Finite,      ///< any finite number
+    Positive,    ///< > 0
+    NonNegative, ///< >= 0
+    UnitInterval ///< 0..1
+};
+
+/// One JSON object of a scene, with its path; reads fields of it with checks.
+class ObjectReader {
+  public:
+    ObjectReader(const Json& json, std::string path, const std::string& file);
+
+    /// BadInput unless the value is an object.
+    Status checkIsObject() const;
+    /// BadInput for the first key not in `allowed` (unknown keys are usually typos).
+    Status checkKeys(std::initializer_list<std::string_view> allowed) const;
+
+    bool has(std::string_view key) const;
+    const Json& at(std::string_view key) const;
+    /// `file: path.key`, for errors about a field.
+    std::string where(std::string_view key) const;
+    /// `file: path`, for errors about the object itself.
+    std::string where() const;
+    /// `path.key`, the JSON path of a field.
+    std::string pathOf(std::string_view key) const;
+    const std::string& file() const { return file_; }
+
+    /// BadInput unless the key is present.
+    Status require(std::string_view key) const;
+
+    // Each read leaves `out` untouched when the key is absent (its default stands) and fails
+    // with BadInput naming the field when the value has the wrong type or range.
+    Status read(std::string_view key, float& out, Range range = Range::Finite) const;
+    Status read(std::string_view key, std::int64_t& out, std::int64_t min,
+                std::int64_t max) const;
+    Status read(std::string_view key, bool& out) const;
+    Status read(std::string_view key, std::string& out) const;
+    Status read(std::string_view key, glm::vec3& out, Range range = Range::Finite) const;
+    /// A quaternion written [w, x, y, z]; normalised; BadInput when its norm is near zero.
+    Status readQuaternion(std::string_view key, glm::quat& out) const;
+    /// A direction; normalised; BadInput when its length is near zero.
+    Status readDirection(std::string_view key, glm::vec3& out) const;
+
+    /// BadInput at `key` with the given message.
+    Error fail(std::string_view key, std::string message) const;
+
+  private:
+    const Json& json_;
+    std::string path_;
+    const std::string& file_;
+};
+
+/// A value [x, y, z] of finite numbers in `range`; BadInput at `where` otherwise.
+Result<glm::vec3> vec3FromJson(const Json& value, const std::string& where,
+                               Range range = Range::Finite);
+
+/// The JSON value, shortened for a message.
+std::string brief(const Json& value);
+
+} // namespace rubble

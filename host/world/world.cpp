@@ -1,0 +1,149 @@
+// host/world/world.cpp: World::step(), the CPU reference step of DESIGN.md as a list of stages
+// with a timer each; queries and forces for a host program.
+#include <chrono>
+
+#include "host/core/integrate.h"
+#include "host/core/math.h"
+#include "host/dynamics/forces.h"
+#include "host/world/world_state.h"
+
+namespace rubble {
+namespace {
+
+// Adds the wall time of its scope to a StepStats field, in milliseconds.
+class StageTimer {
+  public:
+    explicit StageTimer(double& total) : total_(total), start_(Clock::now()) {}
+    ~StageTimer() {
+        total_ += std::chrono::duration<double, std::milli>(Clock::now() - start_).count();
+    }
+    StageTimer(const StageTimer&) = delete;
+    StageTimer& operator=(const StageTimer&) = delete;
+
+  private:
+    using Clock = std::chrono::steady_clock;
+    double& total_;
+    Clock::time_point start_;
+};
+
+// The first body whose state is not finite, if any.
+std::optional<std::uint32_t> firstNonFinite(const WorldState& s) {
+    for (std::uint32_t i = 0; i < s.bodyCount(); ++i) {
+        if (!isFinite(s.poses[i].position) || !isFinite(s.poses[i].orientation) ||
+            !isFinite(s.momenta[i].linear) || !isFinite(s.momenta[i].angular))
+            return i;
+    }
+    return std::nullopt;
+}
+
+} // namespace
+
+World::World(std::unique_ptr<WorldState> s) : s_(std::move(s)) {}
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+World::~World() = default;
+
+Status World::step() {
+    WorldState& s = *s_;
+    const float dt = s.options.dt;
+    StepStats stats;
+    const auto start = std::chrono::steady_clock::now();
+
+    {
+        StageTimer t(stats.applyForcesMs);
+        for (std::size_t e = 0; e < s.events.size(); ++e) {
+            if (s.eventFired[e] || s.time() + 1e-9 < double(s.events[e].time)) continue;
+            applyExplosion(s.events[e], s.poses, s.masses, s.momenta);
+            s.eventFired[e] = 1;
+        }
+    }
+    {
+        StageTimer t(stats.integrateVelocitiesMs);
+        // Explicit Euler moves positions with the velocities the step started with.
+        if (s.options.integrator == Integrator::Explicit)
+            for (std::uint32_t i = 0; i < s.bodyCount(); ++i)
+                s.velocitiesAtStart[i] =
+                    shared::velocityFromMomentumItem(s.momenta[i], s.masses[i], s.poses[i].orientation);
+        integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities,
+                            toFloat4(s.options.gravity), dt);
+    }
+    {
+        StageTimer t(stats.integratePositionsMs);
+        integratePositions(s.poses, s.velocities, s.velocitiesAtStart, s.momenta, s.masses, dt,
+                           s.options.integrator == Integrator::Symplectic);
+    }
+    std::fill(s.forces.begin(), s.forces.end(), BodyForce{});
+    ++s.step;
+    stats.totalMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    s.stats = stats;
+
+    if (const auto bad = firstNonFinite(s))
+        return makeError(ErrorKind::Numerical, "body " + s.names[*bad],
+                         "its state is not finite after step " + std::to_string(s.step) +
+                             " (t = " + std::to_string(s.time()) + " s)");
+    return {};
+}
+
+std::int64_t World::stepIndex() const { return s_->step; }
+double World::time() const { return s_->time(); }
+const SimulationOptions& World::options() const { return s_->options; }
+const std::string& World::sceneName() const { return s_->sceneName; }
+std::uint32_t World::bodyCount() const { return s_->bodyCount(); }
+const std::string& World::bodyName(std::uint32_t body) const { return s_->names.at(body); }
+
+std::optional<std::uint32_t> World::findBody(std::string_view name) const {
+    for (std::uint32_t i = 0; i < s_->bodyCount(); ++i)
+        if (s_->names[i] == name) return i;
+    return std::nullopt;
+}
+
+BodyState World::body(std::uint32_t i) const {
+    const WorldState& s = *s_;
+    BodyState b;
+    b.position = toVec3(s.poses.at(i).position);
+    b.orientation = toQuat(s.poses[i].orientation);
+    b.linearVelocity = toVec3(s.velocities[i].linear);
+    b.angularVelocity = toVec3(s.velocities[i].angular);
+    b.linearMomentum = toVec3(s.momenta[i].linear);
+    b.angularMomentum = toVec3(s.momenta[i].angular);
+    b.mass = s.masses[i].mass;
+    b.isStatic = s.isStatic(i);
+    b.asleep = (s.masses[i].flags & RUBBLE_BODY_ASLEEP) != 0;
+    return b;
+}
+
+void World::addForce(std::uint32_t i, glm::vec3 force) {
+    shared::BodyForce& f = s_->forces.at(i);
+    f.force = toFloat4(toVec3(f.force) + force);
+    s_->masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
+}
+
+void World::addTorque(std::uint32_t i, glm::vec3 torque) {
+    shared::BodyForce& f = s_->forces.at(i);
+    f.torque = toFloat4(toVec3(f.torque) + torque);
+    s_->masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
+}
+
+void World::addForceAtPoint(std::uint32_t i, glm::vec3 force, glm::vec3 point) {
+    addForce(i, force);
+    addTorque(i, glm::cross(point - toVec3(s_->poses.at(i).position), force));
+}
+
+void World::applyImpulse(std::uint32_t i, glm::vec3 impulse, glm::vec3 point) {
+    WorldState& s = *s_;
+    if (s.isStatic(i)) return;
+    const glm::vec3 r = point - toVec3(s.poses.at(i).position);
+    s.momenta[i].linear = toFloat4(toVec3(s.momenta[i].linear) + impulse);
+    s.momenta[i].angular = toFloat4(toVec3(s.momenta[i].angular) + glm::cross(r, impulse));
+    s.velocities[i] =
+        shared::velocityFromMomentumItem(s.momenta[i], s.masses[i], s.poses[i].orientation);
+    s.masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
+}
+
+const StepStats& World::lastStep() const { return s_->stats; }
+std::string World::deviceName() const { return "cpu"; }
+WorldState& World::state() { return *s_; }
+const WorldState& World::state() const { return *s_; }
+
+} // namespace rubble

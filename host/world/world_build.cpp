@@ -1,0 +1,89 @@
+// host/world/world_build.cpp: a Scene into a WorldState: shapes built, masses from mass or
+// density, momenta from the initial velocities. Features not built yet are refused here.
+#include "host/core/math.h"
+#include "host/world/world_state.h"
+
+namespace rubble {
+namespace {
+
+Error notSupported(const std::string& where, const std::string& what) {
+    return makeError(ErrorKind::NotSupported, where, what + " is not supported yet");
+}
+
+// Refuses options and scene parts that the pipeline cannot run yet, naming the field.
+Status checkSupported(const Scene& scene) {
+    const SimulationOptions& sim = scene.simulation;
+    if (sim.backend == Backend::OpenCl)
+        return notSupported(scene.file + ": simulation.backend", "the opencl backend");
+    if (sim.collisionMethod() != CollisionMethod::Sat)
+        return notSupported(scene.file + ": simulation.collision.method", "particle collision");
+    if (sim.solver.type != SolverType::Pgs)
+        return notSupported(scene.file + ": simulation.solver.type",
+                            "the " + std::string(toString(sim.solver.type)) + " solver");
+    if (!scene.joints.empty()) return notSupported(scene.joints[0].where + ".type", "joints");
+    return {};
+}
+
+BodyMass makeMass(const BodyDesc& b, const Shape& shape) {
+    BodyMass m{};
+    if (b.isStatic) {
+        m.flags = RUBBLE_BODY_STATIC;
+        return m;
+    }
+    const double volume = shape.unitMass.volume;
+    const double mass = b.mass ? double(*b.mass) : double(*b.density) * volume;
+    const glm::mat3 inertia = inertiaForMass(shape.unitMass, mass);
+    m.mass = float(mass);
+    m.inverseMass = float(1.0 / mass);
+    m.inertiaBody = toShared(inertia);
+    m.inverseInertiaBody = toShared(glm::inverse(inertia));
+    return m;
+}
+
+} // namespace
+
+Result<World> World::create(const Scene& scene, const RunOptions& run) {
+    RUBBLE_TRY(checkSupported(scene));
+    auto s = std::make_unique<WorldState>();
+    s->sceneName = scene.name;
+    s->options = scene.simulation;
+    s->run = run;
+    s->materials = scene.materials;
+    for (const ShapeDesc& d : scene.shapes) {
+        Result<Shape> shape = buildShape(d);
+        RUBBLE_TRY(shape);
+        s->shapes.push_back(std::move(*shape));
+    }
+    const std::size_t n = scene.bodies.size();
+    s->names.reserve(n);
+    s->poses.reserve(n);
+    s->momenta.reserve(n);
+    s->masses.reserve(n);
+    for (const BodyDesc& b : scene.bodies) {
+        const Shape& shape = s->shapes[b.shape];
+        const BodyMass mass = makeMass(b, shape);
+        const BodyPose pose{toFloat4(b.position), toFloat4(glm::normalize(b.orientation))};
+        const Mat3 inertiaWorld =
+            shared::mat3RotateTensor(shared::mat3FromQuat(pose.orientation), mass.inertiaBody);
+        BodyMomentum momentum{};
+        momentum.linear = toFloat4(b.linearVelocity * mass.mass);
+        momentum.angular = shared::mat3MulVec(inertiaWorld, toFloat4(b.angularVelocity));
+        s->names.push_back(b.name);
+        s->poses.push_back(pose);
+        s->masses.push_back(mass);
+        s->momenta.push_back(momentum);
+        s->velocities.push_back(shared::velocityFromMomentumItem(momentum, mass, pose.orientation));
+        s->shapeOf.push_back(b.shape);
+        s->materialOf.push_back(b.material);
+        s->debris.push_back(b.debris ? 1 : 0);
+    }
+    s->forces.assign(n, BodyForce{});
+    s->velocitiesBeforeSolve.resize(n);
+    s->velocitiesAtStart.resize(n);
+    s->joints = scene.joints;
+    s->events = scene.events;
+    s->eventFired.assign(scene.events.size(), 0);
+    return World(std::move(s));
+}
+
+} // namespace rubble

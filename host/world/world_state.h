@@ -1,0 +1,59 @@
+// host/world/world_state.h: the arrays a World owns, split by access: hot (poses, velocities,
+// momenta, forces) and cold (mass, shape, material, names). Sized at load; stages take spans.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "host/geometry/shape.h"
+#include "rubble/options.h"
+#include "rubble/scene.h"
+#include "rubble/shared/body.h"
+#include "rubble/world.h"
+
+namespace rubble {
+
+using shared::BodyForce;
+using shared::BodyMass;
+using shared::BodyMomentum;
+using shared::BodyPose;
+using shared::BodyVelocity;
+
+struct WorldState {
+    std::string sceneName;
+    SimulationOptions options;
+    RunOptions run;
+
+    std::vector<Shape> shapes;
+    std::vector<MaterialDesc> materials;
+
+    // One entry per body, by index.
+    std::vector<std::string> names;
+    std::vector<BodyPose> poses;
+    std::vector<BodyVelocity> velocities; ///< derived from momenta and pose
+    std::vector<BodyMomentum> momenta;    ///< the state: P and L
+    std::vector<BodyForce> forces;        ///< accumulated for the next step, then cleared
+    std::vector<BodyMass> masses;
+    std::vector<std::uint32_t> shapeOf;
+    std::vector<std::uint32_t> materialOf;
+    std::vector<std::uint8_t> debris;
+
+    std::vector<JointDesc> joints;
+    std::vector<EventDesc> events;
+    std::vector<std::uint8_t> eventFired;
+
+    std::int64_t step = 0;
+    StepStats stats;
+
+    // Scratch reused every step: the velocities before the solve, and at the start of the step
+    // (explicit Euler moves positions with those).
+    std::vector<BodyVelocity> velocitiesBeforeSolve;
+    std::vector<BodyVelocity> velocitiesAtStart;
+
+    std::uint32_t bodyCount() const { return std::uint32_t(poses.size()); }
+    bool isStatic(std::uint32_t i) const { return masses[i].inverseMass == 0.0f; }
+    double time() const { return double(step) * double(options.dt); }
+};
+
+} // namespace rubble

@@ -1,0 +1,96 @@
+// include/rubble/options.h: how a world is stepped. Scene files fill these; the command line
+// overrides them. Nothing here is global: a World copies its Options at creation.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <glm/vec3.hpp>
+
+namespace rubble {
+
+/// Time integration of the bodies' state.
+enum class Integrator {
+    Symplectic, ///< momenta first, then positions with the new velocities (default)
+    Explicit,   ///< positions with the velocities from the start of the step
+};
+
+/// Where the bodies are stepped.
+enum class Backend { Cpu, OpenCl };
+
+/// How contacts are found.
+enum class CollisionMethod {
+    Sat,       ///< half-edge hulls, separating axes, clipped manifolds (CPU reference)
+    Particles, ///< voxelised shapes as spheres on a uniform grid
+};
+
+/// How contact and joint impulses are solved.
+enum class SolverType {
+    Pgs,       ///< projected Gauss-Seidel, sequential impulses with warm start
+    Jacobi,    ///< per-row parallel projected Jacobi, matrix-free
+    LcpJacobi, ///< projected Jacobi on the dense Delassus matrix
+    Lemke,     ///< exact LCP pivoting for small frictionless systems
+};
+
+/// Whether debris on the device pushes the bodies on the CPU.
+enum class Coupling { OneWay, TwoWay };
+
+/// The `simulation.solver` block of a scene.
+struct SolverOptions {
+    SolverType type = SolverType::Pgs;
+    int iterations = 10;     ///< solver sweeps per step
+    float baumgarte = 0.2f;  ///< fraction of the penetration corrected per step, 0..1
+    float slop = 0.005f;     ///< penetration left uncorrected, m
+    float relaxation = 1.0f; ///< over- or under-relaxation of each impulse update
+    bool warmStart = true;   ///< start from last step's impulses matched by feature id
+};
+
+/// The `simulation.collision` block of a scene.
+struct CollisionOptions {
+    /// Sat on the CPU and Particles on OpenCL when the scene does not say.
+    std::optional<CollisionMethod> method;
+    float particleSpacing = 0.1f; ///< voxel size of the particle representation, m
+};
+
+/// The `simulation` block of a scene, after command-line overrides.
+struct SimulationOptions {
+    float dt = 1.0f / 60.0f; ///< time step, s
+    int steps = 600;         ///< steps that `rubble run` takes
+    glm::vec3 gravity{0.0f, -9.81f, 0.0f}; ///< m/s^2, world frame (y up)
+    Integrator integrator = Integrator::Symplectic;
+    Backend backend = Backend::Cpu;
+    CollisionOptions collision;
+    SolverOptions solver;
+    Coupling coupling = Coupling::OneWay;
+
+    /// The collision method in effect: the scene's, else the backend's default.
+    CollisionMethod collisionMethod() const {
+        if (collision.method) return *collision.method;
+        return backend == Backend::OpenCl ? CollisionMethod::Particles : CollisionMethod::Sat;
+    }
+};
+
+/// Choices that belong to the run rather than to the scene.
+struct RunOptions {
+    std::string device;    ///< OpenCL device by name fragment or index; empty: the first one
+    std::string kernelDir; ///< load kernels/*.cl from here instead of the embedded text
+    bool deterministic = false; ///< device rows sorted by key so atomics cannot reorder sums
+};
+
+/// Scene-file spelling of each enum value, as in SCENE_FORMAT.md.
+std::string_view toString(Integrator v);
+std::string_view toString(Backend v);
+std::string_view toString(CollisionMethod v);
+std::string_view toString(SolverType v);
+std::string_view toString(Coupling v);
+
+/// Parses the scene-file spelling; std::nullopt for anything else.
+std::optional<Integrator> parseIntegrator(std::string_view s);
+std::optional<Backend> parseBackend(std::string_view s);
+std::optional<CollisionMethod> parseCollisionMethod(std::string_view s);
+std::optional<SolverType> parseSolverType(std::string_view s);
+std::optional<Coupling> parseCoupling(std::string_view s);
+
+} // namespace rubble

@@ -1,0 +1,42 @@
+// include/rubble/shared/cl_compat.h: the one place that tells the host compiler from the OpenCL C
+// compiler. Everything under rubble/shared compiles in both; this file supplies float4, uint,
+// RUBBLE_FN and the namespace brackets on the host.
+#pragma once
+
+#ifdef __OPENCL_C_VERSION__
+
+// Same arithmetic on both sides: no fused multiply-add unless written.
+#pragma OPENCL FP_CONTRACT OFF
+#define RUBBLE_FN static inline
+#define RUBBLE_SHARED_BEGIN
+#define RUBBLE_SHARED_END
+#define RUBBLE_STATIC_ASSERT_SIZE(type, bytes)
+
+#else
+
+#include <cmath>
+#include <cstdint>
+
+namespace rubble {
+namespace shared {
+// The host's picture of OpenCL's float4: 16 bytes, 16-byte aligned.
+struct alignas(16) float4 {
+    float x, y, z, w;
+};
+typedef std::uint32_t uint;
+using std::fabs;
+using std::sqrt;
+} // namespace shared
+} // namespace rubble
+
+#define RUBBLE_FN inline
+#define RUBBLE_SHARED_BEGIN                                                                        \
+    namespace rubble {                                                                             \
+    namespace shared {
+#define RUBBLE_SHARED_END                                                                          \
+    }                                                                                              \
+    }
+#define RUBBLE_STATIC_ASSERT_SIZE(type, bytes)                                                     \
+    static_assert(sizeof(type) == (bytes), #type " must match its OpenCL layout")
+
+#endif

@@ -1,0 +1,77 @@
+// tests/support/test_util.h: helpers shared by the test binaries: worlds from inline scene text,
+// and running the `rubble` command.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "rubble/world.h"
+
+namespace rubble::test {
+
+/// A world from scene JSON text; fails the test when it does not load.
+inline World worldFromText(const std::string& json, const RunOptions& run = {}) {
+    Result<Scene> scene = parseScene(json, "inline.json", ".");
+    EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().describe());
+    if (!scene.ok()) std::abort();
+    Result<World> world = World::create(*scene, run);
+    EXPECT_TRUE(world.ok()) << (world.ok() ? "" : world.error().describe());
+    if (!world.ok()) std::abort();
+    return std::move(*world);
+}
+
+/// The error a scene text gives when loaded and built; an Internal error "loaded" if none.
+inline Error sceneError(const std::string& json) {
+    Result<Scene> scene = parseScene(json, "inline.json", ".");
+    if (!scene) return scene.error();
+    Result<World> world = World::create(*scene);
+    if (!world) return world.error();
+    return makeError(ErrorKind::Internal, "", "loaded");
+}
+
+/// Output and exit status of a command run through the shell.
+struct CommandResult {
+    int exitCode = -1;
+    std::string output; ///< stdout and stderr together
+};
+
+inline CommandResult runShell(const std::string& command) {
+    CommandResult r;
+    std::FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buf;
+    std::size_t n;
+    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
+    const int status = pclose(pipe);
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+/// Runs the built `rubble` binary with arguments.
+inline CommandResult runRubble(const std::string& args) {
+    return runShell(std::string(RUBBLE_BINARY) + " " + args);
+}
+
+/// A fresh temporary directory for one test.
+inline std::string tempDir(const std::string& name) {
+    const std::string dir = ::testing::TempDir() + "rubble_" + name;
+    runShell("rm -rf '" + dir + "' && mkdir -p '" + dir + "'");
+    return dir;
+}
+
+inline void writeText(const std::string& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+}
+
+inline std::string readText(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+} // namespace rubble::test
