@@ -37,6 +37,8 @@ void MetricsRecorder::afterStep(const World& world) {
     totals_.buildContactRowsMs += s.buildContactRowsMs;
     totals_.solveMs += s.solveMs;
     totals_.integratePositionsMs += s.integratePositionsMs;
+    totals_.solvePositionsMs += s.solvePositionsMs;
+    totals_.islandsMs += s.islandsMs;
     wallS_ += s.totalMs / 1000.0;
     largestPenetration_ = std::max(largestPenetration_, s.largestPenetration);
     lastContacts_ = s.contactCount;
@@ -73,7 +75,9 @@ std::string MetricsRecorder::toJson(const World& world) const {
                       {"narrow_phase", totals_.narrowPhaseMs},
                       {"build_contact_rows", totals_.buildContactRowsMs},
                       {"solve", totals_.solveMs},
-                      {"integrate_positions", totals_.integratePositionsMs}};
+                      {"integrate_positions", totals_.integratePositionsMs},
+                      {"solve_positions", totals_.solvePositionsMs},
+                      {"islands", totals_.islandsMs}};
     j["kinetic_energy"] = {{"first", first_.kineticEnergy}, {"last", last_.kineticEnergy}};
     j["linear_momentum"] = {{"first", vec(first_.linearMomentum)},
                             {"last", vec(last_.linearMomentum)}};

@@ -1,30 +1,13 @@
-// host/world/world.cpp: World::step(), the CPU reference step of DESIGN.md as a list of stages
-// with a timer each; queries and forces for a host program.
+// host/world/world.cpp: World::step() (the pipeline of the backend, then the checks every step
+// needs), queries, and forces for a host program.
 #include <chrono>
 
-#include "host/core/integrate.h"
 #include "host/core/math.h"
-#include "host/dynamics/forces.h"
+#include "host/world/cpu_step.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
 namespace {
-
-// Adds the wall time of its scope to a StepStats field, in milliseconds.
-class StageTimer {
-  public:
-    explicit StageTimer(double& total) : total_(total), start_(Clock::now()) {}
-    ~StageTimer() {
-        total_ += std::chrono::duration<double, std::milli>(Clock::now() - start_).count();
-    }
-    StageTimer(const StageTimer&) = delete;
-    StageTimer& operator=(const StageTimer&) = delete;
-
-  private:
-    using Clock = std::chrono::steady_clock;
-    double& total_;
-    Clock::time_point start_;
-};
 
 // The first body whose state is not finite, if any.
 std::optional<std::uint32_t> firstNonFinite(const WorldState& s) {
@@ -45,33 +28,10 @@ World::~World() = default;
 
 Status World::step() {
     WorldState& s = *s_;
-    const float dt = s.options.dt;
     StepStats stats;
     const auto start = std::chrono::steady_clock::now();
 
-    {
-        StageTimer t(stats.applyForcesMs);
-        for (std::size_t e = 0; e < s.events.size(); ++e) {
-            if (s.eventFired[e] || s.time() + 1e-9 < double(s.events[e].time)) continue;
-            applyExplosion(s.events[e], s.poses, s.masses, s.momenta);
-            s.eventFired[e] = 1;
-        }
-    }
-    {
-        StageTimer t(stats.integrateVelocitiesMs);
-        // Explicit Euler moves positions with the velocities the step started with.
-        if (s.options.integrator == Integrator::Explicit)
-            for (std::uint32_t i = 0; i < s.bodyCount(); ++i)
-                s.velocitiesAtStart[i] =
-                    shared::velocityFromMomentumItem(s.momenta[i], s.masses[i], s.poses[i].orientation);
-        integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities,
-                            toFloat4(s.options.gravity), dt);
-    }
-    {
-        StageTimer t(stats.integratePositionsMs);
-        integratePositions(s.poses, s.velocities, s.velocitiesAtStart, s.momenta, s.masses, dt,
-                           s.options.integrator == Integrator::Symplectic);
-    }
+    stepCpuReference(s, stats);
     std::fill(s.forces.begin(), s.forces.end(), BodyForce{});
     ++s.step;
     stats.totalMs =

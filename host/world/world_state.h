@@ -6,6 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "host/collision/collision_world.h"
+#include "host/collision/contact.h"
+#include "host/dynamics/dynamics_world.h"
 #include "host/geometry/shape.h"
 #include "rubble/options.h"
 #include "rubble/scene.h"
@@ -45,6 +48,12 @@ struct WorldState {
 
     std::int64_t step = 0;
     StepStats stats;
+
+    // Contacts of the current step, and what each stage keeps between steps.
+    std::vector<BodyPair> pairs;
+    std::vector<Manifold> manifolds;
+    CollisionCache collision;
+    SolverCache solver;
 
     // Scratch reused every step: the velocities before the solve, and at the start of the step
     // (explicit Euler moves positions with those).

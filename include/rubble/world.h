@@ -35,7 +35,8 @@ struct BodyState {
 /// Milliseconds spent in each stage of the last step (CPU wall time), and what it produced.
 struct StepStats {
     double applyForcesMs = 0, integrateVelocitiesMs = 0, broadPhaseMs = 0, narrowPhaseMs = 0,
-           buildContactRowsMs = 0, solveMs = 0, integratePositionsMs = 0;
+           buildContactRowsMs = 0, solveMs = 0, integratePositionsMs = 0, solvePositionsMs = 0,
+           islandsMs = 0;
     double totalMs = 0;
     std::uint32_t pairCount = 0;    ///< broad-phase pairs
     std::uint32_t contactCount = 0; ///< contact points
@@ -56,8 +57,7 @@ class World {
     ~World();
 
     /// Advances one step of options().dt. Errors: Numerical when a body's state becomes NaN or
-    /// infinite (the message names the body and the step); the world is left as it was before
-    /// the failing step's integration of positions.
+    /// infinite (the message names the body and the step); stepping further is meaningless.
     Status step();
 
     /// Steps taken so far and the simulated time, s.
