@@ -63,6 +63,20 @@ class DuplicateKeyFinder {
     }
     const std::string& duplicatePath() const { return duplicatePath_; }
 
+    // The JSON path the parser is at: the field whose value it is reading.
+    std::string path() const {
+        std::string p;
+        for (const Frame& f : frames_) {
+            if (f.isArray) {
+                p += indexPath(f.index);
+            } else if (!f.key.empty()) {
+                if (!p.empty()) p += ".";
+                p += f.key;
+            }
+        }
+        return p;
+    }
+
   private:
     struct Frame {
         bool isArray;
@@ -73,23 +87,18 @@ class DuplicateKeyFinder {
     void elementDone() {
         if (!frames_.empty() && frames_.back().isArray) ++frames_.back().index;
     }
-    std::string path() const {
-        std::string p;
-        for (const Frame& f : frames_) {
-            if (f.isArray) {
-                p += "[" + std::to_string(f.index) + "]";
-            } else {
-                if (!p.empty()) p += ".";
-                p += f.key;
-            }
-        }
-        return p;
-    }
     std::vector<Frame> frames_;
     std::string duplicatePath_;
 };
 
 } // namespace
+
+std::string indexPath(std::size_t i) {
+    std::string s(1, '[');
+    s += std::to_string(i);
+    s += ']';
+    return s;
+}
 
 std::string brief(const Json& value) {
     std::string s = value.dump();
@@ -116,6 +125,14 @@ Result<Json> parseJsonText(std::string_view text, const std::string& file) {
         return makeError(ErrorKind::BadInput, file,
                          "malformed JSON at line " + std::to_string(line) + ", column " +
                              std::to_string(column) + ": " + what);
+    } catch (const Json::exception& e) {
+        // Out-of-range numbers (1e999) fail inside the parser, at the field being read.
+        std::string what = e.what();
+        if (const auto bracket = what.find("] "); bracket != std::string::npos)
+            what = what.substr(bracket + 2);
+        const std::string path = finder.path();
+        return makeError(ErrorKind::BadInput, path.empty() ? file : file + ": " + path,
+                         "expected a finite number: " + what);
     }
     if (!finder.duplicatePath().empty())
         return makeError(ErrorKind::BadInput, file + ": " + finder.duplicatePath(),
@@ -244,7 +261,7 @@ Result<glm::vec3> vec3FromJson(const Json& value, const std::string& where, Rang
                          "expected an array of 3 numbers, got " + brief(value));
     glm::vec3 r(0.0f);
     for (std::size_t i = 0; i < 3; ++i) {
-        Result<double> d = numberFromJson(value[i], where + "[" + std::to_string(i) + "]", range);
+        Result<double> d = numberFromJson(value[i], where + indexPath(i), range);
         RUBBLE_TRY(d);
         r[int(i)] = float(*d);
     }
@@ -258,7 +275,7 @@ Status ObjectReader::readQuaternion(std::string_view key, glm::quat& out) const 
         return fail(key, "expected a quaternion [w, x, y, z], got " + brief(v));
     double q[4];
     for (std::size_t i = 0; i < 4; ++i) {
-        Result<double> d = numberFromJson(v[i], where(key) + "[" + std::to_string(i) + "]", Range::Finite);
+        Result<double> d = numberFromJson(v[i], where(key) + indexPath(i), Range::Finite);
         RUBBLE_TRY(d);
         q[i] = *d;
     }

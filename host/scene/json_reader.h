@@ -78,6 +78,9 @@ class ObjectReader {
 Result<glm::vec3> vec3FromJson(const Json& value, const std::string& where,
                                Range range = Range::Finite);
 
+/// "[i]", the JSON path suffix of an array element.
+std::string indexPath(std::size_t i);
+
 /// The JSON value, shortened for a message.
 std::string brief(const Json& value);
 

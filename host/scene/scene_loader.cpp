@@ -205,7 +205,7 @@ class SceneLoader {
         const Json& v = s.at(key);
         if (!v.is_array()) return s.fail(key, "expected an array of [x, y, z] points, got " + brief(v));
         for (std::size_t i = 0; i < v.size(); ++i) {
-            Result<glm::vec3> p = vec3FromJson(v[i], s.where(key) + "[" + std::to_string(i) + "]");
+            Result<glm::vec3> p = vec3FromJson(v[i], s.where(key) + indexPath(i));
             RUBBLE_TRY(p);
             out.push_back(*p);
         }

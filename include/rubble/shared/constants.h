@@ -1,0 +1,22 @@
+// include/rubble/shared/constants.h: device constants shared by the kernels and their dispatch:
+// work-group sizes and fixed limits, with units where they have one.
+#pragma once
+
+// Work-group sizes of each kind of work-item (the global size is rounded up to these).
+#define RUBBLE_GROUP_BODIES 64u    // integrateVelocities, integratePositions, gathers
+#define RUBBLE_GROUP_PARTICLES 64u // transformParticles, buildGrid, collideParticles
+#define RUBBLE_GROUP_CONTACTS 64u  // contact rows of the Jacobi solver
+#define RUBBLE_GROUP_SCAN 64u      // the serial chunks of the radix sort
+
+// Radix sort: 4-bit digits, and the number of work-items that each own a contiguous chunk.
+#define RUBBLE_SORT_DIGIT_BITS 4u
+#define RUBBLE_SORT_BUCKETS 16u
+#define RUBBLE_SORT_ITEMS 256u
+
+// An empty cell of the particle grid (cellStart / cellEnd).
+#define RUBBLE_EMPTY_CELL 0xffffffffu
+// "No body" in a contact row's body b (the static world: planes, static boxes).
+#define RUBBLE_NO_BODY 0xffffffffu
+
+// A particle meets at most this many static shapes (planes and static boxes) per step.
+#define RUBBLE_MAX_STATIC_SHAPES 64u

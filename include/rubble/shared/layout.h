@@ -1,0 +1,31 @@
+// include/rubble/shared/layout.h: every shared struct and field, listed once, so that
+// kernels/layout.cl and tests/gpu/layout_test.cpp measure the same sizes and offsets.
+#pragma once
+
+#include "rubble/shared/body.h"
+#include "rubble/shared/contact_row.h"
+#include "rubble/shared/particle.h"
+
+// X(struct) names a struct's size; F(struct, field) a field's byte offset. In this order.
+#define RUBBLE_SHARED_LAYOUT(X, F)                                                                 \
+    X(Mat3) F(Mat3, r0) F(Mat3, r1) F(Mat3, r2)                                                    \
+    X(BodyPose) F(BodyPose, position) F(BodyPose, orientation)                                     \
+    X(BodyVelocity) F(BodyVelocity, linear) F(BodyVelocity, angular)                               \
+    X(BodyMomentum) F(BodyMomentum, linear) F(BodyMomentum, angular)                               \
+    X(BodyForce) F(BodyForce, force) F(BodyForce, torque)                                          \
+    X(BodyMass) F(BodyMass, inertiaBody) F(BodyMass, inverseInertiaBody) F(BodyMass, mass)         \
+    F(BodyMass, inverseMass) F(BodyMass, flags) F(BodyMass, pad0)                                  \
+    X(Particle) F(Particle, offset) F(Particle, body) F(Particle, pad0)                            \
+    X(StaticShape) F(StaticShape, normal) F(StaticShape, position) F(StaticShape, orientation)     \
+    F(StaticShape, halfExtents) F(StaticShape, kind) F(StaticShape, friction)                      \
+    F(StaticShape, restitution) F(StaticShape, pad0)                                               \
+    X(ParticleContact) F(ParticleContact, point) F(ParticleContact, normal) F(ParticleContact, a)  \
+    F(ParticleContact, b) F(ParticleContact, key) F(ParticleContact, depth)                        \
+    X(ContactRow) F(ContactRow, normal) F(ContactRow, tangent1) F(ContactRow, tangent2)            \
+    F(ContactRow, rA) F(ContactRow, rB) F(ContactRow, lambda) F(ContactRow, mass)                  \
+    F(ContactRow, a) F(ContactRow, b) F(ContactRow, bias) F(ContactRow, friction)                  \
+    X(SolverParams) F(SolverParams, baumgarte) F(SolverParams, slop) F(SolverParams, inverseDt)    \
+    F(SolverParams, relaxation)
+
+// How many numbers RUBBLE_SHARED_LAYOUT produces (one per X and per F).
+#define RUBBLE_SHARED_LAYOUT_COUNT 61u

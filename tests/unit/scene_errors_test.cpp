@@ -1,0 +1,130 @@
+// tests/unit/scene_errors_test.cpp: every class of bad scene input gives exit status 2 from
+// `rubble validate` and a message naming the file and the JSON path of the field.
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "support/test_util.h"
+
+namespace rubble {
+namespace {
+
+// A valid scene with one token to replace: each case swaps a fragment of it.
+const std::string kBase = R"({
+  "format": "rubble-scene",
+  "version": 1,
+  "simulation": {"dt": 0.01, "steps": 10},
+  "materials": {"ice": {"friction": 0.05}},
+  "shapes": {
+    "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]},
+    "ball": {"type": "sphere", "radius": 0.25},
+    "ground": {"type": "plane", "normal": [0, 1, 0], "offset": 0}
+  },
+  "bodies": [
+    {"name": "floor", "shape": "ground", "static": true},
+    {"name": "c0", "shape": "crate", "mass": 1.0, "position": [0, 0.5, 0]},
+    {"name": "b0", "shape": "ball", "density": 500, "material": "ice", "position": [0, 2, 0]}
+  ]
+})";
+
+struct BadCase {
+    const char* name;
+    const char* find;      // fragment of kBase to replace ("" appends nothing)
+    const char* replace;   // what goes in its place
+    const char* where;     // expected in the message after the file name
+    const char* message;   // expected in the message
+};
+
+const BadCase kCases[] = {
+    {"MalformedJson", "\"steps\": 10}", "\"steps\": 10,}", "", "line 4, column"},
+    {"UnknownTopLevelKey", "\"version\": 1,", "\"version\": 1, \"bodys\": [],", "bodys", "unknown key"},
+    {"UnknownNestedKey", "\"mass\": 1.0,", "\"mas\": 1.0,", "bodies[1].mas", "unknown key"},
+    {"WrongType", "\"dt\": 0.01", "\"dt\": \"fast\"", "simulation.dt", "expected a number"},
+    {"WrongTypeInteger", "\"steps\": 10", "\"steps\": 10.5", "simulation.steps", "expected an integer"},
+    {"InfiniteNumber", "\"mass\": 1.0", "\"mass\": 1e999", "bodies[1].mass", "finite"},
+    {"TooLargeForFloat", "\"mass\": 1.0", "\"mass\": 1e60", "bodies[1].mass", "single precision"},
+    {"ZeroMass", "\"mass\": 1.0", "\"mass\": 0", "bodies[1].mass", "greater than 0"},
+    {"NegativeMass", "\"mass\": 1.0", "\"mass\": -2", "bodies[1].mass", "greater than 0"},
+    {"NegativeDensity", "\"density\": 500", "\"density\": -500", "bodies[2].density", "greater than 0"},
+    {"NegativeExtent", "[0.5, 0.5, 0.5]", "[0.5, -0.5, 0.5]", "shapes.crate.half_extents[1]", "greater than 0"},
+    {"ZeroRadius", "\"radius\": 0.25", "\"radius\": 0", "shapes.ball.radius", "greater than 0"},
+    {"ZeroDt", "\"dt\": 0.01", "\"dt\": 0", "simulation.dt", "greater than 0"},
+    {"NegativeDt", "\"dt\": 0.01", "\"dt\": -0.01", "simulation.dt", "greater than 0"},
+    {"UnknownShape", "\"shape\": \"crate\"", "\"shape\": \"crat\"", "bodies[1].shape", "no shape named \"crat\""},
+    {"UnknownMaterial", "\"material\": \"ice\"", "\"material\": \"snow\"", "bodies[2].material", "no material named \"snow\""},
+    {"UnknownShapeType", "\"type\": \"sphere\"", "\"type\": \"ellipsoid\"", "shapes.ball.type", "unknown shape type"},
+    {"UnknownEnum", "\"steps\": 10", "\"steps\": 10, \"integrator\": \"rk4\"", "simulation.integrator", "unknown value \"rk4\""},
+    {"DuplicateBodyName", "\"name\": \"b0\"", "\"name\": \"c0\"", "bodies[2].name", "duplicate body name \"c0\""},
+    {"DuplicateShapeName", "\"ball\": {", "\"crate\": {", "shapes.crate", "given twice"},
+    {"ZeroQuaternion", "\"position\": [0, 0.5, 0]", "\"position\": [0, 0.5, 0], \"orientation\": [0, 0, 0, 0]", "bodies[1].orientation", "cannot be normalised"},
+    {"ShortQuaternion", "\"position\": [0, 0.5, 0]", "\"position\": [0, 0.5, 0], \"orientation\": [1, 0, 0]", "bodies[1].orientation", "[w, x, y, z]"},
+    {"ShortVector", "\"position\": [0, 2, 0]", "\"position\": [0, 2]", "bodies[2].position", "3 numbers"},
+    {"MissingMeshFile", "\"type\": \"sphere\", \"radius\": 0.25", "\"type\": \"mesh\", \"file\": \"no/such.obj\"", "shapes.ball.file", "mesh file not found"},
+    {"CoplanarHull", "\"type\": \"sphere\", \"radius\": 0.25", "\"type\": \"convex\", \"vertices\": [[0,0,0],[1,0,0],[0,1,0],[1,1,0],[2,3,0]]", "shapes.ball.vertices", "coplanar"},
+    {"TooFewHullPoints", "\"type\": \"sphere\", \"radius\": 0.25", "\"type\": \"convex\", \"vertices\": [[0,0,0],[1,0,0],[0,1,0]]", "shapes.ball.vertices", "at least 4 points"},
+    {"UnsupportedVersion", "\"version\": 1", "\"version\": 2", "version", "unsupported version 2"},
+    {"WrongFormat", "\"rubble-scene\"", "\"bullet-scene\"", "format", "expected \"rubble-scene\""},
+    {"StaticWithMass", "\"static\": true", "\"static\": true, \"mass\": 3", "bodies[0].mass", "static body"},
+    {"PlaneOnDynamicBody", "\"static\": true", "\"mass\": 3", "bodies[0].shape", "static bodies only"},
+    {"MassAndDensity", "\"mass\": 1.0", "\"mass\": 1.0, \"density\": 3", "bodies[1].density", "not both"},
+    {"NoMassNorDensity", "\"density\": 500, ", "", "bodies[2]", "needs \"mass\" or \"density\""},
+    {"MissingShape", "\"shape\": \"crate\", ", "", "bodies[1].shape", "required"},
+    {"RestitutionAboveOne", "\"friction\": 0.05", "\"restitution\": 1.5", "materials.ice.restitution", "between 0 and 1"},
+    {"ZeroPlaneNormal", "\"normal\": [0, 1, 0]", "\"normal\": [0, 0, 0]", "shapes.ground.normal", "zero length"},
+    {"BadGeneratorCount", "\"bodies\": [", "\"generators\": [{\"type\": \"grid\", \"shape\": \"crate\", \"mass\": 1, \"count\": [2, 0, 2]}], \"bodies\": [", "generators[0].count", "integer from 1"},
+    {"UnknownJointBody", "\"bodies\": [", "\"joints\": [{\"type\": \"ball\", \"a\": \"c0\", \"b\": \"ghost\", \"anchor\": [0, 1, 0]}], \"bodies\": [", "joints[0].b", "no body named \"ghost\""},
+};
+
+class SceneErrors : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(SceneErrors, ExitTwoAndNameTheField) {
+    const BadCase& c = GetParam();
+    std::string text = kBase;
+    const std::size_t at = text.find(c.find);
+    ASSERT_NE(at, std::string::npos) << "fragment not in the base scene: " << c.find;
+    text.replace(at, std::strlen(c.find), c.replace);
+    const std::string dir = test::tempDir(std::string("bad_") + c.name);
+    const std::string file = dir + "/scene.json";
+    test::writeText(file, text);
+    const test::CommandResult r = test::runRubble("validate '" + file + "'");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    const std::string where = std::string(c.where).empty() ? file : file + ": " + c.where;
+    EXPECT_NE(r.output.find(where), std::string::npos) << "expected \"" << where << "\" in: " << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << "expected \"" << c.message << "\" in: " << r.output;
+}
+
+INSTANTIATE_TEST_SUITE_P(BadInput, SceneErrors, ::testing::ValuesIn(kCases),
+                         [](const ::testing::TestParamInfo<BadCase>& i) { return std::string(i.param.name); });
+
+TEST(SceneErrorsBase, TheBaseSceneIsValid) {
+    const std::string dir = test::tempDir("bad_base");
+    test::writeText(dir + "/scene.json", kBase);
+    const test::CommandResult r = test::runRubble("validate '" + dir + "/scene.json'");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("bodies: 3 (1 static, 2 dynamic)"), std::string::npos) << r.output;
+}
+
+TEST(SceneErrorsBase, MissingSceneFile) {
+    const test::CommandResult r = test::runRubble("validate /no/such/scene.json");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("/no/such/scene.json: scene file not found"), std::string::npos) << r.output;
+}
+
+TEST(SceneErrorsBase, BadCommandLineValueIsExitTwo) {
+    const std::string dir = test::tempDir("bad_cli");
+    test::writeText(dir + "/scene.json", kBase);
+    test::CommandResult r = test::runRubble("run '" + dir + "/scene.json' --dt -1");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("--dt"), std::string::npos) << r.output;
+    r = test::runRubble("run '" + dir + "/scene.json' --integrator rk4");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("--integrator: unknown value \"rk4\""), std::string::npos) << r.output;
+    r = test::runRubble("run '" + dir + "/scene.json' --out traj.txt");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find(".csv or .jsonl"), std::string::npos) << r.output;
+    r = test::runRubble("run '" + dir + "/scene.json' --steps banana");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+}
+
+} // namespace
+} // namespace rubble
