@@ -28,7 +28,9 @@ World::~World() = default;
 
 Status World::step() {
     WorldState& s = *s_;
-    StepStats stats;
+    // Stages write their outputs (contact count, solver residual) into s.stats during the step.
+    StepStats& stats = s.stats;
+    stats = StepStats{};
     const auto start = std::chrono::steady_clock::now();
 
     stepCpuReference(s, stats);
@@ -36,7 +38,6 @@ Status World::step() {
     ++s.step;
     stats.totalMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    s.stats = stats;
 
     if (const auto bad = firstNonFinite(s))
         return makeError(ErrorKind::Numerical, "body " + s.names[*bad],
