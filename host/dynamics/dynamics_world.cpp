@@ -1,13 +1,53 @@
-// host/dynamics/dynamics_world.cpp: CPU stages 5 and 6 over a world's arrays.
+// host/dynamics/dynamics_world.cpp: CPU stages 5 and 6 over a world's arrays, the joint position
+// correction after stage 7, and sleeping.
 #include "host/dynamics/dynamics_world.h"
 
+#include "host/dynamics/pgs.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
 
-void runBuildContactRows(WorldState&) {}
-void runSolveVelocities(WorldState&) {}
-void runSolvePositions(WorldState&) {}
-void runUpdateSleep(WorldState&) {}
+void runBuildContactRows(WorldState& s) {
+    SolverCache& c = s.solver;
+    // Joints are turned into body frames at the poses of the first step.
+    if (!c.jointsBuilt) {
+        c.joints = makeJoints(s.joints, s.poses);
+        c.joined = joinedPairs(c.joints);
+        c.jointsBuilt = true;
+    }
+    gatherSolverMasses(s.masses, s.poses, c.bodies);
+    gatherSolverVelocities(s.velocities, c.bodies);
+    const SolverOptions& o = s.options.solver;
+    const ContactRowSettings settings{s.options.dt, o.baumgarte, o.slop, o.warmStart};
+    buildContactRows(s.manifolds, s.poses, c.bodies, s.materials, s.materialOf, c.joined,
+                     c.impulses, settings, c.contacts);
+    prepareJoints(c.joints, s.poses, c.bodies, o.warmStart);
+}
+
+void runSolveVelocities(WorldState& s) {
+    SolverCache& c = s.solver;
+    solvePgs(c.contacts, c.joints, c.bodies, s.options.solver, c.residuals);
+    scatterSolverVelocities(c.bodies, s.velocities);
+    storeContactImpulses(c.contacts, c.impulses);
+    s.stats.solverResidual = c.residuals.empty() ? 0.0f : c.residuals.back();
+}
+
+void runSolvePositions(WorldState& s) {
+    SolverCache& c = s.solver;
+    if (c.joints.empty()) return;
+    c.jointPositions = correctJointPositions(c.joints, s.masses, s.poses, kJointPositionIterations);
+    // The turned bodies' angular velocities follow from their momenta at the new orientations.
+    for (const Joint& j : c.joints)
+        for (const std::uint32_t i : {j.a, j.b})
+            if (isAwakeDynamic(s.masses[i]))
+                s.velocities[i] = shared::velocityFromMomentumItem(s.momenta[i], s.masses[i],
+                                                                   s.poses[i].orientation);
+}
+
+void runUpdateSleep(WorldState& s) {
+    SolverCache& c = s.solver;
+    c.lastSleep =
+        updateSleep(s.manifolds, c.joints, s.masses, s.velocities, s.momenta, s.options.dt, c.sleep);
+}
 
 } // namespace rubble

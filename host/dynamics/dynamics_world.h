@@ -2,12 +2,35 @@
 // the velocity solve), the position correction after stage 7, and islands and sleeping.
 #pragma once
 
+#include <vector>
+
+#include "host/collision/contact.h"
+#include "host/dynamics/contact_rows.h"
+#include "host/dynamics/islands.h"
+#include "host/dynamics/joints.h"
+#include "host/dynamics/solver_bodies.h"
+
 namespace rubble {
 
 struct WorldState;
 
-/// What the solver keeps between steps (impulses for warm starting, sleep timers).
-struct SolverCache {};
+/// Sweeps of the joint position correction per step (it stops earlier once every joint holds).
+inline constexpr int kJointPositionIterations = 8;
+
+/// What the solver keeps between steps (impulses for warm starting, joints, sleep timers) and
+/// the buffers it reuses. Ordered containers only: the reference path is deterministic.
+struct SolverCache {
+    bool jointsBuilt = false;
+    std::vector<Joint> joints;            ///< the scene's joints in body frames, with impulses
+    std::vector<BodyPair> joined;         ///< joined pairs, sorted: they do not collide
+    std::vector<ContactImpulse> impulses; ///< last step's contact impulses, sorted by key
+    SolverBodies bodies;                  ///< this step's solver view of the bodies
+    std::vector<ContactRow> contacts;     ///< this step's contact rows
+    std::vector<float> residuals;         ///< largest |impulse change| of each sweep, N s
+    JointPositionReport jointPositions;   ///< the last position correction
+    SleepState sleep;
+    SleepReport lastSleep;
+};
 
 /// Stage buildContactRows. reads: manifolds, poses, masses, materials, joints, solver cache
 /// writes: constraint rows
@@ -16,7 +39,7 @@ void runBuildContactRows(WorldState& s);
 /// Stage solve. reads: rows   writes: velocities, impulses, stats.solverResidual
 void runSolveVelocities(WorldState& s);
 
-/// After integratePositions: position-level correction of joints. writes: poses
+/// After integratePositions: position-level correction of joints. writes: poses, velocities
 void runSolvePositions(WorldState& s);
 
 /// Islands and sleeping. reads: velocities, manifolds, joints   writes: masses[i].flags

@@ -1,0 +1,125 @@
+// host/dynamics/islands.cpp: islands by union-find, and sleeping (last stage of the CPU step).
+#include "host/dynamics/islands.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "host/core/assert.h"
+#include "host/core/math.h"
+
+namespace rubble {
+namespace {
+
+bool isDynamic(const shared::BodyMass& m) { return m.inverseMass > 0.0f; }
+
+// Root of i, halving the path on the way.
+std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+// The smaller root wins, so that the result does not depend on the order of the unions' sides.
+void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
+    const std::uint32_t ra = findRoot(parent, a), rb = findRoot(parent, b);
+    if (ra < rb)
+        parent[rb] = ra;
+    else if (rb < ra)
+        parent[ra] = rb;
+}
+
+float squared(glm::vec3 v) { return glm::dot(v, v); }
+
+} // namespace
+
+SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joint> joints,
+                        std::span<shared::BodyMass> masses,
+                        std::span<shared::BodyVelocity> velocities,
+                        std::span<shared::BodyMomentum> momenta, float dt, SleepState& st) {
+    const std::uint32_t n = std::uint32_t(masses.size());
+    RUBBLE_ASSERT(velocities.size() == n && momenta.size() == n);
+    if (st.slowFor.size() != n) {
+        st.slowFor.assign(n, 0.0f);
+        st.group.assign(n, kNoGroup);
+        st.wasAsleep.assign(n, 0);
+        for (std::uint32_t i = 0; i < n; ++i)
+            st.wasAsleep[i] = (masses[i].flags & RUBBLE_BODY_ASLEEP) ? 1 : 0;
+    }
+
+    // How long each awake body has been slow; one woken from outside starts again.
+    const float linear2 = kSleepLinearSpeed * kSleepLinearSpeed;
+    const float angular2 = kSleepAngularSpeed * kSleepAngularSpeed;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        if (!isDynamic(masses[i]) || (masses[i].flags & RUBBLE_BODY_ASLEEP)) continue;
+        if (st.wasAsleep[i]) {
+            st.slowFor[i] = 0.0f;
+            st.group[i] = kNoGroup;
+        }
+        const bool slow = squared(toVec3(velocities[i].linear)) < linear2 &&
+                          squared(toVec3(velocities[i].angular)) < angular2;
+        st.slowFor[i] = slow ? st.slowFor[i] + dt : 0.0f;
+    }
+
+    // Islands over dynamic bodies: contacts, joints, and the groups that sleep together.
+    st.parent.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i) st.parent[i] = i;
+    for (const Manifold& m : manifolds)
+        if (m.count > 0 && isDynamic(masses[m.a]) && isDynamic(masses[m.b]))
+            unite(st.parent, m.a, m.b);
+    for (const Joint& j : joints)
+        if (isDynamic(masses[j.a]) && isDynamic(masses[j.b])) unite(st.parent, j.a, j.b);
+    st.groupFirst.assign(n, kNoGroup);
+    for (std::uint32_t i = 0; i < n; ++i) {
+        if (!(masses[i].flags & RUBBLE_BODY_ASLEEP) || st.group[i] == kNoGroup) continue;
+        std::uint32_t& first = st.groupFirst[st.group[i]];
+        if (first == kNoGroup)
+            first = i;
+        else
+            unite(st.parent, first, i);
+    }
+
+    // Per island: awake and asleep bodies, and the shortest slow time of the awake ones.
+    st.awake.assign(n, 0);
+    st.asleep.assign(n, 0);
+    st.islandSlowFor.assign(n, std::numeric_limits<float>::infinity());
+    SleepReport report;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        if (!isDynamic(masses[i])) continue;
+        const std::uint32_t r = findRoot(st.parent, i);
+        if (st.awake[r] == 0 && st.asleep[r] == 0) ++report.islands;
+        if (masses[i].flags & RUBBLE_BODY_ASLEEP) {
+            ++st.asleep[r];
+        } else {
+            ++st.awake[r];
+            st.islandSlowFor[r] = std::min(st.islandSlowFor[r], st.slowFor[i]);
+        }
+    }
+
+    // Wake the islands that something awake and moving touches; put the slow ones to sleep.
+    for (std::uint32_t i = 0; i < n; ++i) {
+        if (!isDynamic(masses[i])) continue;
+        const std::uint32_t r = findRoot(st.parent, i);
+        const bool asleep = (masses[i].flags & RUBBLE_BODY_ASLEEP) != 0;
+        if (st.awake[r] > 0) {
+            if (st.islandSlowFor[r] >= kTimeToSleep) {
+                if (!asleep) ++report.fellAsleep;
+                masses[i].flags |= RUBBLE_BODY_ASLEEP;
+                st.group[i] = r;
+                velocities[i] = shared::BodyVelocity{};
+                momenta[i] = shared::BodyMomentum{};
+            } else if (asleep) {
+                ++report.woken;
+                masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
+                st.slowFor[i] = 0.0f;
+                st.group[i] = kNoGroup;
+            }
+        }
+        st.wasAsleep[i] = (masses[i].flags & RUBBLE_BODY_ASLEEP) ? 1 : 0;
+        if (st.wasAsleep[i]) ++report.asleepBodies;
+    }
+    return report;
+}
+
+} // namespace rubble

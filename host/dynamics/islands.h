@@ -1,0 +1,53 @@
+// host/dynamics/islands.h: islands (union-find over touching contacts and joints) and sleeping,
+// the last stage of the CPU step.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "host/collision/contact.h"
+#include "host/dynamics/joints.h"
+#include "rubble/shared/body.h"
+
+namespace rubble {
+
+/// A body sleeps when its island has stayed below both speeds for kTimeToSleep.
+inline constexpr float kSleepLinearSpeed = 0.05f;  ///< m/s
+inline constexpr float kSleepAngularSpeed = 0.05f; ///< rad/s
+inline constexpr float kTimeToSleep = 0.5f;        ///< s
+
+/// What sleeping keeps between steps, by body index.
+struct SleepState {
+    std::vector<float> slowFor;          ///< how long the body has been below both speeds, s
+    std::vector<std::uint32_t> group;    ///< the island it fell asleep with (kNoGroup if awake)
+    std::vector<std::uint8_t> wasAsleep; ///< asleep at the end of the last step
+    // Scratch reused every step.
+    std::vector<std::uint32_t> parent, groupFirst, awake, asleep;
+    std::vector<float> islandSlowFor;
+};
+
+inline constexpr std::uint32_t kNoGroup = 0xffffffffu;
+
+/// What the last update did.
+struct SleepReport {
+    std::uint32_t islands = 0;      ///< islands with at least one dynamic body
+    std::uint32_t asleepBodies = 0; ///< bodies asleep after the update
+    std::uint32_t woken = 0;        ///< bodies woken by it
+    std::uint32_t fellAsleep = 0;   ///< bodies put to sleep by it
+};
+
+/// Stage updateSleep (islands as in Catto, "Box2D" island management; union-find after Tarjan).
+/// Dynamic bodies are joined by every manifold with points and every joint; bodies that fell
+/// asleep together stay together (their pairs are not collided while they sleep). An island with
+/// an awake body that has not been slow for kTimeToSleep wakes all its sleeping bodies; an
+/// island whose awake bodies have all been slow that long goes to sleep: RUBBLE_BODY_ASLEEP is
+/// set and its velocities and momenta are zeroed. A body woken from outside (the API, an
+/// explosion) starts its slow time again.
+/// reads: manifolds, joints, velocities   writes: masses (flags), velocities, momenta, state
+SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joint> joints,
+                        std::span<shared::BodyMass> masses,
+                        std::span<shared::BodyVelocity> velocities,
+                        std::span<shared::BodyMomentum> momenta, float dt, SleepState& state);
+
+} // namespace rubble

@@ -1,0 +1,83 @@
+// host/dynamics/joints.h: ball-and-socket and hinge joints: their rows for CPU stages 5 and 6
+// (velocities), and the position correction after stage 7 (non-linear Gauss-Seidel on poses).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "host/collision/contact.h"
+#include "host/dynamics/solver_bodies.h"
+#include "rubble/scene.h"
+#include "rubble/shared/body.h"
+
+namespace rubble {
+
+/// A joint in the bodies' frames, with its rows of the current step and its accumulated
+/// impulses. Point rows: C = (x_b + r_b) - (x_a + r_a) = 0, solved as one 3x3 block. Hinge rows:
+/// C = (a_1 . b_2, a_1 . c_2) = 0 with a_1 the axis fixed in a, and b_2, c_2 perpendicular to the
+/// axis fixed in b, solved as one 2x2 block (Chappuis 2013; Cline 2002).
+struct Joint {
+    JointType type = JointType::Ball;
+    std::uint32_t a = 0, b = 0;
+    glm::vec3 anchorA{0.0f}, anchorB{0.0f}; ///< the anchor in each body's frame, m
+    glm::vec3 axisA{1, 0, 0};               ///< hinge axis in a's frame, unit
+    glm::vec3 perpB[2];                     ///< unit, perpendicular to the axis, in b's frame
+
+    // This step's rows (world frame), from prepareJoints.
+    bool active = false;         ///< false when neither body moves in the solve
+    glm::vec3 ra{0.0f}, rb{0.0f};  ///< centres of mass to the anchor, m
+    glm::mat3 pointMass{0.0f};   ///< (J M^-1 J^T)^-1 of the point rows, kg
+    glm::vec3 turn[2];           ///< a_1 x b_2, a_1 x c_2: the hinge rows' angular Jacobian on a
+    glm::mat2 turnMass{0.0f};    ///< (J M^-1 J^T)^-1 of the hinge rows, kg m^2
+
+    // Accumulated impulses, kept between steps for warm starting.
+    glm::vec3 pointImpulse{0.0f}; ///< on b at the anchor (a gets the opposite), N s
+    glm::vec2 turnImpulse{0.0f};  ///< along turn[0], turn[1] on a (b gets the opposite), N m s
+};
+
+/// Joints from their scene descriptions at the initial poses (anchor and axis in world space).
+std::vector<Joint> makeJoints(std::span<const JointDesc> descs,
+                              std::span<const shared::BodyPose> poses);
+
+/// The joined body pairs, (min, max), sorted and unique: they do not collide.
+std::vector<BodyPair> joinedPairs(std::span<const Joint> joints);
+
+/// Stage buildContactRows for joints: world offsets, effective masses of both blocks at the
+/// current poses; impulses are zeroed without warm starting.
+/// reads: poses, bodies (inverse masses)   writes: joints' rows
+void prepareJoints(std::span<Joint> joints, std::span<const shared::BodyPose> poses,
+                   const SolverBodies& bodies, bool warmStart);
+
+/// Applies the joints' accumulated impulses (warm start). writes: bodies' velocities
+void warmStartJoints(std::span<const Joint> joints, SolverBodies& bodies);
+
+/// One Gauss-Seidel update of a joint's blocks towards C' = 0 (the position error is left to
+/// correctJointPositions); the change is scaled by relaxation. Returns the largest |impulse
+/// change|, N s. writes: bodies' velocities, the joint's impulses
+float solveJointVelocity(Joint& joint, SolverBodies& bodies, float relaxation);
+
+/// Outcome of the position correction.
+struct JointPositionReport {
+    float linearErrorBefore = 0; ///< largest anchor separation before the correction, m
+    float linearErrorAfter = 0;  ///< after it, m
+    float angularErrorAfter = 0; ///< largest hinge axis misalignment after it, rad
+    int iterations = 0;
+};
+
+/// Position correction after integratePositions: non-linear Gauss-Seidel on the poses (Catto,
+/// "Modeling and Solving Constraints", GDC 2009): each joint in turn moves and turns its bodies
+/// by M^-1 J^T lambda with lambda = -K^-1 C at their current poses, until every anchor is within
+/// tolerance or maxIterations sweeps have run. Only awake dynamic bodies move; velocities are
+/// untouched. reads: masses   writes: poses
+JointPositionReport correctJointPositions(std::span<const Joint> joints,
+                                          std::span<const shared::BodyMass> masses,
+                                          std::span<shared::BodyPose> poses, int maxIterations);
+
+/// Anchor separation (m) and hinge axis misalignment (rad) of one joint at the given poses.
+void jointError(const Joint& joint, std::span<const shared::BodyPose> poses, float& linear,
+                float& angular);
+
+} // namespace rubble

@@ -1,0 +1,44 @@
+// host/dynamics/solver_bodies.h: the bodies as CPU stages 5 and 6 see them: velocities and inverse
+// masses, with static and sleeping bodies given infinite mass so that no impulse moves them.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "rubble/shared/body.h"
+
+namespace rubble {
+
+/// One solve's view of every body, by body index. World frame throughout.
+struct SolverBodies {
+    std::vector<glm::vec3> linear;          ///< m/s
+    std::vector<glm::vec3> angular;         ///< rad/s
+    std::vector<float> inverseMass;         ///< 1/kg; 0 when the body does not move in the solve
+    std::vector<glm::mat3> inverseInertia;  ///< I_w^-1, 1/(kg m^2); 0 when it does not move
+
+    /// True when impulses change the body's velocity (dynamic and awake).
+    bool moves(std::uint32_t i) const { return inverseMass[i] > 0.0f; }
+};
+
+/// True for a dynamic body that is awake.
+inline bool isAwakeDynamic(const shared::BodyMass& m) {
+    return m.inverseMass > 0.0f && (m.flags & RUBBLE_BODY_ASLEEP) == 0u;
+}
+
+/// Inverse masses and world inverse inertias (shared::inverseInertiaWorldItem) at the current
+/// orientations. reads: masses, poses   writes: bodies.inverseMass, bodies.inverseInertia
+void gatherSolverMasses(std::span<const shared::BodyMass> masses,
+                        std::span<const shared::BodyPose> poses, SolverBodies& bodies);
+
+/// reads: velocities   writes: bodies.linear, bodies.angular
+void gatherSolverVelocities(std::span<const shared::BodyVelocity> velocities,
+                            SolverBodies& bodies);
+
+/// Writes the solved velocities of the bodies that move back. reads: bodies   writes: velocities
+void scatterSolverVelocities(const SolverBodies& bodies,
+                             std::span<shared::BodyVelocity> velocities);
+
+} // namespace rubble
