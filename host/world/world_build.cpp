@@ -20,7 +20,6 @@ Status checkSupported(const Scene& scene) {
     if (sim.solver.type != SolverType::Pgs)
         return notSupported(scene.file + ": simulation.solver.type",
                             "the " + std::string(toString(sim.solver.type)) + " solver");
-    if (!scene.joints.empty()) return notSupported(scene.joints[0].where + ".type", "joints");
     return {};
 }
 
