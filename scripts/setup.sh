@@ -11,6 +11,8 @@ packages=(
     # maths, scenes, meshes, hulls, command line, tests, benchmarks
     libglm-dev nlohmann-json3-dev libtinyobjloader-dev libqhull-dev libcli11-dev
     libgtest-dev libgmock-dev libbenchmark-dev
+    # peer engines for the benchmarks (bench/peers)
+    libbullet-dev libmujoco-dev
     # viewer and headless rendering
     libglfw3-dev libgl-dev libegl-dev libglx-dev libstb-dev xvfb xauth
     # plots of the benchmarks and comparisons

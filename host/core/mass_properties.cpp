@@ -4,6 +4,8 @@
 #include <numbers>
 #include "host/core/mass_properties.h"
 
+#include <cmath>
+
 namespace rubble {
 
 MassProperties boxMassProperties(glm::vec3 halfExtents) {
@@ -91,6 +93,40 @@ MassProperties polyhedronMassProperties(std::span<const glm::vec3> vertices,
     const double zx = -(in[9] - m * c.z * c.x);
     mp.inertia = glm::dmat3(xx, xy, zx, xy, yy, yz, zx, yz, zz);
     return mp;
+}
+
+PrincipalAxes principalAxes(const glm::dmat3& inertia) {
+    glm::dmat3 a = inertia;     // driven to diagonal
+    glm::dmat3 v(1.0);          // accumulated rotations; a = v^T inertia v
+    constexpr int kMaxSweeps = 32;
+    for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+        const double off = a[1][0] * a[1][0] + a[2][0] * a[2][0] + a[2][1] * a[2][1];
+        const double diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
+        if (off <= 1e-30 * diag) break;
+        for (int p = 0; p < 2; ++p) {
+            for (int q = p + 1; q < 3; ++q) {
+                const double apq = a[q][p];
+                if (apq == 0.0) continue;
+                // The rotation in the (p, q) plane that zeroes a_pq.
+                const double theta = (a[q][q] - a[p][p]) / (2.0 * apq);
+                const double t = (theta >= 0.0 ? 1.0 : -1.0) /
+                                 (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+                const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+                glm::dmat3 j(1.0);
+                j[p][p] = c;
+                j[q][q] = c;
+                j[q][p] = s;  // row p, column q
+                j[p][q] = -s; // row q, column p
+                a = glm::transpose(j) * a * j;
+                v = v * j;
+            }
+        }
+    }
+    if (glm::determinant(v) < 0.0) v[2] = -v[2]; // a rotation, not a reflection
+    PrincipalAxes r;
+    r.moments = glm::dvec3(a[0][0], a[1][1], a[2][2]);
+    r.axes = glm::normalize(glm::quat_cast(v));
+    return r;
 }
 
 glm::mat3 inertiaForMass(const MassProperties& mp, double mass) {

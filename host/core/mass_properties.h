@@ -5,6 +5,7 @@
 #include <span>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 namespace rubble {
 
@@ -30,5 +31,15 @@ MassProperties polyhedronMassProperties(std::span<const glm::vec3> vertices,
 
 /// The inertia tensor of mp scaled from unit density to a total mass (kg).
 glm::mat3 inertiaForMass(const MassProperties& mp, double mass);
+
+/// Principal moments and axes of a symmetric inertia tensor: I = R diag(moments) R^T, with R the
+/// rotation of `axes` (a proper rotation, columns the principal axes in the tensor's frame).
+struct PrincipalAxes {
+    glm::dvec3 moments{0.0};
+    glm::dquat axes{1.0, 0.0, 0.0, 0.0};
+};
+
+/// Diagonalises a symmetric 3x3 tensor by cyclic Jacobi rotations (Golub and Van Loan, 8.5).
+PrincipalAxes principalAxes(const glm::dmat3& inertia);
 
 } // namespace rubble

@@ -47,7 +47,6 @@ void MetricsRecorder::afterStep(const World& world) {
     last_ = measureInvariants(world);
 }
 
-namespace {
 double percentile(std::vector<double> v, double q) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
@@ -56,6 +55,8 @@ double percentile(std::vector<double> v, double q) {
     const std::size_t hi = std::min(lo + 1, v.size() - 1);
     return v[lo] + (v[hi] - v[lo]) * (pos - double(lo));
 }
+
+namespace {
 nlohmann::json vec(glm::dvec3 v) { return {v.x, v.y, v.z}; }
 } // namespace
 

@@ -19,6 +19,9 @@ struct Invariants {
     glm::dvec3 angularMomentum{0.0};  ///< kg m^2/s, sum of x cross P + L
 };
 
+/// The q-quantile (0..1) of samples, interpolated linearly between neighbours; 0 when empty.
+double percentile(std::vector<double> samples, double q);
+
 /// The world's kinetic energy and momenta now.
 Invariants measureInvariants(const World& world);
 

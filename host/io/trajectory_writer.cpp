@@ -20,7 +20,7 @@ void appendNumber(std::string& out, float v) {
 }
 
 // The JSON text of a body name (quotes and control characters escaped).
-void appendJsonString(std::string& out, const std::string& s) {
+void appendJsonString(std::string& out, std::string_view s) {
     out += '"';
     for (char c : s) {
         if (c == '"' || c == '\\') {
@@ -50,7 +50,7 @@ TrajectoryWriter::TrajectoryWriter(std::string path, TrajectoryFormat format, st
 
 TrajectoryWriter::TrajectoryWriter(TrajectoryWriter&& o) noexcept
     : path_(std::move(o.path_)), format_(o.format_), file_(o.file_),
-      buffer_(std::move(o.buffer_)) {
+      buffer_(std::move(o.buffer_)), rows_(std::move(o.rows_)) {
     o.file_ = nullptr;
 }
 
@@ -61,6 +61,7 @@ TrajectoryWriter& TrajectoryWriter::operator=(TrajectoryWriter&& o) noexcept {
         format_ = o.format_;
         file_ = o.file_;
         buffer_ = std::move(o.buffer_);
+        rows_ = std::move(o.rows_);
         o.file_ = nullptr;
     }
     return *this;
@@ -90,32 +91,42 @@ Result<TrajectoryWriter> TrajectoryWriter::open(const std::string& path) {
 }
 
 Status TrajectoryWriter::write(const World& world) {
+    rows_.resize(world.bodyCount());
+    for (std::uint32_t i = 0; i < world.bodyCount(); ++i) {
+        const BodyState b = world.body(i);
+        rows_[i] = TrajectoryRow{world.bodyName(i), b.position, b.orientation, b.linearVelocity,
+                                 b.angularVelocity};
+    }
+    return write(world.stepIndex(), world.time(), rows_);
+}
+
+Status TrajectoryWriter::write(std::int64_t step, double time,
+                               std::span<const TrajectoryRow> rows) {
+    // Time as a float: dt is a float, and the shortest float text reads 0.02 where the double
+    // of 2 * 0.01f reads 0.019999999552965164. Well below a step's resolution for 10^6 steps.
+    const float shownTime = float(time);
     std::string out;
-    out.reserve(world.bodyCount() * 160 + 64);
-    const std::int64_t step = world.stepIndex();
-    // As a float: dt is a float, and the shortest float text reads 0.02 where the double of
-    // 2 * 0.01f reads 0.019999999552965164. Well below a step's resolution for 10^6 steps.
-    const float time = float(world.time());
+    out.reserve(rows.size() * 160 + 64);
     if (format_ == TrajectoryFormat::Jsonl) {
         out += "{\"step\":" + std::to_string(step) + ",\"time\":";
-        appendNumber(out, time);
+        appendNumber(out, shownTime);
         out += ",\"bodies\":[";
     }
     static const char* const kKeys[] = {"px", "py", "pz", "qw", "qx", "qy", "qz",
                                         "vx", "vy", "vz", "wx", "wy", "wz"};
-    for (std::uint32_t i = 0; i < world.bodyCount(); ++i) {
-        const BodyState b = world.body(i);
-        const float values[13] = {b.position.x,       b.position.y,       b.position.z,
-                                  b.orientation.w,    b.orientation.x,    b.orientation.y,
-                                  b.orientation.z,    b.linearVelocity.x, b.linearVelocity.y,
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const TrajectoryRow& b = rows[i];
+        const float values[13] = {b.position.x,       b.position.y,        b.position.z,
+                                  b.orientation.w,    b.orientation.x,     b.orientation.y,
+                                  b.orientation.z,    b.linearVelocity.x,  b.linearVelocity.y,
                                   b.linearVelocity.z, b.angularVelocity.x, b.angularVelocity.y,
                                   b.angularVelocity.z};
         if (format_ == TrajectoryFormat::Csv) {
             out += std::to_string(step);
             out += ',';
-            appendNumber(out, time);
+            appendNumber(out, shownTime);
             out += ',';
-            out += world.bodyName(i);
+            out += b.body;
             for (float v : values) {
                 out += ',';
                 appendNumber(out, v);
@@ -123,7 +134,7 @@ Status TrajectoryWriter::write(const World& world) {
             out += '\n';
         } else {
             out += i ? ",{\"body\":" : "{\"body\":";
-            appendJsonString(out, world.bodyName(i));
+            appendJsonString(out, b.body);
             for (int k = 0; k < 13; ++k) {
                 out += ",\"";
                 out += kKeys[k];

@@ -4,7 +4,13 @@
 
 #include <cstdio>
 #include <memory>
+#include <span>
 #include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include "rubble/error.h"
 #include "rubble/world.h"
@@ -12,6 +18,15 @@
 namespace rubble {
 
 enum class TrajectoryFormat { Csv, Jsonl };
+
+/// One body's row of a written step: world frame, SI units.
+struct TrajectoryRow {
+    std::string_view body;
+    glm::vec3 position{0.0f};
+    glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f};
+    glm::vec3 linearVelocity{0.0f};
+    glm::vec3 angularVelocity{0.0f};
+};
 
 /// Writes one row per body per written step. The file is `path.partial` until finish(); a run
 /// that stops early leaves the partial file, never a truncated file under the final name.
@@ -27,6 +42,9 @@ class TrajectoryWriter {
 
     /// Appends the world's current state: step, time and every body.
     Status write(const World& world);
+    /// Appends one step given as rows (for programs that are not a World, such as the peers
+    /// of the benchmarks).
+    Status write(std::int64_t step, double time, std::span<const TrajectoryRow> rows);
     /// Flushes, closes and renames the file to its final name.
     Status finish();
 
@@ -39,6 +57,7 @@ class TrajectoryWriter {
     TrajectoryFormat format_;
     std::FILE* file_;
     std::unique_ptr<char[]> buffer_;
+    std::vector<TrajectoryRow> rows_; // reused by write(World)
 };
 
 /// Writes `text` to `path` through a temporary file renamed into place.

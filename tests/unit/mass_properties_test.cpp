@@ -2,6 +2,8 @@
 #include <numbers>
 #include "host/core/mass_properties.h"
 
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "host/geometry/convex_hull.h"
@@ -111,6 +113,34 @@ TEST(MassProperties, ClosedConcaveMeshUsesItsOwnVolume) {
     EXPECT_NEAR(s->unitMass.volume, 3.0, 1e-6);
     EXPECT_NEAR(s->centreShift.x, 5.0f / 6.0f, 1e-6f);
     EXPECT_NEAR(s->centreShift.y, 5.0f / 6.0f, 1e-6f);
+}
+
+TEST(MassProperties, PrincipalAxesDiagonaliseTheTetrahedron) {
+    const double d = 1.0 / 80.0, o = 1.0 / 480.0;
+    const glm::dmat3 inertia(d, o, o, o, d, o, o, o, d);
+    const PrincipalAxes pa = principalAxes(inertia);
+    const glm::dmat3 r = glm::mat3_cast(pa.axes);
+    const glm::dmat3 rebuilt = r * glm::dmat3(pa.moments.x, 0, 0, 0, pa.moments.y, 0, 0, 0, pa.moments.z) *
+                               glm::transpose(r);
+    expectTensorNear(rebuilt, inertia, 1e-15);
+    // Eigenvalues d + 2o (along (1,1,1)) and d - o twice.
+    std::vector<double> m{pa.moments.x, pa.moments.y, pa.moments.z};
+    std::sort(m.begin(), m.end());
+    EXPECT_NEAR(m[0], d - o, 1e-15);
+    EXPECT_NEAR(m[1], d - o, 1e-15);
+    EXPECT_NEAR(m[2], d + 2 * o, 1e-15);
+    EXPECT_NEAR(glm::determinant(r), 1.0, 1e-12);
+}
+
+TEST(MassProperties, PrincipalAxesOfARotatedBox) {
+    const glm::dmat3 diag(2.0, 0, 0, 0, 5.0, 0, 0, 0, 7.0);
+    const glm::dmat3 rot = glm::mat3_cast(glm::angleAxis(0.7, glm::normalize(glm::dvec3(1, 2, 3))));
+    const glm::dmat3 inertia = rot * diag * glm::transpose(rot);
+    const PrincipalAxes pa = principalAxes(inertia);
+    const glm::dmat3 r = glm::mat3_cast(pa.axes);
+    const glm::dmat3 rebuilt =
+        r * glm::dmat3(pa.moments.x, 0, 0, 0, pa.moments.y, 0, 0, 0, pa.moments.z) * glm::transpose(r);
+    expectTensorNear(rebuilt, inertia, 1e-12);
 }
 
 } // namespace

@@ -1,0 +1,40 @@
+// bench/peers/peer.h: the common front end of the peer engines' runners: the same scene file,
+// the same steps and dt, timed per step, written in rubble's trajectory and metrics formats.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "host/geometry/shape.h"
+#include "host/io/trajectory_writer.h"
+#include "rubble/scene.h"
+
+namespace rubble::peers {
+
+/// One peer engine holding a scene's bodies, in scene order.
+class PeerWorld {
+  public:
+    virtual ~PeerWorld() = default;
+    /// Advances one step of the scene's dt.
+    virtual void step() = 0;
+    /// The state of every body in scene order (centre of mass, world frame).
+    virtual void read(std::vector<TrajectoryRow>& rows) const = 0;
+    /// Notes on what could not match rubble exactly, for the metrics file.
+    virtual std::vector<std::string> caveats() const = 0;
+};
+
+/// Builds a peer world; shapes are rubble's built shapes (centre of mass at the origin).
+using PeerFactory = std::function<Result<std::unique_ptr<PeerWorld>>(
+    const Scene& scene, const std::vector<Shape>& shapes)>;
+
+/// Parses `SCENE [--steps N] [--out FILE] [--every K] [--metrics FILE]`, runs the scene and
+/// writes the files; returns the process exit status (2 for bad input).
+int runPeer(int argc, char** argv, const std::string& engine, const std::string& version,
+            const PeerFactory& factory);
+
+/// The mass of a body as rubble computes it (mass, or density times the shape's volume).
+double bodyMass(const BodyDesc& body, const Shape& shape);
+
+} // namespace rubble::peers
