@@ -80,5 +80,5 @@ template <class T> class [[nodiscard]] Result {
 /// Returns the error of a Status or Result expression from the enclosing function.
 #define RUBBLE_TRY(expr)                                                                           \
     do {                                                                                           \
-        if (auto rubbleStatus_ = (expr); !rubbleStatus_.ok()) return rubbleStatus_.error();        \
+        if (auto&& rubbleStatus_ = (expr); !rubbleStatus_.ok()) return rubbleStatus_.error();      \
     } while (0)
