@@ -2,6 +2,7 @@
 #include "peer.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include <CLI/CLI.hpp>
@@ -59,6 +60,18 @@ int runPeer(int argc, char** argv, const std::string& engine, const std::string&
         w.read(rows);
         if (Status s = writer->write(0, 0.0, rows); !s) return fail(s.error());
     }
+    // End-state assessment, as `rubble run --metrics` does it: drift over the last second.
+    std::vector<QualityBody> quality(scene->bodies.size());
+    for (std::size_t i = 0; i < quality.size(); ++i) {
+        const BodyDesc& d = scene->bodies[i];
+        const Shape& s = shapes[d.shape];
+        quality[i] = QualityBody{&s, bodyMass(d, s), s.unitMass.inertia * (bodyMass(d, s) / s.unitMass.volume), d.isStatic};
+        if (d.isStatic) quality[i].inertia = glm::dmat3(0.0);
+    }
+    const int total = scene->simulation.steps;
+    const int driftFrom = std::max(0, total - int(std::lround(1.0 / dt)));
+    std::vector<TrajectoryRow> before;
+    if (driftFrom == 0) w.read(before);
     std::vector<double> stepMs;
     stepMs.reserve(std::size_t(scene->simulation.steps));
     for (int i = 1; i <= scene->simulation.steps; ++i) {
@@ -66,6 +79,7 @@ int runPeer(int argc, char** argv, const std::string& engine, const std::string&
         w.step();
         stepMs.push_back(
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        if (i == driftFrom) w.read(before);
         if (writer && i % every == 0) {
             w.read(rows);
             if (Status s = writer->write(i, i * dt, rows); !s) return fail(s.error());
@@ -82,6 +96,8 @@ int runPeer(int argc, char** argv, const std::string& engine, const std::string&
         j["bodies"] = scene->bodies.size();
         j["wall_s"] = wall;
         j["ms_per_step"] = {{"median", percentile(stepMs, 0.5)}, {"p90", percentile(stepMs, 0.9)}};
+        w.read(rows);
+        j["quality"] = qualityJson(assessQuality(quality, rows, before, (total - driftFrom) * dt));
         j["engine"] = engine;
         j["engine_version"] = version;
         j["caveats"] = w.caveats();

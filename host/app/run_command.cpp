@@ -2,14 +2,17 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <optional>
 
 #include "host/app/commands.h"
+#include "host/core/math.h"
 #include "host/io/metrics.h"
 #include "host/io/trajectory_writer.h"
+#include "host/world/world_state.h"
 #include "rubble/world.h"
 
 namespace rubble::app {
@@ -45,6 +48,27 @@ class Progress {
     Clock::time_point last_{};
 };
 
+// The bodies as the end-state assessment sees them.
+std::vector<QualityBody> qualityBodies(const WorldState& s) {
+    std::vector<QualityBody> out(s.bodyCount());
+    for (std::uint32_t i = 0; i < s.bodyCount(); ++i) {
+        out[i].shape = &s.shapes[s.shapeOf[i]];
+        out[i].mass = s.masses[i].mass;
+        out[i].inertia = glm::dmat3(toMat3(s.masses[i].inertiaBody));
+        out[i].isStatic = s.isStatic(i);
+    }
+    return out;
+}
+
+void snapshot(const World& w, std::vector<TrajectoryRow>& rows) {
+    rows.resize(w.bodyCount());
+    for (std::uint32_t i = 0; i < w.bodyCount(); ++i) {
+        const BodyState b = w.body(i);
+        rows[i] = TrajectoryRow{w.bodyName(i), b.position, b.orientation, b.linearVelocity,
+                                b.angularVelocity};
+    }
+}
+
 } // namespace
 
 int runCommand(const RunArgs& args) {
@@ -68,13 +92,19 @@ int runCommand(const RunArgs& args) {
     std::signal(SIGINT, onInterrupt);
     Progress progress(!args.quiet && isatty(STDERR_FILENO), scene->simulation.steps);
     std::optional<Error> failure;
-    for (int step = 1; step <= scene->simulation.steps; ++step) {
+    // The drift of the end-state assessment is measured over the last second of the run.
+    const int steps = scene->simulation.steps;
+    const int driftFrom = std::max(0, steps - int(std::lround(1.0 / scene->simulation.dt)));
+    std::vector<TrajectoryRow> before, now;
+    if (driftFrom == 0) snapshot(*world, before);
+    for (int step = 1; step <= steps; ++step) {
         if (gInterrupted) break;
         if (Status s = world->step(); !s) {
             failure = s.error();
             break;
         }
         metrics.afterStep(*world);
+        if (step == driftFrom) snapshot(*world, before);
         if (out && step % args.every == 0)
             if (Status s = out->write(*world); !s) {
                 progress.clear();
@@ -94,6 +124,11 @@ int runCommand(const RunArgs& args) {
     // A run that blew up keeps every step it wrote, under the final name, and says so.
     if (out)
         if (Status s = out->finish(); !s) return report(s.error());
+    if (!args.metrics.empty()) {
+        snapshot(*world, now);
+        const double interval = double(world->stepIndex() - driftFrom) * scene->simulation.dt;
+        metrics.setQuality(assessQuality(qualityBodies(world->state()), now, before, interval));
+    }
     if (!args.metrics.empty())
         if (Status s = writeFileAtomically(args.metrics, metrics.toJson(*world)); !s)
             return report(s.error());

@@ -60,6 +60,16 @@ namespace {
 nlohmann::json vec(glm::dvec3 v) { return {v.x, v.y, v.z}; }
 } // namespace
 
+nlohmann::ordered_json qualityJson(const QualityReport& q) {
+    nlohmann::ordered_json j;
+    j["sunk"] = q.sunk;
+    j["floor_penetration"] = q.floorPenetration;
+    j["mean_drift"] = q.meanDrift;
+    j["kinetic_energy"] = q.kineticEnergy;
+    j["max_speed"] = q.maxSpeed;
+    return j;
+}
+
 double MetricsRecorder::medianMs() const { return percentile(stepMs_, 0.5); }
 double MetricsRecorder::p90Ms() const { return percentile(stepMs_, 0.9); }
 
@@ -87,6 +97,7 @@ std::string MetricsRecorder::toJson(const World& world) const {
     j["largest_penetration"] = largestPenetration_;
     j["contact_count"] = {{"last", lastContacts_}, {"max", maxContacts_}};
     j["solver_residual"] = solverResidual_;
+    if (quality_) j["quality"] = qualityJson(*quality_);
     j["backend"] = std::string(toString(world.options().backend));
     j["device"] = world.deviceName();
     return j.dump(2) + "\n";

@@ -2,11 +2,14 @@
 // conserved quantities it reports.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 
+#include "host/io/quality.h"
 #include "rubble/error.h"
 #include "rubble/world.h"
 
@@ -38,6 +41,9 @@ class MetricsRecorder {
     double wallSeconds() const { return wallS_; }
     std::uint32_t lastContacts() const { return lastContacts_; }
 
+    /// Records the end-state assessment of the run (written as "quality").
+    void setQuality(const QualityReport& q) { quality_ = q; }
+
     /// The summary as JSON text.
     std::string toJson(const World& world) const;
 
@@ -51,6 +57,10 @@ class MetricsRecorder {
     std::uint32_t lastContacts_ = 0, maxContacts_ = 0;
     float solverResidual_ = 0;
     double wallS_ = 0;
+    std::optional<QualityReport> quality_;
 };
+
+/// The "quality" object of a metrics file.
+nlohmann::ordered_json qualityJson(const QualityReport& q);
 
 } // namespace rubble
