@@ -14,7 +14,8 @@ packages=(
     # peer engines for the benchmarks (bench/peers)
     libbullet-dev libmujoco-dev
     # viewer and headless rendering
-    libglfw3-dev libgl-dev libegl-dev libglx-dev libstb-dev xvfb xauth
+    libglfw3-dev libgl-dev libegl-dev libglx-dev libepoxy-dev libstb-dev xvfb xauth
+    libegl-mesa0 libgl1-mesa-dri
     # plots of the benchmarks and comparisons
     python3 python3-matplotlib
 )

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "host/app/commands.h"
+#include "host/app/viewer_commands.h"
 #include "rubble/version.h"
 
 namespace {
@@ -53,6 +54,19 @@ int main(int argc, char** argv) {
     CLI::App* validateCmd = app.add_subcommand("validate", "Check a scene file and summarise it");
     validateCmd->add_option("scene", validate.scene, "Scene file (JSON)")->required();
 
+    ViewArgs view;
+    CLI::App* viewCmd = app.add_subcommand("view", "Open a window on a scene or a recorded run");
+    addOverrides(viewCmd, view.common.overrides);
+    addRunOptions(viewCmd, view.common.run);
+    addViewOptions(viewCmd, view);
+
+    RenderArgs render;
+    CLI::App* renderCmd =
+        app.add_subcommand("render", "Draw a scene off-screen to PNG files or a video");
+    addOverrides(renderCmd, render.common.overrides);
+    addRunOptions(renderCmd, render.common.run);
+    addRenderOptions(renderCmd, render);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -61,5 +75,7 @@ int main(int argc, char** argv) {
     }
     if (runCmd->parsed()) return runCommand(run);
     if (validateCmd->parsed()) return validateCommand(validate);
+    if (viewCmd->parsed()) return viewCommand(view);
+    if (renderCmd->parsed()) return renderCommand(render);
     return kExitBadInput;
 }

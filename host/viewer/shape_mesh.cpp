@@ -1,0 +1,95 @@
+// host/viewer/shape_mesh.cpp: shapes to triangles for drawing.
+#include "host/viewer/shape_mesh.h"
+
+#include <cmath>
+
+namespace rubble::viewer {
+namespace {
+
+constexpr int kSphereSlices = 24; // around the y axis
+constexpr int kSphereStacks = 14; // pole to pole
+
+// Newell's method: robust for any planar polygon, and its direction follows the winding.
+glm::vec3 polygonNormal(const std::vector<glm::vec3>& v, const std::vector<std::uint32_t>& face) {
+    glm::vec3 n(0.0f);
+    for (std::size_t i = 0; i < face.size(); ++i) {
+        const glm::vec3 a = v[face[i]];
+        const glm::vec3 b = v[face[(i + 1) % face.size()]];
+        n += glm::vec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x),
+                       (a.x - b.x) * (a.y + b.y));
+    }
+    const float len = glm::length(n);
+    return len > 0.0f ? n / len : glm::vec3(0, 1, 0);
+}
+
+RenderMesh fromPolygons(const ConvexPolygons& hull) {
+    RenderMesh m;
+    for (const std::vector<std::uint32_t>& face : hull.faces) {
+        if (face.size() < 3) continue;
+        const glm::vec3 n = polygonNormal(hull.vertices, face);
+        const auto base = std::uint32_t(m.vertices.size());
+        for (std::uint32_t i : face) m.vertices.push_back({hull.vertices[i], n});
+        // A fan over the face's own copy of its corners keeps the normal flat.
+        for (std::uint32_t k = 1; k + 1 < face.size(); ++k)
+            m.indices.insert(m.indices.end(), {base, base + k, base + k + 1});
+    }
+    return m;
+}
+
+RenderMesh fromTriangles(const TriangleMesh& mesh) {
+    RenderMesh m;
+    m.vertices.reserve(3 * mesh.triangles.size());
+    for (const glm::uvec3& t : mesh.triangles) {
+        const glm::vec3 a = mesh.vertices[t.x], b = mesh.vertices[t.y], c = mesh.vertices[t.z];
+        const glm::vec3 cr = glm::cross(b - a, c - a);
+        const float len = glm::length(cr);
+        if (!(len > 0.0f)) continue; // degenerate: nothing to see
+        const glm::vec3 n = cr / len;
+        const auto base = std::uint32_t(m.vertices.size());
+        m.vertices.insert(m.vertices.end(), {{a, n}, {b, n}, {c, n}});
+        m.indices.insert(m.indices.end(), {base, base + 1, base + 2});
+    }
+    return m;
+}
+
+RenderMesh sphere(float radius) {
+    RenderMesh m;
+    const float pi = 3.14159265358979f;
+    for (int i = 0; i <= kSphereStacks; ++i) {
+        const float theta = pi * float(i) / kSphereStacks; // from +y down
+        for (int j = 0; j <= kSphereSlices; ++j) {
+            const float phi = 2.0f * pi * float(j) / kSphereSlices;
+            const glm::vec3 n(std::sin(theta) * std::sin(phi), std::cos(theta),
+                              std::sin(theta) * std::cos(phi));
+            m.vertices.push_back({radius * n, n});
+        }
+    }
+    const std::uint32_t row = kSphereSlices + 1;
+    for (std::uint32_t i = 0; i < kSphereStacks; ++i)
+        for (std::uint32_t j = 0; j < kSphereSlices; ++j) {
+            const std::uint32_t a = i * row + j, b = a + row;
+            m.indices.insert(m.indices.end(), {a, b, a + 1, a + 1, b, b + 1});
+        }
+    return m;
+}
+
+} // namespace
+
+RenderMesh buildRenderMesh(const Shape& shape) {
+    switch (shape.type) {
+    case ShapeType::Box:
+        return fromPolygons(shape.hull.faces.empty() ? boxPolygons(shape.halfExtents)
+                                                     : shape.hull);
+    case ShapeType::Convex:
+        return fromPolygons(shape.hull);
+    case ShapeType::Mesh:
+        return shape.mesh.triangles.empty() ? fromPolygons(shape.hull) : fromTriangles(shape.mesh);
+    case ShapeType::Sphere:
+        return sphere(shape.radius);
+    case ShapeType::Plane:
+        return {};
+    }
+    return {};
+}
+
+} // namespace rubble::viewer
