@@ -59,6 +59,7 @@ Status renderScene(const Scene& scene, const RunOptions& run, const RenderSettin
     const Overlays overlays = toOverlays(s.overlays);
     const Camera camera = initialCamera(s.camera, view, float(s.width) / float(s.height));
     DrawList frame;
+    std::vector<BodyPose> poses;
     std::optional<Error> failure;
     for (int i = 0; i < s.frames; ++i) {
         const std::int64_t wanted = std::int64_t(s.start) + std::int64_t(i) * s.every;
@@ -82,7 +83,8 @@ Status renderScene(const Scene& scene, const RunOptions& run, const RenderSettin
                 }
             }
             if (failure) break;
-            view.build(world->state().poses, &world->state(), overlays, frame);
+            currentPoses(*world, poses);
+            view.build(poses, &world->state(), overlays, frame);
             if (s.overlays.stats) {
                 const std::string backend(toString(world->options().backend));
                 frame.text.push_back(statusLine(world->stepIndex(), world->time(), world->state(),

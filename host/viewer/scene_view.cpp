@@ -221,6 +221,14 @@ void SceneView::addJoints(std::span<const BodyPose> poses, DrawList& out) const 
     }
 }
 
+void currentPoses(const World& world, std::vector<BodyPose>& out) {
+    out.resize(world.bodyCount());
+    for (std::uint32_t i = 0; i < world.bodyCount(); ++i) {
+        const BodyState b = world.body(i);
+        out[i] = BodyPose{toFloat4(b.position), toFloat4(b.orientation)};
+    }
+}
+
 Overlays toOverlays(const OverlaySettings& o) {
     Overlays v;
     v.colours = o.colourByState ? ColourMode::State : ColourMode::Body;

@@ -83,6 +83,10 @@ class SceneView {
     mutable std::vector<std::uint8_t> inContact_;
 };
 
+/// The world's current poses through its public queries, which bring them back from the
+/// device when the OpenCL backend holds them.
+void currentPoses(const World& world, std::vector<BodyPose>& out);
+
 /// The overlays the command-line settings ask for.
 Overlays toOverlays(const OverlaySettings& settings);
 

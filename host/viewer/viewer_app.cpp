@@ -305,7 +305,8 @@ class ViewerApp {
                 draw_.text.push_back(statusLine(f.step, f.time, world_->state(), "replay",
                                                 replay_->path()));
         } else {
-            view_->build(world_->state().poses, &world_->state(), overlays_, draw_);
+            currentPoses(*world_, poses_);
+            view_->build(poses_, &world_->state(), overlays_, draw_);
             if (showStats_) {
                 draw_.text.push_back(statusLine(stepOffset_ + world_->stepIndex(),
                                                 timeOffset_ + world_->time(), world_->state(),
@@ -341,6 +342,7 @@ class ViewerApp {
     std::optional<SceneView> view_;
     Camera camera_;
     DrawList draw_;
+    std::vector<BodyPose> poses_;
     GLFWwindow* window_ = nullptr;
     bool glfwStarted_ = false;
     Backend backend_ = Backend::Cpu;
