@@ -17,7 +17,7 @@ namespace rubble::viewer {
 /// Colours the renderer uses outside the bodies: linear RGB.
 struct Palette {
     glm::vec3 background{0.030f, 0.045f, 0.070f};
-    glm::vec3 ground{0.42f, 0.42f, 0.40f};
+    glm::vec3 ground{0.36f, 0.36f, 0.35f};
     glm::vec3 particles{0.30f, 0.75f, 1.0f};
 };
 

@@ -91,8 +91,8 @@ float gridLines(vec2 p, float spacing) {
 void main() {
     float diffuse = max(dot(uNormal, uLightDirection), 0.0);
     vec3 colour = uBase * (0.35 + 0.65 * diffuse);
-    colour = mix(colour, colour * 0.55, gridLines(vGrid, 1.0));
-    colour = mix(colour, colour * 0.35, gridLines(vGrid, 10.0));
+    colour = mix(colour, colour * 0.72, gridLines(vGrid, 1.0));
+    colour = mix(colour, colour * 0.45, gridLines(vGrid, 10.0));
     float fade = smoothstep(uFadeStart, uFadeEnd, length(vLocal));
     fragColour = vec4(pow(mix(colour, uBackground, fade), vec3(1.0 / 2.2)), 1.0);
 }
