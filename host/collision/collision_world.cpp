@@ -1,12 +1,101 @@
-// host/collision/collision_world.cpp: CPU stages 3 and 4 over a world's arrays.
+// host/collision/collision_world.cpp: CPU stages 3 and 4 over a world's arrays: body boxes and
+// planes into the broad phase, pairs through the narrow phase into manifolds.
 #include "host/collision/collision_world.h"
 
+#include <algorithm>
+
+#include "host/collision/narrow_phase.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
+namespace {
 
-void runBroadPhase(WorldState& s) { s.pairs.clear(); }
+void updateTransforms(WorldState& s) {
+    s.collision.transforms.resize(s.bodyCount());
+    for (std::uint32_t i = 0; i < s.bodyCount(); ++i)
+        s.collision.transforms[i] = transformOf(s.poses[i]);
+}
 
-void runNarrowPhase(WorldState& s) { s.manifolds.clear(); }
+// The world box of a shape: a hull's local box turned (|R| times its half extents), a sphere's
+// centre plus its radius; grown by the margin.
+Aabb worldBox(const Shape& shape, const Transform& t, float margin) {
+    if (shape.type == ShapeType::Sphere) {
+        const glm::vec3 r(shape.radius + margin);
+        return Aabb{t.translation - r, t.translation + r};
+    }
+    const HalfEdgeMesh& m = shape.halfEdge;
+    const glm::vec3 centre = t.apply((m.boundsMin + m.boundsMax) * 0.5f);
+    const glm::vec3 half = (m.boundsMax - m.boundsMin) * 0.5f;
+    glm::vec3 extent(margin);
+    for (int c = 0; c < 3; ++c) // glm is column-major: rotation[c][r]
+        extent += glm::abs(t.rotation[c]) * half[c];
+    return Aabb{centre - extent, centre + extent};
+}
+
+} // namespace
+
+void runBroadPhase(WorldState& s) {
+    CollisionCache& c = s.collision;
+    updateTransforms(s);
+    const std::uint32_t n = s.bodyCount();
+    c.boxes.resize(n);
+    c.flags.resize(n);
+    c.planes.clear();
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const Shape& shape = s.shapes[s.shapeOf[i]];
+        const bool inactive = s.isStatic(i) ||
+                              (s.masses[i].flags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP));
+        c.flags[i] = inactive ? kBroadPhaseInactive : 0;
+        if (shape.type == ShapeType::Plane) {
+            c.flags[i] |= kBroadPhaseNoBox;
+            const glm::vec3 normal = c.transforms[i].rotate(shape.normal);
+            const float offset = shape.offset + glm::dot(normal, c.transforms[i].translation);
+            // Grown by the margin like the boxes.
+            c.planes.push_back(PlaneProxy{i, normal, offset + kContactMargin});
+            c.boxes[i] = Aabb{};
+            continue;
+        }
+        c.boxes[i] = worldBox(shape, c.transforms[i], kContactMargin);
+    }
+    findPairs(c.boxes, c.flags, c.planes, s.pairs, c.broadPhase);
+    s.stats.pairCount = std::uint32_t(s.pairs.size());
+}
+
+void runNarrowPhase(WorldState& s) {
+    CollisionCache& c = s.collision;
+    updateTransforms(s);
+    s.manifolds.clear();
+    c.nextFeatures.clear();
+    std::uint32_t contacts = 0;
+    float deepest = 0.0f;
+    // Both lists are sorted by pair: walk last step's features alongside.
+    std::size_t cached = 0;
+    for (const BodyPair& pair : s.pairs) {
+        while (cached < c.features.size() && c.features[cached].pair < pair) ++cached;
+        const SatHint hint = cached < c.features.size() && c.features[cached].pair == pair
+                                 ? c.features[cached].hint
+                                 : SatHint{};
+        const PairContact pc =
+            collideShapes(s.shapes[s.shapeOf[pair.a]], c.transforms[pair.a],
+                          s.shapes[s.shapeOf[pair.b]], c.transforms[pair.b], hint);
+        if (pc.feature.feature != SatFeature::None) c.nextFeatures.push_back({pair, pc.feature});
+        if (pc.contacts.count == 0) continue;
+        Manifold m;
+        m.a = pair.a;
+        m.b = pair.b;
+        m.normal = pc.contacts.normal;
+        m.count = pc.contacts.count;
+        for (std::uint32_t i = 0; i < m.count; ++i) {
+            const LocalContact& p = pc.contacts.points[i];
+            m.points[i] = ContactPoint{p.position, p.depth, p.feature, m.normal};
+            deepest = std::max(deepest, p.depth);
+        }
+        contacts += m.count;
+        s.manifolds.push_back(m);
+    }
+    std::swap(c.features, c.nextFeatures);
+    s.stats.contactCount = contacts;
+    s.stats.largestPenetration = deepest;
+}
 
 } // namespace rubble

@@ -21,6 +21,7 @@ struct ContactPoint {
     glm::vec3 position{0.0f}; ///< midway between the two surfaces, world, m
     float depth = 0.0f;       ///< penetration along the normal, m (negative: a gap)
     std::uint32_t feature = 0; ///< stays the same while the same features touch
+    glm::vec3 normal{0.0f, 1.0f, 0.0f}; ///< the manifold's normal: unit, world, from a to b
 };
 
 /// The contact between two bodies: up to four points sharing one normal.

@@ -56,7 +56,7 @@ Result<Shape> buildShape(const ShapeDesc& d) {
         s.hull = boxPolygons(d.halfExtents);
         s.unitMass = boxMassProperties(d.halfExtents);
         s.boundingRadius = glm::length(d.halfExtents);
-        return s;
+        break;
     case ShapeType::Sphere:
         s.radius = d.radius;
         s.unitMass = sphereMassProperties(d.radius);
@@ -69,6 +69,12 @@ Result<Shape> buildShape(const ShapeDesc& d) {
     case ShapeType::Convex:
     case ShapeType::Mesh:
         break;
+    }
+    if (d.type == ShapeType::Box) {
+        Result<HalfEdgeMesh> box = buildHalfEdgeMesh(s.hull, d.where + ".half_extents");
+        RUBBLE_TRY(box);
+        s.halfEdge = std::move(*box);
+        return s;
     }
 
     const std::string where = d.where + (d.type == ShapeType::Convex ? ".vertices" : ".file");
@@ -97,6 +103,9 @@ Result<Shape> buildShape(const ShapeDesc& d) {
     for (glm::vec3& v : s.mesh.vertices) v -= s.centreShift;
     s.unitMass.centre = glm::dvec3(0.0);
     s.boundingRadius = boundingRadiusOf(s.hull.vertices);
+    Result<HalfEdgeMesh> halfEdge = buildHalfEdgeMesh(s.hull, where);
+    RUBBLE_TRY(halfEdge);
+    s.halfEdge = std::move(*halfEdge);
     return s;
 }
 

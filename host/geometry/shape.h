@@ -8,15 +8,17 @@
 
 #include "host/core/mass_properties.h"
 #include "host/geometry/convex_hull.h"
+#include "host/geometry/half_edge.h"
 #include "host/scene/obj_mesh.h"
 #include "rubble/error.h"
 #include "rubble/scene.h"
 
 namespace rubble {
 
-/// A built shape. Box, convex and mesh shapes carry their convex hull; a mesh also keeps its
-/// own triangles (for voxelising, where concavity matters). All vertices are in the body frame:
-/// the file's frame moved so that the centre of mass is at the origin.
+/// A built shape. Box, convex and mesh shapes carry their convex hull, as polygons and as a
+/// half-edge mesh for the narrow phase; a mesh also keeps its own triangles (for voxelising,
+/// where concavity matters). All vertices are in the body frame: the file's frame moved so that
+/// the centre of mass is at the origin.
 struct Shape {
     std::string name;
     ShapeType type = ShapeType::Box;
@@ -25,6 +27,7 @@ struct Shape {
     glm::vec3 normal{0.0f, 1.0f, 0.0f}; ///< plane, unit, out of the solid
     float offset = 0.0f;          ///< plane, m
     ConvexPolygons hull;          ///< box, convex, mesh
+    HalfEdgeMesh halfEdge;        ///< the hull with coplanar faces merged: box, convex, mesh
     TriangleMesh mesh;            ///< mesh only
     MassProperties unitMass;      ///< at 1 kg/m^3, centre at the origin (planes: zero)
     glm::vec3 centreShift{0.0f};  ///< the file's centre of mass, subtracted from its vertices, m
@@ -33,8 +36,9 @@ struct Shape {
 
 /// Builds a shape: the hull (Qhull) for convex and mesh shapes, the mass properties (closed
 /// forms, or polyhedral integration of the hull; a closed mesh uses its own triangles so that a
-/// concave mesh gets its real centre of mass), and the shift to the centre of mass.
-/// Errors: BadInput at the shape's field for degenerate hulls.
+/// concave mesh gets its real centre of mass), the shift to the centre of mass, and the hull's
+/// half-edge mesh. Errors: BadInput at the shape's field for degenerate hulls or a half-edge mesh
+/// that breaks its invariants.
 Result<Shape> buildShape(const ShapeDesc& desc);
 
 /// The 8 corners and 6 faces of a box with the given half extents, centred on the origin.

@@ -1,0 +1,180 @@
+// host/collision/hull_contact.cpp: hull-hull manifolds for CPU stage narrowPhase: feature choice
+// with hysteresis, face clipping (Sutherland-Hodgman), edge contacts (Gregorius 2015).
+#include "host/collision/hull_contact.h"
+
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "host/collision/clip.h"
+
+namespace rubble {
+namespace {
+
+// A feature replaces the preferred one only when it is shallower by more than this fraction of
+// the preferred separation plus an absolute tolerance (m): faces of A over faces of B over edges.
+constexpr float kRelativeFaceTolerance = 0.05f;
+constexpr float kRelativeEdgeTolerance = 0.10f;
+constexpr float kAbsoluteTolerance = 0.0025f;
+
+// Faces up to this many vertices (incident plus reference) clip in stack buffers.
+constexpr std::size_t kInlineClipVertices = 64;
+
+bool clearlyLarger(float x, float preferred, float relative) {
+    return x > preferred + relative * std::fabs(preferred) + kAbsoluteTolerance;
+}
+
+std::uint32_t loopLength(const HalfEdgeMesh& m, std::uint32_t face) {
+    std::uint32_t n = 0, h = m.faces[face].edge;
+    do {
+        ++n;
+        h = m.edges[h].next;
+    } while (h != m.faces[face].edge);
+    return n;
+}
+
+// The face of `mesh` whose normal is most anti-parallel to `normal` (mesh frame).
+std::uint32_t incidentFace(const HalfEdgeMesh& mesh, glm::vec3 normal) {
+    std::uint32_t best = 0;
+    float lowest = glm::dot(mesh.faces[0].normal, normal);
+    for (std::uint32_t f = 1; f < mesh.faceCount(); ++f) {
+        const float d = glm::dot(mesh.faces[f].normal, normal);
+        if (d < lowest) {
+            lowest = d;
+            best = f;
+        }
+    }
+    return best;
+}
+
+// Stack buffers for clipping, with a heap fallback for faces with many vertices.
+class ClipBuffers {
+  public:
+    explicit ClipBuffers(std::size_t capacity) {
+        if (capacity > kInlineClipVertices) {
+            heapIn_.resize(capacity);
+            heapOut_.resize(capacity);
+            heapContacts_.resize(capacity);
+        }
+    }
+    std::span<ClipVertex> in() { return heapIn_.empty() ? std::span(inlineIn_) : std::span(heapIn_); }
+    std::span<ClipVertex> out() {
+        return heapOut_.empty() ? std::span(inlineOut_) : std::span(heapOut_);
+    }
+    std::span<LocalContact> contacts() {
+        return heapContacts_.empty() ? std::span(inlineContacts_) : std::span(heapContacts_);
+    }
+
+  private:
+    std::array<ClipVertex, kInlineClipVertices> inlineIn_, inlineOut_;
+    std::array<LocalContact, kInlineClipVertices> inlineContacts_;
+    std::vector<ClipVertex> heapIn_, heapOut_;
+    std::vector<LocalContact> heapContacts_;
+};
+
+// A face contact in the reference hull's frame: the incident polygon clipped by the side planes
+// of the reference face, the points below its plane plus the margin, reduced to four.
+ContactSet clipFaceContact(const HalfEdgeMesh& ref, std::uint32_t refFace, const HalfEdgeMesh& inc,
+                           const Transform& incInRef, float margin, ContactKind kind) {
+    const HalfEdgeFace& rf = ref.faces[refFace];
+    const std::uint32_t incFace = incidentFace(inc, incInRef.rotateInverse(rf.normal));
+    ClipBuffers buffers(loopLength(inc, incFace) + loopLength(ref, refFace) + 1);
+    std::span<ClipVertex> polygon = buffers.in(), scratch = buffers.out();
+
+    // The incident polygon in the reference frame; each vertex tagged by its half-edge.
+    std::size_t n = 0;
+    std::uint32_t h = inc.faces[incFace].edge;
+    do {
+        polygon[n++] = ClipVertex{incInRef.apply(inc.vertices[inc.edges[h].origin]), 0, h, h};
+        h = inc.edges[h].next;
+    } while (h != inc.faces[incFace].edge);
+
+    // Clip by the plane through each reference edge, perpendicular to the face, facing out.
+    h = rf.edge;
+    do {
+        const glm::vec3 v0 = ref.vertices[ref.edges[h].origin];
+        const glm::vec3 v1 = ref.vertices[ref.edges[ref.edges[h].next].origin];
+        const glm::vec3 side = glm::cross(v1 - v0, rf.normal);
+        n = clipPolygon(polygon.first(n), side, glm::dot(side, v0), h, scratch);
+        std::swap(polygon, scratch);
+        h = ref.edges[h].next;
+    } while (n > 0 && h != rf.edge);
+
+    // Keep what lies below the reference plane plus the margin, midway between the surfaces.
+    std::span<LocalContact> candidates = buffers.contacts();
+    std::size_t m = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const ClipVertex& v = polygon[i];
+        const float s = glm::dot(rf.normal, v.position) - rf.offset;
+        if (s > margin) continue;
+        candidates[m++] = LocalContact{v.position - rf.normal * (0.5f * s), -s,
+                                       makeFeatureId(kind, v.clipEdge, v.tag)};
+    }
+    ContactSet set;
+    set.normal = rf.normal;
+    std::array<std::uint32_t, kMaxContactPoints> keep{};
+    const std::uint32_t kept = reduceContacts(candidates.first(m), rf.normal, keep);
+    for (std::uint32_t i = 0; i < kept; ++i) set.points[set.count++] = candidates[keep[i]];
+    return set;
+}
+
+// The closest points of the two edges, with the SAT's separation along their axis.
+ContactSet edgeContact(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
+                       const EdgeQuery& q) {
+    const HalfEdgeEdge& ea = a.edgeRecords[q.edgeA];
+    const HalfEdgeEdge& eb = b.edgeRecords[q.edgeB];
+    const glm::vec3 pb = bInA.apply(eb.origin);
+    glm::vec3 ca, cb;
+    closestPointsOnSegments(ea.origin, ea.origin + ea.direction, pb,
+                            pb + bInA.rotate(eb.direction), ca, cb);
+    ContactSet set;
+    set.normal = q.axis;
+    set.add((ca + cb) * 0.5f, -q.separation, makeFeatureId(ContactKind::Edges, q.edgeA, q.edgeB));
+    return set;
+}
+
+} // namespace
+
+HullContact collideHulls(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
+                         float margin, const SatHint& hint) {
+    HullContact r;
+    const SatResult sat = runSat(a, b, bInA, margin, hint);
+    if (sat.separated) {
+        r.separated = true;
+        r.feature = SatHint{sat.feature, sat.indexA, sat.indexB};
+        return r;
+    }
+
+    // Which feature makes the contacts: last step's face owner unless the other is clearly
+    // shallower, and edges only when clearly shallower than both.
+    const float sa = sat.faceA.separation, sb = sat.faceB.separation;
+    const bool useB = hint.feature == SatFeature::FaceB
+                          ? !clearlyLarger(sa, sb, kRelativeFaceTolerance)
+                          : clearlyLarger(sb, sa, kRelativeFaceTolerance);
+    const float faceSeparation = useB ? sb : sa;
+    const bool haveEdges = sat.edges.separation > -std::numeric_limits<float>::max();
+    const bool useEdges =
+        haveEdges && clearlyLarger(sat.edges.separation, faceSeparation, kRelativeEdgeTolerance);
+
+    if (!useEdges) {
+        if (!useB) {
+            r.contacts = clipFaceContact(a, sat.faceA.face, b, bInA, margin, ContactKind::FaceA);
+            r.feature = SatHint{SatFeature::FaceA, sat.faceA.face, 0};
+        } else {
+            // Made in B's frame with B's normal: brought to A's frame, pointing from A to B.
+            const Transform aInB = inverse(bInA);
+            r.contacts = clipFaceContact(b, sat.faceB.face, a, aInB, margin, ContactKind::FaceB);
+            for (std::uint32_t i = 0; i < r.contacts.count; ++i)
+                r.contacts.points[i].position = bInA.apply(r.contacts.points[i].position);
+            r.contacts.normal = -bInA.rotate(r.contacts.normal);
+            r.feature = SatHint{SatFeature::FaceB, 0, sat.faceB.face};
+        }
+        if (r.contacts.count > 0 || !haveEdges) return r;
+    }
+    // An edge pair, or the fallback when the faces' clipped overlap holds no point.
+    r.contacts = edgeContact(a, b, bInA, sat.edges);
+    r.feature = SatHint{SatFeature::Edges, sat.edges.edgeA, sat.edges.edgeB};
+    return r;
+}
+
+} // namespace rubble

@@ -1,0 +1,28 @@
+// host/collision/narrow_phase.h: CPU stage narrowPhase for one pair: dispatch by shape type to
+// the hull (SAT and clipping), sphere and plane contacts, results brought to the world frame.
+#pragma once
+
+#include "host/collision/contact_set.h"
+#include "host/collision/sat.h"
+#include "host/collision/transform.h"
+#include "host/geometry/shape.h"
+
+namespace rubble {
+
+/// The contacts of one pair in the world frame.
+struct PairContact {
+    ContactSet contacts; ///< world positions, normal from a to b
+    SatHint feature;     ///< hull pairs: the axis or feature to try first next step
+};
+
+/// True for the shapes that collide through their half-edge hull (box, convex, mesh).
+inline bool collidesAsHull(ShapeType t) {
+    return t == ShapeType::Box || t == ShapeType::Convex || t == ShapeType::Mesh;
+}
+
+/// Collides shape a at transform ta with shape b at tb (body to world). `hint` is the pair's
+/// feature from last step (hull pairs only). Plane against plane gives nothing.
+PairContact collideShapes(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
+                          const SatHint& hint = {}, float margin = kContactMargin);
+
+} // namespace rubble

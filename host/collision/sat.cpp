@@ -1,0 +1,193 @@
+// host/collision/sat.cpp: face and edge queries of the separating axis test, with the Gauss-map
+// pruning of edge pairs (Gregorius, GDC 2013; physics report 3.3, 3.3.1). Part of CPU stage
+// narrowPhase; no allocation.
+#include "host/collision/sat.h"
+
+#include <cmath>
+
+namespace rubble {
+namespace {
+
+constexpr float kLowest = -std::numeric_limits<float>::max();
+
+// Arcs AB and CD of the Gauss maps cross (a, b: normals of A's edge; c, d: negated normals of
+// B's edge, since the Minkowski difference turns B inside out): c and d lie on opposite sides
+// of the plane through a and b, a and b on opposite sides of the plane through c and d, and the
+// crossing is on the hemisphere of the arcs, not at its antipode.
+bool isMinkowskiFace(glm::vec3 a, glm::vec3 b, glm::vec3 bxa, glm::vec3 c, glm::vec3 d,
+                     glm::vec3 dxc) {
+    const float cba = glm::dot(c, bxa), dba = glm::dot(d, bxa);
+    const float adc = glm::dot(a, dxc), bdc = glm::dot(b, dxc);
+    return cba * dba < 0.0f && adc * bdc < 0.0f && cba * bdc > 0.0f;
+}
+
+// The unit axis eA x eB turned out of A (away from its centroid through A's edge point), or
+// std::nullopt for near-parallel edges.
+std::optional<glm::vec3> edgeAxis(glm::vec3 pointA, glm::vec3 dirA, glm::vec3 dirB,
+                                  glm::vec3 centroidA) {
+    const glm::vec3 n = glm::cross(dirA, dirB);
+    const float n2 = glm::dot(n, n);
+    const float limit = kParallelSine * kParallelSine * glm::dot(dirA, dirA) * glm::dot(dirB, dirB);
+    if (!(n2 > limit)) return std::nullopt;
+    const glm::vec3 axis = n * (1.0f / std::sqrt(n2));
+    return glm::dot(axis, pointA - centroidA) < 0.0f ? -axis : axis;
+}
+
+// Support-point separation with the hill climbs seeded and updated by the caller.
+float separationAlongFrom(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
+                          glm::vec3 axis, std::uint32_t& startA, std::uint32_t& startB) {
+    startA = supportVertex(a, axis, startA);
+    startB = supportVertex(b, bInA.rotateInverse(-axis), startB);
+    return glm::dot(axis, bInA.apply(b.vertices[startB])) - glm::dot(axis, a.vertices[startA]);
+}
+
+// The separation along a face normal of `a`, with b's support point.
+float faceSeparation(const HalfEdgeMesh& a, std::uint32_t face, const HalfEdgeMesh& b,
+                     const Transform& bInA) {
+    const HalfEdgeFace& f = a.faces[face];
+    const std::uint32_t v = supportVertex(b, bInA.rotateInverse(-f.normal));
+    return glm::dot(f.normal, bInA.apply(b.vertices[v])) - f.offset;
+}
+
+} // namespace
+
+FaceQuery queryFaceDirections(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
+                              float stopAbove) {
+    FaceQuery best;
+    // Neighbouring faces have nearby support points: each climb starts at the last one found.
+    std::uint32_t start = 0;
+    for (std::uint32_t f = 0; f < a.faceCount(); ++f) {
+        const HalfEdgeFace& face = a.faces[f];
+        start = supportVertex(b, bInA.rotateInverse(-face.normal), start);
+        const float s = glm::dot(face.normal, bInA.apply(b.vertices[start])) - face.offset;
+        if (s > best.separation) {
+            best = FaceQuery{s, f, start};
+            if (s > stopAbove) break;
+        }
+    }
+    return best;
+}
+
+EdgeQuery queryEdgeDirections(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
+                              float stopAbove) {
+    EdgeQuery best;
+    for (std::uint32_t kb = 0; kb < b.edgeCount(); ++kb) {
+        // B's edge in A's frame, its normals negated for the Minkowski difference A - B;
+        // cross(d, c) = cross(-nR, -nL) is B's own arc, rotated.
+        const HalfEdgeEdge& eb = b.edgeRecords[kb];
+        const glm::vec3 c = -bInA.rotate(eb.normalLeft), d = -bInA.rotate(eb.normalRight);
+        const glm::vec3 dxc = bInA.rotate(eb.arc);
+        const glm::vec3 pointB = bInA.apply(eb.origin), dirB = bInA.rotate(eb.direction);
+        for (std::uint32_t ka = 0; ka < a.edgeCount(); ++ka) {
+            const HalfEdgeEdge& ea = a.edgeRecords[ka];
+            if (!isMinkowskiFace(ea.normalLeft, ea.normalRight, ea.arc, c, d, dxc)) continue;
+            const std::optional<glm::vec3> axis =
+                edgeAxis(ea.origin, ea.direction, dirB, a.centroid);
+            if (!axis) continue;
+            // On a Minkowski face both edges are support features: their points project to
+            // the supports, so no support query is needed.
+            const float s = glm::dot(*axis, pointB - ea.origin);
+            if (s > best.separation) {
+                best = EdgeQuery{s, ka, kb, *axis};
+                if (s > stopAbove) return best;
+            }
+        }
+    }
+    return best;
+}
+
+EdgeQuery queryEdgeDirectionsUnpruned(const HalfEdgeMesh& a, const HalfEdgeMesh& b,
+                                      const Transform& bInA, float stopAbove) {
+    EdgeQuery best;
+    std::uint32_t startA = 0, startB = 0;
+    for (std::uint32_t kb = 0; kb < b.edgeCount(); ++kb) {
+        const HalfEdgeEdge& eb = b.edgeRecords[kb];
+        const glm::vec3 dirB = bInA.rotate(eb.direction);
+        for (std::uint32_t ka = 0; ka < a.edgeCount(); ++ka) {
+            const HalfEdgeEdge& ea = a.edgeRecords[ka];
+            const std::optional<glm::vec3> axis =
+                edgeAxis(ea.origin, ea.direction, dirB, a.centroid);
+            if (!axis) continue;
+            for (const glm::vec3 u : {*axis, -*axis}) {
+                const float s = separationAlongFrom(a, b, bInA, u, startA, startB);
+                if (s > best.separation) {
+                    best = EdgeQuery{s, ka, kb, u};
+                    if (s > stopAbove) return best;
+                }
+            }
+        }
+    }
+    return best;
+}
+
+float separationAlong(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
+                      glm::vec3 axis) {
+    std::uint32_t startA = 0, startB = 0;
+    return separationAlongFrom(a, b, bInA, axis, startA, startB);
+}
+
+SatResult runSat(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
+                 float margin, const SatHint& hint, bool pruneEdges) {
+    SatResult r;
+    const Transform aInB = inverse(bInA);
+    auto settle = [&r](SatFeature feature, float s, std::uint32_t ia, std::uint32_t ib,
+                       glm::vec3 axis) {
+        r.feature = feature;
+        r.separation = s;
+        r.indexA = ia;
+        r.indexB = ib;
+        r.axis = axis;
+    };
+
+    // Last step's axis first: a pair that stays apart is settled by one or two support queries.
+    if (hint.feature == SatFeature::FaceA && hint.indexA < a.faceCount()) {
+        const float s = faceSeparation(a, hint.indexA, b, bInA);
+        settle(SatFeature::FaceA, s, hint.indexA, 0, a.faces[hint.indexA].normal);
+    } else if (hint.feature == SatFeature::FaceB && hint.indexB < b.faceCount()) {
+        const float s = faceSeparation(b, hint.indexB, a, aInB);
+        settle(SatFeature::FaceB, s, 0, hint.indexB, -bInA.rotate(b.faces[hint.indexB].normal));
+    } else if (hint.feature == SatFeature::Edges && hint.indexA < a.edgeCount() &&
+               hint.indexB < b.edgeCount()) {
+        const HalfEdgeEdge& ea = a.edgeRecords[hint.indexA];
+        const glm::vec3 dirB = bInA.rotate(b.edgeRecords[hint.indexB].direction);
+        if (const auto axis = edgeAxis(ea.origin, ea.direction, dirB, a.centroid))
+            settle(SatFeature::Edges, separationAlong(a, b, bInA, *axis), hint.indexA,
+                   hint.indexB, *axis);
+    }
+    if (r.feature != SatFeature::None && r.separation > margin) {
+        r.separated = true;
+        return r;
+    }
+    r.feature = SatFeature::None;
+
+    r.faceA = queryFaceDirections(a, b, bInA, margin);
+    settle(SatFeature::FaceA, r.faceA.separation, r.faceA.face, 0,
+           a.faces[r.faceA.face].normal);
+    if (r.separation > margin) {
+        r.separated = true;
+        return r;
+    }
+    r.faceB = queryFaceDirections(b, a, aInB, margin);
+    if (r.faceB.separation > r.separation)
+        settle(SatFeature::FaceB, r.faceB.separation, 0, r.faceB.face,
+               -bInA.rotate(b.faces[r.faceB.face].normal));
+    if (r.separation > margin) {
+        r.separated = true;
+        return r;
+    }
+    r.edges = pruneEdges ? queryEdgeDirections(a, b, bInA, margin)
+                         : queryEdgeDirectionsUnpruned(a, b, bInA, margin);
+    if (r.edges.separation > r.separation)
+        settle(SatFeature::Edges, r.edges.separation, r.edges.edgeA, r.edges.edgeB, r.edges.axis);
+    r.separated = r.separation > margin;
+    return r;
+}
+
+std::optional<SatResult> findSeparation(const HalfEdgeMesh& a, const HalfEdgeMesh& b,
+                                        const Transform& bInA) {
+    SatResult r = runSat(a, b, bInA);
+    if (r.separated) return std::nullopt;
+    return r;
+}
+
+} // namespace rubble

@@ -1,0 +1,427 @@
+// host/geometry/half_edge.cpp: polygons to a half-edge mesh (twins linked, coplanar faces merged),
+// its invariant checks, and hill-climbing support points (physics report 3.2).
+#include "host/geometry/half_edge.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+#include <utility>
+
+namespace rubble {
+namespace {
+
+using Polygon = std::vector<std::uint32_t>;
+
+// Largest distance of a vertex from the vertices' centroid: the length that tolerances scale by.
+float boundingRadius(const std::vector<glm::vec3>& vertices) {
+    glm::dvec3 centre(0.0);
+    for (const glm::vec3& v : vertices) centre += glm::dvec3(v);
+    centre /= double(std::max<std::size_t>(vertices.size(), 1));
+    double r = 0.0;
+    for (const glm::vec3& v : vertices) r = std::max(r, glm::length(glm::dvec3(v) - centre));
+    return float(r);
+}
+
+// Newell's vector of a polygon: twice its area times its unit normal, exact for planar loops and
+// a least-squares normal for slightly warped ones.
+glm::dvec3 newellVector(const Polygon& loop, const std::vector<glm::vec3>& vertices) {
+    glm::dvec3 n(0.0);
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+        const glm::dvec3 p(vertices[loop[i]]);
+        const glm::dvec3 q(vertices[loop[(i + 1) % loop.size()]]);
+        n += glm::dvec3((p.y - q.y) * (p.z + q.z), (p.z - q.z) * (p.x + q.x),
+                        (p.x - q.x) * (p.y + q.y));
+    }
+    return n;
+}
+
+std::string edgeName(std::uint32_t u, std::uint32_t v) {
+    return std::to_string(u) + "-" + std::to_string(v);
+}
+
+// The polygons as plain half-edges (twins by lookup, not yet paired by index). Fails on bad
+// indices, short loops, an edge used twice in one direction, or an edge without a twin.
+Result<std::vector<HalfEdge>> linkPolygons(const ConvexPolygons& p, const std::string& where) {
+    std::vector<HalfEdge> edges;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> byEnds;
+    for (std::uint32_t f = 0; f < p.faces.size(); ++f) {
+        const Polygon& loop = p.faces[f];
+        if (loop.size() < 3)
+            return makeError(ErrorKind::BadInput, where,
+                             "face " + std::to_string(f) + " has fewer than 3 vertices");
+        const auto base = std::uint32_t(edges.size());
+        for (std::size_t i = 0; i < loop.size(); ++i) {
+            const std::uint32_t u = loop[i], v = loop[(i + 1) % loop.size()];
+            if (u >= p.vertices.size() || v >= p.vertices.size())
+                return makeError(ErrorKind::BadInput, where,
+                                 "face " + std::to_string(f) + " refers to a missing vertex");
+            if (u == v)
+                return makeError(ErrorKind::BadInput, where,
+                                 "face " + std::to_string(f) + " repeats vertex " +
+                                     std::to_string(u));
+            const auto h = std::uint32_t(edges.size());
+            if (!byEnds.try_emplace({u, v}, h).second)
+                return makeError(ErrorKind::BadInput, where,
+                                 "edge " + edgeName(u, v) +
+                                     " is used twice in the same direction (faces wound "
+                                     "inconsistently, or more than two faces share it)");
+            edges.push_back(HalfEdge{u, f, base + std::uint32_t((i + 1) % loop.size()), 0});
+        }
+    }
+    for (HalfEdge& e : edges) {
+        const std::uint32_t v = edges[e.next].origin;
+        const auto twin = byEnds.find({v, e.origin});
+        if (twin == byEnds.end())
+            return makeError(ErrorKind::BadInput, where,
+                             "the surface is open: edge " + edgeName(e.origin, v) +
+                                 " belongs to one face only");
+        e.twin = twin->second;
+    }
+    return edges;
+}
+
+// Union-find over faces, smallest index as the root so that results do not depend on order.
+std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t f) {
+    while (parent[f] != f) f = parent[f] = parent[parent[f]];
+    return f;
+}
+
+// Faces grouped where neighbours are coplanar, each group's boundary as one polygon. Returns
+// std::nullopt when a group's boundary is not a single loop (the caller keeps the faces as they
+// are).
+std::optional<ConvexPolygons> mergeCoplanarFaces(const ConvexPolygons& p,
+                                                 const std::vector<HalfEdge>& edges, float scale) {
+    const std::size_t faceCount = p.faces.size();
+    std::vector<std::uint32_t> parent(faceCount);
+    std::vector<glm::dvec3> newell(faceCount);
+    std::vector<Polygon> members(faceCount); // vertices of each group, at its root
+    for (std::uint32_t f = 0; f < faceCount; ++f) {
+        parent[f] = f;
+        newell[f] = newellVector(p.faces[f], p.vertices);
+        members[f] = p.faces[f];
+    }
+    const double cosMerge = std::cos(double(kMergeAngle));
+    const double thicknessLimit = double(kMergeDistance) * double(scale);
+    for (std::uint32_t h = 0; h < edges.size(); ++h) {
+        if (edges[h].twin < h) continue;
+        std::uint32_t f = findRoot(parent, edges[h].face);
+        std::uint32_t g = findRoot(parent, edges[edges[h].twin].face);
+        if (f == g) continue;
+        const glm::dvec3 nf = glm::normalize(newell[f]), ng = glm::normalize(newell[g]);
+        if (glm::dot(nf, ng) < cosMerge) continue;
+        // Thickness of the union along its area-weighted normal.
+        const glm::dvec3 n = glm::normalize(newell[f] + newell[g]);
+        double lo = std::numeric_limits<double>::max(), hi = -lo;
+        for (const Polygon* group : {&members[f], &members[g]})
+            for (std::uint32_t v : *group) {
+                const double d = glm::dot(n, glm::dvec3(p.vertices[v]));
+                lo = std::min(lo, d);
+                hi = std::max(hi, d);
+            }
+        if (hi - lo > thicknessLimit) continue;
+        if (g < f) std::swap(f, g);
+        parent[g] = f;
+        newell[f] += newell[g];
+        members[f].insert(members[f].end(), members[g].begin(), members[g].end());
+        members[g].clear();
+    }
+
+    std::vector<std::uint32_t> group(faceCount);
+    for (std::uint32_t f = 0; f < faceCount; ++f) group[f] = findRoot(parent, f);
+    auto interior = [&](std::uint32_t h) {
+        return group[edges[h].face] == group[edges[edges[h].twin].face];
+    };
+    ConvexPolygons out;
+    out.vertices = p.vertices;
+    for (std::uint32_t root = 0; root < faceCount; ++root) {
+        if (group[root] != root) continue;
+        std::uint32_t start = std::numeric_limits<std::uint32_t>::max(), boundary = 0;
+        for (std::uint32_t h = 0; h < edges.size(); ++h) {
+            if (group[edges[h].face] != root || interior(h)) continue;
+            start = std::min(start, h);
+            ++boundary;
+        }
+        if (boundary < 3) return std::nullopt;
+        // Walk the boundary: after a boundary half-edge, turn about its end vertex across
+        // interior edges until the next boundary half-edge.
+        Polygon loop;
+        std::uint32_t h = start;
+        do {
+            loop.push_back(edges[h].origin);
+            std::uint32_t n = edges[h].next;
+            for (std::size_t guard = 0; interior(n); ++guard) {
+                if (guard > edges.size()) return std::nullopt;
+                n = edges[edges[n].twin].next;
+            }
+            h = n;
+            if (loop.size() > boundary) return std::nullopt;
+        } while (h != start);
+        if (loop.size() != boundary) return std::nullopt;
+        out.faces.push_back(std::move(loop));
+    }
+    return out;
+}
+
+// Drops vertices that only two faces share (they sit between two collinear edges once their
+// faces are merged); false when a face would be left with fewer than 3 vertices.
+bool dropDegreeTwoVertices(ConvexPolygons& p) {
+    std::vector<std::uint32_t> faceCount(p.vertices.size(), 0);
+    for (const Polygon& loop : p.faces)
+        for (std::uint32_t v : loop) ++faceCount[v];
+    for (Polygon& loop : p.faces) {
+        std::erase_if(loop, [&](std::uint32_t v) { return faceCount[v] == 2; });
+        if (loop.size() < 3) return false;
+    }
+    return true;
+}
+
+// Removes vertices no face uses; the others keep their order.
+void compactVertices(ConvexPolygons& p) {
+    std::vector<std::uint32_t> remap(p.vertices.size(), std::numeric_limits<std::uint32_t>::max());
+    for (const Polygon& loop : p.faces)
+        for (std::uint32_t v : loop) remap[v] = 0;
+    std::vector<glm::vec3> kept;
+    for (std::size_t v = 0; v < p.vertices.size(); ++v) {
+        if (remap[v] != 0) continue;
+        remap[v] = std::uint32_t(kept.size());
+        kept.push_back(p.vertices[v]);
+    }
+    for (Polygon& loop : p.faces)
+        for (std::uint32_t& v : loop) v = remap[v];
+    p.vertices = std::move(kept);
+}
+
+// The final mesh: twins at 2k and 2k+1, planes, one edge per vertex, edge records, bounds.
+// Fails when an edge lacks one of its directions.
+Result<HalfEdgeMesh> assemble(const ConvexPolygons& p, const std::string& where) {
+    HalfEdgeMesh m;
+    m.vertices = p.vertices;
+    constexpr std::uint32_t kUnset = std::numeric_limits<std::uint32_t>::max();
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> edgeOf;
+    for (std::uint32_t f = 0; f < p.faces.size(); ++f) {
+        const Polygon& loop = p.faces[f];
+        Polygon halves(loop.size());
+        for (std::size_t i = 0; i < loop.size(); ++i) {
+            const std::uint32_t u = loop[i], v = loop[(i + 1) % loop.size()];
+            const auto [it, added] =
+                edgeOf.try_emplace({std::min(u, v), std::max(u, v)}, m.edgeCount());
+            if (added) m.edges.resize(m.edges.size() + 2, HalfEdge{kUnset, kUnset, kUnset, kUnset});
+            const std::uint32_t h = 2 * it->second + (added ? 0 : 1);
+            if (m.edges[h].face != kUnset)
+                return makeError(ErrorKind::BadInput, where,
+                                 "edge " + edgeName(u, v) + " is shared by more than two faces");
+            m.edges[h].origin = u;
+            m.edges[h].face = f;
+            m.edges[h].twin = h ^ 1u;
+            halves[i] = h;
+        }
+        for (std::size_t i = 0; i < loop.size(); ++i)
+            m.edges[halves[i]].next = halves[(i + 1) % loop.size()];
+        HalfEdgeFace face;
+        face.normal = glm::vec3(glm::normalize(newellVector(loop, p.vertices)));
+        face.edge = halves[0];
+        m.faces.push_back(face);
+    }
+    for (std::uint32_t h = 0; h < m.edges.size(); ++h)
+        if (m.edges[h].face == kUnset) {
+            const HalfEdge& t = m.edges[h ^ 1u];
+            return makeError(ErrorKind::BadInput, where,
+                             "the surface is open: edge " +
+                                 edgeName(t.origin, m.edges[t.next].origin) +
+                                 " belongs to one face only");
+        }
+    // Each plane passes through the hull's support point along its normal.
+    for (HalfEdgeFace& face : m.faces) {
+        float best = -std::numeric_limits<float>::max();
+        for (const glm::vec3& v : m.vertices) best = std::max(best, glm::dot(face.normal, v));
+        face.offset = best;
+    }
+    m.vertexEdge.assign(m.vertices.size(), kUnset);
+    for (std::uint32_t h = 0; h < m.edges.size(); ++h)
+        if (m.vertexEdge[m.edges[h].origin] == kUnset) m.vertexEdge[m.edges[h].origin] = h;
+    m.edgeRecords.resize(m.edgeCount());
+    for (std::uint32_t k = 0; k < m.edgeCount(); ++k) {
+        const HalfEdge& left = m.edges[2 * k];
+        const HalfEdge& right = m.edges[2 * k + 1];
+        HalfEdgeEdge& r = m.edgeRecords[k];
+        r.origin = m.vertices[left.origin];
+        r.direction = m.vertices[right.origin] - r.origin;
+        r.normalLeft = m.faces[left.face].normal;
+        r.normalRight = m.faces[right.face].normal;
+        r.arc = glm::cross(r.normalRight, r.normalLeft);
+    }
+    if (!m.vertices.empty()) {
+        glm::dvec3 sum(0.0);
+        for (const glm::vec3& v : m.vertices) sum += glm::dvec3(v);
+        m.centroid = glm::vec3(sum / double(m.vertices.size()));
+        m.boundsMin = m.boundsMax = m.vertices[0];
+        for (const glm::vec3& v : m.vertices) {
+            m.boundsMin = glm::min(m.boundsMin, v);
+            m.boundsMax = glm::max(m.boundsMax, v);
+        }
+    }
+    return m;
+}
+
+Error invariant(const std::string& where, const std::string& what) {
+    return makeError(ErrorKind::BadInput, where, "broken convex mesh: " + what);
+}
+
+} // namespace
+
+Result<HalfEdgeMesh> buildHalfEdgeMesh(const ConvexPolygons& polygons, const std::string& where) {
+    if (polygons.vertices.size() < 4 || polygons.faces.size() < 4)
+        return invariant(where, "a closed polyhedron needs at least 4 vertices and 4 faces, got " +
+                                    std::to_string(polygons.vertices.size()) + " and " +
+                                    std::to_string(polygons.faces.size()));
+    Result<std::vector<HalfEdge>> linked = linkPolygons(polygons, where);
+    if (!linked) return invariant(where, linked.error().message);
+    const float scale = boundingRadius(polygons.vertices);
+    if (std::optional<ConvexPolygons> merged = mergeCoplanarFaces(polygons, *linked, scale)) {
+        if (dropDegreeTwoVertices(*merged)) {
+            compactVertices(*merged);
+            Result<HalfEdgeMesh> mesh = assemble(*merged, where);
+            if (mesh && checkHalfEdgeMesh(*mesh, where).ok()) return mesh;
+        }
+    }
+    // Merging went wrong (a group that is not a disk): the faces as given, checked.
+    ConvexPolygons plain = polygons;
+    compactVertices(plain);
+    Result<HalfEdgeMesh> mesh = assemble(plain, where);
+    if (!mesh) return invariant(where, mesh.error().message);
+    RUBBLE_TRY(checkHalfEdgeMesh(*mesh, where));
+    return mesh;
+}
+
+Status checkHalfEdgeMesh(const HalfEdgeMesh& m, const std::string& where) {
+    const std::size_t vCount = m.vertices.size(), hCount = m.edges.size(), fCount = m.faces.size();
+    if (hCount % 2 != 0 || m.vertexEdge.size() != vCount || m.edgeRecords.size() != hCount / 2)
+        return invariant(where, "array sizes do not match");
+    for (std::uint32_t h = 0; h < hCount; ++h) {
+        const HalfEdge& e = m.edges[h];
+        const std::string name = "half-edge " + std::to_string(h);
+        if (e.origin >= vCount || e.face >= fCount || e.next >= hCount || e.twin >= hCount)
+            return invariant(where, name + " refers to a missing element");
+        if (e.twin != (h ^ 1u) || m.edges[e.twin].twin != h)
+            return invariant(where, name + " has no twin");
+        if (m.edges[e.twin].origin != m.edges[e.next].origin)
+            return invariant(where, name + " and its twin do not join the same two vertices");
+        if (m.edges[e.twin].face == e.face)
+            return invariant(where, name + " has its twin in the same face");
+        if (m.edges[e.next].face != e.face)
+            return invariant(where, name + " leaves its face through next");
+    }
+    for (std::uint32_t v = 0; v < vCount; ++v)
+        if (m.vertexEdge[v] >= hCount || m.edges[m.vertexEdge[v]].origin != v)
+            return invariant(where, "vertex " + std::to_string(v) + " has no edge leaving it");
+
+    // Face loops close and cover every half-edge once.
+    std::size_t covered = 0;
+    for (std::uint32_t f = 0; f < fCount; ++f) {
+        std::uint32_t h = m.faces[f].edge, length = 0;
+        if (h >= hCount || m.edges[h].face != f)
+            return invariant(where, "face " + std::to_string(f) + " names a foreign edge");
+        do {
+            h = m.edges[h].next;
+            if (++length > hCount)
+                return invariant(where, "the loop of face " + std::to_string(f) + " does not close");
+        } while (h != m.faces[f].edge);
+        if (length < 3)
+            return invariant(where, "face " + std::to_string(f) + " has fewer than 3 edges");
+        covered += length;
+    }
+    if (covered != hCount) return invariant(where, "some half-edges belong to no face loop");
+    const long euler = long(vCount) - long(hCount / 2) + long(fCount);
+    if (euler != 2)
+        return invariant(where, "V - E + F = " + std::to_string(euler) + ", expected 2 (" +
+                                    std::to_string(vCount) + " - " + std::to_string(hCount / 2) +
+                                    " + " + std::to_string(fCount) + ")");
+
+    // Geometry: supporting planes, planar and convex faces, outward normals.
+    const float tol = kShapeTolerance * std::max(boundingRadius(m.vertices), 1e-6f);
+    glm::dvec3 centroid(0.0);
+    for (const glm::vec3& v : m.vertices) centroid += glm::dvec3(v);
+    centroid /= double(vCount);
+    for (std::uint32_t f = 0; f < fCount; ++f) {
+        const HalfEdgeFace& face = m.faces[f];
+        const std::string name = "face " + std::to_string(f);
+        if (!(std::fabs(glm::length(face.normal) - 1.0f) < 1e-4f))
+            return invariant(where, name + " has no unit normal (zero area)");
+        // Outward: the centroid lies below the face's own vertices.
+        const glm::vec3 corner = m.vertices[m.edges[face.edge].origin];
+        if (!(glm::dot(glm::dvec3(face.normal), centroid - glm::dvec3(corner)) < 0.0))
+            return invariant(where, name + " faces inward (wound clockwise seen from outside)");
+        for (std::uint32_t v = 0; v < vCount; ++v)
+            if (glm::dot(face.normal, m.vertices[v]) > face.offset + tol)
+                return invariant(where, "vertex " + std::to_string(v) + " lies above the plane of " +
+                                            name + " (the mesh is not convex)");
+        std::uint32_t h = face.edge;
+        do {
+            const HalfEdge& e = m.edges[h];
+            const glm::vec3 a = m.vertices[e.origin];
+            const glm::vec3 b = m.vertices[m.edges[e.next].origin];
+            const glm::vec3 c = m.vertices[m.edges[m.edges[e.next].next].origin];
+            if (glm::dot(face.normal, a) < face.offset - tol)
+                return invariant(where, "vertex " + std::to_string(e.origin) + " lies below the "
+                                            "plane of " + name + " (the face is not planar, or the "
+                                            "mesh is not convex)");
+            const float turn = glm::dot(glm::cross(b - a, c - b), face.normal);
+            if (turn < -tol * (glm::length(b - a) + glm::length(c - b)))
+                return invariant(where, name + " is not convex at vertex " +
+                                            std::to_string(m.edges[e.next].origin));
+            h = e.next;
+        } while (h != face.edge);
+    }
+    return {};
+}
+
+std::uint32_t supportVertex(const HalfEdgeMesh& m, glm::vec3 d, std::uint32_t start) {
+    std::uint32_t best = start;
+    float bestDot = glm::dot(d, m.vertices[best]);
+    for (;;) {
+        // Visit the neighbours by turning about the vertex: twin, then next.
+        std::uint32_t climb = best;
+        float climbDot = bestDot;
+        const std::uint32_t first = m.vertexEdge[best];
+        std::uint32_t h = first;
+        do {
+            const HalfEdge& twin = m.edges[m.edges[h].twin];
+            const float dot = glm::dot(d, m.vertices[twin.origin]);
+            if (dot > climbDot) {
+                climbDot = dot;
+                climb = twin.origin;
+            }
+            h = twin.next;
+        } while (h != first);
+        if (climb == best) return best;
+        best = climb;
+        bestDot = climbDot;
+    }
+}
+
+std::uint32_t supportVertexBruteForce(const HalfEdgeMesh& m, glm::vec3 d) {
+    std::uint32_t best = 0;
+    float bestDot = glm::dot(d, m.vertices[0]);
+    for (std::uint32_t v = 1; v < m.vertexCount(); ++v) {
+        const float dot = glm::dot(d, m.vertices[v]);
+        if (dot > bestDot) {
+            bestDot = dot;
+            best = v;
+        }
+    }
+    return best;
+}
+
+std::vector<std::uint32_t> faceVertices(const HalfEdgeMesh& m, std::uint32_t face) {
+    std::vector<std::uint32_t> loop;
+    std::uint32_t h = m.faces[face].edge;
+    do {
+        loop.push_back(m.edges[h].origin);
+        h = m.edges[h].next;
+    } while (h != m.faces[face].edge);
+    return loop;
+}
+
+} // namespace rubble

@@ -1,0 +1,90 @@
+// tests/unit/collision_world_test.cpp: host/collision/collision_world: the broad and narrow phase
+// stages on whole worlds built from scene text.
+#include "host/collision/collision_world.h"
+
+#include <gtest/gtest.h>
+
+#include "host/world/world_state.h"
+#include "support/test_util.h"
+
+namespace rubble {
+namespace {
+
+// A scene with a floor plane and the given bodies (JSON array items).
+std::string scene(const std::string& shapes, const std::string& bodies) {
+    return R"({"format": "rubble-scene", "version": 1, "name": "t",
+      "shapes": {"floor": {"type": "plane", "normal": [0, 1, 0], "offset": 0}, )" +
+           shapes + R"(},
+      "bodies": [{"name": "floor", "shape": "floor", "static": true}, )" +
+           bodies + "]}";
+}
+
+TEST(CollisionWorld, BoxOnFloorGivesFourPointsPointingUp) {
+    World w = test::worldFromText(
+        scene(R"("crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]})",
+              R"({"name": "c", "shape": "crate", "mass": 1, "position": [0, 0.49, 0]})"));
+    WorldState& s = w.state();
+    runBroadPhase(s);
+    ASSERT_EQ(s.pairs.size(), 1u);
+    EXPECT_EQ(s.pairs[0], (BodyPair{0, 1}));
+    runNarrowPhase(s);
+    ASSERT_EQ(s.manifolds.size(), 1u);
+    const Manifold& m = s.manifolds[0];
+    EXPECT_EQ(m.a, 0u);
+    EXPECT_EQ(m.b, 1u);
+    EXPECT_NEAR(m.normal.y, 1.0f, 1e-6f);
+    ASSERT_EQ(m.count, 4u);
+    for (std::uint32_t i = 0; i < 4; ++i) {
+        EXPECT_NEAR(m.points[i].depth, 0.01f, 1e-5f);
+        EXPECT_NEAR(m.points[i].position.y, -0.005f, 1e-5f);
+        EXPECT_EQ(m.points[i].normal, m.normal);
+    }
+    EXPECT_EQ(s.stats.contactCount, 4u);
+    EXPECT_NEAR(s.stats.largestPenetration, 0.01f, 1e-5f);
+}
+
+TEST(CollisionWorld, StackOfBoxesAndSpheres) {
+    World w = test::worldFromText(scene(
+        R"("crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]},
+           "ball": {"type": "sphere", "radius": 0.25})",
+        R"({"name": "c0", "shape": "crate", "mass": 1, "position": [0, 0.499, 0]},
+           {"name": "c1", "shape": "crate", "mass": 1, "position": [0, 1.497, 0]},
+           {"name": "b", "shape": "ball", "mass": 1, "position": [0, 2.24, 0]},
+           {"name": "far", "shape": "ball", "mass": 1, "position": [5, 3, 0]})"));
+    WorldState& s = w.state();
+    runBroadPhase(s);
+    // floor-c0, c0-c1, c1-b; the far ball touches nothing.
+    ASSERT_EQ(s.pairs.size(), 3u);
+    EXPECT_EQ(s.pairs[0], (BodyPair{0, 1}));
+    EXPECT_EQ(s.pairs[1], (BodyPair{1, 2}));
+    EXPECT_EQ(s.pairs[2], (BodyPair{2, 3}));
+    runNarrowPhase(s);
+    ASSERT_EQ(s.manifolds.size(), 3u);
+    EXPECT_EQ(s.manifolds[0].count, 4u);
+    EXPECT_EQ(s.manifolds[1].count, 4u);
+    EXPECT_EQ(s.manifolds[2].count, 1u);
+    for (const Manifold& m : s.manifolds) EXPECT_GT(m.normal.y, 0.999f); // a below b
+    EXPECT_NEAR(s.manifolds[1].points[0].depth, 0.002f, 1e-5f);
+    EXPECT_NEAR(s.manifolds[2].points[0].depth, 0.007f, 1e-5f);
+}
+
+TEST(CollisionWorld, StaticAndSleepingPairsAreSkipped) {
+    World w = test::worldFromText(scene(
+        R"("crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]})",
+        R"({"name": "s0", "shape": "crate", "static": true, "position": [0, 0.5, 0]},
+           {"name": "s1", "shape": "crate", "static": true, "position": [0.9, 0.5, 0]},
+           {"name": "d0", "shape": "crate", "mass": 1, "position": [0, 1.49, 0]},
+           {"name": "d1", "shape": "crate", "mass": 1, "position": [0.9, 1.49, 0]})"));
+    WorldState& s = w.state();
+    runBroadPhase(s);
+    // Statics with the floor and each other never; d0-d1 overlap; each d sits on both statics.
+    const std::vector<BodyPair> expected{{1, 3}, {1, 4}, {2, 3}, {2, 4}, {3, 4}};
+    EXPECT_EQ(s.pairs, expected);
+    s.masses[3].flags |= RUBBLE_BODY_ASLEEP;
+    s.masses[4].flags |= RUBBLE_BODY_ASLEEP;
+    runBroadPhase(s);
+    EXPECT_TRUE(s.pairs.empty());
+}
+
+} // namespace
+} // namespace rubble
