@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "host/app/commands.h"
+#include "host/app/gpu_commands.h"
 #include "host/app/viewer_commands.h"
 #include "rubble/version.h"
 
@@ -67,12 +68,16 @@ int main(int argc, char** argv) {
     addRunOptions(renderCmd, render.common.run);
     addRenderOptions(renderCmd, render);
 
+    GpuCommands gpuCommands(app);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         const int code = app.exit(e);
         return code == 0 ? kExitOk : kExitBadInput;
     }
+    deviceFromEnvironment(run.run);
+    if (int code = kExitOk; gpuCommands.dispatch(code)) return code;
     if (runCmd->parsed()) return runCommand(run);
     if (validateCmd->parsed()) return validateCommand(validate);
     if (viewCmd->parsed()) return viewCommand(view);

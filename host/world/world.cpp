@@ -1,9 +1,12 @@
 // host/world/world.cpp: World::step() (the pipeline of the backend, then the checks every step
 // needs), queries, and forces for a host program.
 #include <chrono>
+#include <cstdio>
 
 #include "host/core/math.h"
 #include "host/world/cpu_step.h"
+#include "host/gpu/pipeline.h"
+#include "host/world/device_step.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -33,6 +36,15 @@ Status World::step() {
     stats = StepStats{};
     const auto start = std::chrono::steady_clock::now();
 
+    if (s.device) {
+        // The device checks its own state for non-finite values.
+        const Status stepped = stepDevice(s, stats);
+        std::fill(s.forces.begin(), s.forces.end(), BodyForce{});
+        ++s.step;
+        stats.totalMs = std::chrono::duration<double, std::milli>(
+                            std::chrono::steady_clock::now() - start).count();
+        return stepped;
+    }
     stepCpuReference(s, stats);
     std::fill(s.forces.begin(), s.forces.end(), BodyForce{});
     ++s.step;
@@ -60,7 +72,11 @@ std::optional<std::uint32_t> World::findBody(std::string_view name) const {
 }
 
 BodyState World::body(std::uint32_t i) const {
-    const WorldState& s = *s_;
+    WorldState& s = *s_;
+    // The device stepped: read every body back once, for this and the following queries.
+    if (const Status synced = syncHost(s); !synced)
+        std::fprintf(stderr, "rubble: reading bodies from the device: %s\n",
+                     synced.error().describe().c_str());
     BodyState b;
     b.position = toVec3(s.poses.at(i).position);
     b.orientation = toQuat(s.poses[i].orientation);
@@ -75,12 +91,14 @@ BodyState World::body(std::uint32_t i) const {
 }
 
 void World::addForce(std::uint32_t i, glm::vec3 force) {
+    s_->forcesDirty = s_->device != nullptr;
     shared::BodyForce& f = s_->forces.at(i);
     f.force = toFloat4(toVec3(f.force) + force);
     s_->masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
 }
 
 void World::addTorque(std::uint32_t i, glm::vec3 torque) {
+    s_->forcesDirty = s_->device != nullptr;
     shared::BodyForce& f = s_->forces.at(i);
     f.torque = toFloat4(toVec3(f.torque) + torque);
     s_->masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
@@ -88,12 +106,15 @@ void World::addTorque(std::uint32_t i, glm::vec3 torque) {
 
 void World::addForceAtPoint(std::uint32_t i, glm::vec3 force, glm::vec3 point) {
     addForce(i, force);
-    addTorque(i, glm::cross(point - toVec3(s_->poses.at(i).position), force));
+    addTorque(i, glm::cross(point - body(i).position, force));
 }
 
 void World::applyImpulse(std::uint32_t i, glm::vec3 impulse, glm::vec3 point) {
     WorldState& s = *s_;
     if (s.isStatic(i)) return;
+    if (const Status synced = beginHostChange(s); !synced)
+        std::fprintf(stderr, "rubble: reading bodies from the device: %s\n",
+                     synced.error().describe().c_str());
     const glm::vec3 r = point - toVec3(s.poses.at(i).position);
     s.momenta[i].linear = toFloat4(toVec3(s.momenta[i].linear) + impulse);
     s.momenta[i].angular = toFloat4(toVec3(s.momenta[i].angular) + glm::cross(r, impulse));
@@ -103,7 +124,9 @@ void World::applyImpulse(std::uint32_t i, glm::vec3 impulse, glm::vec3 point) {
 }
 
 const StepStats& World::lastStep() const { return s_->stats; }
-std::string World::deviceName() const { return "cpu"; }
+std::string World::deviceName() const {
+    return s_->device ? s_->device->context().describe() : "cpu";
+}
 WorldState& World::state() { return *s_; }
 const WorldState& World::state() const { return *s_; }
 

@@ -1,6 +1,9 @@
 // host/world/world_build.cpp: a Scene into a WorldState: shapes built, masses from mass or
 // density, momenta from the initial velocities. Features not built yet are refused here.
 #include "host/core/math.h"
+#include "host/gpu/context.h"
+#include "host/world/backend_check.h"
+#include "host/world/device_step.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -13,11 +16,10 @@ Error notSupported(const std::string& where, const std::string& what) {
 // Refuses options and scene parts that the pipeline cannot run yet, naming the field.
 Status checkSupported(const Scene& scene) {
     const SimulationOptions& sim = scene.simulation;
-    if (sim.backend == Backend::OpenCl)
-        return notSupported(scene.file + ": simulation.backend", "the opencl backend");
-    if (sim.collisionMethod() != CollisionMethod::Sat)
+    RUBBLE_TRY(checkBackendCombination(scene));
+    if (sim.backend == Backend::Cpu && sim.collisionMethod() != CollisionMethod::Sat)
         return notSupported(scene.file + ": simulation.collision.method", "particle collision");
-    if (sim.solver.type != SolverType::Pgs)
+    if (sim.backend == Backend::Cpu && sim.solver.type != SolverType::Pgs)
         return notSupported(scene.file + ": simulation.solver.type",
                             "the " + std::string(toString(sim.solver.type)) + " solver");
     return {};
@@ -82,6 +84,11 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     s->joints = scene.joints;
     s->events = scene.events;
     s->eventFired.assign(scene.events.size(), 0);
+    if (scene.simulation.backend == Backend::OpenCl) {
+        Result<std::shared_ptr<gpu::Context>> context = gpu::Context::create(run);
+        RUBBLE_TRY(context);
+        RUBBLE_TRY(attachDevice(*s, std::move(*context), scene.simulation));
+    }
     return World(std::move(s));
 }
 

@@ -10,6 +10,7 @@
 #include "host/collision/contact.h"
 #include "host/dynamics/dynamics_world.h"
 #include "host/geometry/shape.h"
+#include "host/gpu/pipeline_handle.h"
 #include "rubble/options.h"
 #include "rubble/scene.h"
 #include "rubble/shared/body.h"
@@ -59,6 +60,14 @@ struct WorldState {
     // (explicit Euler moves positions with those).
     std::vector<BodyVelocity> velocitiesBeforeSolve;
     std::vector<BodyVelocity> velocitiesAtStart;
+
+    // OpenCL backend: the device pipeline, which holds the current body state. The host arrays
+    // are read back when asked for (hostStale) and go back up before the next device step when
+    // the host changed them (hostDirty, forcesDirty).
+    gpu::PipelineHandle device;
+    bool hostStale = false;
+    bool hostDirty = false;
+    bool forcesDirty = false;
 
     std::uint32_t bodyCount() const { return std::uint32_t(poses.size()); }
     bool isStatic(std::uint32_t i) const { return masses[i].inverseMass == 0.0f; }

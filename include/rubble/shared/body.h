@@ -2,6 +2,7 @@
 // the host (core/integrate.cpp, the CPU twin) and by kernels/integrate.cl (OpenCL stages 1 and 6).
 #pragma once
 
+#include "rubble/shared/constants.h"
 #include "rubble/shared/math.h"
 
 RUBBLE_SHARED_BEGIN

@@ -25,6 +25,9 @@ struct alignas(16) float4 {
 };
 typedef std::uint32_t uint;
 using std::fabs;
+using std::floor;
+using std::fmax;
+using std::fmin;
 using std::sqrt;
 } // namespace shared
 } // namespace rubble

@@ -20,3 +20,10 @@
 
 // A particle meets at most this many static shapes (planes and static boxes) per step.
 #define RUBBLE_MAX_STATIC_SHAPES 64u
+
+// Slots of the per-step status buffer that the host reads once at the end of a step.
+#define RUBBLE_STATUS_CONTACTS 0u    // contacts appended by collideParticles (may exceed capacity)
+#define RUBBLE_STATUS_NONFINITE 1u   // lowest index of a body whose state is not finite
+#define RUBBLE_STATUS_PENETRATION 2u // largest contact depth, float bits (depths are >= 0)
+#define RUBBLE_STATUS_RESIDUAL 3u    // largest |impulse change| in the last sweep, float bits
+#define RUBBLE_STATUS_COUNT 4u

@@ -15,17 +15,14 @@
     X(BodyForce) F(BodyForce, force) F(BodyForce, torque)                                          \
     X(BodyMass) F(BodyMass, inertiaBody) F(BodyMass, inverseInertiaBody) F(BodyMass, mass)         \
     F(BodyMass, inverseMass) F(BodyMass, flags) F(BodyMass, pad0)                                  \
-    X(Particle) F(Particle, offset) F(Particle, body) F(Particle, pad0)                            \
+    X(Particle) F(Particle, offset) F(Particle, body) F(Particle, pad0) F(Particle, pad2)          \
     X(StaticShape) F(StaticShape, normal) F(StaticShape, position) F(StaticShape, orientation)     \
     F(StaticShape, halfExtents) F(StaticShape, kind) F(StaticShape, friction)                      \
-    F(StaticShape, restitution) F(StaticShape, pad0)                                               \
+    F(StaticShape, restitution) F(StaticShape, body)                                               \
     X(ParticleContact) F(ParticleContact, point) F(ParticleContact, normal) F(ParticleContact, a)  \
-    F(ParticleContact, b) F(ParticleContact, key) F(ParticleContact, depth)                        \
+    F(ParticleContact, b) F(ParticleContact, particleA) F(ParticleContact, featureB)               \
     X(ContactRow) F(ContactRow, normal) F(ContactRow, tangent1) F(ContactRow, tangent2)            \
     F(ContactRow, rA) F(ContactRow, rB) F(ContactRow, lambda) F(ContactRow, mass)                  \
     F(ContactRow, a) F(ContactRow, b) F(ContactRow, bias) F(ContactRow, friction)                  \
     X(SolverParams) F(SolverParams, baumgarte) F(SolverParams, slop) F(SolverParams, inverseDt)    \
     F(SolverParams, relaxation)
-
-// How many numbers RUBBLE_SHARED_LAYOUT produces (one per X and per F).
-#define RUBBLE_SHARED_LAYOUT_COUNT 61u

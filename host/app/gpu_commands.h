@@ -1,0 +1,55 @@
+// host/app/gpu_commands.h: the subcommands about OpenCL devices and the comparison of pipelines:
+// `rubble devices`, `rubble compare`, `rubble solvers`; registered by main.cpp.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "rubble/options.h"
+
+namespace rubble::app {
+
+/// Fills an empty RunOptions::device from the RUBBLE_DEVICE environment variable (read here,
+/// once, and nowhere in the library).
+void deviceFromEnvironment(RunOptions& run);
+
+struct CompareArgs {
+    std::string scene;
+    int steps = 60;
+    std::vector<std::string> a, b; ///< KEY=VALUE settings of each side
+    std::string csv, plot;
+    RunOptions run;
+};
+
+struct SolversArgs {
+    std::string scene;
+    int step = 30;
+    int iterations = 50;
+    std::string csv;
+    std::string collision;
+    RunOptions run;
+};
+
+/// The gpu subcommands of one `rubble` invocation, after parsing.
+class GpuCommands {
+  public:
+    /// Adds `devices`, `compare` and `solvers` to the command line.
+    explicit GpuCommands(CLI::App& app);
+    /// When one of them was parsed, runs it, stores its exit status and returns true.
+    bool dispatch(int& exitCode);
+
+  private:
+    CLI::App* devices_ = nullptr;
+    CLI::App* compare_ = nullptr;
+    CLI::App* solvers_ = nullptr;
+    CompareArgs compareArgs_;
+    SolversArgs solversArgs_;
+};
+
+int devicesCommand();
+int compareCommand(const CompareArgs& args);
+int solversCommand(const SolversArgs& args);
+
+} // namespace rubble::app

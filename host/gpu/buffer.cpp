@@ -1,0 +1,64 @@
+// host/gpu/buffer.cpp: device buffers and kernel dispatch.
+#include "host/gpu/buffer.h"
+
+#include "host/core/assert.h"
+
+namespace rubble::gpu {
+
+Buffer& Buffer::operator=(Buffer&& o) noexcept {
+    if (this != &o) {
+        if (mem_) clReleaseMemObject(mem_);
+        mem_ = o.mem_;
+        bytes_ = o.bytes_;
+        o.mem_ = nullptr;
+        o.bytes_ = 0;
+    }
+    return *this;
+}
+
+Buffer::~Buffer() {
+    if (mem_) clReleaseMemObject(mem_);
+}
+
+Status Buffer::reserve(cl_context context, std::size_t bytes) {
+    bytes = std::max<std::size_t>(bytes, 16);
+    if (mem_ && bytes_ >= bytes) return {};
+    if (mem_) clReleaseMemObject(mem_);
+    mem_ = nullptr;
+    bytes_ = 0;
+    cl_int err = CL_SUCCESS;
+    RUBBLE_CL_CHECK((mem_ = clCreateBuffer(context, CL_MEM_READ_WRITE, bytes, nullptr, &err), err));
+    bytes_ = bytes;
+    return {};
+}
+
+Status fill(const Context& c, const Buffer& b, cl_uint value, std::size_t bytes) {
+    if (bytes == 0) return {};
+    RUBBLE_ASSERT(bytes % sizeof value == 0 && bytes <= b.bytes());
+    RUBBLE_CL_CHECK(clEnqueueFillBuffer(c.queue(), b.mem(), &value, sizeof value, 0, bytes, 0,
+                                        nullptr, nullptr));
+    return {};
+}
+
+Dispatch& Dispatch::bind(std::size_t size, const void* value) {
+    if (!status_.ok()) return *this;
+    status_ = [&]() -> Status {
+        RUBBLE_CL_CHECK(clSetKernelArg(kernel_, next_, size, value));
+        return {};
+    }();
+    ++next_;
+    return *this;
+}
+
+Status Dispatch::run(std::size_t count, std::size_t group) {
+    RUBBLE_TRY(status_);
+    // Argument order is the kernel signature's: a dispatch that binds too few or too many is a
+    // bug in rubble, caught here before the device sees it.
+    RUBBLE_ASSERT(next_ == signatureOf(id_).args.size());
+    const std::size_t global = roundUp(count, group);
+    RUBBLE_CL_CHECK(clEnqueueNDRangeKernel(c_.queue(), kernel_, 1, nullptr, &global, &group, 0,
+                                           nullptr, nullptr));
+    return {};
+}
+
+} // namespace rubble::gpu

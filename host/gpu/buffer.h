@@ -1,0 +1,85 @@
+// host/gpu/buffer.h: device buffers that grow and free themselves, host copies in and out, and
+// the one-dimensional dispatch of a kernel with its arguments in signature order.
+#pragma once
+
+#include <CL/cl.h>
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "host/gpu/cl_check.h"
+#include "host/gpu/context.h"
+
+namespace rubble::gpu {
+
+/// A cl_mem that keeps its size, released when destroyed. Move-only.
+class Buffer {
+  public:
+    Buffer() = default;
+    Buffer(Buffer&& o) noexcept : mem_(o.mem_), bytes_(o.bytes_) { o.mem_ = nullptr; o.bytes_ = 0; }
+    Buffer& operator=(Buffer&& o) noexcept;
+    Buffer(const Buffer&) = delete;
+    Buffer& operator=(const Buffer&) = delete;
+    ~Buffer();
+
+    /// Makes the buffer hold at least `bytes` (at least 16); a larger buffer loses its contents.
+    Status reserve(cl_context context, std::size_t bytes);
+    cl_mem mem() const { return mem_; }
+    std::size_t bytes() const { return bytes_; }
+
+  private:
+    cl_mem mem_ = nullptr;
+    std::size_t bytes_ = 0;
+};
+
+/// Blocking copy of a host array into the start of a buffer (reserved to fit).
+template <class T>
+Status upload(const Context& c, Buffer& b, std::span<const T> data) {
+    RUBBLE_TRY(b.reserve(c.context(), data.size_bytes()));
+    if (data.empty()) return {};
+    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), b.mem(), CL_TRUE, 0, data.size_bytes(),
+                                         data.data(), 0, nullptr, nullptr));
+    return {};
+}
+
+/// Blocking copy of the start of a buffer into a host array.
+template <class T>
+Status download(const Context& c, const Buffer& b, std::span<T> data) {
+    if (data.empty()) return {};
+    RUBBLE_CL_CHECK(clEnqueueReadBuffer(c.queue(), b.mem(), CL_TRUE, 0, data.size_bytes(),
+                                        data.data(), 0, nullptr, nullptr));
+    return {};
+}
+
+/// Fills the first `bytes` of a buffer with a repeated 32-bit value.
+Status fill(const Context& c, const Buffer& b, cl_uint value, std::size_t bytes);
+
+/// The smallest multiple of `group` that holds `count`, at least one group.
+inline std::size_t roundUp(std::size_t count, std::size_t group) {
+    return count == 0 ? group : (count + group - 1) / group * group;
+}
+
+/// Binds a kernel's arguments in signature order and enqueues it; run() fails with the first
+/// error of the binding, and asserts that every argument of the signature was bound.
+class Dispatch {
+  public:
+    Dispatch(const Context& c, KernelId id) : c_(c), id_(id), kernel_(c.kernel(id)) {}
+    template <class T> Dispatch& arg(const T& value) { return bind(sizeof value, &value); }
+    Dispatch& arg(const Buffer& b) {
+        const cl_mem m = b.mem();
+        return bind(sizeof m, &m);
+    }
+    /// Enqueues `count` work-items in groups of `group` (the global size rounded up).
+    Status run(std::size_t count, std::size_t group);
+
+  private:
+    Dispatch& bind(std::size_t size, const void* value);
+    const Context& c_;
+    KernelId id_;
+    cl_kernel kernel_;
+    cl_uint next_ = 0;
+    Status status_;
+};
+
+} // namespace rubble::gpu

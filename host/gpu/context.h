@@ -1,0 +1,57 @@
+// host/gpu/context.h: one OpenCL device in use: its context, in-order queue, the program (built
+// once per context, from the embedded text or RunOptions::kernelDir) and every kernel of it.
+#pragma once
+
+#include <CL/cl.h>
+
+#include <array>
+#include <memory>
+#include <string>
+
+#include "host/gpu/device.h"
+#include "host/gpu/kernel_table.h"
+#include "rubble/error.h"
+#include "rubble/options.h"
+
+namespace rubble::gpu {
+
+/// Options every build of the program uses (the same text and options hit PoCL's binary cache).
+inline constexpr const char* kBuildOptions = "-cl-kernel-arg-info -cl-std=CL1.2";
+
+class Context {
+  public:
+    /// Chooses the device of run.device, creates the context and queue, builds the program and
+    /// creates its kernels. Errors: NotSupported with no OpenCL platform, BadInput for a device
+    /// that does not exist or an unreadable kernel folder, Device for a failed call or a build
+    /// that failed (the message holds the build log).
+    static Result<std::shared_ptr<Context>> create(const RunOptions& run);
+
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    cl_context context() const { return context_; }
+    cl_command_queue queue() const { return queue_; }
+    cl_program program() const { return program_; }
+    const DeviceInfo& device() const { return device_; }
+    cl_kernel kernel(KernelId id) const { return kernels_[static_cast<unsigned>(id)]; }
+    /// Wall time of clBuildProgram, ms (PoCL's cache makes a second build much faster).
+    double buildMs() const { return buildMs_; }
+    /// "platform: device".
+    std::string describe() const { return device_.platform + ": " + device_.name; }
+
+  private:
+    Context() = default;
+    DeviceInfo device_;
+    cl_context context_ = nullptr;
+    cl_command_queue queue_ = nullptr;
+    cl_program program_ = nullptr;
+    std::array<cl_kernel, static_cast<unsigned>(KernelId::Count)> kernels_{};
+    double buildMs_ = 0;
+};
+
+/// The program text for run.kernelDir (with includes from <kernelDir>/../include, then the
+/// embedded headers) or the embedded program.
+Result<std::string> programSource(const RunOptions& run);
+
+} // namespace rubble::gpu

@@ -1,0 +1,32 @@
+// host/gpu/kernel_table.h: every kernel of the program with its argument names, in signature
+// order. Dispatch binds arguments in this order (host/gpu/dispatch.h checks the count) and
+// tests/gpu/kernels_build_test compares it with what the device reports.
+#pragma once
+
+#include <string_view>
+#include <vector>
+
+namespace rubble::gpu {
+
+enum class KernelId : unsigned {
+    IntegrateVelocities,
+    AbsorbVelocityChange,
+    IntegratePositions,
+    MeasureLayout,
+    Count
+};
+
+struct KernelSignature {
+    KernelId id;
+    std::string_view name;
+    std::vector<std::string_view> args;
+};
+
+/// The table, indexed by KernelId.
+const std::vector<KernelSignature>& kernelSignatures();
+
+inline const KernelSignature& signatureOf(KernelId id) {
+    return kernelSignatures()[static_cast<unsigned>(id)];
+}
+
+} // namespace rubble::gpu

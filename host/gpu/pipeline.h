@@ -1,0 +1,82 @@
+// host/gpu/pipeline.h: the OpenCL pipeline of one world (DESIGN.md, "One step, OpenCL
+// pipeline"): the device arrays, uploaded at load and kept there, and one method per stage.
+// Each stage's dispatch lives in host/gpu/<stage>.cpp; its CPU twin has the same name.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include "host/gpu/buffer.h"
+#include "host/gpu/context.h"
+#include "host/gpu/pipeline_handle.h"
+#include "rubble/shared/body.h"
+#include "rubble/world.h"
+
+namespace rubble {
+struct WorldState;
+}
+
+namespace rubble::gpu {
+
+/// The body arrays on the device, one element per body in world order.
+struct BodyBuffers {
+    std::uint32_t count = 0;
+    Buffer poses, velocities, momenta, forces, masses;
+    Buffer atStart; ///< velocities at the start of the step (explicit Euler)
+    Buffer before;  ///< velocities before the solve
+};
+
+/// What the host reads at the end of a step (RUBBLE_STATUS_* slots).
+struct DeviceStatus {
+    std::uint32_t contacts = 0;
+    std::uint32_t firstNonFinite = 0xffffffffu; ///< a body index, or none
+    float largestPenetration = 0;               ///< m
+    float solverResidual = 0;                   ///< N s
+};
+
+class Pipeline {
+  public:
+    /// Sizes the device arrays for a world and uploads its bodies. Errors: Device.
+    static Result<PipelineHandle> create(std::shared_ptr<Context> context, const WorldState& s);
+
+    const Context& context() const { return *context_; }
+    const std::shared_ptr<Context>& sharedContext() const { return context_; }
+    const BodyBuffers& bodies() const { return bodies_; }
+
+    /// Copies the host's poses, velocities, momenta and masses to the device: at load, and when
+    /// the host changed them (impulses, events). Errors: Device.
+    Status uploadBodies(const WorldState& s);
+    /// Reads poses, velocities and momenta back into the host arrays, for whoever asked for
+    /// the state (World::body, writers, metrics). Errors: Device.
+    Status downloadBodies(WorldState& s);
+    /// This step's forces and torques (World::addForce), uploaded when any were added.
+    Status uploadForces(std::span<const shared::BodyForce> forces);
+
+    /// One whole step on the device; the stage timings go into `stats`. Errors: Device,
+    /// Numerical (a body that is not finite, named).
+    Status step(WorldState& s, StepStats& stats);
+
+    // Stages, each the twin of the CPU function of the same name.
+    Status integrateVelocities(shared::float4 gravity, float dt);
+    Status absorbVelocityChange();
+    Status integratePositions(float dt, bool symplectic);
+    /// Copies the velocities into `to` (atStart or before).
+    Status copyVelocities(Buffer& to);
+
+    /// Clears the status slots at the start of a step, and reads them at its end.
+    Status resetStatus();
+    Result<DeviceStatus> readStatus();
+    /// Waits until the queue is empty (stage timings, transfers).
+    Status finish();
+
+  private:
+    explicit Pipeline(std::shared_ptr<Context> context) : context_(std::move(context)) {}
+    std::shared_ptr<Context> context_;
+    BodyBuffers bodies_;
+    Buffer status_;
+    bool forcesOnDevice_ = false; ///< the device force buffer holds non-zero forces
+};
+
+} // namespace rubble::gpu

@@ -1,0 +1,35 @@
+// host/world/device_step.h: the OpenCL backend of a World: attaching a device pipeline, one
+// step on it, and keeping the host's copy of the bodies current when someone asks for it.
+#pragma once
+
+#include <memory>
+
+#include "rubble/error.h"
+#include "rubble/options.h"
+
+namespace rubble {
+
+struct WorldState;
+struct StepStats;
+namespace gpu {
+class Context;
+}
+
+/// Puts a world on the OpenCL backend of `context` (shared, so that tests and tools build the
+/// program once) with the given options (backend set to opencl): sizes the device arrays and
+/// uploads the bodies. Errors: NotSupported for options the device pipeline cannot run, Device.
+Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
+                    const SimulationOptions& options);
+
+/// One step on the device: what the host changed (impulses, events, forces) is uploaded first.
+/// Errors: Device, Numerical naming the body.
+Status stepDevice(WorldState& s, StepStats& stats);
+
+/// Reads the bodies back when the device stepped since the last read (World::body, writers).
+/// Errors: Device.
+Status syncHost(WorldState& s);
+
+/// Makes the host arrays current and marks them changed, before the host writes into them.
+Status beginHostChange(WorldState& s);
+
+} // namespace rubble

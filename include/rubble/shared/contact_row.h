@@ -1,0 +1,120 @@
+// include/rubble/shared/contact_row.h: contact rows of the Jacobi solver (OpenCL stage 5) and
+// their per-element math: building a row, one projected Jacobi update, and the per-body
+// gather. CPU twins in host/dynamics/jacobi.cpp; kernels in kernels/jacobi.cl.
+#pragma once
+
+#include "rubble/shared/body.h"
+
+RUBBLE_SHARED_BEGIN
+
+// 16 bytes: the solver's settings for one step, passed to kernels by value.
+typedef struct SolverParams {
+    float baumgarte;  // fraction of the penetration corrected per step, 0..1
+    float slop;       // penetration left uncorrected, m
+    float inverseDt;  // 1/s
+    float relaxation; // scales each impulse update (1: none)
+} SolverParams;
+RUBBLE_STATIC_ASSERT_SIZE(SolverParams, 16);
+
+// 128 bytes: one contact point as three rows, normal and two friction directions. Rows act on
+// body a with -J and on body b with +J; impulses are accumulated and clamped as in PGS.
+typedef struct ContactRow {
+    float4 normal;   // unit, world, from a to b
+    float4 tangent1; // unit, world, perpendicular to the normal
+    float4 tangent2; // normal x tangent1
+    float4 rA;       // contact point from a's centre of mass, world, m
+    float4 rB;       // contact point from b's centre of mass, world, m
+    float4 lambda;   // accumulated impulses: x normal, y tangent1, z tangent2, N s
+    float4 mass;     // effective mass of each row, 1 / (J M^-1 J^T) with split masses, kg
+    uint a, b;       // body indices
+    float bias;      // normal row: the relative normal velocity it must reach, m/s (negated)
+    float friction;  // Coulomb coefficient
+} ContactRow;
+RUBBLE_STATIC_ASSERT_SIZE(ContactRow, 128);
+
+// A unit vector perpendicular to n (Catto's basis: the larger of two candidate axes).
+RUBBLE_FN float4 perpendicularItem(float4 n) {
+    if (fabs(n.x) >= 0.57735f) return normalize3(vec4(n.y, -n.x, 0.0f));
+    return normalize3(vec4(0.0f, n.z, -n.y));
+}
+
+// 1 / (J M^-1 J^T) of the row along direction d at arms rA, rB, with each body's inverse mass
+// and inertia multiplied by its share count (mass splitting, Tonge et al. 2012, eq. 10).
+RUBBLE_FN float rowMassItem(float4 d, float4 rA, float4 rB, float invMassA, Mat3 invIA,
+                            float invMassB, Mat3 invIB, float splitA, float splitB) {
+    const float4 ca = cross3(rA, d), cb = cross3(rB, d);
+    const float k = splitA * (invMassA + dot3(ca, mat3MulVec(invIA, ca))) +
+                    splitB * (invMassB + dot3(cb, mat3MulVec(invIB, cb)));
+    return k > 0.0f ? 1.0f / k : 0.0f;
+}
+
+// Velocity of b's contact point relative to a's, world, m/s.
+RUBBLE_FN float4 relativeVelocityItem(ContactRow r, BodyVelocity va, BodyVelocity vb) {
+    const float4 pa = add4(va.linear, cross3(va.angular, r.rA));
+    const float4 pb = add4(vb.linear, cross3(vb.angular, r.rB));
+    return sub4(pb, pa);
+}
+
+// A row for a contact at `point` (world, m) with penetration `depth` (m) and normal from a to b.
+// Baumgarte bias corrects beta (depth - slop) / dt; restitution asks for -e vn when the bodies
+// approach faster than 1 m/s. `warm` holds impulses to start from (x, y, z as in lambda).
+RUBBLE_FN ContactRow makeContactRowItem(float4 point, float4 normal, float depth, uint a, uint b,
+                                        BodyPose pa, BodyPose pb, BodyVelocity va,
+                                        BodyVelocity vb, BodyMass ma, BodyMass mb, Mat3 invIA,
+                                        Mat3 invIB, float splitA, float splitB, float friction,
+                                        float restitution, SolverParams p, float4 warm) {
+    ContactRow r;
+    r.normal = vec4(normal.x, normal.y, normal.z);
+    r.tangent1 = perpendicularItem(r.normal);
+    r.tangent2 = cross3(r.normal, r.tangent1);
+    r.rA = sub4(vec4(point.x, point.y, point.z), pa.position);
+    r.rB = sub4(vec4(point.x, point.y, point.z), pb.position);
+    r.a = a;
+    r.b = b;
+    r.friction = friction;
+    r.mass = vec4(rowMassItem(r.normal, r.rA, r.rB, ma.inverseMass, invIA, mb.inverseMass, invIB,
+                              splitA, splitB),
+                  rowMassItem(r.tangent1, r.rA, r.rB, ma.inverseMass, invIA, mb.inverseMass, invIB,
+                              splitA, splitB),
+                  rowMassItem(r.tangent2, r.rA, r.rB, ma.inverseMass, invIA, mb.inverseMass, invIB,
+                              splitA, splitB));
+    const float penetration = depth - p.slop;
+    r.bias = penetration > 0.0f ? -p.baumgarte * p.inverseDt * penetration : 0.0f;
+    const float vn = dot3(relativeVelocityItem(r, va, vb), r.normal);
+    if (vn < -1.0f && restitution * vn < r.bias) r.bias = restitution * vn;
+    r.lambda = vec4(warm.x, warm.y, warm.z);
+    return r;
+}
+
+// One projected Jacobi update of a row from the velocities of the last iteration: the normal
+// impulse stays >= 0, each friction impulse within +-mu lambda_n (Catto 2005, "Iterative
+// dynamics with temporal coherence", sequential impulses with accumulated clamping).
+RUBBLE_FN float4 solveContactItem(ContactRow r, BodyVelocity va, BodyVelocity vb,
+                                  float relaxation) {
+    const float4 v = relativeVelocityItem(r, va, vb);
+    const float ln = fmax(r.lambda.x - relaxation * r.mass.x * (dot3(v, r.normal) + r.bias), 0.0f);
+    const float limit = r.friction * ln;
+    const float l1 = fmin(fmax(r.lambda.y - relaxation * r.mass.y * dot3(v, r.tangent1), -limit),
+                          limit);
+    const float l2 = fmin(fmax(r.lambda.z - relaxation * r.mass.z * dot3(v, r.tangent2), -limit),
+                          limit);
+    return vec4(ln, l1, l2);
+}
+
+// The impulse a row's accumulated lambda puts on body b (body a gets its negative), N s.
+RUBBLE_FN float4 rowImpulseItem(ContactRow r) {
+    return add4(add4(scale4(r.normal, r.lambda.x), scale4(r.tangent1, r.lambda.y)),
+                scale4(r.tangent2, r.lambda.z));
+}
+
+// Velocities after the summed impulse P (N s) and angular impulse H (N m s) of a body's rows:
+// v = v0 + P / m, omega = omega0 + I_w^-1 H.
+RUBBLE_FN BodyVelocity applyImpulseSumItem(BodyVelocity v0, float4 linear, float4 angular,
+                                           float inverseMass, Mat3 inverseInertiaWorld) {
+    BodyVelocity v;
+    v.linear = add4(v0.linear, scale4(linear, inverseMass));
+    v.angular = add4(v0.angular, mat3MulVec(inverseInertiaWorld, angular));
+    return v;
+}
+
+RUBBLE_SHARED_END

@@ -1,0 +1,146 @@
+// include/rubble/shared/particle.h: particle records, the static world, and the per-element math
+// of OpenCL stages 2 to 4 (transformParticles, buildGrid, collideParticles). CPU twins are in
+// host/collision/particle_*.cpp; kernels in kernels/particles.cl and kernels/grid.cl.
+#pragma once
+
+#include "rubble/shared/body.h"
+#include "rubble/shared/constants.h"
+
+RUBBLE_SHARED_BEGIN
+
+// 32 bytes, made once at load by voxelising the body's shape.
+typedef struct Particle {
+    float4 offset;         // from the body's centre of mass, body frame, m (w = radius, m)
+    uint body;             // index into the body arrays
+    uint pad0, pad1, pad2; // keeps the 16-byte stride
+} Particle;
+RUBBLE_STATIC_ASSERT_SIZE(Particle, 32);
+
+// Kinds of static shape that particles meet analytically.
+#define RUBBLE_STATIC_PLANE 0u
+#define RUBBLE_STATIC_BOX 1u
+
+// 80 bytes: one piece of the static world. A plane's solid side is below
+// dot(normal, x) = normal.w; a box is its centre, orientation and half extents.
+typedef struct StaticShape {
+    float4 normal;      // plane: unit, out of the solid, world (w = offset, m)
+    float4 position;    // box: centre, world, m
+    float4 orientation; // box: unit quaternion (x, y, z, w), box to world
+    float4 halfExtents; // box: m
+    uint kind;          // RUBBLE_STATIC_PLANE or RUBBLE_STATIC_BOX
+    float friction;     // Coulomb coefficient of its material
+    float restitution;  // of its material
+    uint body;          // the static body it belongs to
+} StaticShape;
+RUBBLE_STATIC_ASSERT_SIZE(StaticShape, 80);
+
+// 48 bytes: a particle touching another body's particle or the static world.
+typedef struct ParticleContact {
+    float4 point;   // midway between the two surfaces, world, m (w = depth: penetration, m)
+    float4 normal;  // unit, world, from body a to body b (w = 0)
+    uint a, b;      // body indices; b is the static body for the static world
+    uint particleA; // a's particle: rows are sorted by it in deterministic mode
+    uint featureB;  // b's particle, or particle count + static shape index
+} ParticleContact;
+RUBBLE_STATIC_ASSERT_SIZE(ParticleContact, 48);
+
+// world position = x + q offset q^-1, with w the particle's radius.
+RUBBLE_FN float4 transformParticleItem(Particle p, BodyPose pose) {
+    const float4 x = add4(pose.position, quatRotate(pose.orientation, p.offset));
+    return make4(x.x, x.y, x.z, p.offset.w);
+}
+
+// The integer cell of a world point on a grid of the given cell size (m).
+RUBBLE_FN int cellCoordinate(float x, float inverseCellSize) {
+    return (int)floor(x * inverseCellSize);
+}
+
+// Cell (x, y, z) hashed into a table of 2^bits cells (Teschner et al. 2003, primes of section 4).
+RUBBLE_FN uint cellHashItem(int x, int y, int z, uint bits) {
+    const uint h = ((uint)x * 73856093u) ^ ((uint)y * 19349663u) ^ ((uint)z * 83492791u);
+    return h & ((1u << bits) - 1u);
+}
+
+// The grid key of a particle's world position (w ignored).
+RUBBLE_FN uint cellKeyItem(float4 x, float inverseCellSize, uint bits) {
+    return cellHashItem(cellCoordinate(x.x, inverseCellSize), cellCoordinate(x.y, inverseCellSize),
+                        cellCoordinate(x.z, inverseCellSize), bits);
+}
+
+// Two particles (xyz world, w radius) touching: depth > 0 in point.w, normal from a to b.
+// Returns depth <= 0 (no contact) when they are apart or at the same point.
+RUBBLE_FN ParticleContact particlePairItem(float4 xa, float4 xb) {
+    ParticleContact c;
+    const float4 d = vec4(xb.x - xa.x, xb.y - xa.y, xb.z - xa.z);
+    const float dist = length3(d);
+    const float depth = xa.w + xb.w - dist;
+    c.normal = dist > 0.0f ? scale4(d, 1.0f / dist) : vec4(0.0f, 1.0f, 0.0f);
+    // The point halfway between the two sphere surfaces along the normal.
+    const float4 pa = add4(vec4(xa.x, xa.y, xa.z), scale4(c.normal, xa.w - 0.5f * depth));
+    c.point = make4(pa.x, pa.y, pa.z, dist > 0.0f ? depth : 0.0f);
+    c.a = 0u;
+    c.b = 0u;
+    c.particleA = 0u;
+    c.featureB = 0u;
+    return c;
+}
+
+// A particle (xyz world, w radius) against a static shape: depth in point.w (<= 0: apart),
+// normal from the particle's body into the static shape.
+RUBBLE_FN ParticleContact particleStaticItem(float4 x, StaticShape s) {
+    ParticleContact c;
+    const float4 p = vec4(x.x, x.y, x.z);
+    c.a = 0u;
+    c.b = s.body;
+    c.particleA = 0u;
+    c.featureB = 0u;
+    if (s.kind == RUBBLE_STATIC_PLANE) {
+        const float4 n = vec4(s.normal.x, s.normal.y, s.normal.z);
+        const float height = dot3(n, p) - s.normal.w; // centre above the surface, m
+        const float depth = x.w - height;
+        c.normal = scale4(n, -1.0f);
+        const float4 onSurface = sub4(p, scale4(n, height));
+        const float4 mid = sub4(onSurface, scale4(n, 0.5f * depth));
+        c.point = make4(mid.x, mid.y, mid.z, depth);
+        return c;
+    }
+    // Box: the closest point of the box to the centre, in the box frame.
+    const float4 inBox = quatRotateInverse(s.orientation, sub4(p, s.position));
+    const float4 h = s.halfExtents;
+    const float4 q = vec4(fmin(fmax(inBox.x, -h.x), h.x), fmin(fmax(inBox.y, -h.y), h.y),
+                          fmin(fmax(inBox.z, -h.z), h.z));
+    const float4 d = sub4(inBox, q);
+    const float dist = length3(d);
+    float4 nLocal;
+    float depth;
+    float4 surfaceLocal = q; // where the box's surface meets the normal, box frame
+    if (dist > 0.0f) {
+        // Centre outside the box: push along the line to the closest point.
+        nLocal = scale4(d, 1.0f / dist);
+        depth = x.w - dist;
+    } else {
+        // Centre inside: leave through the nearest face.
+        const float ex = h.x - fabs(inBox.x), ey = h.y - fabs(inBox.y), ez = h.z - fabs(inBox.z);
+        if (ex <= ey && ex <= ez) {
+            nLocal = vec4(inBox.x < 0.0f ? -1.0f : 1.0f, 0.0f, 0.0f);
+            depth = x.w + ex;
+        } else if (ey <= ez) {
+            nLocal = vec4(0.0f, inBox.y < 0.0f ? -1.0f : 1.0f, 0.0f);
+            depth = x.w + ey;
+        } else {
+            nLocal = vec4(0.0f, 0.0f, inBox.z < 0.0f ? -1.0f : 1.0f);
+            depth = x.w + ez;
+        }
+    }
+    if (dist <= 0.0f) surfaceLocal = add4(inBox, scale4(nLocal, depth - x.w));
+    // nLocal points out of the box; the contact normal points into it. The point is halfway
+    // between the box's surface and the particle's deepest point.
+    const float4 n = quatRotate(s.orientation, nLocal);
+    c.normal = scale4(n, -1.0f);
+    const float4 onSurface = add4(s.position, quatRotate(s.orientation, surfaceLocal));
+    const float4 mid = sub4(onSurface, scale4(n, 0.5f * depth));
+    c.point = make4(mid.x, mid.y, mid.z, depth);
+    return c;
+}
+
+RUBBLE_SHARED_END

@@ -1,0 +1,52 @@
+// kernels/integrate.cl: entry points of OpenCL stages 1 and 6 (integrateVelocities,
+// integratePositions) and the momentum update after the solve; the math is in
+// rubble/shared/body.h, the CPU twins in host/core/integrate.cpp.
+#include "rubble/shared/body.h"
+
+__kernel void integrateVelocities(const uint count, __global BodyMomentum* momenta,
+                                  __global const BodyForce* forces,
+                                  __global const BodyMass* masses, __global const BodyPose* poses,
+                                  __global BodyVelocity* velocities, const float4 gravity,
+                                  const float dt) {
+    const uint i = get_global_id(0);
+    if (i >= count) return; // the global size is rounded up to the group size
+    const BodyMass m = masses[i];
+    if (m.flags & RUBBLE_BODY_ASLEEP) return;
+    const BodyMomentum p = integrateMomentumItem(momenta[i], forces[i], m, gravity, dt);
+    momenta[i] = p;
+    velocities[i] = velocityFromMomentumItem(p, m, poses[i].orientation);
+}
+
+__kernel void absorbVelocityChange(const uint count, __global BodyMomentum* momenta,
+                                   __global const BodyVelocity* before,
+                                   __global const BodyVelocity* after,
+                                   __global const BodyMass* masses,
+                                   __global const BodyPose* poses) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    momenta[i] = absorbVelocityChangeItem(momenta[i], before[i], after[i], masses[i],
+                                          poses[i].orientation);
+}
+
+// status[RUBBLE_STATUS_NONFINITE] keeps the lowest index of a body whose pose is not finite.
+__kernel void integratePositions(const uint count, __global BodyPose* poses,
+                                 __global BodyVelocity* velocities,
+                                 __global const BodyVelocity* atStart,
+                                 __global const BodyMomentum* momenta,
+                                 __global const BodyMass* masses, const float dt,
+                                 const uint symplectic, __global uint* status) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const BodyMass m = masses[i];
+    if (m.inverseMass == 0.0f || (m.flags & RUBBLE_BODY_ASLEEP)) return;
+    const BodyMomentum p = momenta[i];
+    const BodyPose pose = symplectic
+                              ? integratePositionSymplecticItem(poses[i], velocities[i], p, m, dt)
+                              : integratePositionItem(poses[i], atStart[i], dt);
+    poses[i] = pose;
+    velocities[i] = velocityFromMomentumItem(p, m, pose.orientation);
+    const float4 x = pose.position, q = pose.orientation;
+    if (!isfinite(x.x + x.y + x.z + q.x + q.y + q.z + q.w + p.linear.x + p.linear.y +
+                  p.linear.z + p.angular.x + p.angular.y + p.angular.z))
+        atomic_min(&status[RUBBLE_STATUS_NONFINITE], i);
+}

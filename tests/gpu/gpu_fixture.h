@@ -1,0 +1,99 @@
+// tests/gpu/gpu_fixture.h: one OpenCL context (device, program, kernels) for the whole gpu test
+// binary, so that the program is built once; worlds put on it, and float comparisons.
+#pragma once
+
+#include <cstdlib>
+#include <memory>
+#include <span>
+
+#include <gtest/gtest.h>
+
+#include "host/gpu/context.h"
+#include "host/gpu/pipeline.h"
+#include "host/world/device_step.h"
+#include "host/world/world_state.h"
+#include "support/test_util.h"
+
+namespace rubble::test {
+
+/// The binary's context, created on first use; null when it could not be (the error is kept).
+struct SharedGpu {
+    std::shared_ptr<gpu::Context> context;
+    std::optional<Error> error;
+};
+
+inline SharedGpu& sharedGpu() {
+    static SharedGpu gpu = [] {
+        SharedGpu g;
+        Result<std::shared_ptr<gpu::Context>> c = gpu::Context::create(RunOptions{});
+        if (c) g.context = *c;
+        else g.error = c.error();
+        return g;
+    }();
+    return gpu;
+}
+
+/// Skips when no OpenCL platform exists and CI is unset; in CI that is a failure.
+class GpuTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        SharedGpu& g = sharedGpu();
+        if (g.context) return;
+        const bool noPlatform = g.error->kind == ErrorKind::NotSupported;
+        if (noPlatform && std::getenv("CI") == nullptr)
+            GTEST_SKIP() << "no OpenCL platform (and CI is unset): " << g.error->describe();
+        FAIL() << "no OpenCL context: " << g.error->describe();
+    }
+    const std::shared_ptr<gpu::Context>& context() { return sharedGpu().context; }
+
+    /// A world from scene text on the shared device, with the scene's collision method and
+    /// solver (built as a cpu world first, then attached).
+    World deviceWorld(const std::string& json) {
+        Result<Scene> scene = parseScene(json, "inline.json", ".");
+        EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().describe());
+        if (!scene.ok()) std::abort();
+        SimulationOptions options = scene->simulation;
+        options.backend = Backend::OpenCl;
+        scene->simulation.backend = Backend::Cpu;
+        scene->simulation.collision.method = CollisionMethod::Sat;
+        scene->simulation.solver.type = SolverType::Pgs;
+        Result<World> w = World::create(*scene);
+        EXPECT_TRUE(w.ok()) << (w.ok() ? "" : w.error().describe());
+        if (!w.ok()) std::abort();
+        const Status attached = attachDevice(w->state(), context(), options);
+        EXPECT_TRUE(attached.ok()) << attached.error().describe();
+        return std::move(*w);
+    }
+    gpu::Pipeline& pipeline(World& w) { return *w.state().device; }
+};
+
+/// |a - b| <= tol * max(1, |a|, |b|), component by component.
+inline ::testing::AssertionResult nearRel(float a, float b, float tol) {
+    const float scale = std::max(1.0f, std::max(std::fabs(a), std::fabs(b)));
+    if (std::fabs(a - b) <= tol * scale) return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << a << " vs " << b << " (tolerance " << tol * scale << ")";
+}
+
+/// Compares two arrays of float records (float4 fields and floats) as flat floats.
+template <class T>
+void expectNearRel(std::span<const T> a, std::span<const T> b, float tol) {
+    static_assert(sizeof(T) % sizeof(float) == 0);
+    ASSERT_EQ(a.size(), b.size());
+    const float* x = reinterpret_cast<const float*>(a.data());
+    const float* y = reinterpret_cast<const float*>(b.data());
+    const std::size_t n = a.size_bytes() / sizeof(float), per = sizeof(T) / sizeof(float);
+    int failures = 0;
+    for (std::size_t i = 0; i < n && failures < 10; ++i) {
+        const ::testing::AssertionResult r = nearRel(x[i], y[i], tol);
+        if (!r) {
+            ADD_FAILURE() << "element " << i / per << ", float " << i % per << ": " << r.message();
+            ++failures;
+        }
+    }
+}
+template <class T>
+void expectNearRel(const std::vector<T>& a, const std::vector<T>& b, float tol) {
+    expectNearRel(std::span<const T>(a), std::span<const T>(b), tol);
+}
+
+} // namespace rubble::test
