@@ -13,6 +13,7 @@ void runBuildContactRows(WorldState& s) {
     if (!c.jointsBuilt) {
         c.joints = makeJoints(s.joints, s.poses);
         c.joined = joinedPairs(c.joints);
+        c.jointGroups = groupJoints(c.joints, s.masses);
         c.jointsBuilt = true;
     }
     gatherSolverMasses(s.masses, s.poses, c.bodies);
@@ -35,7 +36,8 @@ void runSolveVelocities(WorldState& s) {
 void runSolvePositions(WorldState& s) {
     SolverCache& c = s.solver;
     if (c.joints.empty()) return;
-    c.jointPositions = correctJointPositions(c.joints, s.masses, s.poses, kJointPositionIterations);
+    c.jointPositions = correctJointPositions(c.joints, c.jointGroups, s.masses, s.poses,
+                                              kJointPositionIterations, c.jointScratch);
     // The turned bodies' angular velocities follow from their momenta at the new orientations.
     for (const Joint& j : c.joints)
         for (const std::uint32_t i : {j.a, j.b})

@@ -7,6 +7,7 @@
 #include "host/collision/contact.h"
 #include "host/dynamics/contact_rows.h"
 #include "host/dynamics/islands.h"
+#include "host/dynamics/joint_positions.h"
 #include "host/dynamics/joints.h"
 #include "host/dynamics/solver_bodies.h"
 
@@ -14,8 +15,8 @@ namespace rubble {
 
 struct WorldState;
 
-/// Sweeps of the joint position correction per step (it stops earlier once every joint holds).
-inline constexpr int kJointPositionIterations = 8;
+/// Newton steps of the joint position correction per step (it stops once every joint holds).
+inline constexpr int kJointPositionIterations = 20;
 
 /// What the solver keeps between steps (impulses for warm starting, joints, sleep timers) and
 /// the buffers it reuses. Ordered containers only: the reference path is deterministic.
@@ -23,6 +24,8 @@ struct SolverCache {
     bool jointsBuilt = false;
     std::vector<Joint> joints;            ///< the scene's joints in body frames, with impulses
     std::vector<BodyPair> joined;         ///< joined pairs, sorted: they do not collide
+    JointGroups jointGroups;              ///< joints connected through moving bodies
+    JointPositionScratch jointScratch;
     std::vector<ContactImpulse> impulses; ///< last step's contact impulses, sorted by key
     SolverBodies bodies;                  ///< this step's solver view of the bodies
     std::vector<ContactRow> contacts;     ///< this step's contact rows

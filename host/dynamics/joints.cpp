@@ -11,14 +11,6 @@
 namespace rubble {
 namespace {
 
-// Position correction stops when every anchor is within this, m, and every hinge axis within
-// kAngularTolerance, rad.
-constexpr float kLinearTolerance = 1e-4f;
-constexpr float kAngularTolerance = 1e-4f;
-// A single correction moves an anchor by at most this, m: a joint torn far apart by a violent
-// step comes back over several steps instead of throwing its bodies.
-constexpr float kMaxLinearCorrection = 0.2f;
-
 // The cross-product matrix: skew(r) v = r x v (glm is column-major).
 glm::mat3 skew(glm::vec3 r) {
     return glm::mat3(glm::vec3(0.0f, r.z, -r.y), glm::vec3(-r.z, 0.0f, r.x),
@@ -66,24 +58,6 @@ glm::mat2 hingeMatrix(const glm::vec3 turn[2], const glm::mat3& ia, const glm::m
     const float k01 = glm::dot(turn[0], sum * turn[1]);
     const float k11 = glm::dot(turn[1], sum * turn[1]);
     return glm::mat2(k00, k01, k01, k11);
-}
-
-// The body's inverse mass and world inverse inertia for the position correction.
-struct PoseMass {
-    float inverseMass = 0;
-    glm::mat3 inverseInertia{0.0f};
-};
-PoseMass poseMass(const shared::BodyMass& m, const shared::BodyPose& pose) {
-    PoseMass r;
-    if (!isAwakeDynamic(m)) return r;
-    r.inverseMass = m.inverseMass;
-    r.inverseInertia = toMat3(shared::inverseInertiaWorldItem(m, pose.orientation));
-    return r;
-}
-
-// Turns a pose by the small rotation vector theta (rad), renormalised.
-void turnPose(shared::BodyPose& pose, glm::vec3 theta) {
-    pose.orientation = shared::quatIntegrate(pose.orientation, toFloat4(theta), 1.0f);
 }
 
 } // namespace
@@ -201,60 +175,6 @@ void jointError(const Joint& j, std::span<const shared::BodyPose> poses, float& 
     const glm::vec3 a1 = rotate(pa, j.axisA);
     const glm::vec3 a2 = glm::cross(rotate(pb, j.perpB[0]), rotate(pb, j.perpB[1]));
     angular = std::atan2(glm::length(glm::cross(a1, a2)), glm::dot(a1, a2));
-}
-
-JointPositionReport correctJointPositions(std::span<const Joint> joints,
-                                          std::span<const shared::BodyMass> masses,
-                                          std::span<shared::BodyPose> poses, int maxIterations) {
-    JointPositionReport report;
-    for (int it = 0; it <= maxIterations; ++it) {
-        // Measure first: the last pass only measures, so the report says where the poses ended.
-        float linear = 0.0f, angular = 0.0f;
-        for (const Joint& j : joints) {
-            if (!isAwakeDynamic(masses[j.a]) && !isAwakeDynamic(masses[j.b])) continue;
-            float l = 0.0f, a = 0.0f;
-            jointError(j, poses, l, a);
-            linear = std::max(linear, l);
-            angular = std::max(angular, a);
-        }
-        if (it == 0) report.linearErrorBefore = linear;
-        report.linearErrorAfter = linear;
-        report.angularErrorAfter = angular;
-        if (it == maxIterations || (linear <= kLinearTolerance && angular <= kAngularTolerance))
-            break;
-        report.iterations = it + 1;
-
-        for (const Joint& j : joints) {
-            shared::BodyPose& pa = poses[j.a];
-            shared::BodyPose& pb = poses[j.b];
-            const PoseMass ma = poseMass(masses[j.a], pa), mb = poseMass(masses[j.b], pb);
-            if (ma.inverseMass == 0.0f && mb.inverseMass == 0.0f) continue;
-
-            // Hinge axis first, then the anchor with the orientations it leaves.
-            if (j.type == JointType::Hinge) {
-                glm::vec3 turn[2];
-                glm::vec2 c;
-                hingeRows(j, pa, pb, turn, &c);
-                const glm::vec2 lambda =
-                    -(safeInverse(hingeMatrix(turn, ma.inverseInertia, mb.inverseInertia)) * c);
-                const glm::vec3 torque = turn[0] * lambda.x + turn[1] * lambda.y;
-                turnPose(pa, ma.inverseInertia * torque);
-                turnPose(pb, -(mb.inverseInertia * torque));
-            }
-            const glm::vec3 ra = rotate(pa, j.anchorA), rb = rotate(pb, j.anchorB);
-            glm::vec3 c = (toVec3(pb.position) + rb) - (toVec3(pa.position) + ra);
-            const float size = glm::length(c);
-            if (size > kMaxLinearCorrection) c *= kMaxLinearCorrection / size;
-            const glm::mat3 k = pointMatrix(ra, rb, ma.inverseMass, mb.inverseMass,
-                                            ma.inverseInertia, mb.inverseInertia);
-            const glm::vec3 lambda = -(safeInverse(k) * c);
-            pa.position = toFloat4(toVec3(pa.position) - lambda * ma.inverseMass);
-            turnPose(pa, -(ma.inverseInertia * glm::cross(ra, lambda)));
-            pb.position = toFloat4(toVec3(pb.position) + lambda * mb.inverseMass);
-            turnPose(pb, mb.inverseInertia * glm::cross(rb, lambda));
-        }
-    }
-    return report;
 }
 
 } // namespace rubble

@@ -59,23 +59,6 @@ void warmStartJoints(std::span<const Joint> joints, SolverBodies& bodies);
 /// change|, N s. writes: bodies' velocities, the joint's impulses
 float solveJointVelocity(Joint& joint, SolverBodies& bodies, float relaxation);
 
-/// Outcome of the position correction.
-struct JointPositionReport {
-    float linearErrorBefore = 0; ///< largest anchor separation before the correction, m
-    float linearErrorAfter = 0;  ///< after it, m
-    float angularErrorAfter = 0; ///< largest hinge axis misalignment after it, rad
-    int iterations = 0;
-};
-
-/// Position correction after integratePositions: non-linear Gauss-Seidel on the poses (Catto,
-/// "Modeling and Solving Constraints", GDC 2009): each joint in turn moves and turns its bodies
-/// by M^-1 J^T lambda with lambda = -K^-1 C at their current poses, until every anchor is within
-/// tolerance or maxIterations sweeps have run. Only awake dynamic bodies move; velocities are
-/// untouched. reads: masses   writes: poses
-JointPositionReport correctJointPositions(std::span<const Joint> joints,
-                                          std::span<const shared::BodyMass> masses,
-                                          std::span<shared::BodyPose> poses, int maxIterations);
-
 /// Anchor separation (m) and hinge axis misalignment (rad) of one joint at the given poses.
 void jointError(const Joint& joint, std::span<const shared::BodyPose> poses, float& linear,
                 float& angular);

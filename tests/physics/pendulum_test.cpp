@@ -1,0 +1,65 @@
+// tests/physics/pendulum_test.cpp: a 1 m pendulum on a ball joint swings with the period of the
+// simple pendulum, corrected for its amplitude.
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "support/test_util.h"
+
+namespace rubble {
+namespace {
+
+// A small heavy bob (radius 2 cm, so that its own inertia changes the period by 1e-4) hanging
+// 1 m below a static pivot, released from rest at `degrees` from the vertical.
+std::string pendulumScene(double degrees, double dt) {
+    const double theta = degrees * std::numbers::pi / 180.0;
+    const std::string x = std::to_string(std::sin(theta)), y = std::to_string(2.0 - std::cos(theta));
+    return R"({"format": "rubble-scene", "version": 1,
+      "simulation": {"dt": )" + std::to_string(dt) + R"(},
+      "shapes": {"pin": {"type": "sphere", "radius": 0.02}, "bob": {"type": "sphere", "radius": 0.02}},
+      "bodies": [{"name": "pivot", "shape": "pin", "static": true, "position": [0, 2, 0]},
+                 {"name": "bob", "shape": "bob", "mass": 1.0, "position": [)" + x + ", " + y +
+           R"(, 0]}],
+      "joints": [{"type": "ball", "a": "pivot", "b": "bob", "anchor": [0, 2, 0]}]})";
+}
+
+// Times at which x crosses zero downwards, linearly interpolated between steps.
+std::vector<double> downwardCrossings(World& world, int steps, float& worstStretch) {
+    std::vector<double> crossings;
+    double lastX = world.body(1).position.x, lastT = 0.0;
+    worstStretch = 0.0f;
+    for (int i = 0; i < steps; ++i) {
+        EXPECT_TRUE(world.step().ok());
+        const BodyState b = world.body(1);
+        const double x = b.position.x, t = world.time();
+        if (lastX > 0.0 && x <= 0.0) crossings.push_back(lastT + (t - lastT) * lastX / (lastX - x));
+        lastX = x;
+        lastT = t;
+        worstStretch = std::max(worstStretch,
+                                std::abs(glm::length(b.position - glm::vec3(0, 2, 0)) - 1.0f));
+    }
+    return crossings;
+}
+
+void checkPeriod(double degrees, double dt) {
+    World world = test::worldFromText(pendulumScene(degrees, dt));
+    float stretch = 0.0f;
+    const std::vector<double> crossings = downwardCrossings(world, int(12.0 / world.options().dt), stretch);
+    ASSERT_GE(crossings.size(), 5u);
+    const double period = (crossings.back() - crossings.front()) / double(crossings.size() - 1);
+    const double theta = degrees * std::numbers::pi / 180.0;
+    const double expected =
+        2.0 * std::numbers::pi * std::sqrt(1.0 / 9.81) * (1.0 + theta * theta / 16.0);
+    EXPECT_NEAR(period / expected, 1.0, 0.01) << "period " << period << " s, expected " << expected;
+    EXPECT_LT(stretch, 1e-3f) << "the rod stretched";
+    // The swing keeps its amplitude: no sleeping, no visible damping over 12 s.
+    EXPECT_FALSE(world.body(1).asleep);
+}
+
+TEST(Pendulum, PeriodMatchesSmallAngleTheoryAt240Hz) { checkPeriod(10.0, 1.0 / 240.0); }
+TEST(Pendulum, PeriodMatchesSmallAngleTheoryAt60Hz) { checkPeriod(10.0, 1.0 / 60.0); }
+
+} // namespace
+} // namespace rubble
