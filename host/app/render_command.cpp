@@ -34,7 +34,8 @@ void addRenderOptions(CLI::App* cmd, RenderArgs& a) {
 int renderCommand(const RenderArgs& args) {
     viewer::RenderSettings s;
     Scene scene;
-    if (Status st = preparePicture(args.common, scene, s.overlays, s.camera, s.width, s.height); !st)
+    if (Status st = preparePicture(args.common, scene, s.overlays, s.camera, s.width, s.height);
+        !st)
         return report(st.error());
     s.out = args.out;
     s.replay = args.common.replay;
@@ -47,8 +48,9 @@ int renderCommand(const RenderArgs& args) {
 #ifdef RUBBLE_HAS_VIEWER
     const std::optional<viewer::ContextKind> kind = viewer::parseContextKind(args.context);
     if (!kind)
-        return report(makeError(ErrorKind::BadInput, "--gl",
-                                "unknown value \"" + args.context + "\" (expected auto, egl or x11)"));
+        return report(
+            makeError(ErrorKind::BadInput, "--gl",
+                      "unknown value \"" + args.context + "\" (expected auto, egl or x11)"));
     s.context = *kind;
     if (Status st = viewer::renderScene(scene, args.common.run, s); !st) return report(st.error());
     return kExitOk;

@@ -34,9 +34,9 @@ Result<viewer::CameraSpec> parseCamera(const std::string& text) {
         if ((comma == std::string::npos) != last)
             return makeError(ErrorKind::BadInput, "--camera",
                              "expected six numbers eye_x,eye_y,eye_z,target_x,target_y,target_z, "
-                             "got \"" + text + "\"");
-        const std::string_view field(text.data() + start,
-                                     (last ? text.size() : comma) - start);
+                             "got \"" +
+                                 text + "\"");
+        const std::string_view field(text.data() + start, (last ? text.size() : comma) - start);
         const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), v[k]);
         if (ec != std::errc() || ptr != field.data() + field.size() || !std::isfinite(v[k]))
             return makeError(ErrorKind::BadInput, "--camera",
@@ -45,7 +45,8 @@ Result<viewer::CameraSpec> parseCamera(const std::string& text) {
     }
     viewer::CameraSpec c{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
     if (glm::length(c.eye - c.target) < 1e-4f)
-        return makeError(ErrorKind::BadInput, "--camera", "the eye and the target are the same point");
+        return makeError(ErrorKind::BadInput, "--camera",
+                         "the eye and the target are the same point");
     return c;
 }
 
@@ -98,7 +99,8 @@ Status preparePicture(const PictureArgs& a, Scene& scene, viewer::OverlaySetting
 int viewCommand(const ViewArgs& args) {
     viewer::ViewSettings s;
     Scene scene;
-    if (Status st = preparePicture(args.common, scene, s.overlays, s.camera, s.width, s.height); !st)
+    if (Status st = preparePicture(args.common, scene, s.overlays, s.camera, s.width, s.height);
+        !st)
         return report(st.error());
     s.replay = args.common.replay;
     s.frames = args.frames;

@@ -9,10 +9,10 @@
 namespace rubble::viewer {
 namespace {
 
-constexpr float kMaxPitch = 1.55f;       // just short of straight down, rad
+constexpr float kMaxPitch = 1.55f; // just short of straight down, rad
 constexpr float kOrbitRadPerPixel = 0.008f;
-constexpr float kMinDistance = 0.05f;    // m
-constexpr float kFramingMargin = 1.15f;  // room around the framed bounds
+constexpr float kMinDistance = 0.05f;   // m
+constexpr float kFramingMargin = 1.15f; // room around the framed bounds
 
 } // namespace
 
@@ -49,7 +49,9 @@ glm::vec3 Camera::eye() const {
     return target + distance * dir;
 }
 
-glm::mat4 Camera::view() const { return glm::lookAt(eye(), target, glm::vec3(0, 1, 0)); }
+glm::mat4 Camera::view() const {
+    return glm::lookAt(eye(), target, glm::vec3(0, 1, 0));
+}
 
 glm::mat4 Camera::projection(float aspect) const {
     return glm::perspective(fovY, aspect, nearPlane, farPlane);

@@ -37,7 +37,8 @@ bool isVideo(const std::string& out) {
 Result<FrameOutput> FrameOutput::open(const std::string& out, int frames, int width, int height,
                                       int fps) {
     std::error_code ec;
-    const bool folder = (!out.empty() && out.back() == '/') || std::filesystem::is_directory(out, ec);
+    const bool folder =
+        (!out.empty() && out.back() == '/') || std::filesystem::is_directory(out, ec);
     if (folder) {
         std::filesystem::create_directories(out, ec);
         if (ec) return makeError(ErrorKind::Io, out, "cannot create the folder: " + ec.message());
@@ -47,7 +48,8 @@ Result<FrameOutput> FrameOutput::open(const std::string& out, int frames, int wi
         if (frames != 1)
             return makeError(ErrorKind::BadInput, "--out " + out,
                              "a .png file holds one frame; use --out DIR/ or --out FILE.mp4 for "
-                             "--frames " + std::to_string(frames));
+                             "--frames " +
+                                 std::to_string(frames));
         return FrameOutput(Kind::Png, out);
     }
     if (!isVideo(out))
@@ -75,11 +77,25 @@ Result<FrameOutput> FrameOutput::open(const std::string& out, int frames, int wi
         dup2(fds[0], STDIN_FILENO);
         close(fds[0]);
         // Even sizes for 4:2:0 chroma; x264 where the container takes it, else ffmpeg's choice.
-        std::vector<const char*> args = {"ffmpeg", "-hide_banner", "-loglevel", "error", "-y",
-                                         "-f", "rawvideo", "-pixel_format", "rgb24",
-                                         "-video_size", size.c_str(), "-framerate", rate.c_str(),
-                                         "-i", "-", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-                                         "-pix_fmt", "yuv420p"};
+        std::vector<const char*> args = {"ffmpeg",
+                                         "-hide_banner",
+                                         "-loglevel",
+                                         "error",
+                                         "-y",
+                                         "-f",
+                                         "rawvideo",
+                                         "-pixel_format",
+                                         "rgb24",
+                                         "-video_size",
+                                         size.c_str(),
+                                         "-framerate",
+                                         rate.c_str(),
+                                         "-i",
+                                         "-",
+                                         "-vf",
+                                         "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+                                         "-pix_fmt",
+                                         "yuv420p"};
         if (endsWith(out, ".mp4") || endsWith(out, ".mov") || endsWith(out, ".mkv"))
             args.insert(args.end(), {"-c:v", "libx264", "-preset", "medium", "-crf", "20"});
         args.push_back(out.c_str());
@@ -115,7 +131,8 @@ Status FrameOutput::write(const Image& frame) {
         RUBBLE_TRY(writePng(path_ + name, frame));
     } else {
         // ffmpeg gone away must be an error here, not a SIGPIPE that ends the command.
-        struct sigaction ignore {}, previous {};
+        struct sigaction ignore {
+        }, previous{};
         ignore.sa_handler = SIG_IGN;
         sigaction(SIGPIPE, &ignore, &previous);
         const std::uint8_t* p = frame.rgb.data();

@@ -17,17 +17,28 @@ namespace {
 
 std::string eglErrorName(EGLint e) {
     switch (e) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
+    case EGL_SUCCESS:
+        return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED:
+        return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+        return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+        return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+        return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG:
+        return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT:
+        return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY:
+        return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH:
+        return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+        return "EGL_BAD_PARAMETER";
+    case EGL_BAD_SURFACE:
+        return "EGL_BAD_SURFACE";
     default: {
         char buf[24];
         std::snprintf(buf, sizeof buf, "EGL error 0x%04x", unsigned(e));
@@ -79,16 +90,20 @@ Status makeEglContext(EglHandles& h, bool pbuffer, const std::string& way) {
     EGLConfig config = nullptr;
     EGLint count = 0;
     if (!eglChooseConfig(h.display, configAttributes, &config, 1, &count) || count < 1) {
-        const bool noConfig = hasExtension(eglQueryString(h.display, EGL_EXTENSIONS),
-                                           "EGL_KHR_no_config_context");
+        const bool noConfig =
+            hasExtension(eglQueryString(h.display, EGL_EXTENSIONS), "EGL_KHR_no_config_context");
         if (pbuffer || !noConfig)
             return makeError(ErrorKind::Device, way + ": eglChooseConfig",
                              "no configuration renders OpenGL");
         config = nullptr; // EGL_NO_CONFIG_KHR
     }
-    const EGLint contextAttributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
+    const EGLint contextAttributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                        3,
+                                        EGL_CONTEXT_MINOR_VERSION,
+                                        3,
                                         EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                        EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+                                        EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                        EGL_NONE};
     h.context = eglCreateContext(h.display, config, EGL_NO_CONTEXT, contextAttributes);
     if (h.context == EGL_NO_CONTEXT)
         return makeError(ErrorKind::Device, way + ": eglCreateContext (OpenGL 3.3 core)",
@@ -127,8 +142,8 @@ struct OffscreenContext::Impl {
         // Mesa's surfaceless platform needs no display server and no GPU.
         if (hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless") &&
             hasExtension(clientExtensions, "EGL_EXT_platform_base")) {
-            egl.display =
-                eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+            egl.display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA,
+                                                   EGL_DEFAULT_DISPLAY, nullptr);
             if (egl.display != EGL_NO_DISPLAY) {
                 const Status s = makeEglContext(egl, false, "EGL surfaceless");
                 if (s) {
@@ -142,8 +157,7 @@ struct OffscreenContext::Impl {
         // Any other EGL: its default display with a small pbuffer.
         egl.display = eglGetDisplay(EGL_DEFAULT_DISPLAY);
         if (egl.display == EGL_NO_DISPLAY)
-            return makeError(ErrorKind::Device, "eglGetDisplay",
-                             tried + "no default EGL display");
+            return makeError(ErrorKind::Device, "eglGetDisplay", tried + "no default EGL display");
         const Status s = makeEglContext(egl, true, "EGL pbuffer");
         if (!s) {
             egl.release();
@@ -181,8 +195,8 @@ struct OffscreenContext::Impl {
                              message ? message : "failed");
         }
         glfwMakeContextCurrent(window);
-        description = std::string(xvfb ? "X11 on Xvfb " + xvfb->display() : "X11") + ": " +
-                      rendererName();
+        description =
+            std::string(xvfb ? "X11 on Xvfb " + xvfb->display() : "X11") + ": " + rendererName();
         return {};
     }
 };
@@ -207,7 +221,9 @@ OffscreenContext::OffscreenContext(OffscreenContext&&) noexcept = default;
 OffscreenContext& OffscreenContext::operator=(OffscreenContext&&) noexcept = default;
 OffscreenContext::~OffscreenContext() = default;
 
-const std::string& OffscreenContext::description() const { return impl_->description; }
+const std::string& OffscreenContext::description() const {
+    return impl_->description;
+}
 
 std::optional<ContextKind> parseContextKind(const std::string& s) {
     if (s == "auto") return ContextKind::Auto;

@@ -24,7 +24,8 @@ Status checkSettings(const RenderSettings& s) {
     if (s.frames < 1) return makeError(ErrorKind::BadInput, "--frames", "must be 1 or more");
     if (s.every < 1) return makeError(ErrorKind::BadInput, "--every", "must be 1 or more");
     if (s.start < 0) return makeError(ErrorKind::BadInput, "--start", "must be 0 or more");
-    if (s.fps < 1 || s.fps > 240) return makeError(ErrorKind::BadInput, "--fps", "must be 1 to 240");
+    if (s.fps < 1 || s.fps > 240)
+        return makeError(ErrorKind::BadInput, "--fps", "must be 1 to 240");
     if (s.samples < 1 || s.samples > 16)
         return makeError(ErrorKind::BadInput, "--samples", "must be 1 to 16");
     if (s.out.empty()) return makeError(ErrorKind::BadInput, "--out", "is required");
@@ -53,7 +54,8 @@ Status renderScene(const Scene& scene, const RunOptions& run, const RenderSettin
     renderer->setTextScale(s.height >= 600 ? 2.0f : 1.0f);
     Result<RenderTarget> target = RenderTarget::create(s.width, s.height, s.samples);
     if (!target) return target.error();
-    if (!s.quiet) std::fprintf(stderr, "rubble: rendering with %s\n", context->description().c_str());
+    if (!s.quiet)
+        std::fprintf(stderr, "rubble: rendering with %s\n", context->description().c_str());
 
     const SceneView view(world->state());
     const Overlays overlays = toOverlays(s.overlays);
@@ -73,8 +75,7 @@ Status renderScene(const Scene& scene, const RunOptions& run, const RenderSettin
             const ReplayFrame& f = replay->atStep(wanted);
             view.build(f.poses, nullptr, overlays, frame);
             if (s.overlays.stats)
-                frame.text.push_back(statusLine(f.step, f.time, world->state(), "replay",
-                                                replay->path()));
+                frame.text.push_back(replayLine(f.step, f.time, world->state(), replay->path()));
         } else {
             while (world->stepIndex() < wanted) {
                 if (Status st = world->step(); !st) {
@@ -103,9 +104,8 @@ Status renderScene(const Scene& scene, const RunOptions& run, const RenderSettin
                          "no frame to render: the recording ends before step " +
                              std::to_string(s.start));
     if (!s.quiet)
-        std::printf("%s: %d frame%s %dx%d, wrote %s\n", world->sceneName().c_str(),
-                    out->written(), out->written() == 1 ? "" : "s", s.width, s.height,
-                    out->path().c_str());
+        std::printf("%s: %d frame%s %dx%d, wrote %s\n", world->sceneName().c_str(), out->written(),
+                    out->written() == 1 ? "" : "s", s.width, s.height, out->path().c_str());
     return {};
 }
 

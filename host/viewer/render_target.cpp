@@ -55,7 +55,9 @@ Result<RenderTarget> RenderTarget::create(int width, int height, int samples) {
     return t;
 }
 
-RenderTarget::RenderTarget(RenderTarget&& o) noexcept { *this = std::move(o); }
+RenderTarget::RenderTarget(RenderTarget&& o) noexcept {
+    *this = std::move(o);
+}
 
 RenderTarget& RenderTarget::operator=(RenderTarget&& o) noexcept {
     if (this == &o) return *this;
@@ -70,7 +72,9 @@ RenderTarget& RenderTarget::operator=(RenderTarget&& o) noexcept {
     return *this;
 }
 
-RenderTarget::~RenderTarget() { release(); }
+RenderTarget::~RenderTarget() {
+    release();
+}
 
 void RenderTarget::release() {
     const GLuint framebuffers[] = {draw_, resolve_};
@@ -80,7 +84,9 @@ void RenderTarget::release() {
     draw_ = resolve_ = colour_ = depth_ = resolvedColour_ = 0;
 }
 
-void RenderTarget::bind() const { glBindFramebuffer(GL_FRAMEBUFFER, draw_); }
+void RenderTarget::bind() const {
+    glBindFramebuffer(GL_FRAMEBUFFER, draw_);
+}
 
 Image RenderTarget::read() const {
     if (resolve_) {
@@ -108,8 +114,8 @@ Image RenderTarget::readBound(int width, int height) {
     // GL's first row is the bottom one; pictures start at the top.
     const std::size_t row = std::size_t(width) * 3;
     for (int y = 0; y < height; ++y)
-        std::memcpy(&image.rgb[std::size_t(y) * row],
-                    &bottomUp[std::size_t(height - 1 - y) * row], row);
+        std::memcpy(&image.rgb[std::size_t(y) * row], &bottomUp[std::size_t(height - 1 - y) * row],
+                    row);
     return image;
 }
 

@@ -33,7 +33,7 @@ class RenderTarget {
     RenderTarget() = default;
     void release();
     int width_ = 0, height_ = 0;
-    unsigned draw_ = 0, resolve_ = 0;         // framebuffers; resolve_ only when multisampled
+    unsigned draw_ = 0, resolve_ = 0; // framebuffers; resolve_ only when multisampled
     unsigned colour_ = 0, depth_ = 0, resolvedColour_ = 0; // renderbuffers
 };
 

@@ -16,7 +16,7 @@
 namespace rubble::viewer {
 namespace {
 
-constexpr float kTextMargin = 6.0f;                     // px at scale 1
+constexpr float kTextMargin = 6.0f; // px at scale 1
 constexpr glm::vec4 kTextColour{0.92f, 0.94f, 0.96f, 1.0f};
 constexpr glm::vec4 kMessageColour{1.0f, 0.55f, 0.35f, 1.0f};
 constexpr glm::vec4 kBackdropColour{0.0f, 0.0f, 0.0f, 0.55f};
@@ -54,7 +54,9 @@ void planeAxes(glm::vec3 n, glm::vec3& u, glm::vec3& v) {
 
 } // namespace
 
-glm::vec3 lightDirection() { return glm::normalize(glm::vec3(0.45f, 0.85f, 0.30f)); }
+glm::vec3 lightDirection() {
+    return glm::normalize(glm::vec3(0.45f, 0.85f, 0.30f));
+}
 
 struct Renderer::Impl {
     GlProgram body, ground, lines, points, overlay;
@@ -209,8 +211,8 @@ struct Renderer::Impl {
         glEnable(GL_DEPTH_TEST);
     }
 
-    void drawParticles(const DrawList& frame, const glm::mat4& viewProjection,
-                       const Camera& camera, int height) {
+    void drawParticles(const DrawList& frame, const glm::mat4& viewProjection, const Camera& camera,
+                       int height) {
         if (frame.particles.empty()) return;
         glUseProgram(points.id());
         glUniformMatrix4fv(points.uniform("uViewProjection"), 1, GL_FALSE,
@@ -265,12 +267,14 @@ struct Renderer::Impl {
 
 Result<Renderer> Renderer::create(std::span<const Shape> shapes) {
     auto impl = std::make_unique<Impl>();
-    Result<GlProgram> body = GlProgram::create("body", shaders::kBodyVertex, shaders::kBodyFragment);
+    Result<GlProgram> body =
+        GlProgram::create("body", shaders::kBodyVertex, shaders::kBodyFragment);
     if (!body) return body.error();
     Result<GlProgram> ground =
         GlProgram::create("ground", shaders::kGroundVertex, shaders::kGroundFragment);
     if (!ground) return ground.error();
-    Result<GlProgram> lines = GlProgram::create("line", shaders::kLineVertex, shaders::kLineFragment);
+    Result<GlProgram> lines =
+        GlProgram::create("line", shaders::kLineVertex, shaders::kLineFragment);
     if (!lines) return lines.error();
     Result<GlProgram> points =
         GlProgram::create("point", shaders::kPointVertex, shaders::kPointFragment);
@@ -294,8 +298,12 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 Renderer::~Renderer() = default;
 
-Palette& Renderer::palette() { return impl_->palette; }
-void Renderer::setTextScale(float scale) { impl_->textScale = scale; }
+Palette& Renderer::palette() {
+    return impl_->palette;
+}
+void Renderer::setTextScale(float scale) {
+    impl_->textScale = scale;
+}
 
 void Renderer::draw(const DrawList& frame, const Camera& camera, int width, int height) {
     Impl& r = *impl_;

@@ -57,9 +57,9 @@ class FrameBuilder {
         const float length = glm::length(q);
         if (!(length > 1e-6f))
             return error(line, "the orientation of body \"" + std::string(name) + "\" is zero");
-        current_[it->second] = BodyPose{
-            toFloat4(glm::vec3(float(pose[0]), float(pose[1]), float(pose[2]))),
-            toFloat4(q / length)};
+        current_[it->second] =
+            BodyPose{toFloat4(glm::vec3(float(pose[0]), float(pose[1]), float(pose[2]))),
+                     toFloat4(q / length)};
         return {};
     }
 
@@ -89,8 +89,8 @@ std::vector<std::string_view> split(std::string_view line) {
     std::size_t start = 0;
     while (true) {
         const std::size_t comma = line.find(',', start);
-        fields.push_back(line.substr(start, comma == std::string_view::npos ? line.npos
-                                                                             : comma - start));
+        fields.push_back(
+            line.substr(start, comma == std::string_view::npos ? line.npos : comma - start));
         if (comma == std::string_view::npos) break;
         start = comma + 1;
     }
@@ -117,8 +117,8 @@ Status readCsv(std::istream& in, FrameBuilder& b) {
                                        std::to_string(f.size()));
         // A body name with commas in it: the fields around it are fixed.
         const std::size_t extra = f.size() - kCsvFields;
-        const std::string_view name(f[2].data(), std::size_t(f[2 + extra].data() +
-                                                              f[2 + extra].size() - f[2].data()));
+        const std::string_view name(
+            f[2].data(), std::size_t(f[2 + extra].data() + f[2 + extra].size() - f[2].data()));
         std::int64_t step = 0;
         double time = 0, pose[7];
         if (!parseNumber(f[0], step))
@@ -194,8 +194,9 @@ Result<Replay> Replay::load(const std::string& path, const WorldState& world) {
 
 const ReplayFrame& Replay::atStep(std::int64_t step) const {
     // Frames are sorted by step: the last one not after `step`.
-    const auto it = std::upper_bound(frames_.begin(), frames_.end(), step,
-                                     [](std::int64_t s, const ReplayFrame& f) { return s < f.step; });
+    const auto it =
+        std::upper_bound(frames_.begin(), frames_.end(), step,
+                         [](std::int64_t s, const ReplayFrame& f) { return s < f.step; });
     return it == frames_.begin() ? frames_.front() : *(it - 1);
 }
 

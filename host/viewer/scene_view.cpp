@@ -23,17 +23,27 @@ glm::vec3 hsvToRgb(float h, float s, float v) {
     const float hp = std::fmod(h * 6.0f, 6.0f);
     const float x = c * (1.0f - std::abs(std::fmod(hp, 2.0f) - 1.0f));
     glm::vec3 rgb;
-    if (hp < 1) rgb = {c, x, 0};
-    else if (hp < 2) rgb = {x, c, 0};
-    else if (hp < 3) rgb = {0, c, x};
-    else if (hp < 4) rgb = {0, x, c};
-    else if (hp < 5) rgb = {x, 0, c};
-    else rgb = {c, 0, x};
+    if (hp < 1)
+        rgb = {c, x, 0};
+    else if (hp < 2)
+        rgb = {x, c, 0};
+    else if (hp < 3)
+        rgb = {0, c, x};
+    else if (hp < 4)
+        rgb = {0, x, c};
+    else if (hp < 5)
+        rgb = {x, 0, c};
+    else
+        rgb = {c, 0, x};
     return rgb + glm::vec3(v - c);
 }
 
-glm::vec3 position(const BodyPose& p) { return toVec3(p.position); }
-glm::quat orientation(const BodyPose& p) { return toQuat(p.orientation); }
+glm::vec3 position(const BodyPose& p) {
+    return toVec3(p.position);
+}
+glm::quat orientation(const BodyPose& p) {
+    return toQuat(p.orientation);
+}
 
 // The 12 edges of a box given by its corners.
 void boxLines(glm::vec3 lo, glm::vec3 hi, glm::vec4 colour, DrawList& out) {
@@ -85,7 +95,8 @@ SceneView::SceneView(const WorldState& world) : world_(&world) {
             position(world.poses[i]) + orientation(world.poses[i]) * (shape.normal * shape.offset);
         if (!bounds_.empty()) bounds_.add(centre - normal * glm::dot(centre - onPlane, normal));
     }
-    if (!hasPlane && !bounds_.empty()) bounds_.add(glm::vec3(centre.x, std::min(0.0f, bounds_.lo.y), centre.z));
+    if (!hasPlane && !bounds_.empty())
+        bounds_.add(glm::vec3(centre.x, std::min(0.0f, bounds_.lo.y), centre.z));
     if (bounds_.empty()) bounds_.addSphere(glm::vec3(0.0f), 1.0f);
 
     for (const JointDesc& j : world.joints) {
@@ -96,13 +107,15 @@ SceneView::SceneView(const WorldState& world) : world_(&world) {
         v.b = j.b;
         v.anchorInA = glm::inverse(orientation(a)) * (j.anchor - position(a));
         v.anchorInB = glm::inverse(orientation(b)) * (j.anchor - position(b));
-        v.axisInA = j.type == JointType::Hinge ? glm::inverse(orientation(a)) * j.axis
-                                               : glm::vec3(0.0f);
+        v.axisInA =
+            j.type == JointType::Hinge ? glm::inverse(orientation(a)) * j.axis : glm::vec3(0.0f);
         joints_.push_back(v);
     }
 }
 
-void SceneView::setBodyColour(std::uint32_t index, glm::vec3 colour) { colours_.at(index) = colour; }
+void SceneView::setBodyColour(std::uint32_t index, glm::vec3 colour) {
+    colours_.at(index) = colour;
+}
 
 void SceneView::build(std::span<const BodyPose> poses, const WorldState* live,
                       const Overlays& overlays, DrawList& out) const {
@@ -123,17 +136,21 @@ void SceneView::build(std::span<const BodyPose> poses, const WorldState* live,
         glm::vec3 colour = colours_[i];
         if (overlays.colours == ColourMode::State) {
             const std::uint32_t flags = (live ? live : &w)->masses[i].flags;
-            if (w.isStatic(i)) colour = stateColour::kStatic;
-            else if (live && (flags & RUBBLE_BODY_ASLEEP)) colour = stateColour::kAsleep;
-            else if (inContact_[i]) colour = stateColour::kContact;
-            else if (w.debris[i]) colour = stateColour::kDebris;
-            else colour = stateColour::kFree;
+            if (w.isStatic(i))
+                colour = stateColour::kStatic;
+            else if (live && (flags & RUBBLE_BODY_ASLEEP))
+                colour = stateColour::kAsleep;
+            else if (inContact_[i])
+                colour = stateColour::kContact;
+            else if (w.debris[i])
+                colour = stateColour::kDebris;
+            else
+                colour = stateColour::kFree;
         }
-        out.instances[shape].push_back(
-            {glm::vec4(toVec3(poses[i].position), 0.0f),
-             glm::vec4(poses[i].orientation.x, poses[i].orientation.y, poses[i].orientation.z,
-                       poses[i].orientation.w),
-             glm::vec4(colour, 1.0f)});
+        out.instances[shape].push_back({glm::vec4(toVec3(poses[i].position), 0.0f),
+                                        glm::vec4(poses[i].orientation.x, poses[i].orientation.y,
+                                                  poses[i].orientation.z, poses[i].orientation.w),
+                                        glm::vec4(colour, 1.0f)});
     }
     addGrounds(poses.first(n), out);
     if (overlays.aabbs) addAabbs(poses.first(n), out);
@@ -160,7 +177,9 @@ void SceneView::addGrounds(std::span<const BodyPose> poses, DrawList& out) const
             {normal, centre - normal * glm::dot(centre - onPlane, normal), halfSize});
     }
     // A scene with no plane still gets a reference grid, at y = 0 or under its lowest body.
-    if (!any) out.grounds.push_back({glm::vec3(0, 1, 0), glm::vec3(centre.x, bounds_.lo.y, centre.z), halfSize});
+    if (!any)
+        out.grounds.push_back(
+            {glm::vec3(0, 1, 0), glm::vec3(centre.x, bounds_.lo.y, centre.z), halfSize});
 }
 
 void SceneView::addAabbs(std::span<const BodyPose> poses, DrawList& out) const {
@@ -252,6 +271,15 @@ std::string statusLine(std::int64_t step, double time, const WorldState& world,
                   world.sceneName.c_str(), static_cast<long long>(step), time, world.bodyCount(),
                   world.stats.contactCount, double(world.stats.solverResidual), backend.c_str(),
                   device.c_str());
+    return buf;
+}
+
+std::string replayLine(std::int64_t step, double time, const WorldState& world,
+                       const std::string& path) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%s  step %lld  t %.3f s  bodies %u  replay of %s",
+                  world.sceneName.c_str(), static_cast<long long>(step), time, world.bodyCount(),
+                  path.c_str());
     return buf;
 }
 

@@ -97,6 +97,9 @@ Camera initialCamera(const std::optional<CameraSpec>& spec, const SceneView& vie
 /// `step` and `time` are shown as given (a world rebuilt on another backend counts on).
 std::string statusLine(std::int64_t step, double time, const WorldState& world,
                        const std::string& backend, const std::string& device);
+/// The status line of a recording: step, time, bodies and the file.
+std::string replayLine(std::int64_t step, double time, const WorldState& world,
+                       const std::string& path);
 /// The second: the last step's milliseconds, in total and per stage.
 std::string stageLine(const StepStats& stats);
 

@@ -78,8 +78,7 @@ RenderMesh sphere(float radius) {
 RenderMesh buildRenderMesh(const Shape& shape) {
     switch (shape.type) {
     case ShapeType::Box:
-        return fromPolygons(shape.hull.faces.empty() ? boxPolygons(shape.halfExtents)
-                                                     : shape.hull);
+        return fromPolygons(shape.hull.faces.empty() ? boxPolygons(shape.halfExtents) : shape.hull);
     case ShapeType::Convex:
         return fromPolygons(shape.hull);
     case ShapeType::Mesh:

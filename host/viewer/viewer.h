@@ -41,8 +41,8 @@ struct RenderSettings {
     int every = 1;      ///< steps between pictures
     int start = 0;      ///< steps before the first picture
     int width = 640, height = 360;
-    int samples = 4;    ///< multisampling; 1 turns it off
-    int fps = 30;       ///< video frame rate
+    int samples = 4;                  ///< multisampling; 1 turns it off
+    int fps = 30;                     ///< video frame rate
     std::optional<CameraSpec> camera; ///< else framed automatically from the scene's bounds
     ContextKind context = ContextKind::Auto;
     OverlaySettings overlays;

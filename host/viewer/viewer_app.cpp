@@ -134,8 +134,8 @@ class ViewerApp {
         glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
         glfwWindowHint(GLFW_SAMPLES, settings_.frames > 0 ? 0 : 4);
         const std::string title = "rubble: " + world_->sceneName();
-        window_ = glfwCreateWindow(settings_.width, settings_.height, title.c_str(), nullptr,
-                                   nullptr);
+        window_ =
+            glfwCreateWindow(settings_.width, settings_.height, title.c_str(), nullptr, nullptr);
         if (!window_) return glfwError("glfwCreateWindow (OpenGL 3.3 core)");
         glfwMakeContextCurrent(window_);
         // A scripted run goes as fast as it can; a person gets the display's rate.
@@ -147,9 +147,8 @@ class ViewerApp {
         glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int mods) {
             self(w)->onButton(button, action, mods);
         });
-        glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) {
-            self(w)->onCursor(x, y);
-        });
+        glfwSetCursorPosCallback(
+            window_, [](GLFWwindow* w, double x, double y) { self(w)->onCursor(x, y); });
         glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double dy) {
             self(w)->camera_.zoom(std::pow(kZoomPerNotch, float(dy)));
         });
@@ -175,20 +174,35 @@ class ViewerApp {
     void onKey(int key, int mods) {
         switch (key) {
         case GLFW_KEY_ESCAPE:
-        case GLFW_KEY_Q: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
-        case GLFW_KEY_SPACE: paused_ = !paused_; break;
+        case GLFW_KEY_Q:
+            glfwSetWindowShouldClose(window_, GLFW_TRUE);
+            break;
+        case GLFW_KEY_SPACE:
+            paused_ = !paused_;
+            break;
         case GLFW_KEY_PERIOD:
             paused_ = true;
             stepOnce_ = true;
             break;
-        case GLFW_KEY_R: reset(); break;
-        case GLFW_KEY_B: switchBackend(); break;
-        case GLFW_KEY_C: overlays_.contacts = !overlays_.contacts; break;
-        case GLFW_KEY_N: overlays_.normals = !overlays_.normals; break;
-        case GLFW_KEY_A: overlays_.aabbs = !overlays_.aabbs; break;
+        case GLFW_KEY_R:
+            reset();
+            break;
+        case GLFW_KEY_B:
+            switchBackend();
+            break;
+        case GLFW_KEY_C:
+            overlays_.contacts = !overlays_.contacts;
+            break;
+        case GLFW_KEY_N:
+            overlays_.normals = !overlays_.normals;
+            break;
+        case GLFW_KEY_A:
+            overlays_.aabbs = !overlays_.aabbs;
+            break;
         case GLFW_KEY_J:
             overlays_.joints = !overlays_.joints;
-            if (overlays_.joints && world_->state().joints.empty()) notify("this scene has no joints");
+            if (overlays_.joints && world_->state().joints.empty())
+                notify("this scene has no joints");
             break;
         case GLFW_KEY_P:
             overlays_.particles = !overlays_.particles;
@@ -204,10 +218,17 @@ class ViewerApp {
             camera_ = Camera::framing(view_->bounds(), float(w) / float(std::max(h, 1)));
             break;
         }
-        case GLFW_KEY_S: screenshotRequested_ = true; break;
-        case GLFW_KEY_T: showStats_ = !showStats_; break;
-        case GLFW_KEY_H: showHelp_ = !showHelp_; break;
-        default: break;
+        case GLFW_KEY_S:
+            screenshotRequested_ = true;
+            break;
+        case GLFW_KEY_T:
+            showStats_ = !showStats_;
+            break;
+        case GLFW_KEY_H:
+            showHelp_ = !showHelp_;
+            break;
+        default:
+            break;
         }
         (void)mods;
     }
@@ -281,7 +302,8 @@ class ViewerApp {
         stepOnce_ = false;
         if (replay_) {
             const std::size_t last = replay_->frames().size() - 1;
-            replayIndex_ = std::min(replayIndex_ + (once ? 1 : std::size_t(settings_.stepsPerFrame)), last);
+            replayIndex_ =
+                std::min(replayIndex_ + (once ? 1 : std::size_t(settings_.stepsPerFrame)), last);
             return {};
         }
         const int steps = once ? 1 : settings_.stepsPerFrame;
@@ -302,22 +324,22 @@ class ViewerApp {
             const ReplayFrame& f = replay_->frames()[replayIndex_];
             view_->build(f.poses, nullptr, overlays_, draw_);
             if (showStats_)
-                draw_.text.push_back(statusLine(f.step, f.time, world_->state(), "replay",
-                                                replay_->path()));
+                draw_.text.push_back(replayLine(f.step, f.time, world_->state(), replay_->path()));
         } else {
             currentPoses(*world_, poses_);
             view_->build(poses_, &world_->state(), overlays_, draw_);
             if (showStats_) {
-                draw_.text.push_back(statusLine(stepOffset_ + world_->stepIndex(),
-                                                timeOffset_ + world_->time(), world_->state(),
-                                                std::string(toString(backend_)),
-                                                world_->deviceName()));
+                draw_.text.push_back(statusLine(
+                    stepOffset_ + world_->stepIndex(), timeOffset_ + world_->time(),
+                    world_->state(), std::string(toString(backend_)), world_->deviceName()));
                 draw_.text.push_back(stageLine(world_->lastStep()));
             }
         }
         if (paused_) draw_.text.push_back("paused");
-        if (showHelp_) draw_.text.push_back(kHelp);
-        else if (showStats_) draw_.text.push_back("h: help");
+        if (showHelp_)
+            draw_.text.push_back(kHelp);
+        else if (showStats_)
+            draw_.text.push_back("h: help");
         if (!message_.empty() && glfwGetTime() < messageUntil_) draw_.message = message_;
     }
 

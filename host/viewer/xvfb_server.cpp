@@ -44,8 +44,7 @@ Result<XvfbServer> XvfbServer::start() {
         return makeError(ErrorKind::NotSupported, "Xvfb",
                          "no display, no EGL, and Xvfb is not installed (apt-get install xvfb)");
     int fds[2];
-    if (pipe(fds) != 0)
-        return makeError(ErrorKind::Io, "pipe", std::strerror(errno));
+    if (pipe(fds) != 0) return makeError(ErrorKind::Io, "pipe", std::strerror(errno));
     const pid_t pid = fork();
     if (pid < 0) {
         close(fds[0]);

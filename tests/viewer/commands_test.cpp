@@ -39,8 +39,8 @@ Fixture makeScene(const std::string& name) {
 }
 
 glm::ivec2 pixelOf(glm::vec3 world) {
-    const glm::vec3 p = viewer::projectToPixel(viewer::Camera::lookingAt(kEye, kTarget), world,
-                                               kWidth, kHeight);
+    const glm::vec3 p =
+        viewer::projectToPixel(viewer::Camera::lookingAt(kEye, kTarget), world, kWidth, kHeight);
     EXPECT_TRUE(p.x >= 0 && p.x < kWidth && p.y >= 0 && p.y < kHeight) << "off screen";
     return {std::clamp(int(p.x), 0, kWidth - 1), std::clamp(int(p.y), 0, kHeight - 1)};
 }
@@ -49,7 +49,7 @@ glm::ivec2 pixelOf(glm::vec3 world) {
 #define SKIP_WITHOUT_GL(result)                                                                    \
     do {                                                                                           \
         if ((result).exitCode == 1 &&                                                              \
-            (result).output.find("no OpenGL 3.3 context") != std::string::npos) {                 \
+            (result).output.find("no OpenGL 3.3 context") != std::string::npos) {                  \
             if (test::inCi()) FAIL() << "CI is set and no OpenGL context: " << (result).output;    \
             GTEST_SKIP() << (result).output;                                                       \
         }                                                                                          \
@@ -108,8 +108,8 @@ TEST(RenderCommand, WritesNumberedFramesThatShowTheFall) {
 
 TEST(RenderCommand, ReplaysARecordedRun) {
     const Fixture f = makeScene("render_replay");
-    const test::CommandResult run =
-        test::runRubble("run " + f.scene + " --steps 60 --every 20 --out " + f.dir + "/t.jsonl --quiet");
+    const test::CommandResult run = test::runRubble(
+        "run " + f.scene + " --steps 60 --every 20 --out " + f.dir + "/t.jsonl --quiet");
     ASSERT_EQ(run.exitCode, 0) << run.output;
     const test::CommandResult r =
         test::runRubble("render " + f.scene + " --replay " + f.dir + "/t.jsonl --start 60 --out " +
@@ -145,7 +145,8 @@ TEST(RenderCommand, RefusesBadInputWithStatus2) {
         EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.output;
         EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
     }
-    const test::CommandResult missing = test::runRubble("render " + f.dir + "/nope.json --out x.png");
+    const test::CommandResult missing =
+        test::runRubble("render " + f.dir + "/nope.json --out x.png");
     EXPECT_EQ(missing.exitCode, 2) << missing.output;
     EXPECT_NE(missing.output.find("nope.json"), std::string::npos) << missing.output;
 }
@@ -187,9 +188,9 @@ TEST(ViewCommand, OpensRunsSixtyFramesAndQuitsUnderXvfb) {
         GTEST_SKIP() << "no DISPLAY and no xvfb-run";
     }
     const Fixture f = makeScene("view_xvfb");
-    const test::CommandResult r = test::runShell(
-        prefix + RUBBLE_BINARY + " view " + f.scene + " --frames 60 --screenshot " + f.dir +
-        "/shot.png --size 320x180 --camera " + kCamera);
+    const test::CommandResult r =
+        test::runShell(prefix + RUBBLE_BINARY + " view " + f.scene + " --frames 60 --screenshot " +
+                       f.dir + "/shot.png --size 320x180 --camera " + kCamera);
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const viewer::Image image = readImage(f.dir + "/shot.png");
     ASSERT_EQ(image.width, kWidth);

@@ -32,8 +32,10 @@ class Render : public ::testing::Test {
   protected:
     static void SetUpTestSuite() {
         Result<viewer::OffscreenContext> c = viewer::OffscreenContext::create();
-        if (c) context_ = new viewer::OffscreenContext(std::move(*c));
-        else failure_ = c.error().describe();
+        if (c)
+            context_ = new viewer::OffscreenContext(std::move(*c));
+        else
+            failure_ = c.error().describe();
     }
     static void TearDownTestSuite() {
         delete context_;

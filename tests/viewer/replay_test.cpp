@@ -78,8 +78,11 @@ TEST(Replay, MalformedFilesNameTheFileAndLine) {
          "nan.csv:2: px of body \"a\" is not a finite number"},
         {"empty.csv", "", "empty.csv:1: the file is empty"},
         {"header_only.csv", kHeader, "header_only.csv: the trajectory has no steps"},
-        {"broken.jsonl", "{\"step\":0,\"time\":0,\"bodies\":[]}\n{\"step\":1,", "broken.jsonl:2: not a JSON object"},
-        {"field.jsonl", R"({"step":0,"time":0,"bodies":[{"body":"a","px":0,"py":"1"}]})" "\n",
+        {"broken.jsonl", "{\"step\":0,\"time\":0,\"bodies\":[]}\n{\"step\":1,",
+         "broken.jsonl:2: not a JSON object"},
+        {"field.jsonl",
+         R"({"step":0,"time":0,"bodies":[{"body":"a","px":0,"py":"1"}]})"
+         "\n",
          "field.jsonl:1: bodies[0].py: expected a number"},
         {"t.txt", row, "--replay"},
     };
