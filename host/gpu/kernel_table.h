@@ -13,6 +13,22 @@ enum class KernelId : unsigned {
     AbsorbVelocityChange,
     IntegratePositions,
     MeasureLayout,
+    TransformParticles,
+    CollideParticles,
+    ComputeCellKeys,
+    SortHistogram,
+    SortScatter,
+    ExclusiveScan,
+    FindCellRanges,
+    PermuteContacts,
+    ContactKeys,
+    CountBodyContacts,
+    FillBodyLists,
+    SortBodyLists,
+    LinkPrevious,
+    BuildJacobiRows,
+    SolveJacobiRows,
+    GatherJacobi,
     Count
 };
 

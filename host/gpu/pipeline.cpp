@@ -44,6 +44,7 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context, const 
     RUBBLE_TRY(upload(c, p->bodies_.forces, view(s.forces)));
     RUBBLE_TRY(p->status_.reserve(c.context(), RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
     RUBBLE_TRY(p->uploadBodies(s));
+    RUBBLE_TRY(p->uploadParticles(s));
     return p;
 }
 
@@ -114,6 +115,29 @@ Status Pipeline::step(WorldState& s, StepStats& stats) {
         RUBBLE_TRY(finish());
     }
     {
+        StageTimer t(stats.broadPhaseMs);
+        RUBBLE_TRY(transformParticles());
+        RUBBLE_TRY(buildGrid());
+        RUBBLE_TRY(finish());
+    }
+    {
+        StageTimer t(stats.narrowPhaseMs);
+        RUBBLE_TRY(collideParticles());
+        if (s.run.deterministic) RUBBLE_TRY(sortContacts());
+        RUBBLE_TRY(finish());
+    }
+    const SolverOptions& solver = s.options.solver;
+    {
+        StageTimer t(stats.buildContactRowsMs);
+        RUBBLE_TRY(buildJacobiRows(solverParams(solver, dt), solver.warmStart));
+        RUBBLE_TRY(finish());
+    }
+    {
+        StageTimer t(stats.solveMs);
+        RUBBLE_TRY(solveJacobi(solver.iterations, solver.relaxation, solver.warmStart));
+        RUBBLE_TRY(finish());
+    }
+    {
         StageTimer t(stats.integratePositionsMs);
         RUBBLE_TRY(integratePositions(dt, symplectic));
         // Forces hold for one step.
@@ -126,6 +150,9 @@ Status Pipeline::step(WorldState& s, StepStats& stats) {
     }
     Result<DeviceStatus> status = readStatus();
     RUBBLE_TRY(status);
+    stats.contactCount = contacts_.count;
+    stats.largestPenetration = status->largestPenetration;
+    stats.solverResidual = status->solverResidual;
     if (status->firstNonFinite < bodies_.count)
         return makeError(ErrorKind::Numerical, "body " + s.names[status->firstNonFinite],
                          "its state is not finite after step " + std::to_string(s.step + 1) +

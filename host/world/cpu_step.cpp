@@ -5,10 +5,12 @@
 #include <chrono>
 
 #include "host/collision/collision_world.h"
+#include "host/collision/particle_world.h"
 #include "host/core/integrate.h"
 #include "host/core/math.h"
 #include "host/dynamics/dynamics_world.h"
 #include "host/dynamics/forces.h"
+#include "host/dynamics/jacobi_solvers.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -50,22 +52,30 @@ void stepCpuReference(WorldState& s, StepStats& stats) {
         integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities,
                             toFloat4(s.options.gravity), dt);
     }
+    // The particle method and the solvers other than PGS are the OpenCL stages' CPU twins.
+    const bool particles = s.options.collisionMethod() == CollisionMethod::Particles;
+    const bool pgs = s.options.solver.type == SolverType::Pgs;
     {
         StageTimer t(stats.broadPhaseMs);
-        runBroadPhase(s);
+        if (particles) runParticleGrid(s);
+        else runBroadPhase(s);
     }
     {
         StageTimer t(stats.narrowPhaseMs);
-        runNarrowPhase(s);
+        if (particles) runParticleCollide(s);
+        else runNarrowPhase(s);
+        if (particles && pgs) particleContactsToManifolds(s.particles.contacts, s.manifolds);
     }
     {
         StageTimer t(stats.buildContactRowsMs);
-        runBuildContactRows(s);
+        if (pgs) runBuildContactRows(s);
+        else runBuildSolverRows(s);
     }
     {
         StageTimer t(stats.solveMs);
         std::copy(s.velocities.begin(), s.velocities.end(), s.velocitiesBeforeSolve.begin());
-        runSolveVelocities(s);
+        if (pgs) runSolveVelocities(s);
+        else runSolveRows(s);
         // The momenta are the state: they take up what the impulses did to the velocities.
         absorbVelocityChange(s.momenta, s.velocitiesBeforeSolve, s.velocities, s.masses, s.poses);
     }
@@ -80,7 +90,8 @@ void stepCpuReference(WorldState& s, StepStats& stats) {
     }
     {
         StageTimer t(stats.islandsMs);
-        runUpdateSleep(s);
+        // Sleeping belongs to the reference solver; the device pipeline has none.
+        if (pgs) runUpdateSleep(s);
     }
 }
 

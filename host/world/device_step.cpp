@@ -11,6 +11,7 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
                     const SimulationOptions& options) {
     s.options = options;
     s.options.backend = Backend::OpenCl;
+    RUBBLE_TRY(buildParticles(s));
     Result<gpu::PipelineHandle> p = gpu::Pipeline::create(std::move(context), s);
     RUBBLE_TRY(p);
     s.device = std::move(*p);

@@ -17,9 +17,7 @@ Error notSupported(const std::string& where, const std::string& what) {
 Status checkSupported(const Scene& scene) {
     const SimulationOptions& sim = scene.simulation;
     RUBBLE_TRY(checkBackendCombination(scene));
-    if (sim.backend == Backend::Cpu && sim.collisionMethod() != CollisionMethod::Sat)
-        return notSupported(scene.file + ": simulation.collision.method", "particle collision");
-    if (sim.backend == Backend::Cpu && sim.solver.type != SolverType::Pgs)
+    if (sim.solver.type == SolverType::LcpJacobi || sim.solver.type == SolverType::Lemke)
         return notSupported(scene.file + ": simulation.solver.type",
                             "the " + std::string(toString(sim.solver.type)) + " solver");
     return {};
@@ -84,6 +82,8 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     s->joints = scene.joints;
     s->events = scene.events;
     s->eventFired.assign(scene.events.size(), 0);
+    if (scene.simulation.collisionMethod() == CollisionMethod::Particles)
+        RUBBLE_TRY(buildParticles(*s));
     if (scene.simulation.backend == Backend::OpenCl) {
         Result<std::shared_ptr<gpu::Context>> context = gpu::Context::create(run);
         RUBBLE_TRY(context);

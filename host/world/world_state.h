@@ -8,7 +8,9 @@
 
 #include "host/collision/collision_world.h"
 #include "host/collision/contact.h"
+#include "host/collision/particle_world.h"
 #include "host/dynamics/dynamics_world.h"
+#include "host/dynamics/jacobi.h"
 #include "host/geometry/shape.h"
 #include "host/gpu/pipeline_handle.h"
 #include "rubble/options.h"
@@ -55,6 +57,8 @@ struct WorldState {
     std::vector<Manifold> manifolds;
     CollisionCache collision;
     SolverCache solver;
+    ParticleState particles; ///< the particle collision method (CPU, and the device's source)
+    JacobiState jacobi;      ///< the jacobi, lcp-jacobi and lemke solvers on the CPU
 
     // Scratch reused every step: the velocities before the solve, and at the start of the step
     // (explicit Euler moves positions with those).

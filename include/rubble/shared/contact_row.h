@@ -4,6 +4,7 @@
 #pragma once
 
 #include "rubble/shared/body.h"
+#include "rubble/shared/particle.h"
 
 RUBBLE_SHARED_BEGIN
 
@@ -105,6 +106,44 @@ RUBBLE_FN float4 solveContactItem(ContactRow r, BodyVelocity va, BodyVelocity vb
 RUBBLE_FN float4 rowImpulseItem(ContactRow r) {
     return add4(add4(scale4(r.normal, r.lambda.x), scale4(r.tangent1, r.lambda.y)),
                 scale4(r.tangent2, r.lambda.z));
+}
+
+// A row for a contact point: materials combine as sqrt(mu_a mu_b) and max(e_a, e_b) (surface
+// x = friction, y = restitution); each body's mass is split among its `count` rows.
+RUBBLE_FN ContactRow contactRowFromContactItem(ParticleContact c, BodyPose pa, BodyPose pb,
+                                               BodyVelocity va, BodyVelocity vb, BodyMass ma,
+                                               BodyMass mb, float4 surfaceA, float4 surfaceB,
+                                               uint countA, uint countB, SolverParams p,
+                                               float4 warm) {
+    const float friction = sqrt(surfaceA.x * surfaceB.x);
+    const float restitution = fmax(surfaceA.y, surfaceB.y);
+    const float splitA = countA > 1u ? (float)countA : 1.0f;
+    const float splitB = countB > 1u ? (float)countB : 1.0f;
+    return makeContactRowItem(c.point, c.normal, c.point.w, c.a, c.b, pa, pb, va, vb, ma, mb,
+                              inverseInertiaWorldItem(ma, pa.orientation),
+                              inverseInertiaWorldItem(mb, pb.orientation), splitA, splitB,
+                              friction, restitution, p, warm);
+}
+
+// The largest change of any of a row's three impulses, N s.
+RUBBLE_FN float impulseChangeItem(float4 before, float4 after) {
+    return fmax(fabs(after.x - before.x), fmax(fabs(after.y - before.y), fabs(after.z - before.z)));
+}
+
+// 32 bytes, not stored: what one row does to one of its bodies, N s and N m s.
+typedef struct BodyImpulse {
+    float4 linear;
+    float4 angular;
+} BodyImpulse;
+RUBBLE_STATIC_ASSERT_SIZE(BodyImpulse, 32);
+
+// A row's impulse on its body a (side 0: minus J^T lambda) or b (side 1).
+RUBBLE_FN BodyImpulse rowImpulseOnBodyItem(ContactRow r, uint side) {
+    const float4 onB = rowImpulseItem(r);
+    BodyImpulse i;
+    i.linear = side ? onB : scale4(onB, -1.0f);
+    i.angular = cross3(side ? r.rB : r.rA, i.linear);
+    return i;
 }
 
 // Velocities after the summed impulse P (N s) and angular impulse H (N m s) of a body's rows:

@@ -61,6 +61,14 @@ RUBBLE_FN uint cellHashItem(int x, int y, int z, uint bits) {
     return h & ((1u << bits) - 1u);
 }
 
+// True when `key` is not among the first n keys already visited: hashing can send two of the
+// 27 neighbouring cells to one key, whose particles must be met once.
+RUBBLE_FN int neighbourCellIsNewItem(const uint* seen, uint n, uint key) {
+    for (uint i = 0; i < n; ++i)
+        if (seen[i] == key) return 0;
+    return 1;
+}
+
 // The grid key of a particle's world position (w ignored).
 RUBBLE_FN uint cellKeyItem(float4 x, float inverseCellSize, uint bits) {
     return cellHashItem(cellCoordinate(x.x, inverseCellSize), cellCoordinate(x.y, inverseCellSize),

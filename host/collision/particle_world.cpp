@@ -1,0 +1,204 @@
+// host/collision/particle_world.cpp: OpenCL stages 2 to 4 on the CPU; twins of
+// kernels/particles.cl and kernels/grid.cl.
+#include "host/collision/particle_world.h"
+
+#include <algorithm>
+#include <map>
+
+#include "host/core/assert.h"
+#include "host/core/math.h"
+#include "host/geometry/voxelise.h"
+#include "host/world/world_state.h"
+
+namespace rubble {
+
+using namespace shared;
+
+std::uint32_t gridBits(std::size_t particleCount) {
+    std::uint32_t bits = 10;
+    while (bits < 24 && (std::size_t(1) << bits) < 2 * particleCount) ++bits;
+    return bits;
+}
+
+Status buildParticles(WorldState& s) {
+    if (s.particles.built) return {};
+    ParticleState& p = s.particles;
+    const float spacing = s.options.collision.particleSpacing;
+    std::map<std::uint32_t, std::vector<glm::vec3>> byShape;
+    for (std::uint32_t b = 0; b < s.bodyCount(); ++b) {
+        const Shape& shape = s.shapes[s.shapeOf[b]];
+        const MaterialDesc& material = s.materials[s.materialOf[b]];
+        const bool fixed = s.isStatic(b);
+        if (shape.type == ShapeType::Plane || (fixed && shape.type == ShapeType::Box)) {
+            StaticShape st{};
+            st.kind = shape.type == ShapeType::Plane ? RUBBLE_STATIC_PLANE : RUBBLE_STATIC_BOX;
+            // A static body's pose turns its shape: the plane's normal and offset follow it.
+            const glm::quat q = toQuat(s.poses[b].orientation);
+            const glm::vec3 x = toVec3(s.poses[b].position);
+            const glm::vec3 n = glm::normalize(q * shape.normal);
+            st.normal = toFloat4(n, shape.offset + glm::dot(n, x));
+            st.position = s.poses[b].position;
+            st.orientation = s.poses[b].orientation;
+            st.halfExtents = toFloat4(shape.halfExtents);
+            st.friction = material.friction;
+            st.restitution = material.restitution;
+            st.body = b;
+            p.statics.push_back(st);
+            continue;
+        }
+        auto it = byShape.find(s.shapeOf[b]);
+        if (it == byShape.end())
+            it = byShape.emplace(s.shapeOf[b], voxeliseShape(shape, spacing, true)).first;
+        for (const glm::vec3& c : it->second) {
+            Particle particle{};
+            particle.offset = toFloat4(c, 0.5f * spacing);
+            particle.body = b;
+            p.particles.push_back(particle);
+        }
+    }
+    if (p.particles.size() >= std::size_t(0x7fffffff))
+        return makeError(ErrorKind::BadInput, "simulation.collision.particle_spacing",
+                         "gives " + std::to_string(p.particles.size()) +
+                             " particles, more than the pipeline can index; use a larger spacing");
+    if (p.statics.size() > RUBBLE_MAX_STATIC_SHAPES)
+        return makeError(ErrorKind::NotSupported, "bodies",
+                         "the particle method meets at most " +
+                             std::to_string(RUBBLE_MAX_STATIC_SHAPES) +
+                             " planes and static boxes; this scene has " +
+                             std::to_string(p.statics.size()));
+    p.cellSize = spacing;
+    p.bits = gridBits(p.particles.size());
+    p.world.resize(p.particles.size());
+    p.built = true;
+    return {};
+}
+
+void transformParticles(std::span<const Particle> particles, std::span<const BodyPose> poses,
+                        std::span<float4> world) {
+    RUBBLE_ASSERT(world.size() == particles.size());
+    for (std::size_t i = 0; i < particles.size(); ++i)
+        world[i] = transformParticleItem(particles[i], poses[particles[i].body]);
+}
+
+void buildGrid(std::span<const float4> world, float cellSize, std::uint32_t bits,
+               std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& order,
+               std::vector<std::uint32_t>& cellStart, std::vector<std::uint32_t>& cellEnd) {
+    const std::size_t n = world.size(), cells = std::size_t(1) << bits;
+    const float inverse = 1.0f / cellSize;
+    std::vector<std::uint32_t> unsorted(n);
+    for (std::size_t i = 0; i < n; ++i) unsorted[i] = cellKeyItem(world[i], inverse, bits);
+    // A stable counting sort by key.
+    cellStart.assign(cells, RUBBLE_EMPTY_CELL);
+    cellEnd.assign(cells, RUBBLE_EMPTY_CELL);
+    std::vector<std::uint32_t> count(cells + 1, 0);
+    for (std::uint32_t k : unsorted) ++count[k + 1];
+    for (std::size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
+    keys.resize(n);
+    order.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t slot = count[unsorted[i]]++;
+        keys[slot] = unsorted[i];
+        order[slot] = std::uint32_t(i);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i == 0 || keys[i] != keys[i - 1]) cellStart[keys[i]] = std::uint32_t(i);
+        if (i + 1 == n || keys[i] != keys[i + 1]) cellEnd[keys[i]] = std::uint32_t(i + 1);
+    }
+}
+
+void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
+                      std::vector<ParticleContact>& contacts) {
+    contacts.clear();
+    const float inverse = 1.0f / p.cellSize;
+    const std::uint32_t count = std::uint32_t(p.particles.size());
+    for (std::uint32_t slot = 0; slot < count; ++slot) {
+        const std::uint32_t i = p.order[slot];
+        const float4 xi = p.world[i];
+        const std::uint32_t bodyI = p.particles[i].body;
+        const bool staticI = masses[bodyI].inverseMass == 0.0f;
+        const int cx = cellCoordinate(xi.x, inverse), cy = cellCoordinate(xi.y, inverse),
+                  cz = cellCoordinate(xi.z, inverse);
+        std::uint32_t seen[27];
+        std::uint32_t seenCount = 0;
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const std::uint32_t key = cellHashItem(cx + dx, cy + dy, cz + dz, p.bits);
+                    if (!neighbourCellIsNewItem(seen, seenCount, key)) continue;
+                    seen[seenCount++] = key;
+                    const std::uint32_t start = p.cellStart[key];
+                    if (start == RUBBLE_EMPTY_CELL) continue;
+                    for (std::uint32_t s = start; s < p.cellEnd[key]; ++s) {
+                        const std::uint32_t j = p.order[s];
+                        const std::uint32_t bodyJ = p.particles[j].body;
+                        if (bodyJ <= bodyI) continue; // the pair once, from the lower body
+                        if (staticI && masses[bodyJ].inverseMass == 0.0f) continue;
+                        ParticleContact c = particlePairItem(xi, p.world[j]);
+                        if (!(c.point.w > 0.0f)) continue;
+                        c.a = bodyI;
+                        c.b = bodyJ;
+                        c.particleA = i;
+                        c.featureB = j;
+                        contacts.push_back(c);
+                    }
+                }
+        if (staticI) continue;
+        for (std::uint32_t k = 0; k < p.statics.size(); ++k) {
+            ParticleContact c = particleStaticItem(xi, p.statics[k]);
+            if (!(c.point.w > 0.0f)) continue;
+            c.a = bodyI;
+            c.particleA = i;
+            c.featureB = count + k;
+            contacts.push_back(c);
+        }
+    }
+}
+
+void sortContactsByParticle(std::vector<ParticleContact>& contacts) {
+    std::stable_sort(contacts.begin(), contacts.end(),
+                     [](const ParticleContact& x, const ParticleContact& y) {
+                         return x.particleA < y.particleA;
+                     });
+}
+
+void particleContactsToManifolds(std::span<const ParticleContact> contacts,
+                                 std::vector<Manifold>& manifolds) {
+    manifolds.clear();
+    manifolds.reserve(contacts.size());
+    for (const ParticleContact& c : contacts) {
+        Manifold m;
+        const bool swap = c.a > c.b;
+        m.a = swap ? c.b : c.a;
+        m.b = swap ? c.a : c.b;
+        m.normal = toVec3(c.normal) * (swap ? -1.0f : 1.0f);
+        m.count = 1;
+        m.points[0].position = toVec3(c.point);
+        m.points[0].depth = c.point.w;
+        m.points[0].normal = m.normal;
+        // The two particles name the contact while they keep touching (warm starting).
+        m.points[0].feature = c.particleA * 2654435761u ^ c.featureB;
+        manifolds.push_back(m);
+    }
+    // The reference solver expects manifolds grouped by pair.
+    std::stable_sort(manifolds.begin(), manifolds.end(), [](const Manifold& x, const Manifold& y) {
+        return x.a != y.a ? x.a < y.a : x.b < y.b;
+    });
+}
+
+void runParticleGrid(WorldState& s) {
+    ParticleState& p = s.particles;
+    transformParticles(p.particles, s.poses, p.world);
+    buildGrid(p.world, p.cellSize, p.bits, p.keys, p.order, p.cellStart, p.cellEnd);
+}
+
+void runParticleCollide(WorldState& s) {
+    ParticleState& p = s.particles;
+    collideParticles(p, s.masses, p.contacts);
+    sortContactsByParticle(p.contacts);
+    float deepest = 0.0f;
+    for (const ParticleContact& c : p.contacts) deepest = std::max(deepest, c.point.w);
+    s.stats.contactCount = std::uint32_t(p.contacts.size());
+    s.stats.largestPenetration = deepest;
+}
+
+} // namespace rubble

@@ -1,0 +1,67 @@
+// host/gpu/grid.cpp: dispatch of OpenCL stage 3, buildGrid (kernels/grid.cl): cell keys, the
+// radix sort, cell ranges; the CPU twin is buildGrid in host/collision/particle_world.cpp.
+#include <utility>
+
+#include "host/gpu/pipeline.h"
+
+namespace rubble::gpu {
+
+Status Pipeline::exclusiveScan(const Buffer& in, Buffer& out, std::uint32_t count) {
+    return Dispatch(*context_, KernelId::ExclusiveScan).arg(count).arg(in).arg(out).run(1, 1);
+}
+
+Status Pipeline::radixSort(Buffer& keys, Buffer& values, Buffer& keysAlt, Buffer& valuesAlt,
+                           std::uint32_t count, std::uint32_t bits) {
+    const cl_uint n = count;
+    const cl_uint chunk = (count + RUBBLE_SORT_ITEMS - 1) / RUBBLE_SORT_ITEMS;
+    const cl_uint buckets = RUBBLE_SORT_BUCKETS * RUBBLE_SORT_ITEMS;
+    for (cl_uint shift = 0; shift < bits; shift += RUBBLE_SORT_DIGIT_BITS) {
+        RUBBLE_TRY(Dispatch(*context_, KernelId::SortHistogram)
+                       .arg(n)
+                       .arg(chunk)
+                       .arg(shift)
+                       .arg(keys)
+                       .arg(particles_.histogram)
+                       .run(RUBBLE_SORT_ITEMS, RUBBLE_GROUP_SCAN));
+        RUBBLE_TRY(exclusiveScan(particles_.histogram, particles_.offsets, buckets));
+        RUBBLE_TRY(Dispatch(*context_, KernelId::SortScatter)
+                       .arg(n)
+                       .arg(chunk)
+                       .arg(shift)
+                       .arg(keys)
+                       .arg(values)
+                       .arg(particles_.offsets)
+                       .arg(keysAlt)
+                       .arg(valuesAlt)
+                       .run(RUBBLE_SORT_ITEMS, RUBBLE_GROUP_SCAN));
+        std::swap(keys, keysAlt);
+        std::swap(values, valuesAlt);
+    }
+    return {};
+}
+
+Status Pipeline::buildGrid() {
+    const cl_uint count = particles_.count, bits = particles_.bits;
+    const cl_float inverseCellSize = 1.0f / particles_.cellSize;
+    RUBBLE_TRY(Dispatch(*context_, KernelId::ComputeCellKeys)
+                   .arg(count)
+                   .arg(inverseCellSize)
+                   .arg(bits)
+                   .arg(particles_.world)
+                   .arg(particles_.keys)
+                   .arg(particles_.values)
+                   .run(count, RUBBLE_GROUP_PARTICLES));
+    RUBBLE_TRY(radixSort(particles_.keys, particles_.values, particles_.keysAlt,
+                         particles_.valuesAlt, count, bits));
+    const std::size_t cells = std::size_t(1) << bits;
+    RUBBLE_TRY(fill(*context_, particles_.cellStart, RUBBLE_EMPTY_CELL, cells * sizeof(cl_uint)));
+    RUBBLE_TRY(fill(*context_, particles_.cellEnd, RUBBLE_EMPTY_CELL, cells * sizeof(cl_uint)));
+    return Dispatch(*context_, KernelId::FindCellRanges)
+        .arg(count)
+        .arg(particles_.keys)
+        .arg(particles_.cellStart)
+        .arg(particles_.cellEnd)
+        .run(count, RUBBLE_GROUP_PARTICLES);
+}
+
+} // namespace rubble::gpu

@@ -1,0 +1,85 @@
+// kernels/grid.cl: entry points of OpenCL stage 3 (buildGrid): cell keys, a stable LSD radix
+// sort of (key, value) pairs, cell ranges; and the exclusive scan the sort and the solver use.
+// The CPU twin is buildGrid in host/collision/particle_world.cpp (a stable counting sort).
+#include "rubble/shared/particle.h"
+
+__kernel void computeCellKeys(const uint count, const float inverseCellSize, const uint bits,
+                              __global const float4* world, __global uint* keys,
+                              __global uint* values) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    keys[i] = cellKeyItem(world[i], inverseCellSize, bits);
+    values[i] = i;
+}
+
+// Radix sort, one pass of RUBBLE_SORT_DIGIT_BITS: RUBBLE_SORT_ITEMS work-items each own a
+// contiguous chunk of the keys and count its digits; histogram is digit-major, so that its
+// exclusive scan gives every (digit, item) its first output slot.
+__kernel void sortHistogram(const uint count, const uint chunk, const uint shift,
+                            __global const uint* keys, __global uint* histogram) {
+    const uint t = get_global_id(0);
+    if (t >= RUBBLE_SORT_ITEMS) return;
+    uint counts[RUBBLE_SORT_BUCKETS];
+    for (uint d = 0; d < RUBBLE_SORT_BUCKETS; ++d) counts[d] = 0;
+    const uint begin = min(count, t * chunk), end = min(count, begin + chunk);
+    for (uint i = begin; i < end; ++i) ++counts[(keys[i] >> shift) & (RUBBLE_SORT_BUCKETS - 1u)];
+    for (uint d = 0; d < RUBBLE_SORT_BUCKETS; ++d) histogram[d * RUBBLE_SORT_ITEMS + t] = counts[d];
+}
+
+// Each item moves its chunk, in order, to the slots the scanned histogram gives: stable.
+__kernel void sortScatter(const uint count, const uint chunk, const uint shift,
+                          __global const uint* keys, __global const uint* values,
+                          __global const uint* offsets, __global uint* keysOut,
+                          __global uint* valuesOut) {
+    const uint t = get_global_id(0);
+    if (t >= RUBBLE_SORT_ITEMS) return;
+    uint next[RUBBLE_SORT_BUCKETS];
+    for (uint d = 0; d < RUBBLE_SORT_BUCKETS; ++d) next[d] = offsets[d * RUBBLE_SORT_ITEMS + t];
+    const uint begin = min(count, t * chunk), end = min(count, begin + chunk);
+    for (uint i = begin; i < end; ++i) {
+        const uint k = keys[i];
+        const uint at = next[(k >> shift) & (RUBBLE_SORT_BUCKETS - 1u)]++;
+        keysOut[at] = k;
+        valuesOut[at] = values[i];
+    }
+}
+
+// out[i] = in[0] + ... + in[i - 1] for i <= count (out has count + 1 entries). One work-item:
+// the arrays scanned here (sort histograms, per-body counts) are small next to the rest.
+__kernel void exclusiveScan(const uint count, __global const uint* in, __global uint* out) {
+    if (get_global_id(0) != 0) return;
+    uint sum = 0;
+    for (uint i = 0; i < count; ++i) {
+        const uint v = in[i];
+        out[i] = sum;
+        sum += v;
+    }
+    out[count] = sum;
+}
+
+// cellStart and cellEnd were filled with RUBBLE_EMPTY_CELL; each run of equal keys sets its own.
+__kernel void findCellRanges(const uint count, __global const uint* keys,
+                             __global uint* cellStart, __global uint* cellEnd) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const uint k = keys[i];
+    if (i == 0 || keys[i - 1] != k) cellStart[k] = i;
+    if (i + 1 == count || keys[i + 1] != k) cellEnd[k] = i + 1;
+}
+
+// Deterministic mode: contacts in the order a stable sort by particle gave (`order`).
+__kernel void permuteContacts(const uint count, __global const uint* order,
+                              __global const ParticleContact* in, __global ParticleContact* out) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    out[i] = in[order[i]];
+}
+
+// Deterministic mode: each contact's sort key (its particle) and index.
+__kernel void contactKeys(const uint count, __global const ParticleContact* contacts,
+                          __global uint* keys, __global uint* values) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    keys[i] = contacts[i].particleA;
+    values[i] = i;
+}
