@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "host/dynamics/ragdoll.h"
 #include "host/scene/generators.h"
 #include "host/scene/json_reader.h"
 #include "host/scene/obj_mesh.h"
@@ -24,10 +25,6 @@ constexpr std::int64_t kMaxSteps = 1'000'000'000;
 constexpr std::int64_t kMaxIterations = 100'000;
 constexpr std::int64_t kMaxGridCount = 1'000'000;
 constexpr float kMinQuatNorm = 1e-6f;
-
-Error notSupported(const std::string& where, const std::string& what) {
-    return makeError(ErrorKind::NotSupported, where, what + " is not supported yet");
-}
 
 // Reads an enum field spelled as in the scene format.
 template <class E, class Parse>
@@ -316,9 +313,7 @@ class SceneLoader {
             if (type == "grid") {
                 RUBBLE_TRY(readGrid(r, i));
             } else if (type == "ragdoll") {
-                RUBBLE_TRY(r.checkKeys({"type", "name_prefix", "position", "scale", "material",
-                                        "debris"}));
-                return notSupported(r.where("type"), "the ragdoll generator");
+                RUBBLE_TRY(readRagdoll(r, i));
             } else {
                 return r.fail("type", "unknown generator type \"" + type + "\" (expected grid or ragdoll)");
             }
@@ -372,6 +367,33 @@ class SceneLoader {
             b.position = positions[k];
             b.orientation = rotations[k];
             RUBBLE_TRY(addBody(std::move(b), r, "name_prefix"));
+        }
+        return {};
+    }
+
+    // The ten parts and nine joints of host/dynamics/ragdoll, offset into the scene's arrays.
+    Status readRagdoll(const ObjectReader& r, std::size_t index) {
+        RUBBLE_TRY(r.checkKeys({"type", "name_prefix", "position", "scale", "material", "debris"}));
+        RagdollSpec spec;
+        spec.prefix = "ragdoll" + std::to_string(index);
+        spec.where = r.where();
+        RUBBLE_TRY(r.read("name_prefix", spec.prefix));
+        RUBBLE_TRY(r.read("position", spec.position));
+        RUBBLE_TRY(r.read("scale", spec.scale, Range::Positive));
+        RUBBLE_TRY(lookupMaterial(r, spec.material));
+        RUBBLE_TRY(r.read("debris", spec.debris));
+        RagdollParts parts = buildRagdoll(spec);
+        const auto firstShape = std::uint32_t(scene_.shapes.size());
+        const auto firstBody = std::uint32_t(scene_.bodies.size());
+        for (ShapeDesc& shape : parts.shapes) scene_.shapes.push_back(std::move(shape));
+        for (BodyDesc& b : parts.bodies) {
+            b.shape += firstShape;
+            RUBBLE_TRY(addBody(std::move(b), r, "name_prefix"));
+        }
+        for (JointDesc& j : parts.joints) {
+            j.a += firstBody;
+            j.b += firstBody;
+            scene_.joints.push_back(std::move(j));
         }
         return {};
     }
