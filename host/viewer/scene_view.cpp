@@ -83,20 +83,17 @@ SceneView::SceneView(const WorldState& world) : world_(&world) {
         ++sized;
     }
     if (sized) markSize_ = 0.15f * sizeSum / float(sized);
-    // The ground under the bodies belongs in the picture too.
+    // The ground under the bodies belongs in the picture too (a plane-less scene frames its
+    // bodies only; its reference grid is drawn all the same).
     const glm::vec3 centre = bounds_.empty() ? glm::vec3(0.0f) : bounds_.centre();
-    bool hasPlane = false;
     for (std::uint32_t i = 0; i < n; ++i) {
         const Shape& shape = world.shapes[world.shapeOf[i]];
         if (shape.type != ShapeType::Plane) continue;
-        hasPlane = true;
         const glm::vec3 normal = orientation(world.poses[i]) * shape.normal;
         const glm::vec3 onPlane =
             position(world.poses[i]) + orientation(world.poses[i]) * (shape.normal * shape.offset);
         if (!bounds_.empty()) bounds_.add(centre - normal * glm::dot(centre - onPlane, normal));
     }
-    if (!hasPlane && !bounds_.empty())
-        bounds_.add(glm::vec3(centre.x, std::min(0.0f, bounds_.lo.y), centre.z));
     if (bounds_.empty()) bounds_.addSphere(glm::vec3(0.0f), 1.0f);
 
     for (const JointDesc& j : world.joints) {
@@ -178,8 +175,9 @@ void SceneView::addGrounds(std::span<const BodyPose> poses, DrawList& out) const
     }
     // A scene with no plane still gets a reference grid, at y = 0 or under its lowest body.
     if (!any)
-        out.grounds.push_back(
-            {glm::vec3(0, 1, 0), glm::vec3(centre.x, bounds_.lo.y, centre.z), halfSize});
+        out.grounds.push_back({glm::vec3(0, 1, 0),
+                               glm::vec3(centre.x, std::min(0.0f, bounds_.lo.y), centre.z),
+                               halfSize});
 }
 
 void SceneView::addAabbs(std::span<const BodyPose> poses, DrawList& out) const {
