@@ -21,6 +21,8 @@ std::vector<float4> bodySurfaces(const WorldState& s) {
     return out;
 }
 
+float jacobiRelaxation(const SolverOptions& o) { return o.relaxation * kJacobiOverRelaxation; }
+
 SolverParams solverParams(const SolverOptions& o, float dt) {
     return SolverParams{o.baumgarte, o.slop, 1.0f / dt, o.relaxation};
 }
@@ -162,7 +164,7 @@ void runBuildJacobiRows(WorldState& s) {
 void runSolveJacobi(WorldState& s) {
     JacobiState& j = s.jacobi;
     solveJacobi(j, s.velocitiesBeforeSolve, s.masses, s.poses, s.velocities,
-                s.options.solver.iterations, s.options.solver.relaxation);
+                s.options.solver.iterations, jacobiRelaxation(s.options.solver));
     if (s.options.solver.warmStart) rememberImpulses(contactsOf(s), j.rows, j.previous);
     s.stats.solverResidual = j.residuals.empty() ? 0.0f : j.residuals.back();
 }

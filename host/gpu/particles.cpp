@@ -57,6 +57,13 @@ Status Pipeline::setContactCapacity(std::uint32_t capacity, bool growable) {
     return {};
 }
 
+Status Pipeline::uploadContacts(std::span<const shared::ParticleContact> contacts) {
+    if (contacts.size() > contacts_.capacity)
+        RUBBLE_TRY(setContactCapacity(std::uint32_t(contacts.size()), contacts_.growable));
+    contacts_.count = std::uint32_t(contacts.size());
+    return upload(*context_, contacts_.contacts, contacts);
+}
+
 Status Pipeline::transformParticles() {
     const cl_uint count = particles_.count;
     return Dispatch(*context_, KernelId::TransformParticles)

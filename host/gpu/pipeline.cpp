@@ -134,7 +134,7 @@ Status Pipeline::step(WorldState& s, StepStats& stats) {
     }
     {
         StageTimer t(stats.solveMs);
-        RUBBLE_TRY(solveJacobi(solver.iterations, solver.relaxation, solver.warmStart));
+        RUBBLE_TRY(solveJacobi(solver.iterations, jacobiRelaxation(solver), solver.warmStart));
         RUBBLE_TRY(finish());
     }
     {

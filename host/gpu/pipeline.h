@@ -108,6 +108,8 @@ class Pipeline {
 
     const ParticleBuffers& particles() const { return particles_; }
     const ContactBuffers& contacts() const { return contacts_; }
+    /// Replaces this step's contacts (twin tests feed both paths the same set).
+    Status uploadContacts(std::span<const shared::ParticleContact> contacts);
     /// Sets the contact capacity (and whether it may grow), for tests of overflow.
     Status setContactCapacity(std::uint32_t capacity, bool growable);
 

@@ -1,0 +1,181 @@
+// tests/gpu/particles_twin_test.cpp: OpenCL stages 2 to 5 (transformParticles, buildGrid,
+// collideParticles, buildJacobiRows and solveJacobi) against their CPU twins on one input: a
+// pile of boxes and balls after 40 steps, sizes that are not multiples of the group size.
+#include <algorithm>
+#include <tuple>
+
+#include "gpu_fixture.h"
+#include "host/collision/particle_world.h"
+#include "host/dynamics/jacobi.h"
+
+namespace rubble {
+namespace {
+
+using namespace shared;
+
+// 101 bodies (boxes and balls, 0.25 m particles) in a loose heap over a floor and a static box.
+std::string heap() {
+    return R"({"format": "rubble-scene", "version": 1, "name": "heap",
+      "simulation": {"dt": 0.016666667, "collision": {"method": "particles",
+                     "particle_spacing": 0.25}, "solver": {"type": "jacobi"}},
+      "shapes": {"floor": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
+                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]},
+                 "ball": {"type": "sphere", "radius": 0.4},
+                 "slab": {"type": "box", "half_extents": [2, 0.25, 2]}},
+      "bodies": [{"name": "floor", "shape": "floor", "static": true},
+                 {"name": "slab", "shape": "slab", "static": true, "position": [3, 0.25, 0]}],
+      "generators": [{"type": "grid", "shape": "crate", "mass": 1, "count": [5, 4, 4],
+                      "origin": [-2, 1, -2], "spacing": [1.05, 1.05, 1.05],
+                      "rotation_jitter": 0.3, "seed": 3, "name_prefix": "c"},
+                     {"type": "grid", "shape": "ball", "mass": 1, "count": [1, 1, 19],
+                      "origin": [3, 2, -4], "spacing": [1, 1, 0.9], "name_prefix": "b"}]})";
+}
+
+class ParticlesTwin : public test::GpuTest {
+  protected:
+    void SetUp() override {
+        test::GpuTest::SetUp();
+        if (IsSkipped() || HasFatalFailure()) return;
+        world_.emplace(deviceWorld(heap()));
+        for (int i = 0; i < 40; ++i) ASSERT_TRUE(world_->step().ok());
+        // The host's arrays hold the device's state after 40 steps: the shared input.
+        ASSERT_TRUE(syncHost(world_->state()).ok());
+    }
+    WorldState& s() { return world_->state(); }
+    gpu::Pipeline& p() { return *s().device; }
+    template <class T> std::vector<T> read(const gpu::Buffer& b, std::size_t n) {
+        std::vector<T> v(n);
+        EXPECT_TRUE(gpu::download(p().context(), b, std::span(v)).ok());
+        return v;
+    }
+    std::optional<World> world_;
+};
+
+TEST_F(ParticlesTwin, TransformParticlesMatchesCpu) {
+    ParticleState& ps = s().particles;
+    ASSERT_NE(ps.particles.size() % RUBBLE_GROUP_PARTICLES, 0u);
+    ASSERT_TRUE(p().transformParticles().ok());
+    transformParticles(ps.particles, s().poses, ps.world);
+    test::expectNearRel(read<float4>(p().particles().world, ps.world.size()), ps.world, 1e-5f);
+}
+
+TEST_F(ParticlesTwin, BuildGridMatchesCpu) {
+    ParticleState& ps = s().particles;
+    transformParticles(ps.particles, s().poses, ps.world);
+    // The same world positions on both sides, so that no particle changes cell by round-off.
+    ASSERT_TRUE(gpu::upload(p().context(), const_cast<gpu::Buffer&>(p().particles().world),
+                            std::span<const float4>(ps.world)).ok());
+    ASSERT_TRUE(p().buildGrid().ok());
+    buildGrid(ps.world, ps.cellSize, ps.bits, ps.keys, ps.order, ps.cellStart, ps.cellEnd);
+    const std::size_t n = ps.world.size();
+    EXPECT_EQ(read<std::uint32_t>(p().particles().keys, n), ps.keys);
+    EXPECT_EQ(read<std::uint32_t>(p().particles().values, n), ps.order);
+    EXPECT_EQ(read<std::uint32_t>(p().particles().cellStart, ps.cellStart.size()), ps.cellStart);
+    EXPECT_EQ(read<std::uint32_t>(p().particles().cellEnd, ps.cellEnd.size()), ps.cellEnd);
+}
+
+TEST_F(ParticlesTwin, RadixSortSortsStablyAnyCount) {
+    // 1000 keys with many repeats, not a multiple of the sort's item count.
+    std::vector<std::uint32_t> keys(1000), values(1000);
+    for (std::uint32_t i = 0; i < keys.size(); ++i) {
+        keys[i] = (i * 2654435761u) >> 20;
+        values[i] = i;
+    }
+    gpu::Buffer k, v, ka, va;
+    const gpu::Context& c = p().context();
+    ASSERT_TRUE(gpu::upload(c, k, std::span<const std::uint32_t>(keys)).ok());
+    ASSERT_TRUE(gpu::upload(c, v, std::span<const std::uint32_t>(values)).ok());
+    ASSERT_TRUE(ka.reserve(c.context(), 4000).ok());
+    ASSERT_TRUE(va.reserve(c.context(), 4000).ok());
+    ASSERT_TRUE(p().radixSort(k, v, ka, va, 1000, 12).ok());
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> expected;
+    for (std::uint32_t i = 0; i < keys.size(); ++i) expected.push_back({keys[i], i});
+    std::stable_sort(expected.begin(), expected.end(),
+                     [](auto x, auto y) { return x.first < y.first; });
+    const std::vector<std::uint32_t> sortedKeys = read<std::uint32_t>(k, 1000);
+    const std::vector<std::uint32_t> sortedValues = read<std::uint32_t>(v, 1000);
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        ASSERT_EQ(sortedKeys[i], expected[i].first) << i;
+        ASSERT_EQ(sortedValues[i], expected[i].second) << i;
+    }
+}
+
+TEST_F(ParticlesTwin, CollideParticlesGivesTheSameContactSet) {
+    ParticleState& ps = s().particles;
+    transformParticles(ps.particles, s().poses, ps.world);
+    ASSERT_TRUE(gpu::upload(p().context(), const_cast<gpu::Buffer&>(p().particles().world),
+                            std::span<const float4>(ps.world)).ok());
+    ASSERT_TRUE(p().buildGrid().ok());
+    ASSERT_TRUE(p().resetStatus().ok());
+    ASSERT_TRUE(p().collideParticles().ok());
+    buildGrid(ps.world, ps.cellSize, ps.bits, ps.keys, ps.order, ps.cellStart, ps.cellEnd);
+    collideParticles(ps, s().masses, ps.contacts);
+    ASSERT_GT(ps.contacts.size(), 100u);
+    ASSERT_EQ(p().contacts().count, ps.contacts.size());
+    // Device order is the atomics'; compare as sets, keyed by the two features.
+    std::vector<ParticleContact> device = read<ParticleContact>(p().contacts().contacts,
+                                                                p().contacts().count);
+    auto byKey = [](const ParticleContact& x, const ParticleContact& y) {
+        return std::tie(x.particleA, x.featureB) < std::tie(y.particleA, y.featureB);
+    };
+    std::sort(device.begin(), device.end(), byKey);
+    std::vector<ParticleContact> cpu = ps.contacts;
+    std::sort(cpu.begin(), cpu.end(), byKey);
+    for (std::size_t i = 0; i < cpu.size(); ++i) {
+        ASSERT_EQ(device[i].particleA, cpu[i].particleA) << i;
+        ASSERT_EQ(device[i].featureB, cpu[i].featureB) << i;
+        EXPECT_EQ(device[i].a, cpu[i].a);
+        EXPECT_EQ(device[i].b, cpu[i].b);
+    }
+    // The float fields, pairwise: point (w = depth) and normal.
+    std::vector<float4> dp, cp;
+    for (std::size_t i = 0; i < cpu.size(); ++i) {
+        dp.push_back(device[i].point), dp.push_back(device[i].normal);
+        cp.push_back(cpu[i].point), cp.push_back(cpu[i].normal);
+    }
+    test::expectNearRel(dp, cp, 1e-5f);
+}
+
+TEST_F(ParticlesTwin, JacobiRowsAndOneSweepMatchCpu) {
+    ParticleState& ps = s().particles;
+    runParticleGrid(s());
+    runParticleCollide(s());
+    ASSERT_GT(ps.contacts.size(), 100u);
+    ASSERT_TRUE(p().uploadContacts(ps.contacts).ok());
+    const SolverParams params = solverParams(s().options.solver, s().options.dt);
+    ASSERT_TRUE(p().buildJacobiRows(params, false).ok());
+    JacobiState& j = s().jacobi;
+    buildBodyLists(ps.contacts, s().masses, j);
+    std::vector<float4> warm(ps.contacts.size(), vec4(0, 0, 0));
+    buildJacobiRows(ps.contacts, s().poses, s().velocities, s().masses, bodySurfaces(s()), params,
+                    warm, j);
+    const std::size_t n = ps.contacts.size();
+    EXPECT_EQ(read<std::uint32_t>(p().contacts().bodyStart, s().bodyCount() + 1), j.bodyStart);
+    EXPECT_EQ(read<std::uint32_t>(p().contacts().bodyList, j.bodyList.size()), j.bodyList);
+    test::expectNearRel(read<shared::ContactRow>(p().contacts().rows, n), j.rows, 1e-5f);
+
+    // One sweep and its gather: the single-stage tolerance; ten: a looser one, as float
+    // differences from the device's math library grow through the iterations.
+    ASSERT_TRUE(p().solveJacobi(1, 1.0f, false).ok());
+    std::vector<BodyVelocity> before = s().velocities;
+    solveJacobi(j, before, s().masses, s().poses, s().velocities, 1, 1.0f);
+    test::expectNearRel(read<BodyVelocity>(p().bodies().velocities, s().bodyCount()),
+                        s().velocities, 1e-5f);
+    test::expectNearRel(read<shared::ContactRow>(p().contacts().rows, n), j.rows, 1e-5f);
+}
+
+TEST_F(ParticlesTwin, ContactOverflowIsAnErrorOrGrowsTheBuffer) {
+    ASSERT_TRUE(p().setContactCapacity(10, false).ok());
+    const Status failed = world_->step();
+    ASSERT_FALSE(failed.ok());
+    EXPECT_NE(failed.error().message.find("contact overflow"), std::string::npos)
+        << failed.error().describe();
+    ASSERT_TRUE(p().setContactCapacity(10, true).ok());
+    const Status grown = world_->step();
+    ASSERT_TRUE(grown.ok()) << grown.error().describe();
+    EXPECT_GT(p().contacts().capacity, p().contacts().count);
+    EXPECT_GT(p().contacts().count, 10u);
+}
+
+} // namespace
+} // namespace rubble
