@@ -33,17 +33,22 @@ std::uint32_t loopLength(const HalfEdgeMesh& m, std::uint32_t face) {
     return n;
 }
 
-// The face of `mesh` whose normal is most anti-parallel to `normal` (mesh frame).
-std::uint32_t incidentFace(const HalfEdgeMesh& mesh, glm::vec3 normal) {
-    std::uint32_t best = 0;
-    float lowest = glm::dot(mesh.faces[0].normal, normal);
-    for (std::uint32_t f = 1; f < mesh.faceCount(); ++f) {
+// The incident face: of the faces around the deepest vertex, the one whose normal is most
+// anti-parallel to the reference normal (mesh frame). Faces elsewhere on a round hull can be
+// as anti-parallel yet far from the contact.
+std::uint32_t incidentFace(const HalfEdgeMesh& mesh, glm::vec3 normal, std::uint32_t deepest) {
+    const std::uint32_t first = mesh.vertexEdge[deepest];
+    std::uint32_t best = mesh.edges[first].face, h = first;
+    float lowest = glm::dot(mesh.faces[best].normal, normal);
+    do {
+        const std::uint32_t f = mesh.edges[h].face;
         const float d = glm::dot(mesh.faces[f].normal, normal);
         if (d < lowest) {
             lowest = d;
             best = f;
         }
-    }
+        h = mesh.edges[mesh.edges[h].twin].next;
+    } while (h != first);
     return best;
 }
 
@@ -74,11 +79,11 @@ class ClipBuffers {
 
 // A face contact in the reference hull's frame: the incident polygon clipped by the side planes
 // of the reference face, the points below its plane plus the margin, reduced to four.
-ContactSet clipFaceContact(const HalfEdgeMesh& ref, std::uint32_t refFace, const HalfEdgeMesh& inc,
+ContactSet clipFaceContact(const HalfEdgeMesh& ref, const FaceQuery& query, const HalfEdgeMesh& inc,
                            const Transform& incInRef, float margin, ContactKind kind) {
-    const HalfEdgeFace& rf = ref.faces[refFace];
-    const std::uint32_t incFace = incidentFace(inc, incInRef.rotateInverse(rf.normal));
-    ClipBuffers buffers(loopLength(inc, incFace) + loopLength(ref, refFace) + 1);
+    const HalfEdgeFace& rf = ref.faces[query.face];
+    const std::uint32_t incFace = incidentFace(inc, incInRef.rotateInverse(rf.normal), query.vertex);
+    ClipBuffers buffers(loopLength(inc, incFace) + loopLength(ref, query.face) + 1);
     std::span<ClipVertex> polygon = buffers.in(), scratch = buffers.out();
 
     // The incident polygon in the reference frame; each vertex tagged by its half-edge.
@@ -89,13 +94,21 @@ ContactSet clipFaceContact(const HalfEdgeMesh& ref, std::uint32_t refFace, const
         h = inc.edges[h].next;
     } while (h != inc.faces[incFace].edge);
 
-    // Clip by the plane through each reference edge, perpendicular to the face, facing out.
+    // Clip by a side plane through each reference edge: perpendicular to the face, or the
+    // neighbouring face itself where it leans in under the edge (report 3.4.1), whichever is
+    // tighter below the face, so that the points stay inside the reference hull.
     h = rf.edge;
     do {
-        const glm::vec3 v0 = ref.vertices[ref.edges[h].origin];
-        const glm::vec3 v1 = ref.vertices[ref.edges[ref.edges[h].next].origin];
-        const glm::vec3 side = glm::cross(v1 - v0, rf.normal);
-        n = clipPolygon(polygon.first(n), side, glm::dot(side, v0), h, scratch);
+        const HalfEdgeFace& next = ref.faces[ref.edges[ref.edges[h].twin].face];
+        glm::vec3 side = next.normal;
+        float offset = next.offset;
+        if (glm::dot(next.normal, rf.normal) >= 0.0f) {
+            const glm::vec3 v0 = ref.vertices[ref.edges[h].origin];
+            const glm::vec3 v1 = ref.vertices[ref.edges[ref.edges[h].next].origin];
+            side = glm::cross(v1 - v0, rf.normal);
+            offset = glm::dot(side, v0);
+        }
+        n = clipPolygon(polygon.first(n), side, offset, h, scratch);
         std::swap(polygon, scratch);
         h = ref.edges[h].next;
     } while (n > 0 && h != rf.edge);
@@ -151,27 +164,38 @@ HullContact collideHulls(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Tra
     const bool useB = hint.feature == SatFeature::FaceB
                           ? !clearlyLarger(sa, sb, kRelativeFaceTolerance)
                           : clearlyLarger(sb, sa, kRelativeFaceTolerance);
-    const float faceSeparation = useB ? sb : sa;
     const bool haveEdges = sat.edges.separation > -std::numeric_limits<float>::max();
     const bool useEdges =
-        haveEdges && clearlyLarger(sat.edges.separation, faceSeparation, kRelativeEdgeTolerance);
-
-    if (!useEdges) {
-        if (!useB) {
-            r.contacts = clipFaceContact(a, sat.faceA.face, b, bInA, margin, ContactKind::FaceA);
+        haveEdges && clearlyLarger(sat.edges.separation, useB ? sb : sa, kRelativeEdgeTolerance);
+    // A fallback must be nearly as shallow as the best axis: a deeper axis would push the
+    // bodies apart along the wrong direction.
+    auto acceptable = [&](float s) {
+        return !clearlyLarger(sat.separation, s, kRelativeEdgeTolerance);
+    };
+    auto tryFace = [&](bool ownerB) {
+        if (!ownerB) {
+            r.contacts = clipFaceContact(a, sat.faceA, b, bInA, margin, ContactKind::FaceA);
             r.feature = SatHint{SatFeature::FaceA, sat.faceA.face, 0};
-        } else {
-            // Made in B's frame with B's normal: brought to A's frame, pointing from A to B.
-            const Transform aInB = inverse(bInA);
-            r.contacts = clipFaceContact(b, sat.faceB.face, a, aInB, margin, ContactKind::FaceB);
-            for (std::uint32_t i = 0; i < r.contacts.count; ++i)
-                r.contacts.points[i].position = bInA.apply(r.contacts.points[i].position);
-            r.contacts.normal = -bInA.rotate(r.contacts.normal);
-            r.feature = SatHint{SatFeature::FaceB, 0, sat.faceB.face};
+            return r.contacts.count > 0;
         }
-        if (r.contacts.count > 0 || !haveEdges) return r;
+        // Made in B's frame with B's normal: brought to A's frame, pointing from A to B.
+        const Transform aInB = inverse(bInA);
+        r.contacts = clipFaceContact(b, sat.faceB, a, aInB, margin, ContactKind::FaceB);
+        for (std::uint32_t i = 0; i < r.contacts.count; ++i)
+            r.contacts.points[i].position = bInA.apply(r.contacts.points[i].position);
+        r.contacts.normal = -bInA.rotate(r.contacts.normal);
+        r.feature = SatHint{SatFeature::FaceB, 0, sat.faceB.face};
+        return r.contacts.count > 0;
+    };
+    if (!useEdges) {
+        if (tryFace(useB)) return r;
+        // The clipped overlap held no point: the other face, then the edges, if good enough.
+        if (acceptable(useB ? sa : sb) && tryFace(!useB)) return r;
+        if (!haveEdges || !acceptable(sat.edges.separation)) {
+            r.contacts = ContactSet{};
+            return r;
+        }
     }
-    // An edge pair, or the fallback when the faces' clipped overlap holds no point.
     r.contacts = edgeContact(a, b, bInA, sat.edges);
     r.feature = SatHint{SatFeature::Edges, sat.edges.edgeA, sat.edges.edgeB};
     return r;

@@ -99,7 +99,6 @@ EdgeQuery queryEdgeDirections(const HalfEdgeMesh& a, const HalfEdgeMesh& b, cons
 EdgeQuery queryEdgeDirectionsUnpruned(const HalfEdgeMesh& a, const HalfEdgeMesh& b,
                                       const Transform& bInA, float stopAbove) {
     EdgeQuery best;
-    std::uint32_t startA = 0, startB = 0;
     for (std::uint32_t kb = 0; kb < b.edgeCount(); ++kb) {
         const HalfEdgeEdge& eb = b.edgeRecords[kb];
         const glm::vec3 dirB = bInA.rotate(eb.direction);
@@ -109,6 +108,8 @@ EdgeQuery queryEdgeDirectionsUnpruned(const HalfEdgeMesh& a, const HalfEdgeMesh&
                 edgeAxis(ea.origin, ea.direction, dirB, a.centroid);
             if (!axis) continue;
             for (const glm::vec3 u : {*axis, -*axis}) {
+                // The climbs start at the edges' own vertices.
+                std::uint32_t startA = a.edges[2 * ka].origin, startB = b.edges[2 * kb].origin;
                 const float s = separationAlongFrom(a, b, bInA, u, startA, startB);
                 if (s > best.separation) {
                     best = EdgeQuery{s, ka, kb, u};

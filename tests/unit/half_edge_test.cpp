@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "host/geometry/shape.h"
+#include "host/scene/obj_mesh.h"
+#include "random_hull.h"
 
 namespace rubble {
 namespace {
@@ -115,6 +117,99 @@ TEST(HalfEdge, ShapesCarryTheirHalfEdgeMesh) {
     EXPECT_EQ(cube->halfEdge.faceCount(), 6u);
     EXPECT_EQ(cube->halfEdge.edgeCount(), 12u);
     EXPECT_EQ(cube->halfEdge.vertexCount(), 8u);
+}
+
+TEST(HalfEdge, HillClimbingMatchesBruteForceOnRandomHulls) {
+    // 100 random hulls, 1,000 random directions each, from a random start vertex.
+    std::mt19937 rng(2015);
+    int failures = 0;
+    for (int h = 0; h < 100; ++h) {
+        const Shape shape = test::randomHull(rng);
+        const HalfEdgeMesh& m = shape.halfEdge;
+        std::uniform_int_distribution<std::uint32_t> start(0, m.vertexCount() - 1);
+        for (int i = 0; i < 1000; ++i) {
+            const glm::vec3 d = test::randomDirection(rng);
+            const float hill = glm::dot(d, m.vertices[supportVertex(m, d, start(rng))]);
+            const float brute = glm::dot(d, m.vertices[supportVertexBruteForce(m, d)]);
+            // Merged faces are planar within kMergeDistance; nothing else may differ.
+            if (!(hill >= brute - kMergeDistance * shape.boundingRadius) && ++failures <= 5)
+                ADD_FAILURE() << "hull " << h << " direction " << i << ": hill " << hill
+                              << ", brute " << brute;
+        }
+    }
+    EXPECT_EQ(failures, 0);
+}
+
+TEST(HalfEdge, RandomHullsKeepTheInvariants) {
+    std::mt19937 rng(11);
+    for (int i = 0; i < 200; ++i) {
+        const Shape shape = test::randomHull(rng);
+        const HalfEdgeMesh& m = shape.halfEdge;
+        EXPECT_TRUE(checkHalfEdgeMesh(m, "random").ok());
+        EXPECT_EQ(long(m.vertexCount()) - long(m.edgeCount()) + long(m.faceCount()), 2);
+        // Each undirected edge's record matches its half-edges.
+        for (std::uint32_t k = 0; k < m.edgeCount(); ++k) {
+            const HalfEdgeEdge& e = m.edgeRecords[k];
+            EXPECT_EQ(e.origin, m.vertices[m.edges[2 * k].origin]);
+            EXPECT_EQ(e.direction, m.vertices[m.edges[2 * k + 1].origin] - e.origin);
+        }
+    }
+}
+
+// The OBJ meshes shipped in scenes/meshes.
+Result<Shape> meshShape(const std::string& file) {
+    const std::string path = std::string(RUBBLE_SOURCE_DIR) + "/scenes/meshes/" + file;
+    Result<TriangleMesh> mesh = loadObjMesh(path, 1.0f, file);
+    if (!mesh) return mesh.error();
+    ShapeDesc d;
+    d.type = ShapeType::Mesh;
+    d.where = file;
+    d.points = mesh->vertices;
+    d.triangles = mesh->triangles;
+    return buildShape(d);
+}
+
+ConvexPolygons objTriangles(const std::string& file) {
+    const std::string path = std::string(RUBBLE_SOURCE_DIR) + "/scenes/meshes/" + file;
+    Result<TriangleMesh> mesh = loadObjMesh(path, 1.0f, file);
+    EXPECT_TRUE(mesh.ok());
+    ConvexPolygons p;
+    p.vertices = mesh->vertices;
+    for (const glm::uvec3& t : mesh->triangles) p.faces.push_back({t.x, t.y, t.z});
+    return p;
+}
+
+TEST(HalfEdge, ObjMeshesGiveValidHulls) {
+    for (const char* file : {"rock.obj", "l_block.obj", "bowl.obj"}) {
+        Result<Shape> s = meshShape(file);
+        ASSERT_TRUE(s.ok()) << file << ": " << s.error().describe();
+        EXPECT_TRUE(checkHalfEdgeMesh(s->halfEdge, file).ok()) << file;
+        EXPECT_TRUE(isClosedMesh(s->mesh)) << file;
+    }
+    // The L's hull is a prism over a pentagon: the inner corner is cut off.
+    Result<Shape> block = meshShape("l_block.obj");
+    ASSERT_TRUE(block.ok());
+    EXPECT_EQ(block->halfEdge.faceCount(), 7u);
+    EXPECT_EQ(block->halfEdge.edgeCount(), 15u);
+    EXPECT_EQ(block->halfEdge.vertexCount(), 10u);
+}
+
+TEST(HalfEdge, ConvexObjTrianglesBuildDirectly) {
+    Result<HalfEdgeMesh> rock = buildHalfEdgeMesh(objTriangles("rock.obj"), "rock.obj");
+    ASSERT_TRUE(rock.ok()) << rock.error().describe();
+    EXPECT_EQ(rock->faceCount(), 20u);
+    EXPECT_EQ(rock->vertexCount(), 12u);
+    EXPECT_EQ(rock->edgeCount(), 30u);
+}
+
+TEST(HalfEdge, ConcaveObjTrianglesAreBadInput) {
+    for (const char* file : {"l_block.obj", "bowl.obj"}) {
+        Result<HalfEdgeMesh> m = buildHalfEdgeMesh(objTriangles(file), file);
+        ASSERT_FALSE(m.ok()) << file;
+        EXPECT_EQ(m.error().kind, ErrorKind::BadInput);
+        EXPECT_EQ(m.error().where, file);
+        EXPECT_NE(m.error().message.find("convex"), std::string::npos) << m.error().message;
+    }
 }
 
 } // namespace

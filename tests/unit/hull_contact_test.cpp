@@ -5,6 +5,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "host/geometry/shape.h"
+#include "random_hull.h"
 
 namespace rubble {
 namespace {
@@ -123,6 +124,73 @@ TEST(HullContact, FeatureIdsStayUnderSmallMotion) {
     std::sort(a.begin(), a.end());
     std::sort(b.begin(), b.end());
     EXPECT_EQ(a, b);
+}
+
+// The largest distance of p outside the hull's face planes (negative inside), hull frame.
+float outside(const HalfEdgeMesh& m, glm::vec3 p) {
+    float d = -1e30f;
+    for (const HalfEdgeFace& f : m.faces) d = std::max(d, glm::dot(f.normal, p) - f.offset);
+    return d;
+}
+
+TEST(HullContact, RandomHullManifoldsLieInBothShapes) {
+    std::mt19937 rng(31);
+    std::vector<Shape> pool;
+    for (int i = 0; i < 40; ++i) pool.push_back(test::randomHull(rng));
+    std::uniform_int_distribution<std::size_t> pick(0, pool.size() - 1);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    int failures = 0, withContacts = 0, faceContacts = 0, edgeContacts = 0;
+    auto fail = [&](int i, const std::string& what) {
+        if (++failures <= 5) ADD_FAILURE() << "pair " << i << ": " << what;
+    };
+    for (int i = 0; i < 3000; ++i) {
+        const Shape& sa = pool[pick(rng)];
+        const Shape& sb = pool[pick(rng)];
+        const HalfEdgeMesh& a = sa.halfEdge;
+        const HalfEdgeMesh& b = sb.halfEdge;
+        // Touching, then pushed up to 2 cm into contact or 3 mm apart.
+        const glm::quat q = test::randomRotation(rng);
+        const glm::vec3 dir = test::randomDirection(rng);
+        float lo = 0.0f, hi = sa.boundingRadius + sb.boundingRadius;
+        for (int k = 0; k < 24; ++k) {
+            const float mid = 0.5f * (lo + hi);
+            (runSat(a, b, test::makeTransform(dir * mid, q)).separated ? hi : lo) = mid;
+        }
+        const Transform bInA = test::makeTransform(dir * (lo + 0.003f - 0.023f * u01(rng)), q);
+        const HullContact c = collideHulls(a, b, bInA);
+        if (c.separated || c.contacts.count == 0) continue;
+        ++withContacts;
+        faceContacts += c.feature.feature != SatFeature::Edges;
+        edgeContacts += c.feature.feature == SatFeature::Edges;
+        const glm::vec3 n = c.contacts.normal;
+        if (std::fabs(glm::length(n) - 1.0f) > 1e-5f) fail(i, "normal is not unit");
+        // From A to B: B lies further along n than A does, and n is nearly the axis of least
+        // penetration (the feature choice may prefer a face that is a little deeper).
+        const float along = separationAlong(a, b, bInA, n);
+        const float against = separationAlong(a, b, bInA, -n);
+        const SatResult sat = runSat(a, b, bInA, kContactMargin);
+        if (!(along > against)) fail(i, "normal points from B to A");
+        if (sat.separation > along + 0.16f * std::fabs(along) + 0.0051f)
+            fail(i, "normal is far from the axis of least penetration");
+        for (std::uint32_t k = 0; k < c.contacts.count; ++k) {
+            const LocalContact& p = c.contacts.points[k];
+            // Midway between the surfaces, moved along the normal: within half the depth (or
+            // half the gap) of each surface where the faces are not parallel.
+            const float slop = 0.5f * std::fabs(p.depth) + 1e-4f;
+            const float outA = outside(a, p.position), outB = outside(b, bInA.applyInverse(p.position));
+            if (outA > slop || outB > slop)
+                fail(i, "point outside a shape: " + std::to_string(outA) + ", " +
+                            std::to_string(outB) + " (depth " + std::to_string(p.depth) + ")");
+            if (p.depth > 0.02f + 1e-3f || p.depth < -kContactMargin - 1e-5f)
+                fail(i, "depth out of range: " + std::to_string(p.depth));
+            for (std::uint32_t j = 0; j < k; ++j)
+                if (c.contacts.points[j].feature == p.feature) fail(i, "repeated feature id");
+        }
+    }
+    EXPECT_EQ(failures, 0);
+    EXPECT_GT(withContacts, 2000);
+    EXPECT_GT(faceContacts, 500);
+    EXPECT_GT(edgeContacts, 200);
 }
 
 } // namespace

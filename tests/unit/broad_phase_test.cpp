@@ -1,0 +1,105 @@
+// tests/unit/broad_phase_test.cpp: host/collision/broad_phase against brute force O(n^2).
+#include "host/collision/broad_phase.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+namespace rubble {
+namespace {
+
+struct RandomSet {
+    std::vector<Aabb> boxes;
+    std::vector<std::uint8_t> flags;
+    std::vector<PlaneProxy> planes;
+};
+
+// n boxes of mixed sizes (a few large ones) in a region, some inactive, some planes.
+RandomSet randomSet(std::mt19937& rng, std::uint32_t n, float region) {
+    std::uniform_real_distribution<float> pos(-region, region), size(0.05f, 1.0f), u01(0.0f, 1.0f);
+    RandomSet s;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const glm::vec3 c(pos(rng), pos(rng), pos(rng));
+        glm::vec3 h(size(rng), size(rng), size(rng));
+        if (u01(rng) < 0.02f) h *= 10.0f; // a few large bodies across many slabs
+        s.boxes.push_back(Aabb{c - h, c + h});
+        std::uint8_t f = u01(rng) < 0.3f ? kBroadPhaseInactive : 0;
+        if (u01(rng) < 0.01f) {
+            f = kBroadPhaseInactive | kBroadPhaseNoBox;
+            const glm::vec3 normal = glm::normalize(glm::vec3(pos(rng), region, pos(rng)));
+            s.planes.push_back(PlaneProxy{i, normal, pos(rng) * 0.5f});
+        }
+        s.flags.push_back(f);
+    }
+    return s;
+}
+
+TEST(BroadPhase, MatchesBruteForceOnRandomBoxes) {
+    std::mt19937 rng(1234);
+    BroadPhaseScratch scratch;
+    std::size_t total = 0;
+    for (int round = 0; round < 40; ++round) {
+        const std::uint32_t n = 1 + std::uint32_t(rng() % 800);
+        const RandomSet s = randomSet(rng, n, 2.0f + float(round % 5) * 3.0f);
+        std::vector<BodyPair> fast, brute;
+        findPairs(s.boxes, s.flags, s.planes, fast, scratch);
+        findPairsBruteForce(s.boxes, s.flags, s.planes, brute);
+        ASSERT_EQ(fast, brute) << "round " << round << ", " << n << " boxes";
+        total += fast.size();
+    }
+    EXPECT_GT(total, 10000u); // the sets are dense enough to mean something
+}
+
+TEST(BroadPhase, PairsAreSortedAndOrdered) {
+    std::mt19937 rng(5);
+    const RandomSet s = randomSet(rng, 500, 3.0f);
+    std::vector<BodyPair> pairs;
+    BroadPhaseScratch scratch;
+    findPairs(s.boxes, s.flags, s.planes, pairs, scratch);
+    ASSERT_FALSE(pairs.empty());
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+        EXPECT_LT(pairs[i].a, pairs[i].b);
+        if (i > 0) {
+            EXPECT_LT(pairs[i - 1], pairs[i]);
+        }
+        EXPECT_FALSE((s.flags[pairs[i].a] & kBroadPhaseInactive) &&
+                     (s.flags[pairs[i].b] & kBroadPhaseInactive));
+    }
+}
+
+TEST(BroadPhase, TouchingBoxesPairAndPlanesReachEveryBodyBelowThem) {
+    const std::vector<Aabb> boxes{{{0, 0, 0}, {1, 1, 1}},
+                                  {{1, 0, 0}, {2, 1, 1}},  // touches box 0
+                                  {{0, 0, 0}, {0, 0, 0}},  // the plane's slot
+                                  {{5, 3, 5}, {6, 4, 6}}}; // above the plane y = 2.5
+    const std::vector<std::uint8_t> flags{0, 0, kBroadPhaseInactive | kBroadPhaseNoBox, 0};
+    const std::vector<PlaneProxy> planes{{2, {0, 1, 0}, 2.5f}};
+    std::vector<BodyPair> pairs;
+    BroadPhaseScratch scratch;
+    findPairs(boxes, flags, planes, pairs, scratch);
+    const std::vector<BodyPair> expected{{0, 1}, {0, 2}, {1, 2}};
+    EXPECT_EQ(pairs, expected);
+}
+
+TEST(BroadPhase, RestingGridIsLinear) {
+    // A 64 x 4 x 64 grid of unit boxes 1.2 m apart: only the floor plane pairs with them.
+    std::vector<Aabb> boxes;
+    std::vector<std::uint8_t> flags;
+    for (int x = 0; x < 64; ++x)
+        for (int y = 0; y < 4; ++y)
+            for (int z = 0; z < 64; ++z) {
+                const glm::vec3 c(x * 1.2f, 0.5f + y * 1.0f, z * 1.2f);
+                boxes.push_back(Aabb{c - glm::vec3(0.5f), c + glm::vec3(0.5f)});
+                flags.push_back(0);
+            }
+    std::vector<BodyPair> pairs;
+    BroadPhaseScratch scratch;
+    findPairs(boxes, flags, {}, pairs, scratch);
+    // Stacked boxes touch their neighbours above and below: 64 * 64 * 3 pairs.
+    EXPECT_EQ(pairs.size(), 64u * 64u * 3u);
+    // Each box sits in at most two slabs.
+    EXPECT_LE(scratch.entries.size(), 2 * boxes.size());
+}
+
+} // namespace
+} // namespace rubble

@@ -1,0 +1,253 @@
+// tests/unit/sat_test.cpp: host/collision/sat against brute force on random hulls at random poses:
+// the verdict, the depth, and the pruned edge query against the unpruned one.
+#include "host/collision/sat.h"
+
+#include <cstdio>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "random_hull.h"
+
+namespace rubble {
+namespace {
+
+using test::makeTransform;
+using test::randomDirection;
+using test::randomHull;
+using test::randomRotation;
+
+// Vertices as separate coordinate arrays, so that the projection loops vectorise.
+struct Points {
+    std::vector<float> x, y, z;
+    explicit Points(const std::vector<glm::vec3>& v, const Transform& t = {}) {
+        for (const glm::vec3& p : v) {
+            const glm::vec3 q = t.apply(p);
+            x.push_back(q.x);
+            y.push_back(q.y);
+            z.push_back(q.z);
+        }
+    }
+    void project(glm::vec3 u, float& lo, float& hi) const {
+        lo = 1e30f;
+        hi = -1e30f;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            const float d = u.x * x[i] + u.y * y[i] + u.z * z[i];
+            lo = std::min(lo, d);
+            hi = std::max(hi, d);
+        }
+    }
+};
+
+// Brute force over candidate axes from all vertices' projections: the largest of
+// max(minB - maxA, minA - maxB), that is of -h(A - B) over both orientations. Faces: every face
+// normal of both hulls; edges: the cross product of every edge of a with every edge of b.
+struct BruteForce {
+    float faces = -1e30f, edges = -1e30f;
+    float all() const { return std::max(faces, edges); }
+};
+
+BruteForce bruteForceSeparation(const HalfEdgeMesh& a, const HalfEdgeMesh& b,
+                                const Transform& bInA) {
+    const Points pa(a.vertices), pb(b.vertices, bInA);
+    auto along = [&](glm::vec3 u) {
+        float aMin, aMax, bMin, bMax;
+        pa.project(u, aMin, aMax);
+        pb.project(u, bMin, bMax);
+        return std::max(bMin - aMax, aMin - bMax);
+    };
+    BruteForce r;
+    for (const HalfEdgeFace& f : a.faces) r.faces = std::max(r.faces, along(f.normal));
+    for (const HalfEdgeFace& f : b.faces) r.faces = std::max(r.faces, along(bInA.rotate(f.normal)));
+    for (std::uint32_t i = 0; i < a.edgeCount(); ++i) {
+        const glm::vec3 ea = a.vertices[a.edges[2 * i + 1].origin] - a.vertices[a.edges[2 * i].origin];
+        for (std::uint32_t j = 0; j < b.edgeCount(); ++j) {
+            const glm::vec3 eb =
+                bInA.rotate(b.vertices[b.edges[2 * j + 1].origin] - b.vertices[b.edges[2 * j].origin]);
+            const glm::vec3 c = glm::cross(ea, eb);
+            if (glm::dot(c, c) <= kParallelSine * kParallelSine * glm::dot(ea, ea) * glm::dot(eb, eb))
+                continue;
+            r.edges = std::max(r.edges, along(glm::normalize(c)));
+        }
+    }
+    return r;
+}
+
+// A pool of random hulls, built once.
+const std::vector<Shape>& hullPool() {
+    static const std::vector<Shape> pool = [] {
+        std::mt19937 rng(20130307);
+        std::vector<Shape> hulls;
+        for (int i = 0; i < 120; ++i) hulls.push_back(randomHull(rng));
+        return hulls;
+    }();
+    return pool;
+}
+
+// b's pose in a's frame: touching (found by bisection on the SAT's verdict along a direction),
+// deeply overlapping, or anywhere from overlapping to apart.
+Transform randomPose(const Shape& a, const Shape& b, int kind, std::mt19937& rng) {
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    const glm::quat q = randomRotation(rng);
+    const glm::vec3 dir = randomDirection(rng);
+    const float reach = a.boundingRadius + b.boundingRadius;
+    if (kind == 0) return makeTransform(dir * (u01(rng) * 1.2f * reach), q);
+    if (kind == 1) return makeTransform(dir * (u01(rng) * 0.3f * reach), q);
+    float lo = 0.0f, hi = reach * 1.01f;
+    for (int i = 0; i < 20; ++i) {
+        const float mid = 0.5f * (lo + hi);
+        if (runSat(a.halfEdge, b.halfEdge, makeTransform(dir * mid, q)).separated) hi = mid;
+        else lo = mid;
+    }
+    // Up to a millimetre into contact, or out of it.
+    const float step = u01(rng) * 1e-3f;
+    return makeTransform(dir * (kind == 2 ? lo - step : hi + step), q);
+}
+
+// The 10,000 pairs both property tests use: hull indices and b's pose in a's frame; a quarter
+// anywhere, a quarter deep, half touching (just overlapping or just apart).
+struct Case {
+    std::size_t a, b;
+    Transform bInA;
+};
+
+const std::vector<Case>& randomCases() {
+    static const std::vector<Case> cases = [] {
+        const std::vector<Shape>& pool = hullPool();
+        std::mt19937 rng(42);
+        std::uniform_int_distribution<std::size_t> pick(0, pool.size() - 1);
+        std::vector<Case> out;
+        for (int i = 0; i < 10000; ++i) {
+            const std::size_t a = pick(rng), b = pick(rng);
+            out.push_back(Case{a, b, randomPose(pool[a], pool[b], i % 4, rng)});
+        }
+        return out;
+    }();
+    return cases;
+}
+
+// Collects failures and reports the first few in full.
+class Failures {
+  public:
+    void add(int pair, const std::string& what) {
+        if (++count_ <= 5) ADD_FAILURE() << "pair " << pair << ": " << what;
+    }
+    int count() const { return count_; }
+
+  private:
+    int count_ = 0;
+};
+
+TEST(Sat, MatchesBruteForceOnTenThousandRandomPairs) {
+    const std::vector<Shape>& pool = hullPool();
+    constexpr float kDepthTolerance = 1e-4f;
+    // Near a verdict's boundary float round-off may tip either way.
+    constexpr float kVerdictBand = 1e-5f;
+    Failures failures;
+    int separated = 0, touching = 0, deep = 0, edgeWins = 0;
+    const std::vector<Case>& cases = randomCases();
+    for (int i = 0; i < int(cases.size()); ++i) {
+        const HalfEdgeMesh& a = pool[cases[i].a].halfEdge;
+        const HalfEdgeMesh& b = pool[cases[i].b].halfEdge;
+        const Transform& bInA = cases[i].bInA;
+        const BruteForce brute = bruteForceSeparation(a, b, bInA);
+        const SatResult sat = runSat(a, b, bInA);
+        separated += sat.separated;
+        touching += std::fabs(brute.all()) < 1e-3f;
+        deep += brute.all() < -0.2f;
+        edgeWins += !sat.separated && sat.feature == SatFeature::Edges;
+        char text[200];
+        std::snprintf(text, sizeof text, "brute %.7g, sat %.7g (%s)", double(brute.all()),
+                      double(sat.separation), sat.separated ? "separated" : "overlapping");
+        if (std::fabs(brute.all()) > kVerdictBand && sat.separated != (brute.all() > 0.0f))
+            failures.add(i, std::string("verdict differs: ") + text);
+        if (!sat.separated && std::fabs(sat.separation - brute.all()) > kDepthTolerance)
+            failures.add(i, std::string("depth differs: ") + text);
+        if (sat.separated && (sat.separation <= 0.0f || brute.all() < sat.separation - kDepthTolerance))
+            failures.add(i, std::string("separating axis is not one: ") + text);
+        // The reported axis and separation agree with the support points.
+        const float along = separationAlong(a, b, bInA, sat.axis);
+        if (std::fabs(along - sat.separation) > kDepthTolerance)
+            failures.add(i, "axis disagrees with its separation: " + std::to_string(along));
+
+        // The pruned edge query (every pair, no early out) against every edge pair: with the
+        // faces, the same answer; alone, never above the unpruned maximum.
+        const EdgeQuery pruned = queryEdgeDirections(a, b, bInA);
+        const float withPruned = std::max(brute.faces, pruned.separation);
+        if (brute.all() < 0.0f && std::fabs(withPruned - brute.all()) > kDepthTolerance)
+            failures.add(i, "pruned edges give " + std::to_string(withPruned) + ", unpruned " +
+                                std::to_string(brute.all()));
+        if (pruned.separation > brute.edges + kDepthTolerance)
+            failures.add(i, "a pruned edge axis beats every unpruned one");
+    }
+    EXPECT_EQ(failures.count(), 0);
+    // The draw covers every case.
+    EXPECT_GT(separated, 2000);
+    EXPECT_GT(touching, 2000);
+    EXPECT_GT(deep, 1000);
+    EXPECT_GT(edgeWins, 500);
+}
+
+TEST(Sat, PrunedEqualsUnprunedQuery) {
+    // The unpruned query of the library (support points for every edge pair, as the benchmark
+    // runs it) on a tenth of the pairs.
+    const std::vector<Shape>& pool = hullPool();
+    Failures failures;
+    const std::vector<Case>& cases = randomCases();
+    for (int i = 0; i < int(cases.size()); i += 10) {
+        const HalfEdgeMesh& a = pool[cases[i].a].halfEdge;
+        const HalfEdgeMesh& b = pool[cases[i].b].halfEdge;
+        const Transform& bInA = cases[i].bInA;
+        const SatResult pruned = runSat(a, b, bInA);
+        const SatResult unpruned = runSat(a, b, bInA, 0.0f, {}, false);
+        if (std::fabs(unpruned.separation) > 1e-5f && pruned.separated != unpruned.separated)
+            failures.add(i, "verdicts differ");
+        if (!pruned.separated && !unpruned.separated &&
+            std::fabs(pruned.separation - unpruned.separation) > 1e-4f)
+            failures.add(i, "depths differ: " + std::to_string(pruned.separation) + " vs " +
+                                std::to_string(unpruned.separation));
+        // Every pruned candidate is a real axis: its edge-point separation is the support one.
+        const EdgeQuery e = queryEdgeDirections(a, b, bInA);
+        if (e.separation > -1e30f &&
+            std::fabs(e.separation - separationAlong(a, b, bInA, e.axis)) > 1e-4f)
+            failures.add(i, "pruned edge separation is not the support separation");
+    }
+    EXPECT_EQ(failures.count(), 0);
+}
+
+TEST(Sat, HintGivesTheSameVerdict) {
+    const std::vector<Shape>& pool = hullPool();
+    std::mt19937 rng(99);
+    std::uniform_int_distribution<std::size_t> pick(0, pool.size() - 1);
+    Failures failures;
+    for (int i = 0; i < 2000; ++i) {
+        const Shape& a = pool[pick(rng)];
+        const Shape& b = pool[pick(rng)];
+        const Transform bInA = randomPose(a, b, i % 4, rng);
+        const SatResult cold = runSat(a.halfEdge, b.halfEdge, bInA);
+        // The hint of a slightly different pose, as from the last step.
+        const Transform moved{bInA.rotation, bInA.translation + randomDirection(rng) * 0.01f};
+        const SatResult last = runSat(a.halfEdge, b.halfEdge, moved);
+        const SatResult warm =
+            runSat(a.halfEdge, b.halfEdge, bInA, 0.0f, SatHint{last.feature, last.indexA, last.indexB});
+        if (std::fabs(cold.separation) > 1e-5f && cold.separated != warm.separated)
+            failures.add(i, "the hint changed the verdict");
+        if (!cold.separated && std::fabs(cold.separation - warm.separation) > 1e-6f)
+            failures.add(i, "the hint changed the depth");
+    }
+    EXPECT_EQ(failures.count(), 0);
+}
+
+TEST(Sat, FindSeparationOnBoxes) {
+    Result<HalfEdgeMesh> box = buildHalfEdgeMesh(boxPolygons(glm::vec3(0.5f)), "box");
+    ASSERT_TRUE(box.ok());
+    EXPECT_FALSE(findSeparation(*box, *box, Transform{glm::mat3(1.0f), {1.01f, 0, 0}}));
+    const auto s = findSeparation(*box, *box, Transform{glm::mat3(1.0f), {0.9f, 0.2f, 0}});
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->feature, SatFeature::FaceA);
+    EXPECT_NEAR(s->separation, -0.1f, 1e-6f);
+    EXPECT_NEAR(s->axis.x, 1.0f, 1e-6f);
+}
+
+} // namespace
+} // namespace rubble
