@@ -20,7 +20,7 @@ static void appendContact(ParticleContact c, const uint capacity,
 }
 
 // One work-item per sorted slot: its particle against the other bodies' particles in the 27
-// neighbouring cells (a pair once, from the lower body) and against the static shapes.
+// neighbouring cells (distinct keys: see cellHashItem) (a pair once, from the lower body) and against the static shapes.
 __kernel void collideParticles(const uint count, const uint staticCount,
                                const float inverseCellSize, const uint bits, const uint capacity,
                                __global const uint* order, __global const uint* cellStart,
@@ -37,14 +37,10 @@ __kernel void collideParticles(const uint count, const uint staticCount,
     const int staticI = masses[bodyI].inverseMass == 0.0f;
     const int cx = cellCoordinate(xi.x, inverseCellSize), cy = cellCoordinate(xi.y, inverseCellSize),
               cz = cellCoordinate(xi.z, inverseCellSize);
-    uint seen[27];
-    uint seenCount = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz)
             for (int dx = -1; dx <= 1; ++dx) {
                 const uint key = cellHashItem(cx + dx, cy + dy, cz + dz, bits);
-                if (!neighbourCellIsNewItem(seen, seenCount, key)) continue;
-                seen[seenCount++] = key;
                 const uint start = cellStart[key];
                 if (start == RUBBLE_EMPTY_CELL) continue;
                 const uint end = cellEnd[key];

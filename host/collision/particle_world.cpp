@@ -120,11 +120,11 @@ void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
                   cz = cellCoordinate(xi.z, inverse);
         std::uint32_t seen[27];
         std::uint32_t seenCount = 0;
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dz = -1; dz <= 1; ++dz)
                 for (int dx = -1; dx <= 1; ++dx) {
                     const std::uint32_t key = cellHashItem(cx + dx, cy + dy, cz + dz, p.bits);
-                    if (!neighbourCellIsNewItem(seen, seenCount, key)) continue;
+                    RUBBLE_ASSERT(neighbourCellIsNewItem(seen, seenCount, key));
                     seen[seenCount++] = key;
                     const std::uint32_t start = p.cellStart[key];
                     if (start == RUBBLE_EMPTY_CELL) continue;

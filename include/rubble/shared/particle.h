@@ -55,14 +55,20 @@ RUBBLE_FN int cellCoordinate(float x, float inverseCellSize) {
     return (int)floor(x * inverseCellSize);
 }
 
-// Cell (x, y, z) hashed into a table of 2^bits cells (Teschner et al. 2003, primes of section 4).
+// Cell (x, y, z) on a grid that wraps around every 2^bx cells in x, 2^bz in z and 2^by in y
+// (bits = bx + bz + by, each at least 3): neighbouring cells in x are neighbours in the table,
+// so that the 27 cells around a particle are 9 short runs of memory (a hash with large primes
+// scatters them and the stage waits on cache misses), and the 27 keys are distinct. Cells
+// that alias across the wrap only add candidates that the distance test rejects.
 RUBBLE_FN uint cellHashItem(int x, int y, int z, uint bits) {
-    const uint h = ((uint)x * 73856093u) ^ ((uint)y * 19349663u) ^ ((uint)z * 83492791u);
-    return h & ((1u << bits) - 1u);
+    const uint by = bits / 3u, bz = (bits - by) / 2u, bx = bits - by - bz;
+    const uint ux = (uint)x & ((1u << bx) - 1u), uz = (uint)z & ((1u << bz) - 1u),
+               uy = (uint)y & ((1u << by) - 1u);
+    return ux | (uz << bx) | (uy << (bx + bz));
 }
 
-// True when `key` is not among the first n keys already visited: hashing can send two of the
-// 27 neighbouring cells to one key, whose particles must be met once.
+// True when `key` is not among the first n keys already visited (the CPU twin asserts that
+// the 27 neighbour keys are distinct).
 RUBBLE_FN int neighbourCellIsNewItem(const uint* seen, uint n, uint key) {
     for (uint i = 0; i < n; ++i)
         if (seen[i] == key) return 0;
