@@ -3,6 +3,8 @@
 // narrowPhase; no allocation.
 #include "host/collision/sat.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace rubble {
@@ -11,15 +13,12 @@ namespace {
 constexpr float kLowest = -std::numeric_limits<float>::max();
 
 // Arcs AB and CD of the Gauss maps cross (a, b: normals of A's edge; c, d: negated normals of
-// B's edge, since the Minkowski difference turns B inside out): c and d lie on opposite sides
-// of the plane through a and b, a and b on opposite sides of the plane through c and d, and the
-// crossing is on the hemisphere of the arcs, not at its antipode.
-bool isMinkowskiFace(glm::vec3 a, glm::vec3 b, glm::vec3 bxa, glm::vec3 c, glm::vec3 d,
-                     glm::vec3 dxc) {
-    const float cba = glm::dot(c, bxa), dba = glm::dot(d, bxa);
-    const float adc = glm::dot(a, dxc), bdc = glm::dot(b, dxc);
-    return cba * dba < 0.0f && adc * bdc < 0.0f && cba * bdc > 0.0f;
-}
+// B's edge, since the Minkowski difference turns B inside out) when c and d lie on opposite
+// sides of the plane through a and b, a and b on opposite sides of the plane through c and d,
+// and the crossing is on the hemisphere of the arcs, not at its antipode:
+//   (c . b x a)(d . b x a) < 0,  (a . d x c)(b . d x c) < 0,  (c . b x a)(b . d x c) > 0.
+// queryEdgeDirections evaluates it for batches of this many of A's edges at a time.
+constexpr std::size_t kArcBatch = 64;
 
 // The unit axis eA x eB turned out of A (away from its centroid through A's edge point), or
 // std::nullopt for near-parallel edges.
@@ -71,6 +70,12 @@ FaceQuery queryFaceDirections(const HalfEdgeMesh& a, const HalfEdgeMesh& b, cons
 EdgeQuery queryEdgeDirections(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
                               float stopAbove) {
     EdgeQuery best;
+    const std::size_t edgesA = a.edgeCount();
+    const float* arcX = a.edgeArcs.data();
+    const float *arcY = arcX + edgesA, *arcZ = arcY + edgesA;
+    const float *leftX = arcZ + edgesA, *leftY = leftX + edgesA, *leftZ = leftY + edgesA;
+    const float *rightX = leftZ + edgesA, *rightY = rightX + edgesA, *rightZ = rightY + edgesA;
+    std::array<std::uint8_t, kArcBatch> crossing;
     for (std::uint32_t kb = 0; kb < b.edgeCount(); ++kb) {
         // B's edge in A's frame, its normals negated for the Minkowski difference A - B;
         // cross(d, c) = cross(-nR, -nL) is B's own arc, rotated.
@@ -78,18 +83,32 @@ EdgeQuery queryEdgeDirections(const HalfEdgeMesh& a, const HalfEdgeMesh& b, cons
         const glm::vec3 c = -bInA.rotate(eb.normalLeft), d = -bInA.rotate(eb.normalRight);
         const glm::vec3 dxc = bInA.rotate(eb.arc);
         const glm::vec3 pointB = bInA.apply(eb.origin), dirB = bInA.rotate(eb.direction);
-        for (std::uint32_t ka = 0; ka < a.edgeCount(); ++ka) {
-            const HalfEdgeEdge& ea = a.edgeRecords[ka];
-            if (!isMinkowskiFace(ea.normalLeft, ea.normalRight, ea.arc, c, d, dxc)) continue;
-            const std::optional<glm::vec3> axis =
-                edgeAxis(ea.origin, ea.direction, dirB, a.centroid);
-            if (!axis) continue;
-            // On a Minkowski face both edges are support features: their points project to
-            // the supports, so no support query is needed.
-            const float s = glm::dot(*axis, pointB - ea.origin);
-            if (s > best.separation) {
-                best = EdgeQuery{s, ka, kb, *axis};
-                if (s > stopAbove) return best;
+        for (std::size_t first = 0; first < edgesA; first += kArcBatch) {
+            // The arc test for a batch of A's edges without branches, so that it vectorises;
+            // then the few that pass.
+            const std::size_t count = std::min(kArcBatch, edgesA - first);
+            for (std::size_t i = 0; i < count; ++i) {
+                const std::size_t k = first + i;
+                const float cba = c.x * arcX[k] + c.y * arcY[k] + c.z * arcZ[k];
+                const float dba = d.x * arcX[k] + d.y * arcY[k] + d.z * arcZ[k];
+                const float adc = leftX[k] * dxc.x + leftY[k] * dxc.y + leftZ[k] * dxc.z;
+                const float bdc = rightX[k] * dxc.x + rightY[k] * dxc.y + rightZ[k] * dxc.z;
+                crossing[i] = (cba * dba < 0.0f) & (adc * bdc < 0.0f) & (cba * bdc > 0.0f);
+            }
+            for (std::size_t i = 0; i < count; ++i) {
+                if (!crossing[i]) continue;
+                const auto ka = std::uint32_t(first + i);
+                const HalfEdgeEdge& ea = a.edgeRecords[ka];
+                const std::optional<glm::vec3> axis =
+                    edgeAxis(ea.origin, ea.direction, dirB, a.centroid);
+                if (!axis) continue;
+                // On a Minkowski face both edges are support features: their points project
+                // to the supports, so no support query is needed.
+                const float s = glm::dot(*axis, pointB - ea.origin);
+                if (s > best.separation) {
+                    best = EdgeQuery{s, ka, kb, *axis};
+                    if (s > stopAbove) return best;
+                }
             }
         }
     }

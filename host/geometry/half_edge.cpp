@@ -241,6 +241,17 @@ Result<HalfEdgeMesh> assemble(const ConvexPolygons& p, const std::string& where)
     m.vertexEdge.assign(m.vertices.size(), kUnset);
     for (std::uint32_t h = 0; h < m.edges.size(); ++h)
         if (m.vertexEdge[m.edges[h].origin] == kUnset) m.vertexEdge[m.edges[h].origin] = h;
+    m.neighbourStart.assign(1, 0);
+    for (std::uint32_t v = 0; v < m.vertices.size(); ++v) {
+        std::uint32_t h = m.vertexEdge[v];
+        std::size_t guard = 0;
+        do {
+            const HalfEdge& twin = m.edges[m.edges[h].twin];
+            m.neighbours.push_back(twin.origin);
+            h = twin.next;
+        } while (h != m.vertexEdge[v] && ++guard < m.edges.size());
+        m.neighbourStart.push_back(std::uint32_t(m.neighbours.size()));
+    }
     m.edgeRecords.resize(m.edgeCount());
     for (std::uint32_t k = 0; k < m.edgeCount(); ++k) {
         const HalfEdge& left = m.edges[2 * k];
@@ -251,6 +262,16 @@ Result<HalfEdgeMesh> assemble(const ConvexPolygons& p, const std::string& where)
         r.normalLeft = m.faces[left.face].normal;
         r.normalRight = m.faces[right.face].normal;
         r.arc = glm::cross(r.normalRight, r.normalLeft);
+    }
+    const std::size_t e = m.edgeCount();
+    m.edgeArcs.resize(9 * e);
+    for (std::size_t k = 0; k < e; ++k) {
+        const HalfEdgeEdge& r = m.edgeRecords[k];
+        for (int c = 0; c < 3; ++c) {
+            m.edgeArcs[std::size_t(c) * e + k] = r.arc[c];
+            m.edgeArcs[std::size_t(3 + c) * e + k] = r.normalLeft[c];
+            m.edgeArcs[std::size_t(6 + c) * e + k] = r.normalRight[c];
+        }
     }
     if (!m.vertices.empty()) {
         glm::dvec3 sum(0.0);
@@ -297,7 +318,9 @@ Result<HalfEdgeMesh> buildHalfEdgeMesh(const ConvexPolygons& polygons, const std
 
 Status checkHalfEdgeMesh(const HalfEdgeMesh& m, const std::string& where) {
     const std::size_t vCount = m.vertices.size(), hCount = m.edges.size(), fCount = m.faces.size();
-    if (hCount % 2 != 0 || m.vertexEdge.size() != vCount || m.edgeRecords.size() != hCount / 2)
+    if (hCount % 2 != 0 || m.vertexEdge.size() != vCount || m.edgeRecords.size() != hCount / 2 ||
+        m.neighbourStart.size() != vCount + 1 || m.neighbours.size() != hCount ||
+        m.edgeArcs.size() != 9 * (hCount / 2))
         return invariant(where, "array sizes do not match");
     for (std::uint32_t h = 0; h < hCount; ++h) {
         const HalfEdge& e = m.edges[h];
@@ -378,23 +401,22 @@ Status checkHalfEdgeMesh(const HalfEdgeMesh& m, const std::string& where) {
 }
 
 std::uint32_t supportVertex(const HalfEdgeMesh& m, glm::vec3 d, std::uint32_t start) {
+    const glm::vec3* vertices = m.vertices.data();
+    const std::uint32_t* ring = m.neighbours.data();
     std::uint32_t best = start;
-    float bestDot = glm::dot(d, m.vertices[best]);
+    float bestDot = glm::dot(d, vertices[best]);
     for (;;) {
-        // Visit the neighbours by turning about the vertex: twin, then next.
+        // The neighbours, in turn about the vertex (twin, then next, flattened at build).
         std::uint32_t climb = best;
         float climbDot = bestDot;
-        const std::uint32_t first = m.vertexEdge[best];
-        std::uint32_t h = first;
-        do {
-            const HalfEdge& twin = m.edges[m.edges[h].twin];
-            const float dot = glm::dot(d, m.vertices[twin.origin]);
+        const std::uint32_t end = m.neighbourStart[best + 1];
+        for (std::uint32_t i = m.neighbourStart[best]; i < end; ++i) {
+            const float dot = glm::dot(d, vertices[ring[i]]);
             if (dot > climbDot) {
                 climbDot = dot;
-                climb = twin.origin;
+                climb = ring[i];
             }
-            h = twin.next;
-        } while (h != first);
+        }
         if (climb == best) return best;
         best = climb;
         bestDot = climbDot;

@@ -47,6 +47,12 @@ struct HalfEdgeMesh {
     std::vector<HalfEdge> edges;           ///< twins at 2k and 2k+1
     std::vector<HalfEdgeFace> faces;
     std::vector<HalfEdgeEdge> edgeRecords; ///< one per undirected edge k
+    /// The edges' Gauss-map arcs as nine rows of edgeCount() floats (arc x, y, z, left normal
+    /// x, y, z, right normal x, y, z), so that the arc test runs over many edges at once.
+    std::vector<float> edgeArcs;
+    /// The vertices next to vertex v, in turn about it, are neighbours[neighbourStart[v]] up to
+    /// neighbours[neighbourStart[v + 1]]: the half-edge ring flattened for hill climbing.
+    std::vector<std::uint32_t> neighbourStart, neighbours;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f}; ///< axis-aligned bounds of the vertices, m
     glm::vec3 centroid{0.0f}; ///< mean of the vertices, strictly inside, m
 

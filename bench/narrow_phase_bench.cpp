@@ -1,0 +1,169 @@
+// bench/narrow_phase_bench.cpp: throughput of the CPU collision stages: SAT and manifolds for
+// box-box and 20-face hull pairs, with and without the Gauss-map pruning of edge pairs, and the
+// broad phase over 16,384 resting boxes. Figures and the command are in docs/collision.md.
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <glm/gtc/quaternion.hpp>
+
+#include "host/collision/collision_world.h"
+#include "host/collision/hull_contact.h"
+#include "host/collision/sat.h"
+#include "host/geometry/shape.h"
+#include "host/world/world_state.h"
+#include "rubble/world.h"
+
+namespace rubble {
+namespace {
+
+constexpr int kPairs = 1024;
+
+struct PairSet {
+    Shape shape;
+    std::vector<Transform> poses; ///< b's pose in a's frame, for a pair of copies of shape
+};
+
+Shape boxShape() {
+    ShapeDesc d;
+    d.type = ShapeType::Box;
+    d.halfExtents = glm::vec3(0.5f);
+    return std::move(buildShape(d).value());
+}
+
+// An icosahedron with its vertices jittered by 5%: 12 vertices, 30 edges, 20 faces.
+Shape hull20Shape() {
+    const float t = (1.0f + std::sqrt(5.0f)) * 0.5f;
+    const glm::vec3 ico[12] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                               {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                               {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    std::mt19937 rng(20);
+    std::uniform_real_distribution<float> jitter(0.95f, 1.05f);
+    ShapeDesc d;
+    d.type = ShapeType::Convex;
+    d.where = "bench";
+    for (const glm::vec3& v : ico) d.points.push_back(glm::normalize(v) * 0.6f * jitter(rng));
+    return std::move(buildShape(d).value());
+}
+
+// Pairs in contact as a pile has them: b at a random orientation, moved along a random
+// direction until the hulls just touch, then 0 to 2 cm into each other.
+PairSet touchingPairs(Shape shape) {
+    PairSet set{std::move(shape), {}};
+    const HalfEdgeMesh& m = set.shape.halfEdge;
+    std::mt19937 rng(1);
+    std::normal_distribution<float> gauss;
+    std::uniform_real_distribution<float> depth(0.0f, 0.02f);
+    for (int i = 0; i < kPairs; ++i) {
+        const glm::quat q = glm::normalize(glm::quat(gauss(rng), gauss(rng), gauss(rng), gauss(rng)));
+        const glm::vec3 dir = glm::normalize(glm::vec3(gauss(rng), gauss(rng), gauss(rng)));
+        float lo = 0.0f, hi = 2.0f * set.shape.boundingRadius;
+        for (int k = 0; k < 24; ++k) {
+            const float mid = 0.5f * (lo + hi);
+            const Transform t{glm::mat3_cast(q), dir * mid};
+            (runSat(m, m, t).separated ? hi : lo) = mid;
+        }
+        set.poses.push_back(Transform{glm::mat3_cast(q), dir * (lo - depth(rng))});
+    }
+    return set;
+}
+
+const PairSet& boxPairs() {
+    static const PairSet set = touchingPairs(boxShape());
+    return set;
+}
+
+const PairSet& hullPairs() {
+    static const PairSet set = touchingPairs(hull20Shape());
+    return set;
+}
+
+void runSatOver(benchmark::State& state, const PairSet& set, bool prune) {
+    const HalfEdgeMesh& m = set.shape.halfEdge;
+    for (auto _ : state)
+        for (const Transform& t : set.poses) {
+            const SatResult r = runSat(m, m, t, kContactMargin, {}, prune);
+            benchmark::DoNotOptimize(r.separation);
+        }
+    state.SetItemsProcessed(state.iterations() * std::int64_t(set.poses.size()));
+}
+
+void runManifoldsOver(benchmark::State& state, const PairSet& set, bool warm) {
+    const HalfEdgeMesh& m = set.shape.halfEdge;
+    std::vector<SatHint> hints(set.poses.size());
+    if (warm)
+        for (std::size_t i = 0; i < set.poses.size(); ++i)
+            hints[i] = collideHulls(m, m, set.poses[i]).feature;
+    for (auto _ : state)
+        for (std::size_t i = 0; i < set.poses.size(); ++i) {
+            const HullContact c = collideHulls(m, m, set.poses[i], kContactMargin, hints[i]);
+            benchmark::DoNotOptimize(c.contacts.count);
+        }
+    state.SetItemsProcessed(state.iterations() * std::int64_t(set.poses.size()));
+}
+
+void BM_SatBoxBox(benchmark::State& s) { runSatOver(s, boxPairs(), true); }
+void BM_SatBoxBoxUnpruned(benchmark::State& s) { runSatOver(s, boxPairs(), false); }
+void BM_SatHull20(benchmark::State& s) { runSatOver(s, hullPairs(), true); }
+void BM_SatHull20Unpruned(benchmark::State& s) { runSatOver(s, hullPairs(), false); }
+void BM_ManifoldBoxBox(benchmark::State& s) { runManifoldsOver(s, boxPairs(), false); }
+void BM_ManifoldBoxBoxWarm(benchmark::State& s) { runManifoldsOver(s, boxPairs(), true); }
+void BM_ManifoldHull20(benchmark::State& s) { runManifoldsOver(s, hullPairs(), false); }
+void BM_ManifoldHull20Warm(benchmark::State& s) { runManifoldsOver(s, hullPairs(), true); }
+
+BENCHMARK(BM_SatBoxBox);
+BENCHMARK(BM_SatBoxBoxUnpruned);
+BENCHMARK(BM_SatHull20);
+BENCHMARK(BM_SatHull20Unpruned);
+BENCHMARK(BM_ManifoldBoxBox);
+BENCHMARK(BM_ManifoldBoxBoxWarm);
+BENCHMARK(BM_ManifoldHull20);
+BENCHMARK(BM_ManifoldHull20Warm);
+
+// 16,384 unit boxes at rest: 32 x 16 x 32 columns on a floor plane, each box on the one below,
+// columns 1.2 m apart, turned by up to 0.05 rad.
+World restingBoxes() {
+    const std::string scene = R"({"format": "rubble-scene", "version": 1, "name": "resting_16k",
+      "shapes": {"floor": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
+                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
+      "bodies": [{"name": "floor", "shape": "floor", "static": true}],
+      "generators": [{"type": "grid", "shape": "crate", "mass": 1.0, "count": [32, 16, 32],
+                      "origin": [-18.6, 0.5, -18.6], "spacing": [1.2, 1.0, 1.2],
+                      "rotation_jitter": 0.05, "seed": 1, "name_prefix": "d"}]})";
+    Result<Scene> parsed = parseScene(scene, "resting_16k.json", ".");
+    Result<World> world = World::create(parsed.value());
+    return std::move(world.value());
+}
+
+void BM_BroadPhaseResting16k(benchmark::State& state) {
+    World world = restingBoxes();
+    WorldState& s = world.state();
+    for (auto _ : state) {
+        runBroadPhase(s);
+        benchmark::DoNotOptimize(s.pairs.data());
+    }
+    state.counters["pairs"] = double(s.pairs.size());
+    state.counters["bodies"] = double(s.bodyCount());
+}
+BENCHMARK(BM_BroadPhaseResting16k)->Unit(benchmark::kMillisecond);
+
+void BM_NarrowPhaseResting16k(benchmark::State& state) {
+    World world = restingBoxes();
+    WorldState& s = world.state();
+    runBroadPhase(s);
+    runNarrowPhase(s); // warm: every pair has its cached feature
+    for (auto _ : state) {
+        runNarrowPhase(s);
+        benchmark::DoNotOptimize(s.manifolds.data());
+    }
+    state.SetItemsProcessed(state.iterations() * std::int64_t(s.pairs.size()));
+    state.counters["contacts"] = double(s.stats.contactCount);
+}
+BENCHMARK(BM_NarrowPhaseResting16k)->Unit(benchmark::kMillisecond);
+
+} // namespace
+} // namespace rubble
+
+BENCHMARK_MAIN();
