@@ -1,8 +1,9 @@
-// host/collision/broad_phase.cpp: CPU stage broadPhase: sweep and prune in strips, planes by a
+// host/collision/broad_phase.cpp: CPU stage broadPhase: sweep and prune in columns, planes by a
 // box's lowest corner, pairs sorted (Ericson, "Real-Time Collision Detection", 7.5).
 #include "host/collision/broad_phase.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "host/core/math.h"
@@ -10,8 +11,57 @@
 namespace rubble {
 namespace {
 
-// A slab is at least this many mean box widths wide, so that most boxes sit in one or two.
+// A column is at least this many mean box widths wide, so that most boxes sit in one to four.
 constexpr float kStripWidthFactor = 2.0f;
+
+// A row of equal cells along one axis: at least kStripWidthFactor mean box widths wide, at
+// most kMaxStrips of them.
+struct Strips {
+    float origin = 0.0f, width = 1.0f;
+    std::uint32_t count = 1;
+    std::uint32_t of(float x) const {
+        // Clamped at 0 first, truncation is the floor.
+        return std::uint32_t(std::clamp((x - origin) / width, 0.0f, float(count - 1)));
+    }
+};
+
+Strips makeStrips(float lo, float hi, float cellWidth) {
+    Strips s;
+    s.origin = lo;
+    s.width = std::max(cellWidth, (hi - lo) / float(kMaxStrips));
+    if (!(s.width > 0.0f)) s.width = 1.0f;
+    s.count = std::uint32_t(std::clamp(std::floor((hi - lo) / s.width) + 1.0f, 1.0f,
+                                       float(kMaxStrips)));
+    return s;
+}
+
+// Sorts keys that often arrive nearly in order (bodies generated row by row, or in last step's
+// order): insertion sort while it moves few keys, std::sort once it has moved too many. The
+// keys are distinct, so either way gives the same order.
+void sortNearlySorted(std::vector<std::uint64_t>& keys) {
+    const std::size_t n = keys.size();
+    std::size_t budget = 8 * n;
+    for (std::size_t i = 1; i < n; ++i) {
+        const std::uint64_t key = keys[i];
+        std::size_t j = i;
+        for (; j > 0 && keys[j - 1] > key; --j) keys[j] = keys[j - 1];
+        keys[j] = key;
+        if (i - j > budget) {
+            std::sort(keys.begin(), keys.end());
+            return;
+        }
+        budget -= i - j;
+    }
+}
+
+// Marks an inactive body in a sweep entry's body index.
+constexpr std::uint32_t kInactiveBit = 0x80000000u;
+
+// The bits of a float rearranged so that unsigned order is numeric order.
+std::uint32_t orderedBits(float x) {
+    const std::uint32_t bits = std::bit_cast<std::uint32_t>(x);
+    return (bits & 0x80000000u) ? ~bits : (bits | 0x80000000u);
+}
 
 bool overlaps(const Aabb& a, const Aabb& b) {
     return a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y &&
@@ -52,7 +102,7 @@ void findPairs(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,
     pairs.clear();
     const auto n = std::uint32_t(boxes.size());
 
-    // The sweep runs along the axis where the centres spread most; slabs cut the second one.
+    // The sweep runs along the axis where the centres spread most; columns cut the other two.
     glm::dvec3 sum(0.0), sum2(0.0), width(0.0);
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     std::uint32_t count = 0;
@@ -67,50 +117,95 @@ void findPairs(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,
         ++count;
     }
     if (count > 1) {
-        const glm::dvec3 variance = sum2 / double(count) - (sum / double(count)) * (sum / double(count));
+        const glm::dvec3 mean = sum / double(count);
+        const glm::dvec3 variance = sum2 / double(count) - mean * mean;
         int order[3] = {0, 1, 2};
         std::sort(order, order + 3, [&](int x, int y) {
             return variance[x] > variance[y] || (variance[x] == variance[y] && x < y);
         });
-        const int axis = order[0], cut = order[1];
-        float stripWidth = std::max(kStripWidthFactor * float(width[cut] / double(count)),
-                                    (hi[cut] - lo[cut]) / float(kMaxStrips));
-        if (!(stripWidth > 0.0f)) stripWidth = 1.0f;
-        const float origin = lo[cut];
-        auto stripOf = [&](float x) {
-            const float s = std::floor((x - origin) / stripWidth);
-            return std::uint32_t(std::clamp(s, 0.0f, float(kMaxStrips - 1)));
-        };
+        const int axis = order[0], u = order[1], v = order[2];
+        // Columns of kStripWidthFactor mean widths, widened if there would be more columns
+        // than bodies (the column table is counted every step).
+        float widthU = kStripWidthFactor * float(width[u] / double(count));
+        float widthV = kStripWidthFactor * float(width[v] / double(count));
+        Strips su = makeStrips(lo[u], hi[u], widthU), sv = makeStrips(lo[v], hi[v], widthV);
+        const double columnLimit = std::max(1024.0, 2.0 * double(count));
+        if (double(su.count) * double(sv.count) > columnLimit) {
+            const float grow =
+                float(std::sqrt(double(su.count) * double(sv.count) / columnLimit)) * 1.01f;
+            su = makeStrips(lo[u], hi[u], su.width * grow);
+            sv = makeStrips(lo[v], hi[v], sv.width * grow);
+        }
+        auto cellOf = [&](float x, float y) { return su.of(x) * sv.count + sv.of(y); };
 
-        // One entry per body and slab it touches, sorted by slab, then along the sweep axis.
-        auto& entries = scratch.entries;
-        entries.clear();
+        // The swept bodies in order along the sweep axis (minimum, then index). Last step's
+        // order is the starting point, so that an insertion sort usually finishes in O(n).
+        auto& keys = scratch.keys;
+        auto keyOf = [&](std::uint32_t body) {
+            return (std::uint64_t(orderedBits(boxes[body].min[axis])) << 32) | body;
+        };
+        bool reuse = keys.size() == count;
+        for (std::size_t k = 0; reuse && k < keys.size(); ++k) {
+            const auto body = std::uint32_t(keys[k]);
+            if (body < n && swept(boxes[body], flags[body])) keys[k] = keyOf(body);
+            else reuse = false; // the set of swept bodies changed
+        }
+        if (!reuse) {
+            keys.clear();
+            for (std::uint32_t i = 0; i < n; ++i)
+                if (swept(boxes[i], flags[i])) keys.push_back(keyOf(i));
+        }
+        sortNearlySorted(keys);
+
+        // One entry per body and column it touches, placed by a counting sort on the column
+        // that keeps the sweep order; each holds the whole box so that the sweep reads memory
+        // in order.
+        const std::uint32_t columns = su.count * sv.count;
+        auto& start = scratch.columnStart;
+        start.assign(columns + 1, 0);
         for (std::uint32_t i = 0; i < n; ++i) {
             if (!swept(boxes[i], flags[i])) continue;
-            const std::uint32_t first = stripOf(boxes[i].min[cut]), last = stripOf(boxes[i].max[cut]);
-            for (std::uint32_t s = first; s <= last; ++s)
-                entries.push_back({boxes[i].min[axis], boxes[i].max[axis], i, s});
+            const Aabb& b = boxes[i];
+            const std::uint32_t u0 = su.of(b.min[u]), u1 = su.of(b.max[u]);
+            const std::uint32_t v0 = sv.of(b.min[v]), v1 = sv.of(b.max[v]);
+            for (std::uint32_t cu = u0; cu <= u1; ++cu)
+                for (std::uint32_t cv = v0; cv <= v1; ++cv) ++start[cu * sv.count + cv + 1];
         }
-        std::sort(entries.begin(), entries.end(), [](const auto& x, const auto& y) {
-            if (x.strip != y.strip) return x.strip < y.strip;
-            if (x.min != y.min) return x.min < y.min;
-            return x.body < y.body;
-        });
+        for (std::uint32_t c = 0; c < columns; ++c) start[c + 1] += start[c];
+        auto& entries = scratch.entries;
+        entries.resize(start[columns]);
+        auto& cursor = scratch.columnCursor;
+        cursor.assign(start.begin(), start.end() - 1);
+        for (const std::uint64_t key : keys) {
+            const auto i = std::uint32_t(key);
+            const Aabb& b = boxes[i];
+            const std::uint32_t body = i | ((flags[i] & kBroadPhaseInactive) ? kInactiveBit : 0u);
+            const std::uint32_t u0 = su.of(b.min[u]), u1 = su.of(b.max[u]);
+            const std::uint32_t v0 = sv.of(b.min[v]), v1 = sv.of(b.max[v]);
+            for (std::uint32_t cu = u0; cu <= u1; ++cu)
+                for (std::uint32_t cv = v0; cv <= v1; ++cv) {
+                    const std::uint32_t cell = cu * sv.count + cv;
+                    entries[cursor[cell]++] = {orderedBits(b.min[axis]), orderedBits(b.max[axis]),
+                                               body, b.min[u], b.max[u], b.min[v], b.max[v]};
+                }
+        }
 
-        // Sweep each slab: later entries start after this one does; stop past its end.
-        for (std::size_t i = 0; i < entries.size(); ++i) {
-            const auto& e = entries[i];
-            const Aabb& box = boxes[e.body];
-            const bool inactive = flags[e.body] & kBroadPhaseInactive;
-            for (std::size_t j = i + 1; j < entries.size(); ++j) {
-                const auto& f = entries[j];
-                if (f.strip != e.strip || f.min > e.max) break;
-                if (inactive && (flags[f.body] & kBroadPhaseInactive)) continue;
-                const Aabb& other = boxes[f.body];
-                if (!overlaps(box, other)) continue;
-                // Report in the slab of the overlap's lower end only.
-                if (stripOf(std::max(box.min[cut], other.min[cut])) != e.strip) continue;
-                pairs.push_back(ordered(e.body, f.body));
+        // Sweep each column: later entries start after this one does; stop past its end.
+        for (std::uint32_t cell = 0; cell < columns; ++cell) {
+            const auto first = entries.begin() + start[cell];
+            const auto last = entries.begin() + start[cell + 1];
+            for (auto e = first; e != last; ++e) {
+                for (auto f = e + 1; f != last && f->minBits <= e->maxBits; ++f) {
+                    // One branch, mostly not taken: both inactive, or apart across the column.
+                    const bool apart = ((e->body & f->body & kInactiveBit) != 0) |
+                                       (f->uMin > e->uMax) | (e->uMin > f->uMax) |
+                                       (f->vMin > e->vMax) | (e->vMin > f->vMax);
+                    if (apart) continue;
+                    // Report in the column of the overlap's lower corner only.
+                    if (cellOf(std::max(e->uMin, f->uMin), std::max(e->vMin, f->vMin)) != cell)
+                        continue;
+                    pairs.push_back(ordered(e->body & ~kInactiveBit, f->body & ~kInactiveBit));
+                }
             }
         }
     }

@@ -1,6 +1,6 @@
 // host/collision/broad_phase.h: CPU stage broadPhase: overlapping axis-aligned boxes by sweep and
-// prune in strips (boxes sorted along the axis of widest spread within slabs of a second axis),
-// infinite planes against every box, pairs sorted.
+// prune in columns (boxes sorted along the axis of widest spread within the cells of a grid over
+// the other two axes), infinite planes against every box, pairs sorted.
 #pragma once
 
 #include <cstdint>
@@ -33,21 +33,30 @@ struct PlaneProxy {
 
 /// Arrays the broad phase reuses from step to step.
 struct BroadPhaseScratch {
+    /// One body in one column, holding all of its box so that the sweep reads memory in order.
     struct Entry {
-        float min, max;         ///< the box along the sweep axis
-        std::uint32_t body;
-        std::uint32_t strip;
+        std::uint32_t minBits; ///< sweep-axis minimum as bits whose unsigned order is numeric
+        std::uint32_t maxBits; ///< sweep-axis maximum, the same way
+        std::uint32_t body;    ///< body index; the top bit marks an inactive body
+        float uMin, uMax;      ///< along the column grid's first axis
+        float vMin, vMax;      ///< along its second axis
     };
-    std::vector<Entry> entries;
+    std::vector<Entry> entries;             ///< grouped by column
+    std::vector<std::uint32_t> columnStart; ///< first entry of each column, and the end
+    std::vector<std::uint32_t> columnCursor;
+    /// The swept bodies as (sweep-axis minimum bits << 32 | body), sorted; kept from step to
+    /// step so that sorting starts from last step's order.
+    std::vector<std::uint64_t> keys;
 };
 
 /// Every pair (a < b, sorted, each once) of bodies whose boxes overlap (touching counts), unless
 /// both are inactive, plus every active body whose box reaches below a plane. `boxes` and
 /// `flags` are indexed by body; boxes of kBroadPhaseNoBox bodies are ignored, as are non-finite
-/// boxes. Sweep and prune in strips: bodies are binned into slabs of the second-widest axis
-/// (at least two mean box widths, at most kMaxStrips of them), each slab sorted and swept along
-/// the widest axis; a pair seen in two slabs is reported by the one holding the lower end of
-/// the overlap. O(n log n + pairs) for bodies of similar size.
+/// boxes. Sweep and prune in columns (multi-box pruning): the two axes where the box centres
+/// spread least are cut into a grid of columns (cells at least two mean box widths wide, at most
+/// kMaxStrips a side, no more columns than twice the bodies); each column is sorted and swept
+/// along the third axis, and a pair seen in two columns is reported by the one holding the
+/// lower corner of the overlap. O(n log n + pairs) for bodies of similar size.
 void findPairs(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,
                std::span<const PlaneProxy> planes, std::vector<BodyPair>& pairs,
                BroadPhaseScratch& scratch);
@@ -56,7 +65,7 @@ void findPairs(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,
 void findPairsBruteForce(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,
                          std::span<const PlaneProxy> planes, std::vector<BodyPair>& pairs);
 
-/// Most slabs the sweep uses.
+/// Most cells along each axis of the column grid.
 inline constexpr std::uint32_t kMaxStrips = 4096;
 
 } // namespace rubble
