@@ -54,6 +54,17 @@ const std::vector<KernelSignature>& kernelSignatures() {
         {KernelId::GatherJacobi,
          "gatherJacobi",
          {"bodies", "rows", "bodyStart", "bodyList", "before", "masses", "poses", "velocities"}},
+        {KernelId::BuildLcpRows,
+         "buildLcpRows",
+         {"count", "stride", "rows", "velocities", "masses", "poses", "lcpRows", "rhs", "lambda",
+          "friction"}},
+        {KernelId::AssembleDelassus, "assembleDelassus", {"size", "lcpRows", "matrix"}},
+        {KernelId::ScaleLcpRows, "scaleLcpRows", {"size", "matrix", "inverseScale"}},
+        {KernelId::ProjectLcp,
+         "projectLcp",
+         {"count", "stride", "product", "rhs", "inverseScale", "friction", "relaxation",
+          "lastSweep", "lambda", "status"}},
+        {KernelId::StoreLcpImpulses, "storeLcpImpulses", {"count", "stride", "lambda", "rows"}},
     };
     return table;
 }

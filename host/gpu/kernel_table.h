@@ -29,6 +29,11 @@ enum class KernelId : unsigned {
     BuildJacobiRows,
     SolveJacobiRows,
     GatherJacobi,
+    BuildLcpRows,
+    AssembleDelassus,
+    ScaleLcpRows,
+    ProjectLcp,
+    StoreLcpImpulses,
     Count
 };
 

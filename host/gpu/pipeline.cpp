@@ -134,7 +134,13 @@ Status Pipeline::step(WorldState& s, StepStats& stats) {
     }
     {
         StageTimer t(stats.solveMs);
-        RUBBLE_TRY(solveJacobi(solver.iterations, jacobiRelaxation(solver), solver.warmStart));
+        // lcp-jacobi solves the dense problem; the Jacobi stage then only applies its impulses.
+        const bool dense = solver.type == SolverType::LcpJacobi;
+        if (dense)
+            RUBBLE_TRY(solveLcpJacobi(lcpStride(bodySurfaces(s), s.masses),
+                                      solver.iterations, lcpJacobiRelaxation(solver)));
+        RUBBLE_TRY(solveJacobi(dense ? 0 : solver.iterations, jacobiRelaxation(solver),
+                               solver.warmStart));
         RUBBLE_TRY(finish());
     }
     {

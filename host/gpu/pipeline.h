@@ -10,6 +10,7 @@
 
 #include "host/gpu/buffer.h"
 #include "host/gpu/context.h"
+#include "host/gpu/lcp_jacobi.h"
 #include "host/gpu/pipeline_handle.h"
 #include "rubble/shared/contact_row.h"
 #include "rubble/world.h"
@@ -99,6 +100,9 @@ class Pipeline {
     /// Copies the velocities to `before`, then `iterations` sweeps (rows, then the gather), and
     /// keeps this step's contacts and rows for the next step's warm start.
     Status solveJacobi(int iterations, float relaxation, bool warmStart);
+    /// lcp-jacobi: the dense problem from the rows (`stride` rows per contact), `iterations`
+    /// sweeps, the impulses back into the rows; solveJacobi(0, ...) then applies them.
+    Status solveLcpJacobi(std::uint32_t stride, int iterations, float relaxation);
     /// Sorts `count` (key, value) pairs by the low `bits` of the key, stably; the result is in
     /// keys and values (the Alt buffers are scratch).
     Status radixSort(Buffer& keys, Buffer& values, Buffer& keysAlt, Buffer& valuesAlt,
@@ -126,6 +130,7 @@ class Pipeline {
     BodyBuffers bodies_;
     ParticleBuffers particles_;
     ContactBuffers contacts_;
+    LcpBuffers lcp_;
     Buffer status_;
     bool forcesOnDevice_ = false; ///< the device force buffer holds non-zero forces
 };

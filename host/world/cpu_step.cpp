@@ -11,6 +11,7 @@
 #include "host/dynamics/dynamics_world.h"
 #include "host/dynamics/forces.h"
 #include "host/dynamics/jacobi_solvers.h"
+#include "host/dynamics/lcp_jacobi.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -32,9 +33,15 @@ class StageTimer {
     Clock::time_point start_;
 };
 
+std::optional<Error> statusError(const Status& s) {
+    if (s.ok()) return std::nullopt;
+    return s.error();
+}
+
 } // namespace
 
 void stepCpuReference(WorldState& s, StepStats& stats) {
+    s.stepFailure.reset();
     const float dt = s.options.dt;
     const bool symplectic = s.options.integrator == Integrator::Symplectic;
     {
@@ -55,6 +62,8 @@ void stepCpuReference(WorldState& s, StepStats& stats) {
     // The particle method and the solvers other than PGS are the OpenCL stages' CPU twins.
     const bool particles = s.options.collisionMethod() == CollisionMethod::Particles;
     const bool pgs = s.options.solver.type == SolverType::Pgs;
+    const bool lcp = s.options.solver.type == SolverType::LcpJacobi;
+    const bool lemke = s.options.solver.type == SolverType::Lemke;
     {
         StageTimer t(stats.broadPhaseMs);
         if (particles) runParticleGrid(s);
@@ -75,6 +84,8 @@ void stepCpuReference(WorldState& s, StepStats& stats) {
         StageTimer t(stats.solveMs);
         std::copy(s.velocities.begin(), s.velocities.end(), s.velocitiesBeforeSolve.begin());
         if (pgs) runSolveVelocities(s);
+        else if (lcp) s.stepFailure = statusError(runSolveLcpJacobi(s));
+        else if (lemke) s.stepFailure = statusError(runSolveLemke(s));
         else runSolveRows(s);
         // The momenta are the state: they take up what the impulses did to the velocities.
         absorbVelocityChange(s.momenta, s.velocitiesBeforeSolve, s.velocities, s.masses, s.poses);

@@ -46,6 +46,8 @@ Status World::step() {
         return stepped;
     }
     stepCpuReference(s, stats);
+    // A stage that could not run (a contact set too large for a dense solver) stops the run.
+    if (s.stepFailure) return *s.stepFailure;
     std::fill(s.forces.begin(), s.forces.end(), BodyForce{});
     ++s.step;
     stats.totalMs =

@@ -1,5 +1,5 @@
 // host/world/world_build.cpp: a Scene into a WorldState: shapes built, masses from mass or
-// density, momenta from the initial velocities. Features not built yet are refused here.
+// density, momenta from the initial velocities. Combinations that cannot run are refused here.
 #include "host/core/math.h"
 #include "host/gpu/context.h"
 #include "host/world/backend_check.h"
@@ -9,17 +9,29 @@
 namespace rubble {
 namespace {
 
-Error notSupported(const std::string& where, const std::string& what) {
-    return makeError(ErrorKind::NotSupported, where, what + " is not supported yet");
+// Lemke's method solves the frictionless contact LCP: two bodies, one of them dynamic, whose
+// materials both have friction would make a contact with friction sqrt(mu_a mu_b) > 0.
+Status checkLemkeFrictionless(const Scene& scene) {
+    if (scene.simulation.solver.type != SolverType::Lemke) return {};
+    std::size_t rough = 0;
+    std::optional<std::uint32_t> roughDynamic;
+    for (const BodyDesc& b : scene.bodies) {
+        if (scene.materials[b.material].friction <= 0.0f) continue;
+        ++rough;
+        if (!b.isStatic && !roughDynamic) roughDynamic = b.material;
+    }
+    if (rough < 2 || !roughDynamic) return {};
+    const MaterialDesc& m = scene.materials[*roughDynamic];
+    return makeError(ErrorKind::NotSupported, scene.file + ": materials." + m.name + ".friction",
+                     "the lemke solver takes frictionless contacts only, and this material has "
+                     "friction " + std::to_string(m.friction) +
+                         " (set it to 0, or use lcp-jacobi, which bounds friction)");
 }
 
-// Refuses options and scene parts that the pipeline cannot run yet, naming the field.
+// Refuses options and scene parts that the pipeline cannot run, naming the field.
 Status checkSupported(const Scene& scene) {
-    const SimulationOptions& sim = scene.simulation;
     RUBBLE_TRY(checkBackendCombination(scene));
-    if (sim.solver.type == SolverType::LcpJacobi || sim.solver.type == SolverType::Lemke)
-        return notSupported(scene.file + ": simulation.solver.type",
-                            "the " + std::string(toString(sim.solver.type)) + " solver");
+    RUBBLE_TRY(checkLemkeFrictionless(scene));
     return {};
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "host/collision/particle_world.h"
 #include "host/dynamics/dynamics_world.h"
 #include "host/dynamics/jacobi.h"
+#include "host/dynamics/lcp_jacobi.h"
 #include "host/geometry/shape.h"
 #include "host/gpu/pipeline_handle.h"
 #include "rubble/options.h"
@@ -59,6 +61,8 @@ struct WorldState {
     SolverCache solver;
     ParticleState particles; ///< the particle collision method (CPU, and the device's source)
     JacobiState jacobi;      ///< the jacobi, lcp-jacobi and lemke solvers on the CPU
+    DenseLcp lcp;            ///< the dense problem of lcp-jacobi and lemke on the CPU
+    std::optional<Error> stepFailure; ///< a CPU stage that could not run this step
 
     // Scratch reused every step: the velocities before the solve, and at the start of the step
     // (explicit Euler moves positions with those).

@@ -4,6 +4,7 @@
 
 #include "rubble/shared/body.h"
 #include "rubble/shared/contact_row.h"
+#include "rubble/shared/lcp.h"
 #include "rubble/shared/particle.h"
 
 // X(struct) names a struct's size; F(struct, field) a field's byte offset. In this order.
@@ -25,4 +26,6 @@
     F(ContactRow, rA) F(ContactRow, rB) F(ContactRow, lambda) F(ContactRow, mass)                  \
     F(ContactRow, a) F(ContactRow, b) F(ContactRow, bias) F(ContactRow, friction)                  \
     X(SolverParams) F(SolverParams, baumgarte) F(SolverParams, slop) F(SolverParams, inverseDt)    \
-    F(SolverParams, relaxation)
+    F(SolverParams, relaxation)                                                                    \
+    X(LcpRow) F(LcpRow, direction) F(LcpRow, armA) F(LcpRow, armB) F(LcpRow, turnA)                \
+    F(LcpRow, turnB) F(LcpRow, a) F(LcpRow, b) F(LcpRow, pad1)
