@@ -72,13 +72,13 @@ void runNarrowPhase(WorldState& s) {
     std::size_t cached = 0;
     for (const BodyPair& pair : s.pairs) {
         while (cached < c.features.size() && c.features[cached].pair < pair) ++cached;
-        const SatHint hint = cached < c.features.size() && c.features[cached].pair == pair
-                                 ? c.features[cached].hint
-                                 : SatHint{};
+        HullPairCache cache = cached < c.features.size() && c.features[cached].pair == pair
+                                  ? c.features[cached].cache
+                                  : HullPairCache{};
         const PairContact pc =
             collideShapes(s.shapes[s.shapeOf[pair.a]], c.transforms[pair.a],
-                          s.shapes[s.shapeOf[pair.b]], c.transforms[pair.b], hint);
-        if (pc.feature.feature != SatFeature::None) c.nextFeatures.push_back({pair, pc.feature});
+                          s.shapes[s.shapeOf[pair.b]], c.transforms[pair.b], cache);
+        if (cache.reusable) c.nextFeatures.push_back({pair, cache});
         if (pc.contacts.count == 0) continue;
         Manifold m;
         m.a = pair.a;

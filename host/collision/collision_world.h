@@ -7,7 +7,7 @@
 
 #include "host/collision/broad_phase.h"
 #include "host/collision/contact.h"
-#include "host/collision/sat.h"
+#include "host/collision/hull_contact.h"
 #include "host/collision/transform.h"
 
 namespace rubble {
@@ -17,7 +17,7 @@ struct WorldState;
 /// A hull pair's axis or contact feature, kept for the next step.
 struct CachedFeature {
     BodyPair pair;
-    SatHint hint;
+    HullPairCache cache;
 };
 
 /// What the collision stages keep between steps (frame coherence), and their reused arrays.

@@ -2,6 +2,7 @@
 // with hysteresis, face clipping (Sutherland-Hodgman), edge contacts (Gregorius 2015).
 #include "host/collision/hull_contact.h"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -198,6 +199,72 @@ HullContact collideHulls(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Tra
     }
     r.contacts = edgeContact(a, b, bInA, sat.edges);
     r.feature = SatHint{SatFeature::Edges, sat.edges.edgeA, sat.edges.edgeB};
+    return r;
+}
+
+HullContact collideHullsFromFeature(const HalfEdgeMesh& a, const HalfEdgeMesh& b,
+                                    const Transform& bInA, const SatHint& feature, float margin) {
+    HullContact r;
+    r.feature = feature;
+    if (feature.feature == SatFeature::FaceA && feature.indexA < a.faceCount()) {
+        const HalfEdgeFace& f = a.faces[feature.indexA];
+        const std::uint32_t v = supportVertex(b, bInA.rotateInverse(-f.normal));
+        const FaceQuery q{glm::dot(f.normal, bInA.apply(b.vertices[v])) - f.offset, feature.indexA,
+                          v};
+        r.separated = q.separation > margin;
+        if (!r.separated) r.contacts = clipFaceContact(a, q, b, bInA, margin, ContactKind::FaceA);
+        return r;
+    }
+    if (feature.feature == SatFeature::FaceB && feature.indexB < b.faceCount()) {
+        const Transform aInB = inverse(bInA);
+        const HalfEdgeFace& f = b.faces[feature.indexB];
+        const std::uint32_t v = supportVertex(a, aInB.rotateInverse(-f.normal));
+        const FaceQuery q{glm::dot(f.normal, aInB.apply(a.vertices[v])) - f.offset, feature.indexB,
+                          v};
+        r.separated = q.separation > margin;
+        if (r.separated) return r;
+        r.contacts = clipFaceContact(b, q, a, aInB, margin, ContactKind::FaceB);
+        for (std::uint32_t i = 0; i < r.contacts.count; ++i)
+            r.contacts.points[i].position = bInA.apply(r.contacts.points[i].position);
+        r.contacts.normal = -bInA.rotate(r.contacts.normal);
+        return r;
+    }
+    if (feature.feature == SatFeature::Edges && feature.indexA < a.edgeCount() &&
+        feature.indexB < b.edgeCount()) {
+        const HalfEdgeEdge& ea = a.edgeRecords[feature.indexA];
+        const glm::vec3 dirB = bInA.rotate(b.edgeRecords[feature.indexB].direction);
+        glm::vec3 axis = glm::cross(ea.direction, dirB);
+        const float len2 = glm::dot(axis, axis);
+        if (len2 > kParallelSine * kParallelSine * glm::dot(ea.direction, ea.direction) *
+                       glm::dot(dirB, dirB)) {
+            axis *= 1.0f / std::sqrt(len2);
+            if (glm::dot(axis, ea.origin - a.centroid) < 0.0f) axis = -axis;
+            const EdgeQuery q{separationAlong(a, b, bInA, axis), feature.indexA, feature.indexB,
+                              axis};
+            r.separated = q.separation > margin;
+            if (!r.separated) r.contacts = edgeContact(a, b, bInA, q);
+            return r;
+        }
+    }
+    // No usable feature: the full test.
+    return collideHulls(a, b, bInA, margin, feature);
+}
+
+HullContact collideHullsCached(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
+                               HullPairCache& cache, float margin) {
+    bool close = cache.reusable && cache.feature.feature != SatFeature::None &&
+                 glm::length(bInA.translation - cache.reference.translation) <= kReuseDistance;
+    for (int c = 0; close && c < 3; ++c) {
+        const glm::vec3 d = glm::abs(bInA.rotation[c] - cache.reference.rotation[c]);
+        close = std::max({d.x, d.y, d.z}) <= kReuseRotation;
+    }
+    if (close) {
+        const HullContact r = collideHullsFromFeature(a, b, bInA, cache.feature, margin);
+        // A face that clipped to nothing while the hulls touch needs the full test.
+        if (r.separated || r.contacts.count > 0) return r;
+    }
+    HullContact r = collideHulls(a, b, bInA, margin, cache.feature);
+    cache = HullPairCache{r.feature, bInA, true};
     return r;
 }
 

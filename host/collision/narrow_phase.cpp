@@ -3,7 +3,6 @@
 // and primitive_contact.cpp.
 #include "host/collision/narrow_phase.h"
 
-#include "host/collision/hull_contact.h"
 #include "host/collision/primitive_contact.h"
 
 namespace rubble {
@@ -45,13 +44,19 @@ ContactSet collideWithPlane(const WorldPlane& plane, const Shape& other, const T
 } // namespace
 
 PairContact collideShapes(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
-                          const SatHint& hint, float margin) {
+                          float margin) {
+    HullPairCache none;
+    return collideShapes(a, ta, b, tb, none, margin);
+}
+
+PairContact collideShapes(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
+                          HullPairCache& cache, float margin) {
     PairContact r;
     const bool hullA = collidesAsHull(a.type), hullB = collidesAsHull(b.type);
     if (hullA && hullB) {
-        const HullContact hc = collideHulls(a.halfEdge, b.halfEdge, relative(ta, tb), margin, hint);
+        const HullContact hc =
+            collideHullsCached(a.halfEdge, b.halfEdge, relative(ta, tb), cache, margin);
         r.contacts = toWorld(hc.contacts, ta, false);
-        r.feature = hc.feature;
     } else if (a.type == ShapeType::Plane && b.type != ShapeType::Plane) {
         r.contacts = collideWithPlane(worldPlane(a, ta), b, tb, margin);
     } else if (b.type == ShapeType::Plane && a.type != ShapeType::Plane) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "host/collision/contact_set.h"
+#include "host/collision/hull_contact.h"
 #include "host/collision/sat.h"
 #include "host/collision/transform.h"
 #include "host/geometry/shape.h"
@@ -12,7 +13,6 @@ namespace rubble {
 /// The contacts of one pair in the world frame.
 struct PairContact {
     ContactSet contacts; ///< world positions, normal from a to b
-    SatHint feature;     ///< hull pairs: the axis or feature to try first next step
 };
 
 /// True for the shapes that collide through their half-edge hull (box, convex, mesh).
@@ -20,9 +20,14 @@ inline bool collidesAsHull(ShapeType t) {
     return t == ShapeType::Box || t == ShapeType::Convex || t == ShapeType::Mesh;
 }
 
-/// Collides shape a at transform ta with shape b at tb (body to world). `hint` is the pair's
-/// feature from last step (hull pairs only). Plane against plane gives nothing.
+/// Collides shape a at transform ta with shape b at tb (body to world). Hull pairs read and
+/// update `cache` (hull_contact.h); other pairs leave it alone. Plane against plane gives
+/// nothing.
 PairContact collideShapes(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
-                          const SatHint& hint = {}, float margin = kContactMargin);
+                          HullPairCache& cache, float margin = kContactMargin);
+
+/// The same without a cache: the full test every time.
+PairContact collideShapes(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
+                          float margin = kContactMargin);
 
 } // namespace rubble

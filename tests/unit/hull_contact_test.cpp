@@ -126,6 +126,41 @@ TEST(HullContact, FeatureIdsStayUnderSmallMotion) {
     EXPECT_EQ(a, b);
 }
 
+TEST(HullContact, CachedFeatureIsReusedOnlyWhileThePoseStaysClose) {
+    const HalfEdgeMesh box = boxMesh(glm::vec3(0.5f));
+    HullPairCache cache;
+    const Transform rest = pose({0.2f, 0.99f, -0.1f});
+    const HullContact first = collideHullsCached(box, box, rest, cache);
+    ASSERT_TRUE(cache.reusable);
+    EXPECT_EQ(cache.feature.feature, SatFeature::FaceA);
+    EXPECT_EQ(cache.reference.translation, rest.translation);
+
+    // A tenth of a millimetre later: the same feature, the same points, no new reference.
+    const Transform nudged = pose({0.2001f, 0.9899f, -0.1f});
+    const HullContact reused = collideHullsCached(box, box, nudged, cache);
+    const HullContact full = collideHulls(box, box, nudged);
+    EXPECT_EQ(cache.reference.translation, rest.translation);
+    ASSERT_EQ(reused.contacts.count, full.contacts.count);
+    for (std::uint32_t i = 0; i < full.contacts.count; ++i) {
+        EXPECT_EQ(reused.contacts.points[i].feature, full.contacts.points[i].feature);
+        EXPECT_NEAR(reused.contacts.points[i].depth, full.contacts.points[i].depth, 1e-6f);
+    }
+
+    // A pair 5 mm apart, then half a millimetre closer: the cached axis still separates them.
+    HullPairCache apart;
+    EXPECT_TRUE(collideHullsCached(box, box, pose({0.2f, 1.005f, -0.1f}), apart).separated);
+    const HullContact closer = collideHullsCached(box, box, pose({0.2f, 1.0045f, -0.1f}), apart);
+    EXPECT_TRUE(closer.separated);
+    EXPECT_EQ(apart.reference.translation.y, 1.005f);
+
+    // Turned by 5 degrees: a full test and a new reference.
+    const Transform turned =
+        pose({0.2f, 0.99f, -0.1f}, glm::angleAxis(glm::radians(5.0f), glm::vec3(0, 0, 1)));
+    collideHullsCached(box, box, turned, cache);
+    EXPECT_EQ(cache.reference.rotation, turned.rotation);
+    EXPECT_GT(first.contacts.count, 0u);
+}
+
 // The largest distance of p outside the hull's face planes (negative inside), hull frame.
 float outside(const HalfEdgeMesh& m, glm::vec3 p) {
     float d = -1e30f;
