@@ -21,11 +21,65 @@ bool keyLess(const ContactImpulse& x, std::uint32_t a, std::uint32_t b, std::uin
     return x.feature < feature;
 }
 
-// 1 / (J M^-1 J^T) for a row with direction d at offsets ra, rb; 0 when nothing can move.
-float rowMass(const ContactRow& r, int k) {
-    const float k0 = r.inverseMassA + r.inverseMassB + glm::dot(r.crossA[k], r.turnA[k]) +
-                     glm::dot(r.crossB[k], r.turnB[k]);
-    return k0 > 0.0f ? 1.0f / k0 : 0.0f;
+// One row's Jacobian along d at offsets ra, rb: r x d and I^-1 (r x d) for each body, and
+// 1 / (J M^-1 J^T) (0 when nothing can move).
+struct RowJacobian {
+    Lanes crossA, crossB, turnA, turnB;
+    float mass;
+};
+RowJacobian rowJacobian(glm::vec3 d, glm::vec3 ra, glm::vec3 rb, float inverseMassA,
+                        float inverseMassB, const glm::mat3& ia, const glm::mat3& ib) {
+    const glm::vec3 crossA = glm::cross(ra, d), crossB = glm::cross(rb, d);
+    const glm::vec3 turnA = ia * crossA, turnB = ib * crossB;
+    const float k =
+        inverseMassA + inverseMassB + glm::dot(crossA, turnA) + glm::dot(crossB, turnB);
+    return RowJacobian{toLanes(crossA), toLanes(crossB), toLanes(turnA), toLanes(turnB),
+                       k > 0.0f ? 1.0f / k : 0.0f};
+}
+
+// Hands last step's impulses to one manifold's new points (rows [first, first + count)): the
+// same feature first, then the nearest unmatched old point within kWarmStartMatchDistance.
+// `last` starts at the pair's run.
+void warmStart(ContactRows& rows, std::size_t first, std::size_t count,
+               std::span<const ContactImpulse> last) {
+    const ContactKey& key = rows.keys[first];
+    // A manifold has at most 4 points; more old points than 8 would be a different narrow phase.
+    constexpr std::size_t kMaxOld = 8;
+    std::size_t old = 0;
+    while (old < last.size() && old < kMaxOld && last[old].a == key.a && last[old].b == key.b)
+        ++old;
+    if (old == 0) return;
+    bool taken[kMaxOld] = {};
+    bool matched[4] = {};
+    auto take = [&](std::size_t k, const ContactImpulse& from) {
+        rows.normals[first + k].impulse = from.normal;
+        FrictionRows& f = rows.frictions[first + k];
+        f.impulse[0] = glm::dot(from.friction, fromLanes(f.tangent[0]));
+        f.impulse[1] = glm::dot(from.friction, fromLanes(f.tangent[1]));
+    };
+    for (std::size_t k = 0; k < count; ++k)
+        for (std::size_t o = 0; o < old; ++o)
+            if (!taken[o] && last[o].feature == rows.keys[first + k].feature) {
+                take(k, last[o]);
+                taken[o] = matched[k] = true;
+                break;
+            }
+    for (std::size_t k = 0; k < count; ++k) {
+        if (matched[k]) continue;
+        float best = kWarmStartMatchDistance * kWarmStartMatchDistance;
+        std::size_t pick = old;
+        for (std::size_t o = 0; o < old; ++o) {
+            if (taken[o]) continue;
+            const glm::vec3 d = last[o].pointInA - rows.keys[first + k].pointInA;
+            if (glm::dot(d, d) < best) {
+                best = glm::dot(d, d);
+                pick = o;
+            }
+        }
+        if (pick == old) continue;
+        take(k, last[pick]);
+        taken[pick] = true;
+    }
 }
 
 } // namespace
@@ -49,7 +103,7 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                       const SolverBodies& bodies, std::span<const MaterialDesc> materials,
                       std::span<const std::uint32_t> materialOf,
                       std::span<const BodyPair> joined, std::span<const ContactImpulse> last,
-                      const ContactRowSettings& settings, std::vector<ContactRow>& rows) {
+                      const ContactRowSettings& settings, ContactRows& rows) {
     rows.clear();
     const float dt = settings.dt;
     for (const Manifold& m : manifolds) {
@@ -62,93 +116,135 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
         const float friction = std::sqrt(matA.friction * matB.friction);
         const float restitution = std::max(matA.restitution, matB.restitution);
         const glm::vec3 xa = toVec3(poses[m.a].position), xb = toVec3(poses[m.b].position);
-        const glm::vec3 va = bodies.linear[m.a], wa = bodies.angular[m.a];
-        const glm::vec3 vb = bodies.linear[m.b], wb = bodies.angular[m.b];
+        const SolverVelocity& bodyA = bodies.velocity[m.a];
+        const SolverVelocity& bodyB = bodies.velocity[m.b];
+        const float ima = bodies.inverseMass[m.a], imb = bodies.inverseMass[m.b];
         const glm::mat3& ia = bodies.inverseInertia[m.a];
         const glm::mat3& ib = bodies.inverseInertia[m.b];
-        // Last step's impulses of this pair: a sorted run.
-        const auto first = std::lower_bound(
-            last.begin(), last.end(), 0u,
-            [&](const ContactImpulse& x, std::uint32_t) { return keyLess(x, m.a, m.b, 0u); });
+        const glm::vec3 n = m.normal;
+        const std::size_t first = rows.size();
 
         for (std::uint32_t k = 0; k < m.count; ++k) {
             const ContactPoint& p = m.points[k];
-            ContactRow r;
-            r.a = m.a;
-            r.b = m.b;
-            r.feature = p.feature;
-            r.inverseMassA = bodies.inverseMass[m.a];
-            r.inverseMassB = bodies.inverseMass[m.b];
-            r.friction = friction;
-            const glm::vec3 n = m.normal;
             const glm::vec3 ra = p.position - xa, rb = p.position - xb;
-            const glm::vec3 relative = (vb + glm::cross(wb, rb)) - (va + glm::cross(wa, ra));
+            const glm::vec3 relative =
+                (fromLanes(bodyB.linear) + glm::cross(fromLanes(bodyB.angular), rb)) -
+                (fromLanes(bodyA.linear) + glm::cross(fromLanes(bodyA.angular), ra));
             const float normalSpeed = glm::dot(relative, n);
 
-            // Tangents: along the sliding velocity when there is one, else a fixed basis.
-            const glm::vec3 sliding = relative - n * normalSpeed;
-            const float slidingSpeed = glm::length(sliding);
-            glm::vec3 t1, t2;
-            if (slidingSpeed > kSlidingSpeed) {
-                t1 = sliding / slidingSpeed;
-                t2 = glm::cross(n, t1);
-            } else {
-                tangentBasis(n, t1, t2);
-            }
-            r.direction[0] = n;
-            r.direction[1] = t1;
-            r.direction[2] = t2;
-            for (int d = 0; d < 3; ++d) {
-                r.crossA[d] = glm::cross(ra, r.direction[d]);
-                r.crossB[d] = glm::cross(rb, r.direction[d]);
-                r.turnA[d] = ia * r.crossA[d];
-                r.turnB[d] = ib * r.crossB[d];
-                r.mass[d] = rowMass(r, d);
-            }
-
-            // Normal target speed: push out the penetration beyond the slop, bounce a fast
-            // approach, or let a gap close and no more.
+            NormalRow nr;
+            nr.a = m.a;
+            nr.b = m.b;
+            const RowJacobian jn = rowJacobian(n, ra, rb, ima, imb, ia, ib);
+            nr.normal = toLanes(n);
+            nr.crossA = jn.crossA;
+            nr.crossB = jn.crossB;
+            nr.turnA = jn.turnA;
+            nr.turnB = jn.turnB;
+            nr.inverseMassA = ima;
+            nr.inverseMassB = imb;
+            nr.mass = jn.mass;
+            // Target: bounce a fast approach, stop a touching one, or let a gap close and no
+            // more; the penetration beyond the slop is pushed out by the position pass.
             const float approach = -normalSpeed;
             const bool bounces = restitution > 0.0f && approach > kRestitutionThreshold;
             if (p.depth >= 0.0f) {
-                r.targetSpeed = settings.baumgarte / dt * std::max(p.depth - settings.slop, 0.0f);
-                if (bounces) r.targetSpeed = std::max(r.targetSpeed, restitution * approach);
+                const float push = settings.baumgarte / dt * std::max(p.depth - settings.slop, 0.0f);
+                nr.pushSpeed = std::min(push, kMaxPushSpeed);
+                nr.targetSpeed = bounces ? restitution * approach : 0.0f;
             } else {
                 const bool closes = approach * dt > -p.depth;
-                r.targetSpeed = bounces && closes ? restitution * approach : p.depth / dt;
+                nr.targetSpeed = bounces && closes ? restitution * approach : p.depth / dt;
             }
+            rows.normals.push_back(nr);
 
-            // Warm start from the same feature's impulses, friction projected on the new tangents.
-            r.impulse[0] = r.impulse[1] = r.impulse[2] = 0.0f;
-            if (settings.warmStart) {
-                for (auto it = first; it != last.end() && it->a == m.a && it->b == m.b; ++it) {
-                    if (it->feature != p.feature) continue;
-                    r.impulse[0] = it->normal;
-                    r.impulse[1] = glm::dot(it->friction, t1);
-                    r.impulse[2] = glm::dot(it->friction, t2);
-                    break;
-                }
+            // Tangents: along the sliding velocity when there is one, else a fixed basis.
+            FrictionRows fr;
+            fr.a = m.a;
+            fr.b = m.b;
+            fr.inverseMassA = ima;
+            fr.inverseMassB = imb;
+            fr.friction = friction;
+            const glm::vec3 sliding = relative - n * normalSpeed;
+            const float slidingSpeed = glm::length(sliding);
+            glm::vec3 tangent[2];
+            if (slidingSpeed > kSlidingSpeed) {
+                tangent[0] = sliding / slidingSpeed;
+                tangent[1] = glm::cross(n, tangent[0]);
+            } else {
+                tangentBasis(n, tangent[0], tangent[1]);
             }
-            rows.push_back(r);
+            for (int d = 0; d < 2; ++d) {
+                const RowJacobian jt = rowJacobian(tangent[d], ra, rb, ima, imb, ia, ib);
+                fr.tangent[d] = toLanes(tangent[d]);
+                fr.crossA[d] = jt.crossA;
+                fr.crossB[d] = jt.crossB;
+                fr.turnA[d] = jt.turnA;
+                fr.turnB[d] = jt.turnB;
+                fr.mass[d] = jt.mass;
+            }
+            rows.frictions.push_back(fr);
+
+            ContactKey key;
+            key.a = m.a;
+            key.b = m.b;
+            key.feature = p.feature;
+            key.pointInA = toVec3(shared::quatRotateInverse(poses[m.a].orientation, toFloat4(ra)));
+            rows.keys.push_back(key);
+        }
+        for (std::uint32_t k = 0; k < m.count; ++k) rows.slot.push_back(k);
+        if (settings.warmStart) {
+            // Last step's impulses of this pair: a sorted run.
+            const auto run = std::lower_bound(
+                last.begin(), last.end(), 0u,
+                [&](const ContactImpulse& x, std::uint32_t) { return keyLess(x, m.a, m.b, 0u); });
+            warmStart(rows, first, m.count, last.subspan(std::size_t(run - last.begin())));
         }
     }
+    interleaveContactRows(rows);
 }
 
-void storeContactImpulses(std::span<const ContactRow> rows, std::vector<ContactImpulse>& impulses) {
-    impulses.clear();
-    impulses.reserve(rows.size());
-    for (const ContactRow& r : rows) {
-        ContactImpulse c;
-        c.a = r.a;
-        c.b = r.b;
-        c.feature = r.feature;
-        c.normal = r.impulse[0];
-        c.friction = r.direction[1] * r.impulse[1] + r.direction[2] * r.impulse[2];
-        impulses.push_back(c);
+void interleaveContactRows(ContactRows& rows) {
+    // Stable counting sort by slot: manifold order is kept within each slot.
+    std::size_t start[5] = {0, 0, 0, 0, 0};
+    for (const std::uint8_t k : rows.slot) ++start[k + 1];
+    for (int k = 0; k < 4; ++k) start[k + 1] += start[k];
+    rows.scratchNormals.resize(rows.size());
+    rows.scratchFrictions.resize(rows.size());
+    rows.scratchKeys.resize(rows.size());
+    rows.built.resize(rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const std::size_t to = start[rows.slot[i]]++;
+        rows.built[to] = std::uint32_t(i);
+        rows.scratchNormals[to] = rows.normals[i];
+        rows.scratchFrictions[to] = rows.frictions[i];
+        rows.scratchKeys[to] = rows.keys[i];
     }
-    std::sort(impulses.begin(), impulses.end(), [](const ContactImpulse& x, const ContactImpulse& y) {
-        return keyLess(x, y.a, y.b, y.feature);
-    });
+    std::swap(rows.normals, rows.scratchNormals);
+    std::swap(rows.frictions, rows.scratchFrictions);
+    std::swap(rows.keys, rows.scratchKeys);
+    rows.slot.clear();
+}
+
+void storeContactImpulses(const ContactRows& rows, std::vector<ContactImpulse>& impulses) {
+    impulses.resize(rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const ContactKey& key = rows.keys[i];
+        const FrictionRows& f = rows.frictions[i];
+        ContactImpulse& c = impulses[rows.built.empty() ? i : rows.built[i]];
+        c.a = key.a;
+        c.b = key.b;
+        c.feature = key.feature;
+        c.pointInA = key.pointInA;
+        c.normal = rows.normals[i].impulse;
+        c.friction = fromLanes(f.tangent[0] * f.impulse[0] + f.tangent[1] * f.impulse[1]);
+    }
+    // The narrow phase hands the manifolds over in pair order; anything else is sorted here.
+    const auto byPair = [](const ContactImpulse& x, const ContactImpulse& y) {
+        return x.a != y.a ? x.a < y.a : x.b < y.b;
+    };
+    if (!std::is_sorted(impulses.begin(), impulses.end(), byPair))
+        std::stable_sort(impulses.begin(), impulses.end(), byPair);
 }
 
 } // namespace rubble

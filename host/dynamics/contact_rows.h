@@ -16,25 +16,71 @@
 
 namespace rubble {
 
-/// One contact point's three rows: row 0 along the normal, rows 1 and 2 along two tangents. An
-/// impulse lambda on row k pushes body b by +lambda direction[k] and body a by the opposite,
-/// at the contact point.
-struct ContactRow {
+/// A contact point's normal row. An impulse lambda pushes body b by +lambda n and body a by
+/// -lambda n at the contact point. Vectors are world-frame Lanes (fourth lane zero).
+struct NormalRow {
+    Lanes normal{};                   ///< unit, from a to b
+    Lanes crossA{}, crossB{};         ///< r_a x n, r_b x n, m (r from each centre of mass)
+    Lanes turnA{}, turnB{};           ///< I_a^-1 (r_a x n), I_b^-1 (r_b x n), 1/(kg m)
     std::uint32_t a = 0, b = 0;
-    std::uint32_t feature = 0;
-    glm::vec3 direction[3];         ///< unit, world: normal (a to b), tangent, tangent
-    glm::vec3 crossA[3], crossB[3]; ///< r_a x d and r_b x d, m (r from each centre of mass)
-    glm::vec3 turnA[3], turnB[3];   ///< I_a^-1 (r_a x d) and I_b^-1 (r_b x d), 1/(kg m)
-    float mass[3];                  ///< 1 / (J M^-1 J^T) of each row, kg
     float inverseMassA = 0, inverseMassB = 0; ///< 1/kg
-    float targetSpeed = 0;          ///< normal velocity the solve aims at, m/s (bias)
-    float friction = 0;             ///< combined Coulomb coefficient
-    float impulse[3];               ///< accumulated impulses, N s
+    float mass = 0;                   ///< 1 / (J M^-1 J^T), kg
+    float targetSpeed = 0;            ///< normal velocity the solve aims at, m/s
+    float pushSpeed = 0;              ///< Baumgarte speed of the split position pass, m/s
+    float impulse = 0;                ///< accumulated, N s
+    float pushImpulse = 0;            ///< accumulated in the position pass, N s
 };
+
+/// The same point's two friction rows, along two unit tangents.
+struct FrictionRows {
+    Lanes tangent[2] = {};
+    Lanes crossA[2] = {}, crossB[2] = {};
+    Lanes turnA[2] = {}, turnB[2] = {};
+    std::uint32_t a = 0, b = 0;
+    float inverseMassA = 0, inverseMassB = 0;
+    float mass[2] = {0, 0};
+    float friction = 0;           ///< combined Coulomb coefficient
+    float impulse[2] = {0, 0};    ///< accumulated, N s
+};
+
+/// Where a contact point came from, to hand its impulses to the next step.
+struct ContactKey {
+    std::uint32_t a = 0, b = 0, feature = 0;
+    glm::vec3 pointInA{0.0f}; ///< the contact point in a's frame, m
+};
+
+/// This step's contact rows; the three arrays run in parallel, one entry per contact point.
+struct ContactRows {
+    std::vector<NormalRow> normals;
+    std::vector<FrictionRows> frictions;
+    std::vector<ContactKey> keys;
+    std::vector<std::uint32_t> built; ///< each row's index in manifold order
+    // While building: each row's point index in its manifold; and reordering buffers.
+    std::vector<std::uint8_t> slot;
+    std::vector<NormalRow> scratchNormals;
+    std::vector<FrictionRows> scratchFrictions;
+    std::vector<ContactKey> scratchKeys;
+
+    std::size_t size() const { return normals.size(); }
+    void clear() {
+        normals.clear();
+        frictions.clear();
+        keys.clear();
+        built.clear();
+        slot.clear();
+    }
+};
+
+/// Reorders the rows point-major: every manifold's first point, then every second point, and so
+/// on, manifold order kept. Consecutive rows then mostly touch different bodies, so that the
+/// sweep's updates overlap instead of waiting on each other, and no corner of a face contact is
+/// always solved first. reads: rows.slot   writes: rows
+void interleaveContactRows(ContactRows& rows);
 
 /// A contact point's impulses at the end of a step, for warm-starting the next one.
 struct ContactImpulse {
     std::uint32_t a = 0, b = 0, feature = 0;
+    glm::vec3 pointInA{0.0f};     ///< the contact point in a's frame, m
     float normal = 0;             ///< N s
     glm::vec3 friction{0.0f};     ///< world frame, N s (the tangents change between steps)
 };
@@ -50,27 +96,41 @@ struct ContactRowSettings {
 /// Approach speeds below this do not bounce (resting contacts stay at rest), m/s.
 inline constexpr float kRestitutionThreshold = 0.5f;
 
+/// The Baumgarte push-out speed is at most this, m/s: a deep penetration (a fast body caught a
+/// step late) is undone over a few steps instead of throwing the bodies apart.
+inline constexpr float kMaxPushSpeed = 2.0f;
+
+/// A point whose feature id is new takes over the impulses of last step's unmatched point of
+/// the same pair nearest to it in a's frame, if within this distance, m: clipping can renumber
+/// the features of a resting box whose corners sit exactly on another's edges.
+inline constexpr float kWarmStartMatchDistance = 0.02f;
+
 /// True when the (unordered) pair of bodies is in `joined`, which is sorted with a < b.
 bool isJoinedPair(std::span<const BodyPair> joined, std::uint32_t a, std::uint32_t b);
 
 /// Stage buildContactRows for contacts (Catto, "Iterative Dynamics with Temporal Coherence",
 /// GDC 2005; "Modeling and Solving Constraints", GDC 2009). Manifolds between two bodies that do
-/// not move in the solve, or between joined bodies, are skipped. The normal row aims at the
-/// larger of the Baumgarte speed beta/dt max(depth - slop, 0) and the restitution speed
-/// e v_approach (when v_approach exceeds kRestitutionThreshold); a gap (depth < 0) may close
-/// within the step and no further. The first tangent follows the sliding direction when there is
-/// one. Friction is sqrt(mu_a mu_b), restitution max(e_a, e_b).
+/// not move in the solve, or between joined bodies, are skipped. The normal row's velocity
+/// target is the restitution speed e v_approach when v_approach exceeds kRestitutionThreshold,
+/// else 0; a gap (depth < 0) may close within the step and no further. Its Baumgarte speed
+/// min(beta/dt max(depth - slop, 0), kMaxPushSpeed) goes to the split position pass (Catto,
+/// "Fast and Simple Physics using Sequential Impulses", GDC 2006: split impulses), where it moves
+/// the bodies out without adding to their velocities. The first tangent follows the sliding
+/// direction when there is one. Friction is sqrt(mu_a mu_b), restitution max(e_a, e_b). Warm
+/// start: last step's impulses of the same (pair, feature), else of the nearest unmatched point
+/// (see kWarmStartMatchDistance), the friction impulse projected on the new tangents.
 /// reads: manifolds, poses, bodies (velocities and inverse masses), materials, last impulses
-/// (sorted by a, b, feature)   writes: rows
+/// (sorted by pair)   writes: rows
 void buildContactRows(std::span<const Manifold> manifolds, std::span<const shared::BodyPose> poses,
                       const SolverBodies& bodies, std::span<const MaterialDesc> materials,
                       std::span<const std::uint32_t> materialOf,
                       std::span<const BodyPair> joined, std::span<const ContactImpulse> last,
-                      const ContactRowSettings& settings, std::vector<ContactRow>& rows);
+                      const ContactRowSettings& settings, ContactRows& rows);
 
-/// The rows' accumulated impulses, sorted by (a, b, feature), for the next step.
+/// The rows' accumulated impulses in manifold order (sorted by pair when the manifolds are;
+/// sorted here otherwise), for the next step.
 /// reads: rows   writes: impulses
-void storeContactImpulses(std::span<const ContactRow> rows, std::vector<ContactImpulse>& impulses);
+void storeContactImpulses(const ContactRows& rows, std::vector<ContactImpulse>& impulses);
 
 /// Two unit tangents that make a right-handed basis with the unit normal n, the same for the
 /// same n.

@@ -2,6 +2,7 @@
 // correction after stage 7, and sleeping.
 #include "host/dynamics/dynamics_world.h"
 
+#include "host/core/math.h"
 #include "host/dynamics/pgs.h"
 #include "host/world/world_state.h"
 
@@ -28,6 +29,8 @@ void runBuildContactRows(WorldState& s) {
 void runSolveVelocities(WorldState& s) {
     SolverCache& c = s.solver;
     solvePgs(c.contacts, c.joints, c.bodies, s.options.solver, c.residuals);
+    c.pushed = solvePushes(c.contacts, c.bodies, s.options.solver.iterations,
+                           s.options.solver.relaxation);
     scatterSolverVelocities(c.bodies, s.velocities);
     storeContactImpulses(c.contacts, c.impulses);
     s.stats.solverResidual = c.residuals.empty() ? 0.0f : c.residuals.back();
@@ -35,9 +38,23 @@ void runSolveVelocities(WorldState& s) {
 
 void runSolvePositions(WorldState& s) {
     SolverCache& c = s.solver;
+    const float dt = s.options.dt;
+    // Contacts: the split position pass moves the bodies out of each other.
+    if (c.pushed) {
+        for (std::uint32_t i = 0; i < s.bodyCount(); ++i) {
+            const SolverVelocity& p = c.bodies.push[i];
+            if (!c.bodies.moves(i)) continue;
+            BodyPose& pose = s.poses[i];
+            pose.position = toFloat4(toVec3(pose.position) + fromLanes(p.linear) * dt);
+            pose.orientation = shared::quatIntegrate(pose.orientation, toFloat4(fromLanes(p.angular)), dt);
+            s.velocities[i] =
+                shared::velocityFromMomentumItem(s.momenta[i], s.masses[i], pose.orientation);
+        }
+    }
     if (c.joints.empty()) return;
+    // Joints: projected onto their constraints.
     c.jointPositions = correctJointPositions(c.joints, c.jointGroups, s.masses, s.poses,
-                                              kJointPositionIterations, c.jointScratch);
+                                             kJointPositionIterations, c.jointScratch);
     // The turned bodies' angular velocities follow from their momenta at the new orientations.
     for (const Joint& j : c.joints)
         for (const std::uint32_t i : {j.a, j.b})

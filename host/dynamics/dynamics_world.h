@@ -28,8 +28,9 @@ struct SolverCache {
     JointPositionScratch jointScratch;
     std::vector<ContactImpulse> impulses; ///< last step's contact impulses, sorted by key
     SolverBodies bodies;                  ///< this step's solver view of the bodies
-    std::vector<ContactRow> contacts;     ///< this step's contact rows
+    ContactRows contacts;                 ///< this step's contact rows
     std::vector<float> residuals;         ///< largest |impulse change| of each sweep, N s
+    bool pushed = false;                  ///< the split position pass ran this step
     JointPositionReport jointPositions;   ///< the last position correction
     SleepState sleep;
     SleepReport lastSleep;
@@ -42,7 +43,8 @@ void runBuildContactRows(WorldState& s);
 /// Stage solve. reads: rows   writes: velocities, impulses, stats.solverResidual
 void runSolveVelocities(WorldState& s);
 
-/// After integratePositions: position-level correction of joints. writes: poses, velocities
+/// After integratePositions: the contacts' split position pass moves the bodies, then the
+/// joints are projected onto their constraints. writes: poses, velocities
 void runSolvePositions(WorldState& s);
 
 /// Islands and sleeping. reads: velocities, manifolds, joints   writes: masses[i].flags

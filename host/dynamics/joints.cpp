@@ -120,16 +120,18 @@ void prepareJoints(std::span<Joint> joints, std::span<const shared::BodyPose> po
 namespace {
 
 void applyPointImpulse(const Joint& j, glm::vec3 impulse, SolverBodies& bodies) {
-    bodies.linear[j.a] -= impulse * bodies.inverseMass[j.a];
-    bodies.angular[j.a] -= bodies.inverseInertia[j.a] * glm::cross(j.ra, impulse);
-    bodies.linear[j.b] += impulse * bodies.inverseMass[j.b];
-    bodies.angular[j.b] += bodies.inverseInertia[j.b] * glm::cross(j.rb, impulse);
+    SolverVelocity& a = bodies.velocity[j.a];
+    SolverVelocity& b = bodies.velocity[j.b];
+    a.linear -= toLanes(impulse * bodies.inverseMass[j.a]);
+    a.angular -= toLanes(bodies.inverseInertia[j.a] * glm::cross(j.ra, impulse));
+    b.linear += toLanes(impulse * bodies.inverseMass[j.b]);
+    b.angular += toLanes(bodies.inverseInertia[j.b] * glm::cross(j.rb, impulse));
 }
 
 void applyTurnImpulse(const Joint& j, glm::vec2 impulse, SolverBodies& bodies) {
     const glm::vec3 torque = j.turn[0] * impulse.x + j.turn[1] * impulse.y;
-    bodies.angular[j.a] += bodies.inverseInertia[j.a] * torque;
-    bodies.angular[j.b] -= bodies.inverseInertia[j.b] * torque;
+    bodies.velocity[j.a].angular += toLanes(bodies.inverseInertia[j.a] * torque);
+    bodies.velocity[j.b].angular -= toLanes(bodies.inverseInertia[j.b] * torque);
 }
 
 } // namespace
@@ -146,15 +148,18 @@ float solveJointVelocity(Joint& j, SolverBodies& bodies, float relaxation) {
     if (!j.active) return 0.0f;
     float residual = 0.0f;
     if (j.type == JointType::Hinge) {
-        const glm::vec3 dw = bodies.angular[j.a] - bodies.angular[j.b];
+        const glm::vec3 dw =
+            fromLanes(bodies.velocity[j.a].angular) - fromLanes(bodies.velocity[j.b].angular);
         const glm::vec2 speed(glm::dot(j.turn[0], dw), glm::dot(j.turn[1], dw));
         const glm::vec2 impulse = -(j.turnMass * speed) * relaxation;
         j.turnImpulse += impulse;
         applyTurnImpulse(j, impulse, bodies);
         residual = std::max(std::abs(impulse.x), std::abs(impulse.y));
     }
-    const glm::vec3 speed = (bodies.linear[j.b] + glm::cross(bodies.angular[j.b], j.rb)) -
-                            (bodies.linear[j.a] + glm::cross(bodies.angular[j.a], j.ra));
+    const SolverVelocity& a = bodies.velocity[j.a];
+    const SolverVelocity& b = bodies.velocity[j.b];
+    const glm::vec3 speed = (fromLanes(b.linear) + glm::cross(fromLanes(b.angular), j.rb)) -
+                            (fromLanes(a.linear) + glm::cross(fromLanes(a.angular), j.ra));
     const glm::vec3 impulse = -(j.pointMass * speed) * relaxation;
     j.pointImpulse += impulse;
     applyPointImpulse(j, impulse, bodies);

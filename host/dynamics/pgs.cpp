@@ -7,53 +7,101 @@
 namespace rubble {
 namespace {
 
-// J v of row k: the relative velocity of b against a at the contact point, along direction k.
-inline float rowSpeed(const ContactRow& r, int k, const SolverBodies& bodies) {
-    return glm::dot(r.direction[k], bodies.linear[r.b] - bodies.linear[r.a]) +
-           glm::dot(r.crossB[k], bodies.angular[r.b]) - glm::dot(r.crossA[k], bodies.angular[r.a]);
+// J v of a row along d: the relative velocity of b against a at the contact point.
+inline float rowSpeed(const SolverVelocity& a, const SolverVelocity& b, Lanes d, Lanes crossA,
+                      Lanes crossB) {
+    return sum3(d * (b.linear - a.linear) + crossB * b.angular - crossA * a.angular);
 }
 
-// M^-1 J^T lambda for row k.
-inline void applyRow(const ContactRow& r, int k, float lambda, SolverBodies& bodies) {
-    bodies.linear[r.a] -= r.direction[k] * (r.inverseMassA * lambda);
-    bodies.angular[r.a] -= r.turnA[k] * lambda;
-    bodies.linear[r.b] += r.direction[k] * (r.inverseMassB * lambda);
-    bodies.angular[r.b] += r.turnB[k] * lambda;
+// M^-1 J^T lambda.
+inline void applyRow(SolverVelocity& a, SolverVelocity& b, Lanes d, Lanes turnA, Lanes turnB,
+                     float inverseMassA, float inverseMassB, float lambda) {
+    a.linear -= d * (inverseMassA * lambda);
+    a.angular -= turnA * lambda;
+    b.linear += d * (inverseMassB * lambda);
+    b.angular += turnB * lambda;
 }
+
+// The position pass stops when no push impulse changes by more than this, N s.
+constexpr float kPushTolerance = 1e-6f;
 
 } // namespace
 
-void warmStartContacts(std::span<const ContactRow> contacts, SolverBodies& bodies) {
-    for (const ContactRow& r : contacts)
-        for (int k = 0; k < 3; ++k)
-            if (r.impulse[k] != 0.0f) applyRow(r, k, r.impulse[k], bodies);
+void warmStartContacts(const ContactRows& contacts, SolverBodies& bodies) {
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+        const NormalRow& n = contacts.normals[i];
+        SolverVelocity& a = bodies.velocity[n.a];
+        SolverVelocity& b = bodies.velocity[n.b];
+        if (n.impulse != 0.0f)
+            applyRow(a, b, n.normal, n.turnA, n.turnB, n.inverseMassA, n.inverseMassB, n.impulse);
+        const FrictionRows& f = contacts.frictions[i];
+        for (int k = 0; k < 2; ++k)
+            if (f.impulse[k] != 0.0f)
+                applyRow(a, b, f.tangent[k], f.turnA[k], f.turnB[k], f.inverseMassA,
+                         f.inverseMassB, f.impulse[k]);
+    }
 }
 
-float solveContactSweep(std::span<ContactRow> contacts, SolverBodies& bodies, float relaxation) {
+float solveContactSweep(ContactRows& contacts, SolverBodies& bodies, float relaxation) {
     float residual = 0.0f;
-    for (ContactRow& r : contacts) {
-        // Friction: each tangent row within the box |lambda_t| <= mu lambda_n.
-        const float bound = r.friction * r.impulse[0];
-        for (int k = 1; k < 3; ++k) {
-            const float change = -r.mass[k] * rowSpeed(r, k, bodies) * relaxation;
+    // Every normal row first: the friction bounds then see this sweep's normal impulses.
+    for (NormalRow& r : contacts.normals) {
+        SolverVelocity& a = bodies.velocity[r.a];
+        SolverVelocity& b = bodies.velocity[r.b];
+        const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
+        const float change = r.mass * (r.targetSpeed - speed) * relaxation;
+        const float total = std::max(r.impulse + change, 0.0f);
+        const float applied = total - r.impulse;
+        r.impulse = total;
+        applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB, applied);
+        residual = std::max(residual, std::abs(applied));
+    }
+    // Friction: each tangent row within the box |lambda_t| <= mu lambda_n.
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+        FrictionRows& r = contacts.frictions[i];
+        SolverVelocity& a = bodies.velocity[r.a];
+        SolverVelocity& b = bodies.velocity[r.b];
+        const float bound = r.friction * contacts.normals[i].impulse;
+        for (int k = 0; k < 2; ++k) {
+            const float speed = rowSpeed(a, b, r.tangent[k], r.crossA[k], r.crossB[k]);
+            const float change = -r.mass[k] * speed * relaxation;
             const float total = std::clamp(r.impulse[k] + change, -bound, bound);
             const float applied = total - r.impulse[k];
             r.impulse[k] = total;
-            applyRow(r, k, applied, bodies);
+            applyRow(a, b, r.tangent[k], r.turnA[k], r.turnB[k], r.inverseMassA, r.inverseMassB,
+                     applied);
             residual = std::max(residual, std::abs(applied));
         }
-        // Normal: the accumulated impulse only pushes.
-        const float change = r.mass[0] * (r.targetSpeed - rowSpeed(r, 0, bodies)) * relaxation;
-        const float total = std::max(r.impulse[0] + change, 0.0f);
-        const float applied = total - r.impulse[0];
-        r.impulse[0] = total;
-        applyRow(r, 0, applied, bodies);
-        residual = std::max(residual, std::abs(applied));
     }
     return residual;
 }
 
-void solvePgs(std::span<ContactRow> contacts, std::span<Joint> joints, SolverBodies& bodies,
+bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, float relaxation) {
+    bool needed = false;
+    for (const NormalRow& r : contacts.normals) needed = needed || r.pushSpeed > 0.0f;
+    if (!needed) return false;
+    bodies.push.assign(bodies.velocity.size(), SolverVelocity{});
+    for (NormalRow& r : contacts.normals) r.pushImpulse = 0.0f;
+    for (int it = 0; it < iterations; ++it) {
+        float residual = 0.0f;
+        for (NormalRow& r : contacts.normals) {
+            SolverVelocity& a = bodies.push[r.a];
+            SolverVelocity& b = bodies.push[r.b];
+            const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
+            const float change = r.mass * (r.pushSpeed - speed) * relaxation;
+            const float total = std::max(r.pushImpulse + change, 0.0f);
+            const float applied = total - r.pushImpulse;
+            applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB, applied);
+            r.pushImpulse = total;
+            residual = std::max(residual, std::abs(applied));
+        }
+        // Converged: a further sweep would move nothing by more than round-off.
+        if (residual <= kPushTolerance) break;
+    }
+    return true;
+}
+
+void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodies,
               const SolverOptions& options, std::vector<float>& residuals) {
     if (options.warmStart) {
         warmStartJoints(joints, bodies);

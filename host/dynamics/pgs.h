@@ -14,19 +14,27 @@ namespace rubble {
 
 /// Stage solvePgs (Catto, "Iterative Dynamics with Temporal Coherence", GDC 2005, and "Fast and
 /// Simple Physics using Sequential Impulses", GDC 2006). Warm start: the rows' accumulated
-/// impulses are applied first. Then `iterations` sweeps over the joints, then the contacts
-/// (friction rows before the normal row of each point): lambda_new = clamp(lambda + w dlambda),
+/// impulses are applied first. Then `iterations` sweeps over the joints, then every contact's
+/// normal row, then every friction row (bounded by this sweep's normal impulses; a tall stack
+/// stands better than with each point's rows together): lambda_new = clamp(lambda + w dlambda),
 /// dlambda = m_eff (target - J v), w = relaxation; lambda_n >= 0 and |lambda_t| <= mu lambda_n;
 /// only the clamped change is applied. residuals[k] is the largest |applied change| (N s) of
-/// sweep k.
-/// reads: rows, joints, bodies   writes: bodies' velocities, impulses, residuals
-void solvePgs(std::span<ContactRow> contacts, std::span<Joint> joints, SolverBodies& bodies,
+/// sweep k. Then, when a contact penetrates beyond the slop, the split position pass: the same
+/// number of sweeps over the normal rows on separate pseudo-velocities that start at zero and
+/// aim at the rows' Baumgarte speeds (lambda_push >= 0), so that pushing bodies apart adds no
+/// energy; runSolvePositions moves the bodies by dt times them.
+/// reads: rows, joints, bodies   writes: bodies' velocities and push, impulses, residuals
+void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodies,
               const SolverOptions& options, std::vector<float>& residuals);
 
 /// One sweep of the contact rows; returns the largest |applied impulse change|, N s.
-float solveContactSweep(std::span<ContactRow> contacts, SolverBodies& bodies, float relaxation);
+float solveContactSweep(ContactRows& contacts, SolverBodies& bodies, float relaxation);
 
 /// Applies the contacts' accumulated impulses (warm start). writes: bodies' velocities
-void warmStartContacts(std::span<const ContactRow> contacts, SolverBodies& bodies);
+void warmStartContacts(const ContactRows& contacts, SolverBodies& bodies);
+
+/// The split position pass; returns false (and leaves bodies.push untouched) when no contact
+/// needs it. writes: bodies.push, rows' push impulses
+bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, float relaxation);
 
 } // namespace rubble

@@ -27,21 +27,20 @@ void gatherSolverMasses(std::span<const shared::BodyMass> masses,
 void gatherSolverVelocities(std::span<const shared::BodyVelocity> velocities,
                             SolverBodies& bodies) {
     const std::size_t n = velocities.size();
-    bodies.linear.resize(n);
-    bodies.angular.resize(n);
+    bodies.velocity.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-        bodies.linear[i] = toVec3(velocities[i].linear);
-        bodies.angular[i] = toVec3(velocities[i].angular);
+        bodies.velocity[i].linear = toLanes(toVec3(velocities[i].linear));
+        bodies.velocity[i].angular = toLanes(toVec3(velocities[i].angular));
     }
 }
 
 void scatterSolverVelocities(const SolverBodies& bodies,
                              std::span<shared::BodyVelocity> velocities) {
-    RUBBLE_ASSERT(velocities.size() == bodies.linear.size());
+    RUBBLE_ASSERT(velocities.size() == bodies.velocity.size());
     for (std::size_t i = 0; i < velocities.size(); ++i) {
         if (!bodies.moves(std::uint32_t(i))) continue;
-        velocities[i].linear = toFloat4(bodies.linear[i]);
-        velocities[i].angular = toFloat4(bodies.angular[i]);
+        velocities[i].linear = toFloat4(fromLanes(bodies.velocity[i].linear));
+        velocities[i].angular = toFloat4(fromLanes(bodies.velocity[i].angular));
     }
 }
 
