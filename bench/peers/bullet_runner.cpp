@@ -94,8 +94,10 @@ class BulletWorld final : public PeerWorld {
             bodies_.push_back(std::move(body));
             names_.push_back(d.name);
         }
+        for (const JointDesc& j : scene.joints) addJoint(j);
     }
     ~BulletWorld() override {
+        for (auto& c : joints_) world_.removeConstraint(c.get());
         for (auto& b : bodies_) world_.removeRigidBody(b.get());
     }
 
@@ -120,6 +122,26 @@ class BulletWorld final : public PeerWorld {
     }
 
   private:
+    // A joint from its world anchor and axis at the initial pose, as rubble builds it; the two
+    // bodies do not collide with each other.
+    void addJoint(const JointDesc& j) {
+        btRigidBody& a = *bodies_[j.a];
+        btRigidBody& b = *bodies_[j.b];
+        const btTransform toA = a.getCenterOfMassTransform().inverse();
+        const btTransform toB = b.getCenterOfMassTransform().inverse();
+        const btVector3 anchor = bt(j.anchor);
+        std::unique_ptr<btTypedConstraint> c;
+        if (j.type == JointType::Ball) {
+            c = std::make_unique<btPoint2PointConstraint>(a, b, toA * anchor, toB * anchor);
+        } else {
+            const btVector3 axis = bt(j.axis);
+            c = std::make_unique<btHingeConstraint>(a, b, toA * anchor, toB * anchor,
+                                                    toA.getBasis() * axis, toB.getBasis() * axis);
+        }
+        world_.addConstraint(c.get(), true);
+        joints_.push_back(std::move(c));
+    }
+
     btDefaultCollisionConfiguration config_;
     btCollisionDispatcher dispatcher_;
     btDbvtBroadphase broadphase_;
@@ -129,6 +151,7 @@ class BulletWorld final : public PeerWorld {
     std::vector<BulletShape> shapes_;
     std::vector<std::unique_ptr<btDefaultMotionState>> motion_;
     std::vector<std::unique_ptr<btRigidBody>> bodies_;
+    std::vector<std::unique_ptr<btTypedConstraint>> joints_;
     std::vector<glm::quat> toShape_;
     std::vector<std::string> names_;
 };
@@ -142,9 +165,6 @@ int main(int argc, char** argv) {
     return peers::runPeer(argc, argv, "bullet", version,
                           [](const Scene& scene, const std::vector<Shape>& shapes)
                               -> Result<std::unique_ptr<peers::PeerWorld>> {
-                              if (!scene.joints.empty())
-                                  return makeError(ErrorKind::NotSupported, scene.file + ": joints",
-                                                   "the Bullet runner has no joints yet");
                               return std::unique_ptr<peers::PeerWorld>(
                                   std::make_unique<peers::BulletWorld>(scene, shapes));
                           });
