@@ -58,6 +58,8 @@ std::string geom(const Shape& s, std::size_t shapeIndex, double mass, float fric
 // which limits it to a few hundred free bodies.
 constexpr std::size_t kContactsPerBody = 8;
 constexpr std::size_t kRowsPerBody = 32;
+// Half the distance between the two point constraints that make a hinge, m.
+constexpr float kHingeHalfSpan = 0.05f;
 
 class MujocoWorld final : public PeerWorld {
   public:
@@ -96,7 +98,35 @@ class MujocoWorld final : public PeerWorld {
               << "</body>\n";
             w->bodyOf_.push_back(int(++w->dynamicCount_));
         }
-        x << "</worldbody>\n</mujoco>\n";
+        x << "</worldbody>\n";
+        // Joints between free bodies as equality constraints: a ball joint is one connect, a
+        // hinge two connects along its axis (which leaves the one rotation about it free).
+        auto bodyName = [&](std::uint32_t i) {
+            return w->bodyOf_[i] < 0 ? std::string("world") : scene.bodies[i].name;
+        };
+        auto localAnchor = [&](std::uint32_t i, glm::vec3 worldPoint) {
+            const BodyDesc& d = scene.bodies[i];
+            return glm::conjugate(d.orientation) * (worldPoint - d.position);
+        };
+        if (!scene.joints.empty()) {
+            x << "<equality>\n";
+            for (const JointDesc& j : scene.joints) {
+                std::vector<glm::vec3> anchors{j.anchor};
+                if (j.type == JointType::Hinge)
+                    anchors = {j.anchor - kHingeHalfSpan * j.axis, j.anchor + kHingeHalfSpan * j.axis};
+                for (const glm::vec3& a : anchors) {
+                    // The anchor is given in body1's frame; the world body's frame is the world.
+                    const glm::vec3 local = w->bodyOf_[j.a] < 0 ? a : localAnchor(j.a, a);
+                    x << "<connect body1=\"" << bodyName(j.a) << "\" body2=\"" << bodyName(j.b)
+                      << "\" anchor=\"" << vec(local) << "\"/>\n";
+                }
+            }
+            x << "</equality>\n<contact>\n";
+            for (const JointDesc& j : scene.joints)
+                x << "<exclude body1=\"" << bodyName(j.a) << "\" body2=\"" << bodyName(j.b) << "\"/>\n";
+            x << "</contact>\n";
+        }
+        x << "</mujoco>\n";
 
         // MuJoCo 2.2 reads models from files.
         char path[] = "/tmp/rubble-mujoco-XXXXXX.xml";
@@ -164,6 +194,7 @@ class MujocoWorld final : public PeerWorld {
 
     std::vector<std::string> caveats() const override {
         return {"soft contacts (MuJoCo's default solref/solimp): no restitution coefficient",
+                "joints as soft connect equalities (a hinge is two of them along its axis)",
                 "friction combines as max(mu_a, mu_b) (rubble: sqrt(mu_a mu_b))",
                 "pyramidal friction cone, PGS solver, no sleeping"};
     }
@@ -186,9 +217,6 @@ int main(int argc, char** argv) {
     return peers::runPeer(argc, argv, "mujoco", mj_versionString(),
                           [](const Scene& scene, const std::vector<Shape>& shapes)
                               -> Result<std::unique_ptr<peers::PeerWorld>> {
-                              if (!scene.joints.empty())
-                                  return makeError(ErrorKind::NotSupported, scene.file + ": joints",
-                                                   "the MuJoCo runner has no joints yet");
                               return peers::MujocoWorld::create(scene, shapes);
                           });
 }
