@@ -65,7 +65,7 @@ ContactSet collideHullSphere(const HalfEdgeMesh& hull, glm::vec3 c, float radius
 
     // Outside: the closest point lies on a face whose plane the centre is above.
     float best2 = std::numeric_limits<float>::max();
-    glm::vec3 closest(0.0f);
+    glm::vec3 closest(0.0f), normal = hull.faces[top].normal;
     std::uint32_t kind = kFace, index = 0;
     for (std::uint32_t f = 0; f < hull.faceCount(); ++f) {
         const HalfEdgeFace& face = hull.faces[f];
@@ -85,6 +85,7 @@ ContactSet collideHullSphere(const HalfEdgeMesh& hull, glm::vec3 c, float radius
                 if (d2 < best2) {
                     best2 = d2;
                     closest = q;
+                    normal = d2 > 1e-12f ? glm::normalize(c - q) : face.normal;
                     if (t <= 0.0f || t >= 1.0f) {
                         kind = kVertex;
                         index = t <= 0.0f ? hull.edges[h].origin
@@ -98,15 +99,17 @@ ContactSet collideHullSphere(const HalfEdgeMesh& hull, glm::vec3 c, float radius
             h = hull.edges[h].next;
         } while (h != face.edge);
         if (inside && s * s < best2) {
+            // Over the face: its normal is exact, where c - projected loses digits.
             best2 = s * s;
             closest = projected;
+            normal = face.normal;
             kind = kFace;
             index = f;
         }
     }
     const float dist = std::sqrt(best2);
     if (dist - radius > margin) return set;
-    set.normal = dist > 1e-7f ? (c - closest) / dist : hull.faces[top].normal;
+    set.normal = normal;
     const glm::vec3 onSphere = c - set.normal * radius;
     set.add((closest + onSphere) * 0.5f, radius - dist,
             makeFeatureId(ContactKind::Primitive, kind, index));

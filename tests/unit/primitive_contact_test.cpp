@@ -5,6 +5,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "host/geometry/shape.h"
+#include "random_hull.h"
 
 namespace rubble {
 namespace {
@@ -73,6 +74,104 @@ TEST(PrimitiveContact, SphereAgainstBoxFaceEdgeAndInside) {
     EXPECT_NEAR(c.points[0].depth, 0.2f, 1e-6f);
     // Clear of the corner.
     EXPECT_EQ(collideHullSphere(box, {0.7f, 0.7f, 0.7f}, 0.3f).count, 0u);
+}
+
+// The distance from c to the surface of a convex hull by brute force over every face polygon:
+// its projection when inside the polygon, else the nearest point of its edges.
+float distanceToSurface(const HalfEdgeMesh& m, glm::vec3 c) {
+    float best = 1e30f;
+    for (std::uint32_t f = 0; f < m.faceCount(); ++f) {
+        const HalfEdgeFace& face = m.faces[f];
+        const std::vector<std::uint32_t> loop = faceVertices(m, f);
+        const glm::vec3 p = c - face.normal * (glm::dot(face.normal, c) - face.offset);
+        bool inside = true;
+        for (std::size_t i = 0; i < loop.size(); ++i) {
+            const glm::vec3 a = m.vertices[loop[i]], b = m.vertices[loop[(i + 1) % loop.size()]];
+            if (glm::dot(glm::cross(b - a, face.normal), p - a) > 0.0f) inside = false;
+            const float t = std::clamp(glm::dot(c - a, b - a) / glm::dot(b - a, b - a), 0.0f, 1.0f);
+            best = std::min(best, glm::length(c - (a + (b - a) * t)));
+        }
+        if (inside) best = std::min(best, glm::length(c - p));
+    }
+    return best;
+}
+
+float outside(const HalfEdgeMesh& m, glm::vec3 p) {
+    float d = -1e30f;
+    for (const HalfEdgeFace& f : m.faces) d = std::max(d, glm::dot(f.normal, p) - f.offset);
+    return d;
+}
+
+TEST(PrimitiveContact, RandomSpheresAgainstRandomHulls) {
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<float> radius(0.05f, 0.6f), offset(-0.3f, 0.1f);
+    int failures = 0, outsideCount = 0, insideCount = 0;
+    auto fail = [&](int i, const std::string& what) {
+        if (++failures <= 5) ADD_FAILURE() << "case " << i << ": " << what;
+    };
+    for (int h = 0; h < 50; ++h) {
+        const Shape shape = test::randomHull(rng);
+        const HalfEdgeMesh& m = shape.halfEdge;
+        for (int k = 0; k < 100; ++k) {
+            const int i = h * 100 + k;
+            // A centre near the surface: a random surface direction, moved in or out.
+            const glm::vec3 dir = test::randomDirection(rng);
+            const glm::vec3 surface = m.vertices[supportVertex(m, dir)];
+            const float r = radius(rng);
+            const glm::vec3 c = surface + dir * (r + offset(rng));
+            const float inDepth = -outside(m, c); // > 0 when the centre is inside
+            const float dist = inDepth > 0.0f ? -inDepth : distanceToSurface(m, c);
+            const ContactSet set = collideHullSphere(m, c, r);
+            if (dist - r > kContactMargin + 1e-5f) {
+                if (set.count != 0) fail(i, "contact while apart");
+                continue;
+            }
+            if (dist - r < kContactMargin - 1e-5f && set.count != 1) {
+                fail(i, "no contact while touching");
+                continue;
+            }
+            if (set.count == 0) continue;
+            (inDepth > 0.0f ? insideCount : outsideCount)++;
+            const LocalContact& p = set.points[0];
+            if (std::fabs(p.depth - (r - dist)) > 1e-5f)
+                fail(i, "depth " + std::to_string(p.depth) + ", expected " + std::to_string(r - dist));
+            if (std::fabs(glm::length(set.normal) - 1.0f) > 1e-5f) fail(i, "normal is not unit");
+            // From the hull to the sphere: moving the sphere along it reduces the overlap.
+            if (distanceToSurface(m, c + set.normal * 0.01f) < dist + 0.009f && inDepth <= 0.0f)
+                fail(i, "normal does not point away from the hull");
+            const float slop = 0.5f * std::fabs(p.depth) + 1e-4f;
+            if (outside(m, p.position) > slop || glm::length(p.position - c) - r > slop)
+                fail(i, "point outside a shape");
+        }
+    }
+    EXPECT_EQ(failures, 0);
+    EXPECT_GT(outsideCount, 1000);
+    EXPECT_GT(insideCount, 100);
+}
+
+TEST(PrimitiveContact, RandomSphereAndPlanePairs) {
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f), radius(0.1f, 1.0f);
+    for (int i = 0; i < 1000; ++i) {
+        const glm::vec3 n = test::randomDirection(rng);
+        const float d = u(rng), r = radius(rng);
+        const glm::vec3 c(u(rng), u(rng), u(rng));
+        const float gap = glm::dot(n, c) - d - r;
+        const ContactSet set = collidePlaneSphere(n, d, c, r);
+        ASSERT_EQ(set.count, gap <= kContactMargin ? 1u : 0u) << i;
+        if (set.count == 0) continue;
+        EXPECT_NEAR(set.points[0].depth, -gap, 1e-5f);
+        // Midway between the plane and the sphere's lowest point.
+        EXPECT_NEAR(glm::dot(n, set.points[0].position) - d, 0.5f * gap, 1e-5f);
+        // Two spheres: depth is the overlap of the radii.
+        const glm::vec3 c2 = c + test::randomDirection(rng) * (2.0f * r * (0.5f + 0.5f * u(rng)));
+        const ContactSet pair = collideSpheres(c, r, c2, r);
+        const float overlap = 2.0f * r - glm::length(c2 - c);
+        ASSERT_EQ(pair.count, -overlap <= kContactMargin ? 1u : 0u);
+        if (pair.count) {
+            EXPECT_NEAR(pair.points[0].depth, overlap, 1e-5f);
+        }
+    }
 }
 
 } // namespace
