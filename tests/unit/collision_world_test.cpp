@@ -2,8 +2,13 @@
 // stages on whole worlds built from scene text.
 #include "host/collision/collision_world.h"
 
-#include <gtest/gtest.h>
+#include <algorithm>
+#include <cstring>
 
+#include <gtest/gtest.h>
+#include <glm/gtc/quaternion.hpp>
+
+#include "host/core/math.h"
 #include "host/world/world_state.h"
 #include "support/test_util.h"
 
@@ -84,6 +89,61 @@ TEST(CollisionWorld, StaticAndSleepingPairsAreSkipped) {
     s.masses[4].flags |= RUBBLE_BODY_ASLEEP;
     runBroadPhase(s);
     EXPECT_TRUE(s.pairs.empty());
+}
+
+// The sorted feature ids of a manifold.
+std::vector<std::uint32_t> featureIds(const Manifold& m) {
+    std::vector<std::uint32_t> ids;
+    for (std::uint32_t i = 0; i < m.count; ++i) ids.push_back(m.points[i].feature);
+    std::sort(ids.begin(), ids.end());
+    return ids;
+}
+
+TEST(CollisionWorld, FeatureIdsSurviveSmallMotionAcrossSteps) {
+    World w = test::worldFromText(
+        scene(R"("crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]})",
+              R"({"name": "c0", "shape": "crate", "mass": 1, "position": [0, 0.498, 0]},
+                 {"name": "c1", "shape": "crate", "mass": 1, "position": [0.1, 1.495, 0.05]})"));
+    WorldState& s = w.state();
+    runBroadPhase(s);
+    runNarrowPhase(s);
+    ASSERT_EQ(s.manifolds.size(), 2u);
+    const std::vector<std::uint32_t> floorIds = featureIds(s.manifolds[0]);
+    const std::vector<std::uint32_t> stackIds = featureIds(s.manifolds[1]);
+    // Drift and turn a little for 20 steps, past the cache's reuse distance.
+    for (int step = 1; step <= 20; ++step) {
+        s.poses[2].position.x += 0.0003f;
+        s.poses[2].position.y -= 0.0001f;
+        s.poses[2].orientation = toFloat4(glm::angleAxis(0.001f * float(step), glm::vec3(0, 1, 0)));
+        runBroadPhase(s);
+        runNarrowPhase(s);
+        ASSERT_EQ(s.manifolds.size(), 2u) << "step " << step;
+        EXPECT_EQ(featureIds(s.manifolds[0]), floorIds) << "step " << step;
+        EXPECT_EQ(featureIds(s.manifolds[1]), stackIds) << "step " << step;
+        EXPECT_EQ(s.manifolds[1].count, 4u);
+    }
+}
+
+TEST(CollisionWorld, NarrowPhaseRepeatsBitForBit) {
+    const std::string text = scene(
+        R"("crate": {"type": "box", "half_extents": [0.5, 0.3, 0.4]},
+           "ball": {"type": "sphere", "radius": 0.3})",
+        R"({"name": "c0", "shape": "crate", "mass": 1, "position": [0, 0.29, 0],
+            "orientation": [0.99, 0.05, 0.1, 0.0]},
+           {"name": "c1", "shape": "crate", "mass": 1, "position": [0.3, 0.85, 0.1],
+            "orientation": [0.95, 0.2, 0.0, 0.1]},
+           {"name": "b", "shape": "ball", "mass": 1, "position": [-0.6, 0.5, 0]})");
+    World w1 = test::worldFromText(text), w2 = test::worldFromText(text);
+    for (World* w : {&w1, &w2}) {
+        runBroadPhase(w->state());
+        runNarrowPhase(w->state());
+    }
+    const auto& m1 = w1.state().manifolds;
+    const auto& m2 = w2.state().manifolds;
+    ASSERT_EQ(m1.size(), m2.size());
+    ASSERT_GE(m1.size(), 3u);
+    for (std::size_t i = 0; i < m1.size(); ++i)
+        EXPECT_EQ(std::memcmp(&m1[i], &m2[i], sizeof(Manifold)), 0) << "manifold " << i;
 }
 
 } // namespace
