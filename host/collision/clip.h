@@ -18,12 +18,13 @@ namespace rubble {
 /// bits; without it, along the incident half-edge it names.
 inline constexpr std::uint32_t kClipLineTag = 0x4000u;
 
-/// A vertex of the polygon being clipped.
+/// A vertex of the polygon being clipped. Trivial on purpose: clipping buffers live on the stack
+/// and are filled before they are read.
 struct ClipVertex {
-    glm::vec3 position{0.0f};
-    std::uint32_t clipEdge = 0; ///< reference half-edge + 1 whose plane made it; 0: an original
-    std::uint32_t tag = 0;      ///< the incident segment it sits on (see segment)
-    std::uint32_t segment = 0;  ///< tag of the segment that starts here
+    glm::vec3 position;
+    std::uint32_t clipEdge; ///< reference half-edge + 1 whose plane made it; 0: an original
+    std::uint32_t tag;      ///< the incident segment it sits on (see segment)
+    std::uint32_t segment;  ///< tag of the segment that starts here
 };
 
 /// One Sutherland-Hodgman pass: the part of the closed polygon `in` where
