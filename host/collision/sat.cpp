@@ -82,7 +82,9 @@ EdgeQuery queryEdgeDirections(const HalfEdgeMesh& a, const HalfEdgeMesh& b, cons
         const HalfEdgeEdge& eb = b.edgeRecords[kb];
         const glm::vec3 c = -bInA.rotate(eb.normalLeft), d = -bInA.rotate(eb.normalRight);
         const glm::vec3 dxc = bInA.rotate(eb.arc);
-        const glm::vec3 pointB = bInA.apply(eb.origin), dirB = bInA.rotate(eb.direction);
+        // The edge itself only once an arc crosses (most of B's edges meet none).
+        bool placed = false;
+        glm::vec3 pointB(0.0f), dirB(0.0f);
         for (std::size_t first = 0; first < edgesA; first += kArcBatch) {
             // The arc test for a batch of A's edges without branches, so that it vectorises;
             // then the few that pass.
@@ -97,6 +99,11 @@ EdgeQuery queryEdgeDirections(const HalfEdgeMesh& a, const HalfEdgeMesh& b, cons
             }
             for (std::size_t i = 0; i < count; ++i) {
                 if (!crossing[i]) continue;
+                if (!placed) {
+                    pointB = bInA.apply(eb.origin);
+                    dirB = bInA.rotate(eb.direction);
+                    placed = true;
+                }
                 const auto ka = std::uint32_t(first + i);
                 const HalfEdgeEdge& ea = a.edgeRecords[ka];
                 const std::optional<glm::vec3> axis =

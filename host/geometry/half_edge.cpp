@@ -193,6 +193,35 @@ void compactVertices(ConvexPolygons& p) {
     p.vertices = std::move(kept);
 }
 
+// The faces in breadth-first order over shared edges from face 0, so that consecutive faces
+// are mostly neighbours: the face query starts each hill climb at the last face's support.
+void orderFacesByAdjacency(ConvexPolygons& p) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> faceOf;
+    for (std::uint32_t f = 0; f < p.faces.size(); ++f)
+        for (std::size_t i = 0; i < p.faces[f].size(); ++i)
+            faceOf[{p.faces[f][i], p.faces[f][(i + 1) % p.faces[f].size()]}] = f;
+    std::vector<std::uint32_t> order;
+    std::vector<std::uint8_t> seen(p.faces.size(), 0);
+    for (std::uint32_t root = 0; root < p.faces.size(); ++root) {
+        if (seen[root]) continue;
+        seen[root] = 1;
+        order.push_back(root);
+        for (std::size_t head = order.size() - 1; head < order.size(); ++head) {
+            const Polygon& loop = p.faces[order[head]];
+            for (std::size_t i = 0; i < loop.size(); ++i) {
+                const auto it = faceOf.find({loop[(i + 1) % loop.size()], loop[i]});
+                if (it == faceOf.end() || seen[it->second]) continue;
+                seen[it->second] = 1;
+                order.push_back(it->second);
+            }
+        }
+    }
+    std::vector<Polygon> faces;
+    faces.reserve(order.size());
+    for (std::uint32_t f : order) faces.push_back(std::move(p.faces[f]));
+    p.faces = std::move(faces);
+}
+
 // The final mesh: twins at 2k and 2k+1, planes, one edge per vertex, edge records, bounds.
 // Fails when an edge lacks one of its directions.
 Result<HalfEdgeMesh> assemble(const ConvexPolygons& p, const std::string& where) {
@@ -303,6 +332,7 @@ Result<HalfEdgeMesh> buildHalfEdgeMesh(const ConvexPolygons& polygons, const std
     if (std::optional<ConvexPolygons> merged = mergeCoplanarFaces(polygons, *linked, scale)) {
         if (dropDegreeTwoVertices(*merged)) {
             compactVertices(*merged);
+            orderFacesByAdjacency(*merged);
             Result<HalfEdgeMesh> mesh = assemble(*merged, where);
             if (mesh && checkHalfEdgeMesh(*mesh, where).ok()) return mesh;
         }
@@ -310,6 +340,7 @@ Result<HalfEdgeMesh> buildHalfEdgeMesh(const ConvexPolygons& polygons, const std
     // Merging went wrong (a group that is not a disk): the faces as given, checked.
     ConvexPolygons plain = polygons;
     compactVertices(plain);
+    orderFacesByAdjacency(plain);
     Result<HalfEdgeMesh> mesh = assemble(plain, where);
     if (!mesh) return invariant(where, mesh.error().message);
     RUBBLE_TRY(checkHalfEdgeMesh(*mesh, where));
