@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "host/io/metrics.h"
+#include "physics/physics_util.h"
 #include "support/test_util.h"
 
 namespace rubble {
@@ -54,23 +55,9 @@ void measure(const World& world, const std::vector<Probe>& ps, Worst& worst) {
     }
 }
 
-Scene shippedScene(const std::string& name) {
-    Result<Scene> scene = loadScene(std::string(RUBBLE_SOURCE_DIR) + "/scenes/" + name);
-    EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().describe());
-    if (!scene.ok()) std::abort();
-    return std::move(*scene);
-}
-
-World makeWorld(const Scene& scene) {
-    Result<World> world = World::create(scene);
-    EXPECT_TRUE(world.ok()) << (world.ok() ? "" : world.error().describe());
-    if (!world.ok()) std::abort();
-    return std::move(*world);
-}
-
 TEST(Joints, WhippingChainKeepsItsAnchors) {
-    const Scene scene = shippedScene("chain.json");
-    World world = makeWorld(scene);
+    const Scene scene = test::shippedScene("chain.json");
+    World world = test::makeWorld(scene);
     const std::vector<Probe> ps = probes(scene, world);
     const std::uint32_t tip = *world.findBody("link9");
     Worst worst;
@@ -85,8 +72,8 @@ TEST(Joints, WhippingChainKeepsItsAnchors) {
 }
 
 TEST(Joints, SwingingDoorKeepsItsHinge) {
-    const Scene scene = shippedScene("door.json");
-    World world = makeWorld(scene);
+    const Scene scene = test::shippedScene("door.json");
+    World world = test::makeWorld(scene);
     const std::vector<Probe> ps = probes(scene, world);
     const std::uint32_t door = *world.findBody("door");
     Worst worst;

@@ -1,0 +1,40 @@
+// tests/physics/physics_util.h: helpers shared by the physics tests: the shipped scenes, worlds
+// from scenes, and stepping with a check.
+#pragma once
+
+#include <cstdlib>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "rubble/world.h"
+
+namespace rubble::test {
+
+/// A scene from the repository's scenes/ folder; fails the test when it does not load.
+inline Scene shippedScene(const std::string& name) {
+    Result<Scene> scene = loadScene(std::string(RUBBLE_SOURCE_DIR) + "/scenes/" + name);
+    EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().describe());
+    if (!scene.ok()) std::abort();
+    return std::move(*scene);
+}
+
+/// The world of a scene; fails the test when it cannot be built.
+inline World makeWorld(const Scene& scene) {
+    Result<World> world = World::create(scene);
+    EXPECT_TRUE(world.ok()) << (world.ok() ? "" : world.error().describe());
+    if (!world.ok()) std::abort();
+    return std::move(*world);
+}
+
+/// Steps n times; false (with a test failure) when a step fails.
+inline bool stepWorld(World& world, int n) {
+    for (int i = 0; i < n; ++i) {
+        const Status s = world.step();
+        EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().describe());
+        if (!s.ok()) return false;
+    }
+    return true;
+}
+
+} // namespace rubble::test

@@ -1,0 +1,85 @@
+// tests/physics/ragdoll_fall_test.cpp: the ragdoll of scenes/ragdoll.json falls, lands and comes
+// to rest without jitter, its joints holding.
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "host/io/metrics.h"
+#include "physics/physics_util.h"
+
+namespace rubble {
+namespace {
+
+// Largest distance between the two bodies' copies of each joint's anchor, m; the anchors are
+// taken from the initial state.
+struct AnchorProbe {
+    std::vector<JointDesc> joints;
+    std::vector<glm::vec3> inA, inB;
+
+    AnchorProbe(const Scene& scene, const World& world) : joints(scene.joints) {
+        for (const JointDesc& j : joints) {
+            const BodyState a = world.body(j.a), b = world.body(j.b);
+            inA.push_back(glm::inverse(a.orientation) * (j.anchor - a.position));
+            inB.push_back(glm::inverse(b.orientation) * (j.anchor - b.position));
+        }
+    }
+    float worst(const World& world) const {
+        float w = 0.0f;
+        for (std::size_t k = 0; k < joints.size(); ++k) {
+            const BodyState a = world.body(joints[k].a), b = world.body(joints[k].b);
+            const glm::vec3 pa = a.position + a.orientation * inA[k];
+            const glm::vec3 pb = b.position + b.orientation * inB[k];
+            w = std::max(w, glm::length(pb - pa));
+        }
+        return w;
+    }
+};
+
+TEST(RagdollFall, FallsLandsAndRestsWithJointsHeld) {
+    const Scene scene = test::shippedScene("ragdoll.json");
+    ASSERT_EQ(scene.joints.size(), 9u);
+    World world = test::makeWorld(scene);
+    const AnchorProbe probe(scene, world);
+    const std::uint32_t chest = *world.findBody("doll_chest");
+    const float chestStart = world.body(chest).position.y;
+    float stretch = 0.0f, lowestChest = chestStart;
+    int restingSince = -1;
+    for (int step = 0; step < 600; ++step) { // 10 s at 60 Hz
+        ASSERT_TRUE(test::stepWorld(world, 1));
+        stretch = std::max(stretch, probe.worst(world));
+        lowestChest = std::min(lowestChest, world.body(chest).position.y);
+        bool allAsleep = true;
+        for (std::uint32_t i = 0; i < world.bodyCount(); ++i)
+            allAsleep = allAsleep && (world.body(i).isStatic || world.body(i).asleep);
+        if (allAsleep && restingSince < 0) restingSince = step;
+        // Once at rest it stays at rest: no jitter wakes it.
+        if (restingSince >= 0) {
+            EXPECT_TRUE(allAsleep) << "woke at step " << step;
+        }
+    }
+    EXPECT_LT(chestStart - lowestChest, chestStart) << "it falls";
+    EXPECT_LT(lowestChest, 0.5f) << "and lies on the ground";
+    EXPECT_LT(stretch, 0.02f);
+    ASSERT_GE(restingSince, 0) << "it never came to rest";
+    EXPECT_LT(restingSince, 480) << "it takes too long to settle";
+    // Nothing sank through the floor.
+    for (std::uint32_t i = 0; i < world.bodyCount(); ++i) {
+        if (world.body(i).isStatic) continue;
+        EXPECT_GT(world.body(i).position.y, 0.02f) << world.bodyName(i);
+    }
+}
+
+TEST(RagdollFall, SettlesWithoutJitterBeforeSleeping) {
+    // The kinetic energy after the landing decays and does not come back.
+    World world = test::makeWorld(test::shippedScene("ragdoll.json"));
+    ASSERT_TRUE(test::stepWorld(world, 90)); // 1.5 s: landed
+    double worst = 0.0;
+    for (int step = 0; step < 60; ++step) {
+        ASSERT_TRUE(test::stepWorld(world, 1));
+        if (step >= 30) worst = std::max(worst, measureInvariants(world).kineticEnergy);
+    }
+    EXPECT_LT(worst, 0.05) << "J, for 70 kg: below 4 cm/s";
+}
+
+} // namespace
+} // namespace rubble
