@@ -1,0 +1,121 @@
+// tests/unit/islands_test.cpp: host/dynamics/islands: islands over contacts and joints, the
+// sleep timer, and waking.
+#include "host/dynamics/islands.h"
+
+#include <gtest/gtest.h>
+
+#include "host/core/math.h"
+
+namespace rubble {
+namespace {
+
+// Bodies 0..n-2 dynamic 1 kg, body n-1 static; all at rest unless told.
+struct Sleepers {
+    std::vector<shared::BodyMass> masses;
+    std::vector<shared::BodyVelocity> velocities;
+    std::vector<shared::BodyMomentum> momenta;
+    std::vector<Manifold> manifolds;
+    std::vector<Joint> joints;
+    SleepState state;
+
+    explicit Sleepers(std::uint32_t n) {
+        shared::BodyMass dynamic{};
+        dynamic.mass = dynamic.inverseMass = 1.0f;
+        masses.assign(n, dynamic);
+        masses[n - 1] = shared::BodyMass{};
+        masses[n - 1].flags = RUBBLE_BODY_STATIC;
+        velocities.assign(n, shared::BodyVelocity{});
+        momenta.assign(n, shared::BodyMomentum{});
+    }
+    void touch(std::uint32_t a, std::uint32_t b) {
+        Manifold m;
+        m.a = a;
+        m.b = b;
+        m.count = 1;
+        manifolds.push_back(m);
+    }
+    void move(std::uint32_t i, glm::vec3 v) {
+        velocities[i].linear = toFloat4(v);
+        momenta[i].linear = toFloat4(v);
+    }
+    SleepReport step(int n = 1) {
+        SleepReport r;
+        for (int i = 0; i < n; ++i)
+            r = updateSleep(manifolds, joints, masses, velocities, momenta, 0.1f, state);
+        return r;
+    }
+    bool asleep(std::uint32_t i) const { return (masses[i].flags & RUBBLE_BODY_ASLEEP) != 0; }
+};
+
+TEST(Islands, StillBodiesSleepAfterTheTimeToSleep) {
+    Sleepers s(3);
+    s.touch(0, 2);
+    s.step(4); // 0.4 s
+    EXPECT_FALSE(s.asleep(0));
+    const SleepReport r = s.step(1);
+    EXPECT_TRUE(s.asleep(0));
+    EXPECT_TRUE(s.asleep(1));
+    EXPECT_FALSE(s.asleep(2)) << "static bodies are not part of islands";
+    EXPECT_EQ(r.asleepBodies, 2u);
+    EXPECT_EQ(r.islands, 2u) << "the static body does not join 0 and 1";
+}
+
+TEST(Islands, OneMovingBodyKeepsItsIslandAwake) {
+    Sleepers s(5);
+    s.touch(0, 1);
+    s.touch(1, 2);
+    s.move(2, {0.2f, 0, 0});
+    s.move(3, {0.01f, 0, 0}); // slow: below the threshold
+    const SleepReport r = s.step(10);
+    EXPECT_FALSE(s.asleep(0));
+    EXPECT_FALSE(s.asleep(1));
+    EXPECT_FALSE(s.asleep(2));
+    EXPECT_TRUE(s.asleep(3));
+    EXPECT_EQ(r.islands, 2u);
+    // Asleep means still: velocity and momentum zeroed.
+    EXPECT_EQ(s.velocities[3].linear.x, 0.0f);
+    EXPECT_EQ(s.momenta[3].linear.x, 0.0f);
+}
+
+TEST(Islands, JointsJoinIslands) {
+    Sleepers s(3);
+    Joint j;
+    j.a = 0;
+    j.b = 1;
+    s.joints.push_back(j);
+    s.move(1, {1, 0, 0});
+    s.step(10);
+    EXPECT_FALSE(s.asleep(0));
+}
+
+TEST(Islands, AwakeBodyTouchingASleepingGroupWakesAllOfIt) {
+    Sleepers s(5);
+    s.touch(0, 1);
+    s.touch(1, 2);
+    s.step(6);
+    ASSERT_TRUE(s.asleep(0) && s.asleep(1) && s.asleep(2) && s.asleep(3));
+    // Asleep, pairs between sleeping bodies are not collided: only 3 touches 2 now.
+    s.manifolds.clear();
+    s.touch(2, 3);
+    s.masses[3].flags &= ~RUBBLE_BODY_ASLEEP; // woken from outside
+    s.move(3, {-1, 0, 0});
+    const SleepReport r = s.step(1);
+    EXPECT_FALSE(s.asleep(0));
+    EXPECT_FALSE(s.asleep(1));
+    EXPECT_FALSE(s.asleep(2));
+    EXPECT_EQ(r.woken, 3u);
+}
+
+TEST(Islands, BodyWokenFromOutsideStartsItsSlowTimeAgain) {
+    Sleepers s(2);
+    s.step(6);
+    ASSERT_TRUE(s.asleep(0));
+    s.masses[0].flags &= ~RUBBLE_BODY_ASLEEP; // an API call, with no lasting push
+    s.step(1);
+    EXPECT_FALSE(s.asleep(0)) << "half a second again before it sleeps";
+    s.step(5);
+    EXPECT_TRUE(s.asleep(0));
+}
+
+} // namespace
+} // namespace rubble
