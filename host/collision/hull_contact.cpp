@@ -21,6 +21,11 @@ constexpr float kAbsoluteTolerance = 0.0025f;
 // Faces up to this many vertices (incident plus reference) clip in stack buffers.
 constexpr std::size_t kInlineClipVertices = 64;
 
+// A cached vertex index as a climb's start, if it still names a vertex.
+std::uint32_t startIn(const HalfEdgeMesh& m, std::uint32_t vertex) {
+    return vertex < m.vertexCount() ? vertex : 0;
+}
+
 bool clearlyLarger(float x, float preferred, float relative) {
     return x > preferred + relative * std::fabs(preferred) + kAbsoluteTolerance;
 }
@@ -155,7 +160,7 @@ HullContact collideHulls(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Tra
     const SatResult sat = runSat(a, b, bInA, margin, hint);
     if (sat.separated) {
         r.separated = true;
-        r.feature = SatHint{sat.feature, sat.indexA, sat.indexB};
+        r.feature = SatHint{sat.feature, sat.indexA, sat.indexB, sat.vertex};
         return r;
     }
 
@@ -176,7 +181,7 @@ HullContact collideHulls(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Tra
     auto tryFace = [&](bool ownerB) {
         if (!ownerB) {
             r.contacts = clipFaceContact(a, sat.faceA, b, bInA, margin, ContactKind::FaceA);
-            r.feature = SatHint{SatFeature::FaceA, sat.faceA.face, 0};
+            r.feature = SatHint{SatFeature::FaceA, sat.faceA.face, 0, sat.faceA.vertex};
             return r.contacts.count > 0;
         }
         // Made in B's frame with B's normal: brought to A's frame, pointing from A to B.
@@ -185,7 +190,7 @@ HullContact collideHulls(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Tra
         for (std::uint32_t i = 0; i < r.contacts.count; ++i)
             r.contacts.points[i].position = bInA.apply(r.contacts.points[i].position);
         r.contacts.normal = -bInA.rotate(r.contacts.normal);
-        r.feature = SatHint{SatFeature::FaceB, 0, sat.faceB.face};
+        r.feature = SatHint{SatFeature::FaceB, 0, sat.faceB.face, sat.faceB.vertex};
         return r.contacts.count > 0;
     };
     if (!useEdges) {
@@ -208,9 +213,11 @@ HullContact collideHullsFromFeature(const HalfEdgeMesh& a, const HalfEdgeMesh& b
     r.feature = feature;
     if (feature.feature == SatFeature::FaceA && feature.indexA < a.faceCount()) {
         const HalfEdgeFace& f = a.faces[feature.indexA];
-        const std::uint32_t v = supportVertex(b, bInA.rotateInverse(-f.normal));
+        const std::uint32_t v =
+            supportVertex(b, bInA.rotateInverse(-f.normal), startIn(b, feature.vertex));
         const FaceQuery q{glm::dot(f.normal, bInA.apply(b.vertices[v])) - f.offset, feature.indexA,
                           v};
+        r.feature.vertex = v;
         r.separated = q.separation > margin;
         if (!r.separated) r.contacts = clipFaceContact(a, q, b, bInA, margin, ContactKind::FaceA);
         return r;
@@ -218,9 +225,11 @@ HullContact collideHullsFromFeature(const HalfEdgeMesh& a, const HalfEdgeMesh& b
     if (feature.feature == SatFeature::FaceB && feature.indexB < b.faceCount()) {
         const Transform aInB = inverse(bInA);
         const HalfEdgeFace& f = b.faces[feature.indexB];
-        const std::uint32_t v = supportVertex(a, aInB.rotateInverse(-f.normal));
+        const std::uint32_t v =
+            supportVertex(a, aInB.rotateInverse(-f.normal), startIn(a, feature.vertex));
         const FaceQuery q{glm::dot(f.normal, aInB.apply(a.vertices[v])) - f.offset, feature.indexB,
                           v};
+        r.feature.vertex = v;
         r.separated = q.separation > margin;
         if (r.separated) return r;
         r.contacts = clipFaceContact(b, q, a, aInB, margin, ContactKind::FaceB);
@@ -261,7 +270,10 @@ HullContact collideHullsCached(const HalfEdgeMesh& a, const HalfEdgeMesh& b, con
     if (close) {
         const HullContact r = collideHullsFromFeature(a, b, bInA, cache.feature, margin);
         // A face that clipped to nothing while the hulls touch needs the full test.
-        if (r.separated || r.contacts.count > 0) return r;
+        if (r.separated || r.contacts.count > 0) {
+            cache.feature.vertex = r.feature.vertex; // the next climb starts here
+            return r;
+        }
     }
     HullContact r = collideHulls(a, b, bInA, margin, cache.feature);
     cache = HullPairCache{r.feature, bInA, true};

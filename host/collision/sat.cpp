@@ -40,12 +40,13 @@ float separationAlongFrom(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Tr
     return glm::dot(axis, bInA.apply(b.vertices[startB])) - glm::dot(axis, a.vertices[startA]);
 }
 
-// The separation along a face normal of `a`, with b's support point.
+// The separation along a face normal of `a`, with b's support point climbed from `vertex`
+// (updated to the support).
 float faceSeparation(const HalfEdgeMesh& a, std::uint32_t face, const HalfEdgeMesh& b,
-                     const Transform& bInA) {
+                     const Transform& bInA, std::uint32_t& vertex) {
     const HalfEdgeFace& f = a.faces[face];
-    const std::uint32_t v = supportVertex(b, bInA.rotateInverse(-f.normal));
-    return glm::dot(f.normal, bInA.apply(b.vertices[v])) - f.offset;
+    vertex = supportVertex(b, bInA.rotateInverse(-f.normal), vertex < b.vertexCount() ? vertex : 0);
+    return glm::dot(f.normal, bInA.apply(b.vertices[vertex])) - f.offset;
 }
 
 } // namespace
@@ -158,21 +159,23 @@ SatResult runSat(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& 
     SatResult r;
     const Transform aInB = inverse(bInA);
     auto settle = [&r](SatFeature feature, float s, std::uint32_t ia, std::uint32_t ib,
-                       glm::vec3 axis) {
+                       glm::vec3 axis, std::uint32_t vertex = 0) {
         r.feature = feature;
         r.separation = s;
         r.indexA = ia;
         r.indexB = ib;
         r.axis = axis;
+        r.vertex = vertex;
     };
 
     // Last step's axis first: a pair that stays apart is settled by one or two support queries.
+    std::uint32_t v = hint.vertex;
     if (hint.feature == SatFeature::FaceA && hint.indexA < a.faceCount()) {
-        const float s = faceSeparation(a, hint.indexA, b, bInA);
-        settle(SatFeature::FaceA, s, hint.indexA, 0, a.faces[hint.indexA].normal);
+        const float s = faceSeparation(a, hint.indexA, b, bInA, v);
+        settle(SatFeature::FaceA, s, hint.indexA, 0, a.faces[hint.indexA].normal, v);
     } else if (hint.feature == SatFeature::FaceB && hint.indexB < b.faceCount()) {
-        const float s = faceSeparation(b, hint.indexB, a, aInB);
-        settle(SatFeature::FaceB, s, 0, hint.indexB, -bInA.rotate(b.faces[hint.indexB].normal));
+        const float s = faceSeparation(b, hint.indexB, a, aInB, v);
+        settle(SatFeature::FaceB, s, 0, hint.indexB, -bInA.rotate(b.faces[hint.indexB].normal), v);
     } else if (hint.feature == SatFeature::Edges && hint.indexA < a.edgeCount() &&
                hint.indexB < b.edgeCount()) {
         const HalfEdgeEdge& ea = a.edgeRecords[hint.indexA];
@@ -188,8 +191,8 @@ SatResult runSat(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& 
     r.feature = SatFeature::None;
 
     r.faceA = queryFaceDirections(a, b, bInA, margin);
-    settle(SatFeature::FaceA, r.faceA.separation, r.faceA.face, 0,
-           a.faces[r.faceA.face].normal);
+    settle(SatFeature::FaceA, r.faceA.separation, r.faceA.face, 0, a.faces[r.faceA.face].normal,
+           r.faceA.vertex);
     if (r.separation > margin) {
         r.separated = true;
         return r;
@@ -197,7 +200,7 @@ SatResult runSat(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& 
     r.faceB = queryFaceDirections(b, a, aInB, margin);
     if (r.faceB.separation > r.separation)
         settle(SatFeature::FaceB, r.faceB.separation, 0, r.faceB.face,
-               -bInA.rotate(b.faces[r.faceB.face].normal));
+               -bInA.rotate(b.faces[r.faceB.face].normal), r.faceB.vertex);
     if (r.separation > margin) {
         r.separated = true;
         return r;

@@ -45,6 +45,7 @@ struct EdgeQuery {
 struct SatHint {
     SatFeature feature = SatFeature::None;
     std::uint32_t indexA = 0, indexB = 0; ///< face of A or B, or edges of A and B
+    std::uint32_t vertex = 0; ///< faces: the other hull's support vertex, where climbs start
 };
 
 /// The outcome of one separating axis test.
@@ -54,6 +55,7 @@ struct SatResult {
     SatFeature feature = SatFeature::None;
     float separation = 0.0f;        ///< along that axis, m: > margin when separated
     std::uint32_t indexA = 0, indexB = 0; ///< as in SatHint
+    std::uint32_t vertex = 0;       ///< faces: the other hull's support vertex
     glm::vec3 axis{0.0f};           ///< unit, A's frame, from A to B
     FaceQuery faceA, faceB;         ///< the queries that ran (separation -max if not)
     EdgeQuery edges;
