@@ -55,6 +55,9 @@ struct ContactRows {
     std::vector<FrictionRows> frictions;
     std::vector<ContactKey> keys;
     std::vector<std::uint32_t> built; ///< each row's index in manifold order
+    // The split position pass: its rows, and the bodies that pushing rows move.
+    std::vector<std::uint32_t> pushRows;
+    std::vector<std::uint8_t> pushedBody;
     // While building: each row's point index in its manifold; and reordering buffers.
     std::vector<std::uint8_t> slot;
     std::vector<NormalRow> scratchNormals;

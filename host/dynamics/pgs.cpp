@@ -77,14 +77,30 @@ float solveContactSweep(ContactRows& contacts, SolverBodies& bodies, float relax
 }
 
 bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, float relaxation) {
+    // The rows that push, and every row touching a body they move: contacts far from any
+    // penetration would only watch.
+    std::vector<std::uint8_t>& moved = contacts.pushedBody;
+    moved.assign(bodies.velocity.size(), 0);
     bool needed = false;
-    for (const NormalRow& r : contacts.normals) needed = needed || r.pushSpeed > 0.0f;
+    for (const NormalRow& r : contacts.normals) {
+        if (r.pushSpeed <= 0.0f) continue;
+        needed = true;
+        moved[r.a] = bodies.moves(r.a) ? 1 : 0;
+        moved[r.b] = bodies.moves(r.b) ? 1 : 0;
+    }
     if (!needed) return false;
+    std::vector<std::uint32_t>& active = contacts.pushRows;
+    active.clear();
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+        NormalRow& r = contacts.normals[i];
+        r.pushImpulse = 0.0f;
+        if (r.pushSpeed > 0.0f || moved[r.a] || moved[r.b]) active.push_back(std::uint32_t(i));
+    }
     bodies.push.assign(bodies.velocity.size(), SolverVelocity{});
-    for (NormalRow& r : contacts.normals) r.pushImpulse = 0.0f;
     for (int it = 0; it < iterations; ++it) {
         float residual = 0.0f;
-        for (NormalRow& r : contacts.normals) {
+        for (const std::uint32_t i : active) {
+            NormalRow& r = contacts.normals[i];
             SolverVelocity& a = bodies.push[r.a];
             SolverVelocity& b = bodies.push[r.b];
             const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);

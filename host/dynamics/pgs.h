@@ -19,10 +19,11 @@ namespace rubble {
 /// stands better than with each point's rows together): lambda_new = clamp(lambda + w dlambda),
 /// dlambda = m_eff (target - J v), w = relaxation; lambda_n >= 0 and |lambda_t| <= mu lambda_n;
 /// only the clamped change is applied. residuals[k] is the largest |applied change| (N s) of
-/// sweep k. Then, when a contact penetrates beyond the slop, the split position pass: the same
-/// number of sweeps over the normal rows on separate pseudo-velocities that start at zero and
-/// aim at the rows' Baumgarte speeds (lambda_push >= 0), so that pushing bodies apart adds no
-/// energy; runSolvePositions moves the bodies by dt times them.
+/// sweep k. Then, when a contact penetrates beyond the slop, the split position pass: up to the
+/// same number of sweeps over the normal rows that push and the rows touching the bodies they
+/// move, on separate pseudo-velocities that start at zero and aim at the rows' Baumgarte speeds
+/// (lambda_push >= 0), so that pushing bodies apart adds no energy; runSolvePositions moves the
+/// bodies by dt times them.
 /// reads: rows, joints, bodies   writes: bodies' velocities and push, impulses, residuals
 void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodies,
               const SolverOptions& options, std::vector<float>& residuals);
