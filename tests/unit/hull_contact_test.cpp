@@ -161,6 +161,30 @@ TEST(HullContact, CachedFeatureIsReusedOnlyWhileThePoseStaysClose) {
     EXPECT_GT(first.contacts.count, 0u);
 }
 
+TEST(HullContact, FacesWithManyVerticesClipOnTheHeap) {
+    // A 100-sided prism (disc) resting on a box and the box on it: faces of 100 vertices.
+    ShapeDesc d;
+    d.type = ShapeType::Convex;
+    d.where = "disc";
+    for (int i = 0; i < 100; ++i) {
+        const float a = 2.0f * 3.14159265f * float(i) / 100.0f;
+        d.points.emplace_back(0.8f * std::cos(a), -0.1f, 0.8f * std::sin(a));
+        d.points.emplace_back(0.8f * std::cos(a), 0.1f, 0.8f * std::sin(a));
+    }
+    Result<Shape> disc = buildShape(d);
+    ASSERT_TRUE(disc.ok()) << disc.error().describe();
+    ASSERT_EQ(disc->halfEdge.faceCount(), 102u);
+    const HalfEdgeMesh box = boxMesh(glm::vec3(0.5f));
+    // Disc on the box, 5 mm deep: its whole bottom face overlaps the top of the box.
+    HullContact c = collideHulls(box, disc->halfEdge, pose({0.0f, 0.595f, 0.0f}));
+    ASSERT_EQ(c.contacts.count, 4u);
+    for (std::uint32_t i = 0; i < 4; ++i) EXPECT_NEAR(c.contacts.points[i].depth, 0.005f, 1e-5f);
+    // The box on the disc.
+    c = collideHulls(disc->halfEdge, box, pose({0.1f, 0.595f, 0.0f}));
+    ASSERT_EQ(c.contacts.count, 4u);
+    for (std::uint32_t i = 0; i < 4; ++i) EXPECT_NEAR(c.contacts.points[i].depth, 0.005f, 1e-5f);
+}
+
 // The largest distance of p outside the hull's face planes (negative inside), hull frame.
 float outside(const HalfEdgeMesh& m, glm::vec3 p) {
     float d = -1e30f;

@@ -54,6 +54,29 @@ TEST(PrimitiveContact, TiltedBoxOnPlaneGivesItsLowestCorner) {
     EXPECT_NEAR(c.points[0].depth, 0.01f, 1e-5f);
 }
 
+TEST(PrimitiveContact, ManyVerticesOnAPlaneKeepFour) {
+    // A 100-sided disc lying on the plane: 100 candidates, four kept, spread over the disc.
+    ShapeDesc d;
+    d.type = ShapeType::Convex;
+    d.where = "disc";
+    for (int i = 0; i < 100; ++i) {
+        const float a = 2.0f * 3.14159265f * float(i) / 100.0f;
+        d.points.emplace_back(0.8f * std::cos(a), -0.1f, 0.8f * std::sin(a));
+        d.points.emplace_back(0.8f * std::cos(a), 0.1f, 0.8f * std::sin(a));
+    }
+    Result<Shape> disc = buildShape(d);
+    ASSERT_TRUE(disc.ok()) << disc.error().describe();
+    const ContactSet c = collidePlaneHull({0, 1, 0}, -0.098f, disc->halfEdge);
+    ASSERT_EQ(c.count, 4u);
+    float span = 0.0f; // the largest distance between two of the points
+    for (std::uint32_t i = 0; i < 4; ++i) {
+        EXPECT_NEAR(c.points[i].depth, 0.002f, 1e-5f);
+        for (std::uint32_t j = 0; j < i; ++j)
+            span = std::max(span, glm::length(c.points[i].position - c.points[j].position));
+    }
+    EXPECT_GT(span, 1.5f); // nearly a diameter (1.6 m)
+}
+
 TEST(PrimitiveContact, SphereAgainstBoxFaceEdgeAndInside) {
     const HalfEdgeMesh box = boxMesh(glm::vec3(0.5f));
     // Above the top face.
