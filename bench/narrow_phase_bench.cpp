@@ -57,7 +57,8 @@ PairSet touchingPairs(Shape shape) {
     std::normal_distribution<float> gauss;
     std::uniform_real_distribution<float> depth(0.0f, 0.02f);
     for (int i = 0; i < kPairs; ++i) {
-        const glm::quat q = glm::normalize(glm::quat(gauss(rng), gauss(rng), gauss(rng), gauss(rng)));
+        const glm::quat q =
+            glm::normalize(glm::quat(gauss(rng), gauss(rng), gauss(rng), gauss(rng)));
         const glm::vec3 dir = glm::normalize(glm::vec3(gauss(rng), gauss(rng), gauss(rng)));
         float lo = 0.0f, hi = 2.0f * set.shape.boundingRadius;
         for (int k = 0; k < 24; ++k) {
@@ -95,7 +96,8 @@ void runSatOver(benchmark::State& state, const PairSet& set, bool prune) {
 void runManifoldsOver(benchmark::State& state, const PairSet& set, bool cached) {
     const HalfEdgeMesh& m = set.shape.halfEdge;
     std::vector<HullPairCache> caches(set.poses.size());
-    for (std::size_t i = 0; i < set.poses.size(); ++i) collideHullsCached(m, m, set.poses[i], caches[i]);
+    for (std::size_t i = 0; i < set.poses.size(); ++i)
+        collideHullsCached(m, m, set.poses[i], caches[i]);
     for (auto _ : state)
         for (std::size_t i = 0; i < set.poses.size(); ++i) {
             const HullContact c = cached ? collideHullsCached(m, m, set.poses[i], caches[i])
@@ -105,14 +107,30 @@ void runManifoldsOver(benchmark::State& state, const PairSet& set, bool cached) 
     state.SetItemsProcessed(state.iterations() * std::int64_t(set.poses.size()));
 }
 
-void BM_SatBoxBox(benchmark::State& s) { runSatOver(s, boxPairs(), true); }
-void BM_SatBoxBoxUnpruned(benchmark::State& s) { runSatOver(s, boxPairs(), false); }
-void BM_SatHull20(benchmark::State& s) { runSatOver(s, hullPairs(), true); }
-void BM_SatHull20Unpruned(benchmark::State& s) { runSatOver(s, hullPairs(), false); }
-void BM_ManifoldBoxBox(benchmark::State& s) { runManifoldsOver(s, boxPairs(), false); }
-void BM_ManifoldBoxBoxCached(benchmark::State& s) { runManifoldsOver(s, boxPairs(), true); }
-void BM_ManifoldHull20(benchmark::State& s) { runManifoldsOver(s, hullPairs(), false); }
-void BM_ManifoldHull20Cached(benchmark::State& s) { runManifoldsOver(s, hullPairs(), true); }
+void BM_SatBoxBox(benchmark::State& s) {
+    runSatOver(s, boxPairs(), true);
+}
+void BM_SatBoxBoxUnpruned(benchmark::State& s) {
+    runSatOver(s, boxPairs(), false);
+}
+void BM_SatHull20(benchmark::State& s) {
+    runSatOver(s, hullPairs(), true);
+}
+void BM_SatHull20Unpruned(benchmark::State& s) {
+    runSatOver(s, hullPairs(), false);
+}
+void BM_ManifoldBoxBox(benchmark::State& s) {
+    runManifoldsOver(s, boxPairs(), false);
+}
+void BM_ManifoldBoxBoxCached(benchmark::State& s) {
+    runManifoldsOver(s, boxPairs(), true);
+}
+void BM_ManifoldHull20(benchmark::State& s) {
+    runManifoldsOver(s, hullPairs(), false);
+}
+void BM_ManifoldHull20Cached(benchmark::State& s) {
+    runManifoldsOver(s, hullPairs(), true);
+}
 
 BENCHMARK(BM_SatBoxBox);
 BENCHMARK(BM_SatBoxBoxUnpruned);

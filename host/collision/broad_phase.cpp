@@ -30,8 +30,8 @@ Strips makeStrips(float lo, float hi, float cellWidth) {
     s.origin = lo;
     s.width = std::max(cellWidth, (hi - lo) / float(kMaxStrips));
     if (!(s.width > 0.0f)) s.width = 1.0f;
-    s.count = std::uint32_t(std::clamp(std::floor((hi - lo) / s.width) + 1.0f, 1.0f,
-                                       float(kMaxStrips)));
+    s.count =
+        std::uint32_t(std::clamp(std::floor((hi - lo) / s.width) + 1.0f, 1.0f, float(kMaxStrips)));
     return s;
 }
 
@@ -64,8 +64,8 @@ std::uint32_t orderedBits(float x) {
 }
 
 bool overlaps(const Aabb& a, const Aabb& b) {
-    return a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y &&
-           b.min.y <= a.max.y && a.min.z <= b.max.z && b.min.z <= a.max.z;
+    return a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y && b.min.y <= a.max.y &&
+           a.min.z <= b.max.z && b.min.z <= a.max.z;
 }
 
 // The box's lowest point along n is below the plane's surface.
@@ -78,7 +78,9 @@ bool swept(const Aabb& box, std::uint8_t flags) {
     return !(flags & kBroadPhaseNoBox) && isFinite(box.min) && isFinite(box.max);
 }
 
-BodyPair ordered(std::uint32_t i, std::uint32_t j) { return i < j ? BodyPair{i, j} : BodyPair{j, i}; }
+BodyPair ordered(std::uint32_t i, std::uint32_t j) {
+    return i < j ? BodyPair{i, j} : BodyPair{j, i};
+}
 
 void addPlanePairs(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,
                    std::span<const PlaneProxy> planes, std::vector<BodyPair>& pairs) {
@@ -147,8 +149,10 @@ void findPairs(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,
         bool reuse = keys.size() == count;
         for (std::size_t k = 0; reuse && k < keys.size(); ++k) {
             const auto body = std::uint32_t(keys[k]);
-            if (body < n && swept(boxes[body], flags[body])) keys[k] = keyOf(body);
-            else reuse = false; // the set of swept bodies changed
+            if (body < n && swept(boxes[body], flags[body]))
+                keys[k] = keyOf(body);
+            else
+                reuse = false; // the set of swept bodies changed
         }
         if (!reuse) {
             keys.clear();
@@ -185,8 +189,13 @@ void findPairs(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,
             for (std::uint32_t cu = u0; cu <= u1; ++cu)
                 for (std::uint32_t cv = v0; cv <= v1; ++cv) {
                     const std::uint32_t cell = cu * sv.count + cv;
-                    entries[cursor[cell]++] = {orderedBits(b.min[axis]), orderedBits(b.max[axis]),
-                                               body, b.min[u], b.max[u], b.min[v], b.max[v]};
+                    entries[cursor[cell]++] = {orderedBits(b.min[axis]),
+                                               orderedBits(b.max[axis]),
+                                               body,
+                                               b.min[u],
+                                               b.max[u],
+                                               b.min[v],
+                                               b.max[v]};
                 }
         }
 

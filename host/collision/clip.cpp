@@ -97,8 +97,8 @@ std::uint32_t reduceContacts(std::span<const LocalContact> points, glm::vec3 nor
     return 4;
 }
 
-void closestPointsOnSegments(glm::vec3 p1, glm::vec3 q1, glm::vec3 p2, glm::vec3 q2,
-                             glm::vec3& c1, glm::vec3& c2) {
+void closestPointsOnSegments(glm::vec3 p1, glm::vec3 q1, glm::vec3 p2, glm::vec3 q2, glm::vec3& c1,
+                             glm::vec3& c2) {
     constexpr float kEpsilon = 1e-12f;
     const glm::vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
     const float a = glm::dot(d1, d1), e = glm::dot(d2, d2), f = glm::dot(d2, r);

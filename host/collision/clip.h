@@ -42,7 +42,7 @@ std::uint32_t reduceContacts(std::span<const LocalContact> points, glm::vec3 nor
                              std::array<std::uint32_t, kMaxContactPoints>& keep);
 
 /// The closest points c1 on segment p1-q1 and c2 on segment p2-q2 (Ericson 5.1.9).
-void closestPointsOnSegments(glm::vec3 p1, glm::vec3 q1, glm::vec3 p2, glm::vec3 q2,
-                             glm::vec3& c1, glm::vec3& c2);
+void closestPointsOnSegments(glm::vec3 p1, glm::vec3 q1, glm::vec3 p2, glm::vec3 q2, glm::vec3& c1,
+                             glm::vec3& c2);
 
 } // namespace rubble

@@ -43,8 +43,8 @@ void runBroadPhase(WorldState& s) {
     c.planes.clear();
     for (std::uint32_t i = 0; i < n; ++i) {
         const Shape& shape = s.shapes[s.shapeOf[i]];
-        const bool inactive = s.isStatic(i) ||
-                              (s.masses[i].flags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP));
+        const bool inactive =
+            s.isStatic(i) || (s.masses[i].flags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP));
         c.flags[i] = inactive ? kBroadPhaseInactive : 0;
         if (shape.type == ShapeType::Plane) {
             c.flags[i] |= kBroadPhaseNoBox;

@@ -19,8 +19,8 @@ inline constexpr float kContactMargin = 0.004f;
 
 /// One contact point in the frame of its ContactSet.
 struct LocalContact {
-    glm::vec3 position{0.0f}; ///< midway between the two surfaces, m
-    float depth = 0.0f;       ///< penetration along the normal, m (negative: a gap)
+    glm::vec3 position{0.0f};  ///< midway between the two surfaces, m
+    float depth = 0.0f;        ///< penetration along the normal, m (negative: a gap)
     std::uint32_t feature = 0; ///< see makeFeatureId
 };
 

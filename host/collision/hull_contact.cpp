@@ -68,7 +68,9 @@ class ClipBuffers {
             heapContacts_.resize(capacity);
         }
     }
-    std::span<ClipVertex> in() { return heapIn_.empty() ? std::span(inlineIn_) : std::span(heapIn_); }
+    std::span<ClipVertex> in() {
+        return heapIn_.empty() ? std::span(inlineIn_) : std::span(heapIn_);
+    }
     std::span<ClipVertex> out() {
         return heapOut_.empty() ? std::span(inlineOut_) : std::span(heapOut_);
     }
@@ -88,7 +90,8 @@ class ClipBuffers {
 ContactSet clipFaceContact(const HalfEdgeMesh& ref, const FaceQuery& query, const HalfEdgeMesh& inc,
                            const Transform& incInRef, float margin, ContactKind kind) {
     const HalfEdgeFace& rf = ref.faces[query.face];
-    const std::uint32_t incFace = incidentFace(inc, incInRef.rotateInverse(rf.normal), query.vertex);
+    const std::uint32_t incFace =
+        incidentFace(inc, incInRef.rotateInverse(rf.normal), query.vertex);
     ClipBuffers buffers(loopLength(inc, incFace) + loopLength(ref, query.face) + 1);
     std::span<ClipVertex> polygon = buffers.in(), scratch = buffers.out();
 
@@ -144,8 +147,8 @@ ContactSet edgeContact(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Trans
     const HalfEdgeEdge& eb = b.edgeRecords[q.edgeB];
     const glm::vec3 pb = bInA.apply(eb.origin);
     glm::vec3 ca, cb;
-    closestPointsOnSegments(ea.origin, ea.origin + ea.direction, pb,
-                            pb + bInA.rotate(eb.direction), ca, cb);
+    closestPointsOnSegments(ea.origin, ea.origin + ea.direction, pb, pb + bInA.rotate(eb.direction),
+                            ca, cb);
     ContactSet set;
     set.normal = q.axis;
     set.add((ca + cb) * 0.5f, -q.separation, makeFeatureId(ContactKind::Edges, q.edgeA, q.edgeB));

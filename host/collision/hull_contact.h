@@ -17,8 +17,8 @@ struct HullContact {
 
 /// What a hull pair keeps from one step to the next (frame coherence).
 struct HullPairCache {
-    SatHint feature;     ///< last step's separating axis or contact feature
-    Transform reference; ///< b's pose in a's frame when the full test last ran
+    SatHint feature;       ///< last step's separating axis or contact feature
+    Transform reference;   ///< b's pose in a's frame when the full test last ran
     bool reusable = false; ///< feature and reference come from a full test
 };
 

@@ -12,7 +12,8 @@ namespace {
 // set was made with the pair's shapes swapped.
 ContactSet toWorld(const ContactSet& local, const Transform& t, bool flip) {
     ContactSet w = local;
-    for (std::uint32_t i = 0; i < w.count; ++i) w.points[i].position = t.apply(local.points[i].position);
+    for (std::uint32_t i = 0; i < w.count; ++i)
+        w.points[i].position = t.apply(local.points[i].position);
     w.normal = t.rotate(local.normal);
     if (flip) w.normal = -w.normal;
     return w;

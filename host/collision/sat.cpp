@@ -154,8 +154,8 @@ float separationAlong(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transf
     return separationAlongFrom(a, b, bInA, axis, startA, startB);
 }
 
-SatResult runSat(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
-                 float margin, const SatHint& hint, bool pruneEdges) {
+SatResult runSat(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA, float margin,
+                 const SatHint& hint, bool pruneEdges) {
     SatResult r;
     const Transform aInB = inverse(bInA);
     auto settle = [&r](SatFeature feature, float s, std::uint32_t ia, std::uint32_t ib,
@@ -181,8 +181,8 @@ SatResult runSat(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& 
         const HalfEdgeEdge& ea = a.edgeRecords[hint.indexA];
         const glm::vec3 dirB = bInA.rotate(b.edgeRecords[hint.indexB].direction);
         if (const auto axis = edgeAxis(ea.origin, ea.direction, dirB, a.centroid))
-            settle(SatFeature::Edges, separationAlong(a, b, bInA, *axis), hint.indexA,
-                   hint.indexB, *axis);
+            settle(SatFeature::Edges, separationAlong(a, b, bInA, *axis), hint.indexA, hint.indexB,
+                   *axis);
     }
     if (r.feature != SatFeature::None && r.separation > margin) {
         r.separated = true;

@@ -53,11 +53,11 @@ struct SatResult {
     bool separated = false;
     /// The separating axis found (separated), else the axis of least penetration.
     SatFeature feature = SatFeature::None;
-    float separation = 0.0f;        ///< along that axis, m: > margin when separated
+    float separation = 0.0f;              ///< along that axis, m: > margin when separated
     std::uint32_t indexA = 0, indexB = 0; ///< as in SatHint
-    std::uint32_t vertex = 0;       ///< faces: the other hull's support vertex
-    glm::vec3 axis{0.0f};           ///< unit, A's frame, from A to B
-    FaceQuery faceA, faceB;         ///< the queries that ran (separation -max if not)
+    std::uint32_t vertex = 0;             ///< faces: the other hull's support vertex
+    glm::vec3 axis{0.0f};                 ///< unit, A's frame, from A to B
+    FaceQuery faceA, faceB;               ///< the queries that ran (separation -max if not)
     EdgeQuery edges;
 };
 

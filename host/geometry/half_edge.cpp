@@ -380,7 +380,8 @@ Status checkHalfEdgeMesh(const HalfEdgeMesh& m, const std::string& where) {
         do {
             h = m.edges[h].next;
             if (++length > hCount)
-                return invariant(where, "the loop of face " + std::to_string(f) + " does not close");
+                return invariant(where,
+                                 "the loop of face " + std::to_string(f) + " does not close");
         } while (h != m.faces[f].edge);
         if (length < 3)
             return invariant(where, "face " + std::to_string(f) + " has fewer than 3 edges");
@@ -409,8 +410,9 @@ Status checkHalfEdgeMesh(const HalfEdgeMesh& m, const std::string& where) {
             return invariant(where, name + " faces inward (wound clockwise seen from outside)");
         for (std::uint32_t v = 0; v < vCount; ++v)
             if (glm::dot(face.normal, m.vertices[v]) > face.offset + tol)
-                return invariant(where, "vertex " + std::to_string(v) + " lies above the plane of " +
-                                            name + " (the mesh is not convex)");
+                return invariant(where, "vertex " + std::to_string(v) +
+                                            " lies above the plane of " + name +
+                                            " (the mesh is not convex)");
         std::uint32_t h = face.edge;
         do {
             const HalfEdge& e = m.edges[h];
@@ -418,8 +420,11 @@ Status checkHalfEdgeMesh(const HalfEdgeMesh& m, const std::string& where) {
             const glm::vec3 b = m.vertices[m.edges[e.next].origin];
             const glm::vec3 c = m.vertices[m.edges[m.edges[e.next].next].origin];
             if (glm::dot(face.normal, a) < face.offset - tol)
-                return invariant(where, "vertex " + std::to_string(e.origin) + " lies below the "
-                                            "plane of " + name + " (the face is not planar, or the "
+                return invariant(where, "vertex " + std::to_string(e.origin) +
+                                            " lies below the "
+                                            "plane of " +
+                                            name +
+                                            " (the face is not planar, or the "
                                             "mesh is not convex)");
             const float turn = glm::dot(glm::cross(b - a, c - b), face.normal);
             if (turn < -tol * (glm::length(b - a) + glm::length(c - b)))

@@ -33,8 +33,8 @@ struct HalfEdgeFace {
 /// one record: the half-edge 2k it stands for, its first vertex and direction, the normals of the
 /// faces on both sides and their cross product (the edge's arc on the Gauss map).
 struct HalfEdgeEdge {
-    glm::vec3 origin{0.0f};    ///< vertex of half-edge 2k, m
-    glm::vec3 direction{0.0f}; ///< to the other vertex, m (not normalised)
+    glm::vec3 origin{0.0f};      ///< vertex of half-edge 2k, m
+    glm::vec3 direction{0.0f};   ///< to the other vertex, m (not normalised)
     glm::vec3 normalLeft{0.0f};  ///< face of half-edge 2k, unit
     glm::vec3 normalRight{0.0f}; ///< face of half-edge 2k+1, unit
     glm::vec3 arc{0.0f};         ///< cross(normalRight, normalLeft)
@@ -54,7 +54,7 @@ struct HalfEdgeMesh {
     /// neighbours[neighbourStart[v + 1]]: the half-edge ring flattened for hill climbing.
     std::vector<std::uint32_t> neighbourStart, neighbours;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f}; ///< axis-aligned bounds of the vertices, m
-    glm::vec3 centroid{0.0f}; ///< mean of the vertices, strictly inside, m
+    glm::vec3 centroid{0.0f};                   ///< mean of the vertices, strictly inside, m
 
     std::uint32_t vertexCount() const { return std::uint32_t(vertices.size()); }
     std::uint32_t edgeCount() const { return std::uint32_t(edges.size() / 2); }

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cstring>
 
-#include <gtest/gtest.h>
 #include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
 
 #include "host/core/math.h"
 #include "host/world/world_state.h"
@@ -74,9 +74,9 @@ TEST(CollisionWorld, StackOfBoxesAndSpheres) {
 }
 
 TEST(CollisionWorld, StaticAndSleepingPairsAreSkipped) {
-    World w = test::worldFromText(scene(
-        R"("crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]})",
-        R"({"name": "s0", "shape": "crate", "static": true, "position": [0, 0.5, 0]},
+    World w = test::worldFromText(
+        scene(R"("crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]})",
+              R"({"name": "s0", "shape": "crate", "static": true, "position": [0, 0.5, 0]},
            {"name": "s1", "shape": "crate", "static": true, "position": [0.9, 0.5, 0]},
            {"name": "d0", "shape": "crate", "mass": 1, "position": [0, 1.49, 0]},
            {"name": "d1", "shape": "crate", "mass": 1, "position": [0.9, 1.49, 0]})"));

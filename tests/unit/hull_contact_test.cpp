@@ -1,8 +1,8 @@
 // tests/unit/hull_contact_test.cpp: host/collision/hull_contact: manifolds of boxes and hulls.
 #include "host/collision/hull_contact.h"
 
-#include <gtest/gtest.h>
 #include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
 
 #include "host/geometry/shape.h"
 #include "random_hull.h"
@@ -236,7 +236,8 @@ TEST(HullContact, RandomHullManifoldsLieInBothShapes) {
             // Midway between the surfaces, moved along the normal: within half the depth (or
             // half the gap) of each surface where the faces are not parallel.
             const float slop = 0.5f * std::fabs(p.depth) + 1e-4f;
-            const float outA = outside(a, p.position), outB = outside(b, bInA.applyInverse(p.position));
+            const float outA = outside(a, p.position),
+                        outB = outside(b, bInA.applyInverse(p.position));
             if (outA > slop || outB > slop)
                 fail(i, "point outside a shape: " + std::to_string(outA) + ", " +
                             std::to_string(outB) + " (depth " + std::to_string(p.depth) + ")");

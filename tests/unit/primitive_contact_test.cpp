@@ -1,8 +1,8 @@
 // tests/unit/primitive_contact_test.cpp: host/collision/primitive_contact: spheres and planes.
 #include "host/collision/primitive_contact.h"
 
-#include <gtest/gtest.h>
 #include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
 
 #include "host/geometry/shape.h"
 #include "random_hull.h"
@@ -157,7 +157,8 @@ TEST(PrimitiveContact, RandomSpheresAgainstRandomHulls) {
             (inDepth > 0.0f ? insideCount : outsideCount)++;
             const LocalContact& p = set.points[0];
             if (std::fabs(p.depth - (r - dist)) > 1e-5f)
-                fail(i, "depth " + std::to_string(p.depth) + ", expected " + std::to_string(r - dist));
+                fail(i,
+                     "depth " + std::to_string(p.depth) + ", expected " + std::to_string(r - dist));
             if (std::fabs(glm::length(set.normal) - 1.0f) > 1e-5f) fail(i, "normal is not unit");
             // From the hull to the sphere: moving the sphere along it reduces the overlap.
             if (distanceToSurface(m, c + set.normal * 0.01f) < dist + 0.009f && inDepth <= 0.0f)

@@ -60,12 +60,14 @@ BruteForce bruteForceSeparation(const HalfEdgeMesh& a, const HalfEdgeMesh& b,
     for (const HalfEdgeFace& f : a.faces) r.faces = std::max(r.faces, along(f.normal));
     for (const HalfEdgeFace& f : b.faces) r.faces = std::max(r.faces, along(bInA.rotate(f.normal)));
     for (std::uint32_t i = 0; i < a.edgeCount(); ++i) {
-        const glm::vec3 ea = a.vertices[a.edges[2 * i + 1].origin] - a.vertices[a.edges[2 * i].origin];
+        const glm::vec3 ea =
+            a.vertices[a.edges[2 * i + 1].origin] - a.vertices[a.edges[2 * i].origin];
         for (std::uint32_t j = 0; j < b.edgeCount(); ++j) {
-            const glm::vec3 eb =
-                bInA.rotate(b.vertices[b.edges[2 * j + 1].origin] - b.vertices[b.edges[2 * j].origin]);
+            const glm::vec3 eb = bInA.rotate(b.vertices[b.edges[2 * j + 1].origin] -
+                                             b.vertices[b.edges[2 * j].origin]);
             const glm::vec3 c = glm::cross(ea, eb);
-            if (glm::dot(c, c) <= kParallelSine * kParallelSine * glm::dot(ea, ea) * glm::dot(eb, eb))
+            if (glm::dot(c, c) <=
+                kParallelSine * kParallelSine * glm::dot(ea, ea) * glm::dot(eb, eb))
                 continue;
             r.edges = std::max(r.edges, along(glm::normalize(c)));
         }
@@ -96,8 +98,10 @@ Transform randomPose(const Shape& a, const Shape& b, int kind, std::mt19937& rng
     float lo = 0.0f, hi = reach * 1.01f;
     for (int i = 0; i < 20; ++i) {
         const float mid = 0.5f * (lo + hi);
-        if (runSat(a.halfEdge, b.halfEdge, makeTransform(dir * mid, q)).separated) hi = mid;
-        else lo = mid;
+        if (runSat(a.halfEdge, b.halfEdge, makeTransform(dir * mid, q)).separated)
+            hi = mid;
+        else
+            lo = mid;
     }
     // Up to a millimetre into contact, or out of it.
     const float step = u01(rng) * 1e-3f;
@@ -163,7 +167,8 @@ TEST(Sat, MatchesBruteForceOnTenThousandRandomPairs) {
             failures.add(i, std::string("verdict differs: ") + text);
         if (!sat.separated && std::fabs(sat.separation - brute.all()) > kDepthTolerance)
             failures.add(i, std::string("depth differs: ") + text);
-        if (sat.separated && (sat.separation <= 0.0f || brute.all() < sat.separation - kDepthTolerance))
+        if (sat.separated &&
+            (sat.separation <= 0.0f || brute.all() < sat.separation - kDepthTolerance))
             failures.add(i, std::string("separating axis is not one: ") + text);
         // The reported axis and separation agree with the support points.
         const float along = separationAlong(a, b, bInA, sat.axis);
@@ -228,8 +233,8 @@ TEST(Sat, HintGivesTheSameVerdict) {
         // The hint of a slightly different pose, as from the last step.
         const Transform moved{bInA.rotation, bInA.translation + randomDirection(rng) * 0.01f};
         const SatResult last = runSat(a.halfEdge, b.halfEdge, moved);
-        const SatResult warm =
-            runSat(a.halfEdge, b.halfEdge, bInA, 0.0f, SatHint{last.feature, last.indexA, last.indexB});
+        const SatResult warm = runSat(a.halfEdge, b.halfEdge, bInA, 0.0f,
+                                      SatHint{last.feature, last.indexA, last.indexB});
         if (std::fabs(cold.separation) > 1e-5f && cold.separated != warm.separated)
             failures.add(i, "the hint changed the verdict");
         if (!cold.separated && std::fabs(cold.separation - warm.separation) > 1e-6f)
