@@ -73,6 +73,33 @@ TEST(CollisionWorld, StackOfBoxesAndSpheres) {
     EXPECT_NEAR(s.manifolds[2].points[0].depth, 0.007f, 1e-5f);
 }
 
+TEST(CollisionWorld, SphereBeforeHullAndPlaneAfterBody) {
+    // The ball has the lower index than the crate on it, and the floor the higher index than
+    // the ball: normals must still point from a to b.
+    const std::string text = R"({"format": "rubble-scene", "version": 1, "name": "t",
+      "shapes": {"ball": {"type": "sphere", "radius": 0.25},
+                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]},
+                 "floor": {"type": "plane", "normal": [0, 1, 0], "offset": 0}},
+      "bodies": [{"name": "b", "shape": "ball", "mass": 1, "position": [0, 0.248, 0]},
+                 {"name": "c", "shape": "crate", "mass": 1, "position": [0, 0.997, 0]},
+                 {"name": "floor", "shape": "floor", "static": true}]})";
+    World w = test::worldFromText(text);
+    WorldState& s = w.state();
+    runBroadPhase(s);
+    runNarrowPhase(s);
+    ASSERT_EQ(s.manifolds.size(), 2u);
+    const Manifold& ballCrate = s.manifolds[0];
+    const Manifold& ballFloor = s.manifolds[1];
+    EXPECT_EQ(ballCrate.a, 0u);
+    EXPECT_EQ(ballCrate.b, 1u);
+    EXPECT_NEAR(ballCrate.normal.y, 1.0f, 1e-6f);          // ball (a) to crate (b): up
+    EXPECT_NEAR(ballCrate.points[0].depth, 0.001f, 1e-5f); // ball top 0.498, crate bottom 0.497
+    EXPECT_EQ(ballFloor.a, 0u);
+    EXPECT_EQ(ballFloor.b, 2u);
+    EXPECT_NEAR(ballFloor.normal.y, -1.0f, 1e-6f); // ball (a) to floor (b): down
+    EXPECT_NEAR(ballFloor.points[0].depth, 0.002f, 1e-5f);
+}
+
 TEST(CollisionWorld, StaticAndSleepingPairsAreSkipped) {
     World w = test::worldFromText(
         scene(R"("crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]})",
