@@ -96,6 +96,30 @@ void sortUnique(std::vector<BodyPair>& pairs) {
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 }
 
+// Sorts pairs (a < b) of bodies below `bodies` in O(n + bodies): a counting sort on a, then
+// an insertion sort of each body's few partners; duplicates removed.
+void sortPairsByBody(std::vector<BodyPair>& pairs, std::uint32_t bodies,
+                     BroadPhaseScratch& scratch) {
+    auto& start = scratch.pairStart;
+    start.assign(bodies + 1, 0);
+    for (const BodyPair& p : pairs) ++start[p.a + 1];
+    for (std::uint32_t i = 0; i < bodies; ++i) start[i + 1] += start[i];
+    auto& sorted = scratch.pairBuffer;
+    sorted.resize(pairs.size());
+    auto& cursor = scratch.columnCursor;
+    cursor.assign(start.begin(), start.end() - 1);
+    for (const BodyPair& p : pairs) sorted[cursor[p.a]++] = p;
+    for (std::uint32_t a = 0; a < bodies; ++a)
+        for (std::uint32_t i = start[a] + 1; i < start[a + 1]; ++i) {
+            const BodyPair p = sorted[i];
+            std::uint32_t j = i;
+            for (; j > start[a] && sorted[j - 1].b > p.b; --j) sorted[j] = sorted[j - 1];
+            sorted[j] = p;
+        }
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+    pairs.swap(sorted);
+}
+
 } // namespace
 
 void findPairs(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,
@@ -219,7 +243,7 @@ void findPairs(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,
         }
     }
     addPlanePairs(boxes, flags, planes, pairs);
-    sortUnique(pairs);
+    sortPairsByBody(pairs, n, scratch);
 }
 
 void findPairsBruteForce(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,

@@ -47,6 +47,8 @@ struct BroadPhaseScratch {
     /// The swept bodies as (sweep-axis minimum bits << 32 | body), sorted; kept from step to
     /// step so that sorting starts from last step's order.
     std::vector<std::uint64_t> keys;
+    std::vector<std::uint32_t> pairStart; ///< first pair of each body, while sorting the pairs
+    std::vector<BodyPair> pairBuffer;
 };
 
 /// Every pair (a < b, sorted, each once) of bodies whose boxes overlap (touching counts), unless
