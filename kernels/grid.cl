@@ -12,30 +12,41 @@ __kernel void computeCellKeys(const uint count, const float inverseCellSize, con
     values[i] = i;
 }
 
+// The number of keys a sort pass works on: `count`, or the count in a status slot when one is
+// named (contacts: the host does not know it), at most `count`.
+static uint sortCount(const uint count, __global const uint* status, const uint countSlot) {
+    return countSlot < RUBBLE_STATUS_COUNT ? min(status[countSlot], count) : count;
+}
+
 // Radix sort, one pass of RUBBLE_SORT_DIGIT_BITS: RUBBLE_SORT_ITEMS work-items each own a
 // contiguous chunk of the keys and count its digits; histogram is digit-major, so that its
 // exclusive scan gives every (digit, item) its first output slot.
-__kernel void sortHistogram(const uint count, const uint chunk, const uint shift,
-                            __global const uint* keys, __global uint* histogram) {
+__kernel void sortHistogram(const uint count, __global const uint* status, const uint countSlot,
+                            const uint shift, __global const uint* keys,
+                            __global uint* histogram) {
     const uint t = get_global_id(0);
     if (t >= RUBBLE_SORT_ITEMS) return;
+    const uint n = sortCount(count, status, countSlot);
+    const uint chunk = (n + RUBBLE_SORT_ITEMS - 1u) / RUBBLE_SORT_ITEMS;
     uint counts[RUBBLE_SORT_BUCKETS];
     for (uint d = 0; d < RUBBLE_SORT_BUCKETS; ++d) counts[d] = 0;
-    const uint begin = min(count, t * chunk), end = min(count, begin + chunk);
+    const uint begin = min(n, t * chunk), end = min(n, begin + chunk);
     for (uint i = begin; i < end; ++i) ++counts[(keys[i] >> shift) & (RUBBLE_SORT_BUCKETS - 1u)];
     for (uint d = 0; d < RUBBLE_SORT_BUCKETS; ++d) histogram[d * RUBBLE_SORT_ITEMS + t] = counts[d];
 }
 
 // Each item moves its chunk, in order, to the slots the scanned histogram gives: stable.
-__kernel void sortScatter(const uint count, const uint chunk, const uint shift,
-                          __global const uint* keys, __global const uint* values,
+__kernel void sortScatter(const uint count, __global const uint* status, const uint countSlot,
+                          const uint shift, __global const uint* keys, __global const uint* values,
                           __global const uint* offsets, __global uint* keysOut,
                           __global uint* valuesOut) {
     const uint t = get_global_id(0);
     if (t >= RUBBLE_SORT_ITEMS) return;
+    const uint n = sortCount(count, status, countSlot);
+    const uint chunk = (n + RUBBLE_SORT_ITEMS - 1u) / RUBBLE_SORT_ITEMS;
     uint next[RUBBLE_SORT_BUCKETS];
     for (uint d = 0; d < RUBBLE_SORT_BUCKETS; ++d) next[d] = offsets[d * RUBBLE_SORT_ITEMS + t];
-    const uint begin = min(count, t * chunk), end = min(count, begin + chunk);
+    const uint begin = min(n, t * chunk), end = min(n, begin + chunk);
     for (uint i = begin; i < end; ++i) {
         const uint k = keys[i];
         const uint at = next[(k >> shift) & (RUBBLE_SORT_BUCKETS - 1u)]++;
@@ -58,28 +69,36 @@ __kernel void exclusiveScan(const uint count, __global const uint* in, __global 
 }
 
 // cellStart and cellEnd were filled with RUBBLE_EMPTY_CELL; each run of equal keys sets its own.
+// The particles' positions and bodies are copied in sorted order for collideParticles, which
+// then reads a cell's particles from consecutive memory.
 __kernel void findCellRanges(const uint count, __global const uint* keys,
-                             __global uint* cellStart, __global uint* cellEnd) {
+                             __global const uint* order, __global const float4* world,
+                             __global const Particle* particles, __global uint* cellStart,
+                             __global uint* cellEnd, __global float4* sortedWorld,
+                             __global uint* sortedBody) {
     const uint i = get_global_id(0);
     if (i >= count) return;
     const uint k = keys[i];
     if (i == 0 || keys[i - 1] != k) cellStart[k] = i;
     if (i + 1 == count || keys[i + 1] != k) cellEnd[k] = i + 1;
+    const uint p = order[i];
+    sortedWorld[i] = world[p];
+    sortedBody[i] = particles[p].body;
 }
 
 // Deterministic mode: contacts in the order a stable sort by particle gave (`order`).
-__kernel void permuteContacts(const uint count, __global const uint* order,
+__kernel void permuteContacts(__global const uint* status, __global const uint* order,
                               __global const ParticleContact* in, __global ParticleContact* out) {
-    const uint i = get_global_id(0);
-    if (i >= count) return;
-    out[i] = in[order[i]];
+    const uint n = liveContactsItem(status[RUBBLE_STATUS_CONTACTS], status[RUBBLE_STATUS_CAPACITY]);
+    for (uint i = get_global_id(0); i < n; i += get_global_size(0)) out[i] = in[order[i]];
 }
 
 // Deterministic mode: each contact's sort key (its particle) and index.
-__kernel void contactKeys(const uint count, __global const ParticleContact* contacts,
+__kernel void contactKeys(__global const uint* status, __global const ParticleContact* contacts,
                           __global uint* keys, __global uint* values) {
-    const uint i = get_global_id(0);
-    if (i >= count) return;
-    keys[i] = contacts[i].particleA;
-    values[i] = i;
+    const uint n = liveContactsItem(status[RUBBLE_STATUS_CONTACTS], status[RUBBLE_STATUS_CAPACITY]);
+    for (uint i = get_global_id(0); i < n; i += get_global_size(0)) {
+        keys[i] = contacts[i].particleA;
+        values[i] = i;
+    }
 }

@@ -3,20 +3,23 @@
 // rubble/shared/body.h, the CPU twins in host/core/integrate.cpp.
 #include "rubble/shared/body.h"
 
+// Sleeping bodies keep their state; kinematic ones keep the velocity the host gave them.
 __kernel void integrateVelocities(const uint count, __global BodyMomentum* momenta,
                                   __global const BodyForce* forces,
-                                  __global const BodyMass* masses, __global const BodyPose* poses,
+                                  __global const BodyMass* masses, __global const uint* flags,
+                                  __global const BodyPose* poses,
                                   __global BodyVelocity* velocities, const float4 gravity,
                                   const float dt) {
     const uint i = get_global_id(0);
     if (i >= count) return; // the global size is rounded up to the group size
+    if (flags[i] & (RUBBLE_BODY_ASLEEP | RUBBLE_BODY_KINEMATIC)) return;
     const BodyMass m = masses[i];
-    if (m.flags & RUBBLE_BODY_ASLEEP) return;
     const BodyMomentum p = integrateMomentumItem(momenta[i], forces[i], m, gravity, dt);
     momenta[i] = p;
     velocities[i] = velocityFromMomentumItem(p, m, poses[i].orientation);
 }
 
+// Bodies whose velocity the solve did not change keep their momenta bit for bit.
 __kernel void absorbVelocityChange(const uint count, __global BodyMomentum* momenta,
                                    __global const BodyVelocity* before,
                                    __global const BodyVelocity* after,
@@ -29,16 +32,19 @@ __kernel void absorbVelocityChange(const uint count, __global BodyMomentum* mome
 }
 
 // status[RUBBLE_STATUS_NONFINITE] keeps the lowest index of a body whose pose is not finite.
-__kernel void integratePositions(const uint count, __global BodyPose* poses,
+// Nothing moves in a step whose contacts overflowed: the host runs its second half again.
+__kernel void integratePositions(const uint count, __global uint* status,
+                                 __global const uint* flags, __global BodyPose* poses,
                                  __global BodyVelocity* velocities,
                                  __global const BodyVelocity* atStart,
                                  __global const BodyMomentum* momenta,
                                  __global const BodyMass* masses, const float dt,
-                                 const uint symplectic, __global uint* status) {
+                                 const uint symplectic) {
     const uint i = get_global_id(0);
     if (i >= count) return;
+    if (status[RUBBLE_STATUS_CONTACTS] > status[RUBBLE_STATUS_CAPACITY]) return;
     const BodyMass m = masses[i];
-    if (m.inverseMass == 0.0f || (m.flags & RUBBLE_BODY_ASLEEP)) return;
+    if (m.inverseMass == 0.0f || (flags[i] & RUBBLE_BODY_ASLEEP)) return;
     const BodyMomentum p = momenta[i];
     const BodyPose pose = symplectic
                               ? integratePositionSymplecticItem(poses[i], velocities[i], p, m, dt)

@@ -3,11 +3,14 @@
 // host/collision/particle_world.cpp.
 #include "rubble/shared/particle.h"
 
+// Particles of sleeping bodies keep their world positions: their bodies do not move.
 __kernel void transformParticles(const uint count, __global const Particle* particles,
-                                 __global const BodyPose* poses, __global float4* world) {
+                                 __global const BodyPose* poses, __global const uint* flags,
+                                 __global float4* world) {
     const uint i = get_global_id(0);
     if (i >= count) return; // the global size is rounded up to the group size
     const Particle p = particles[i];
+    if (flags[p.body] & RUBBLE_BODY_ASLEEP) return;
     world[i] = transformParticleItem(p, poses[p.body]);
 }
 
@@ -19,22 +22,24 @@ static void appendContact(ParticleContact c, const uint capacity,
     atomic_max(&status[RUBBLE_STATUS_PENETRATION], as_uint(c.point.w));
 }
 
-// One work-item per sorted slot: its particle against the other bodies' particles in the 27
-// neighbouring cells (distinct keys: see cellHashItem) (a pair once, from the lower body) and against the static shapes.
+// One work-item per sorted slot: a particle of a body that tests pairs against the other bodies'
+// particles in the 27 neighbouring cells (distinct keys: see cellHashItem), then, for an active
+// body, against the static shapes. The grid's sorted copies (sortedWorld, sortedBody) keep a
+// cell's particles together in memory. Which side tests a pair: pairFromHereItem.
 __kernel void collideParticles(const uint count, const uint staticCount,
-                               const float inverseCellSize, const uint bits, const uint capacity,
-                               __global const uint* order, __global const uint* cellStart,
-                               __global const uint* cellEnd, __global const float4* world,
-                               __global const Particle* particles,
-                               __global const BodyMass* masses,
-                               __global const StaticShape* statics,
+                               const float inverseCellSize, const uint bits,
+                               __global const uint* cellStart, __global const uint* cellEnd,
+                               __global const float4* sortedWorld,
+                               __global const uint* sortedBody, __global const uint* order,
+                               __global const uint* flags, __global const StaticShape* statics,
                                __global ParticleContact* contacts, __global uint* status) {
     const uint slot = get_global_id(0);
     if (slot >= count) return;
-    const uint i = order[slot];
-    const float4 xi = world[i];
-    const uint bodyI = particles[i].body;
-    const int staticI = masses[bodyI].inverseMass == 0.0f;
+    const uint bodyI = sortedBody[slot];
+    const uint flagsI = flags[bodyI];
+    if (!testsPairsItem(flagsI)) return;
+    const uint capacity = status[RUBBLE_STATUS_CAPACITY];
+    const float4 xi = sortedWorld[slot];
     const int cx = cellCoordinate(xi.x, inverseCellSize), cy = cellCoordinate(xi.y, inverseCellSize),
               cz = cellCoordinate(xi.z, inverseCellSize);
     for (int dy = -1; dy <= 1; ++dy)
@@ -45,25 +50,23 @@ __kernel void collideParticles(const uint count, const uint staticCount,
                 if (start == RUBBLE_EMPTY_CELL) continue;
                 const uint end = cellEnd[key];
                 for (uint s = start; s < end; ++s) {
-                    const uint j = order[s];
-                    const uint bodyJ = particles[j].body;
-                    if (bodyJ <= bodyI) continue;
-                    if (staticI && masses[bodyJ].inverseMass == 0.0f) continue;
-                    ParticleContact c = particlePairItem(xi, world[j]);
+                    const uint bodyJ = sortedBody[s];
+                    if (!pairFromHereItem(bodyI, flagsI, bodyJ, flags[bodyJ])) continue;
+                    ParticleContact c = particlePairItem(xi, sortedWorld[s]);
                     if (!(c.point.w > 0.0f)) continue;
                     c.a = bodyI;
                     c.b = bodyJ;
-                    c.particleA = i;
-                    c.featureB = j;
+                    c.particleA = order[slot];
+                    c.featureB = order[s];
                     appendContact(c, capacity, contacts, status);
                 }
             }
-    if (staticI) return;
+    if (!activeBodyItem(flagsI)) return;
     for (uint k = 0; k < staticCount; ++k) {
         ParticleContact c = particleStaticItem(xi, statics[k]);
         if (!(c.point.w > 0.0f)) continue;
         c.a = bodyI;
-        c.particleA = i;
+        c.particleA = order[slot];
         c.featureB = count + k;
         appendContact(c, capacity, contacts, status);
     }

@@ -106,6 +106,16 @@ void buildGrid(std::span<const float4> world, float cellSize, std::uint32_t bits
     }
 }
 
+void transformParticles(std::span<const Particle> particles, std::span<const BodyPose> poses,
+                        std::span<const BodyMass> masses, std::span<float4> world) {
+    RUBBLE_ASSERT(world.size() == particles.size());
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+        // Sleeping bodies do not move: their particles keep their positions.
+        if (masses[particles[i].body].flags & RUBBLE_BODY_ASLEEP) continue;
+        world[i] = transformParticleItem(particles[i], poses[particles[i].body]);
+    }
+}
+
 void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
                       std::vector<ParticleContact>& contacts) {
     contacts.clear();
@@ -115,7 +125,8 @@ void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
         const std::uint32_t i = p.order[slot];
         const float4 xi = p.world[i];
         const std::uint32_t bodyI = p.particles[i].body;
-        const bool staticI = masses[bodyI].inverseMass == 0.0f;
+        const std::uint32_t flagsI = masses[bodyI].flags;
+        if (!testsPairsItem(flagsI)) continue;
         const int cx = cellCoordinate(xi.x, inverse), cy = cellCoordinate(xi.y, inverse),
                   cz = cellCoordinate(xi.z, inverse);
         std::uint32_t seen[27];
@@ -131,8 +142,8 @@ void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
                     for (std::uint32_t s = start; s < p.cellEnd[key]; ++s) {
                         const std::uint32_t j = p.order[s];
                         const std::uint32_t bodyJ = p.particles[j].body;
-                        if (bodyJ <= bodyI) continue; // the pair once, from the lower body
-                        if (staticI && masses[bodyJ].inverseMass == 0.0f) continue;
+                        if (!pairFromHereItem(bodyI, flagsI, bodyJ, masses[bodyJ].flags))
+                            continue;
                         ParticleContact c = particlePairItem(xi, p.world[j]);
                         if (!(c.point.w > 0.0f)) continue;
                         c.a = bodyI;
@@ -142,7 +153,7 @@ void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
                         contacts.push_back(c);
                     }
                 }
-        if (staticI) continue;
+        if (!activeBodyItem(flagsI)) continue;
         for (std::uint32_t k = 0; k < p.statics.size(); ++k) {
             ParticleContact c = particleStaticItem(xi, p.statics[k]);
             if (!(c.point.w > 0.0f)) continue;
@@ -187,7 +198,7 @@ void particleContactsToManifolds(std::span<const ParticleContact> contacts,
 
 void runParticleGrid(WorldState& s) {
     ParticleState& p = s.particles;
-    transformParticles(p.particles, s.poses, p.world);
+    transformParticles(p.particles, s.poses, s.masses, p.world);
     buildGrid(p.world, p.cellSize, p.bits, p.keys, p.order, p.cellStart, p.cellEnd);
 }
 

@@ -42,6 +42,11 @@ std::uint32_t gridBits(std::size_t particleCount);
 /// Stage transformParticles. reads: particles, poses   writes: world
 void transformParticles(std::span<const shared::Particle> particles,
                         std::span<const shared::BodyPose> poses, std::span<shared::float4> world);
+/// The same, leaving the particles of sleeping bodies where they are, as the device does.
+/// reads: particles, poses, masses (flags)   writes: world
+void transformParticles(std::span<const shared::Particle> particles,
+                        std::span<const shared::BodyPose> poses,
+                        std::span<const shared::BodyMass> masses, std::span<shared::float4> world);
 
 /// Stage buildGrid: cell keys, a stable sort of the particles by key (the device's LSD radix
 /// sort gives the same order), each cell's range of sorted slots.
@@ -50,9 +55,11 @@ void buildGrid(std::span<const shared::float4> world, float cellSize, std::uint3
                std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& order,
                std::vector<std::uint32_t>& cellStart, std::vector<std::uint32_t>& cellEnd);
 
-/// Stage collideParticles: each particle against the particles of other bodies in its 27
-/// neighbouring cells (a pair once, from the body of lower index; never two static bodies) and
-/// against the static shapes. Appends to `contacts` in sorted-slot order.
+/// Stage collideParticles: each particle of a body that tests pairs (testsPairsItem: an awake
+/// dynamic body) against the particles of other bodies in its 27 neighbouring cells (which side
+/// tests a pair: pairFromHereItem; body a of a contact is the awake body, an awake pair once
+/// from the lower index) and against the static shapes. Appends to `contacts` in sorted-slot
+/// order.
 /// reads: world, particles, grid, statics, masses   writes: contacts
 void collideParticles(const ParticleState& p, std::span<const shared::BodyMass> masses,
                       std::vector<shared::ParticleContact>& contacts);

@@ -2,6 +2,7 @@
 #include "host/dynamics/forces.h"
 
 #include "host/core/math.h"
+#include "rubble/shared/events.h"
 
 namespace rubble {
 
@@ -9,14 +10,15 @@ std::size_t applyExplosion(const EventDesc& e, std::span<const shared::BodyPose>
                            std::span<shared::BodyMass> masses,
                            std::span<shared::BodyMomentum> momenta) {
     std::size_t reached = 0;
+    const shared::float4 centre = toFloat4(e.centre);
     for (std::size_t i = 0; i < poses.size(); ++i) {
         if (masses[i].inverseMass == 0.0f) continue;
-        const glm::vec3 offset = toVec3(poses[i].position) - e.centre;
-        const float d = glm::length(offset);
-        if (d >= e.radius) continue;
-        const glm::vec3 away = d > 0.0f ? offset / d : glm::vec3(0.0f, 1.0f, 0.0f);
-        const glm::vec3 impulse = away * (e.impulse * (1.0f - d / e.radius));
-        momenta[i].linear = toFloat4(toVec3(momenta[i].linear) + impulse);
+        // The device's kernel (kernels/forces.cl) computes the same impulse.
+        const shared::float4 impulse =
+            shared::explosionImpulseItem(poses[i].position, centre, e.impulse, e.radius);
+        if (impulse.w == 0.0f) continue; // out of reach
+        momenta[i].linear = shared::add4(momenta[i].linear,
+                                         shared::vec4(impulse.x, impulse.y, impulse.z));
         masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
         ++reached;
     }

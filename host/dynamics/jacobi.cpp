@@ -43,22 +43,36 @@ void manifoldsToContacts(std::span<const Manifold> manifolds, std::vector<Partic
         }
 }
 
+namespace {
+
+// A body whose rows are listed (its velocity gathers them): dynamic and awake. Sleeping bodies
+// take part as walls (the device lists kinematic bodies too, for their impulses).
+bool listed(const BodyMass& m) {
+    return m.inverseMass != 0.0f && listedBodyItem(m.flags);
+}
+
+// A sleeping body's mass in a row: a wall's.
+BodyMass rowMass(const BodyMass& m) {
+    return (m.flags & RUBBLE_BODY_ASLEEP) ? wallMassItem(m) : m;
+}
+
+} // namespace
+
 void buildBodyLists(std::span<const ParticleContact> contacts, std::span<const BodyMass> masses,
                     JacobiState& j) {
     const std::size_t n = masses.size();
     j.bodyCount.assign(n, 0);
     for (const ParticleContact& c : contacts) {
-        if (masses[c.a].inverseMass != 0.0f) ++j.bodyCount[c.a];
-        if (masses[c.b].inverseMass != 0.0f) ++j.bodyCount[c.b];
+        if (listed(masses[c.a])) ++j.bodyCount[c.a];
+        if (listed(masses[c.b])) ++j.bodyCount[c.b];
     }
     j.bodyStart.assign(n + 1, 0);
     for (std::size_t b = 0; b < n; ++b) j.bodyStart[b + 1] = j.bodyStart[b] + j.bodyCount[b];
     j.bodyList.resize(j.bodyStart[n]);
     std::vector<std::uint32_t> cursor(j.bodyStart.begin(), j.bodyStart.end() - 1);
     for (std::uint32_t r = 0; r < contacts.size(); ++r) {
-        if (masses[contacts[r].a].inverseMass != 0.0f) j.bodyList[cursor[contacts[r].a]++] = 2 * r;
-        if (masses[contacts[r].b].inverseMass != 0.0f)
-            j.bodyList[cursor[contacts[r].b]++] = 2 * r + 1;
+        if (listed(masses[contacts[r].a])) j.bodyList[cursor[contacts[r].a]++] = 2 * r;
+        if (listed(masses[contacts[r].b])) j.bodyList[cursor[contacts[r].b]++] = 2 * r + 1;
     }
 }
 
@@ -71,9 +85,11 @@ void buildJacobiRows(std::span<const ParticleContact> contacts, std::span<const 
     for (std::size_t r = 0; r < contacts.size(); ++r)
         j.rows[r] = contactRowFromContactItem(contacts[r], poses[contacts[r].a],
                                               poses[contacts[r].b], velocities[contacts[r].a],
-                                              velocities[contacts[r].b], masses[contacts[r].a],
-                                              masses[contacts[r].b], surfaces[contacts[r].a],
-                                              surfaces[contacts[r].b], j.bodyCount[contacts[r].a],
+                                              velocities[contacts[r].b],
+                                              rowMass(masses[contacts[r].a]),
+                                              rowMass(masses[contacts[r].b]),
+                                              surfaces[contacts[r].a], surfaces[contacts[r].b],
+                                              j.bodyCount[contacts[r].a],
                                               j.bodyCount[contacts[r].b], params, warm[r]);
 }
 
@@ -114,7 +130,7 @@ void gatherJacobi(std::span<const shared::ContactRow> rows, const JacobiState& j
                   std::span<const BodyVelocity> before, std::span<const BodyMass> masses,
                   std::span<const BodyPose> poses, std::span<BodyVelocity> velocities) {
     for (std::size_t b = 0; b < masses.size(); ++b) {
-        if (masses[b].inverseMass == 0.0f) continue;
+        if (!listed(masses[b])) continue;
         float4 linear = vec4(0.0f, 0.0f, 0.0f), angular = vec4(0.0f, 0.0f, 0.0f);
         for (std::uint32_t e = j.bodyStart[b]; e < j.bodyStart[b + 1]; ++e) {
             const std::uint32_t entry = j.bodyList[e];

@@ -32,11 +32,13 @@ Status Buffer::reserve(cl_context context, std::size_t bytes) {
     return {};
 }
 
-Status fill(const Context& c, const Buffer& b, cl_uint value, std::size_t bytes) {
+Status fill(const Context& c, const Buffer& b, cl_uint value, std::size_t bytes,
+            Profile* profile) {
     if (bytes == 0) return {};
     RUBBLE_ASSERT(bytes % sizeof value == 0 && bytes <= b.bytes());
+    cl_event* event = profile ? profile->transfer(Transfer::Fill, bytes) : nullptr;
     RUBBLE_CL_CHECK(clEnqueueFillBuffer(c.queue(), b.mem(), &value, sizeof value, 0, bytes, 0,
-                                        nullptr, nullptr));
+                                        nullptr, event));
     return {};
 }
 
@@ -56,8 +58,9 @@ Status Dispatch::run(std::size_t count, std::size_t group) {
     // bug in rubble, caught here before the device sees it.
     RUBBLE_ASSERT(next_ == signatureOf(id_).args.size());
     const std::size_t global = roundUp(count, group);
+    cl_event* event = profile_ ? profile_->kernel(id_) : nullptr;
     RUBBLE_CL_CHECK(clEnqueueNDRangeKernel(c_.queue(), kernel_, 1, nullptr, &global, &group, 0,
-                                           nullptr, nullptr));
+                                           nullptr, event));
     return {};
 }
 

@@ -10,6 +10,7 @@
 
 #include "host/gpu/cl_check.h"
 #include "host/gpu/context.h"
+#include "host/gpu/profile.h"
 
 namespace rubble::gpu {
 
@@ -52,8 +53,9 @@ Status download(const Context& c, const Buffer& b, std::span<T> data) {
     return {};
 }
 
-/// Fills the first `bytes` of a buffer with a repeated 32-bit value.
-Status fill(const Context& c, const Buffer& b, cl_uint value, std::size_t bytes);
+/// Fills the first `bytes` of a buffer with a repeated 32-bit value; `profile` (optional) times it.
+Status fill(const Context& c, const Buffer& b, cl_uint value, std::size_t bytes,
+            Profile* profile = nullptr);
 
 /// The smallest multiple of `group` that holds `count`, at least one group.
 inline std::size_t roundUp(std::size_t count, std::size_t group) {
@@ -61,10 +63,12 @@ inline std::size_t roundUp(std::size_t count, std::size_t group) {
 }
 
 /// Binds a kernel's arguments in signature order and enqueues it; run() fails with the first
-/// error of the binding, and asserts that every argument of the signature was bound.
+/// error of the binding, and asserts that every argument of the signature was bound. With a
+/// Profile, the kernel's event is kept for its device time.
 class Dispatch {
   public:
-    Dispatch(const Context& c, KernelId id) : c_(c), id_(id), kernel_(c.kernel(id)) {}
+    Dispatch(const Context& c, KernelId id, Profile* profile = nullptr)
+        : c_(c), id_(id), kernel_(c.kernel(id)), profile_(profile) {}
     template <class T> Dispatch& arg(const T& value) { return bind(sizeof value, &value); }
     Dispatch& arg(const Buffer& b) {
         const cl_mem m = b.mem();
@@ -78,6 +82,7 @@ class Dispatch {
     const Context& c_;
     KernelId id_;
     cl_kernel kernel_;
+    Profile* profile_;
     cl_uint next_ = 0;
     Status status_;
 };

@@ -49,8 +49,10 @@ Result<std::shared_ptr<Context>> Context::create(const RunOptions& run) {
         CL_CONTEXT_PLATFORM, reinterpret_cast<cl_context_properties>(c->device_.platformId), 0};
     RUBBLE_CL_CHECK((c->context_ = clCreateContext(props, 1, &c->device_.id, nullptr, nullptr, &err),
                      err));
-    RUBBLE_CL_CHECK(
-        (c->queue_ = clCreateCommandQueue(c->context_, c->device_.id, 0, &err), err));
+    // Profiling is always on: every step reads its commands' device times (host/gpu/profile.h).
+    RUBBLE_CL_CHECK((c->queue_ = clCreateCommandQueue(c->context_, c->device_.id,
+                                                      CL_QUEUE_PROFILING_ENABLE, &err),
+                     err));
 
     const char* text = source->c_str();
     const std::size_t length = source->size();

@@ -1,5 +1,6 @@
 // host/gpu/grid.cpp: dispatch of OpenCL stage 3, buildGrid (kernels/grid.cl): cell keys, the
-// radix sort, cell ranges; the CPU twin is buildGrid in host/collision/particle_world.cpp.
+// radix sort, cell ranges and the sorted copies of the particles; the CPU twin is buildGrid in
+// host/collision/particle_world.cpp.
 #include <utility>
 
 #include "host/gpu/pipeline.h"
@@ -7,26 +8,31 @@
 namespace rubble::gpu {
 
 Status Pipeline::exclusiveScan(const Buffer& in, Buffer& out, std::uint32_t count) {
-    return Dispatch(*context_, KernelId::ExclusiveScan).arg(count).arg(in).arg(out).run(1, 1);
+    return Dispatch(*context_, KernelId::ExclusiveScan, &profile_)
+        .arg(count)
+        .arg(in)
+        .arg(out)
+        .run(1, 1);
 }
 
 Status Pipeline::radixSort(Buffer& keys, Buffer& values, Buffer& keysAlt, Buffer& valuesAlt,
-                           std::uint32_t count, std::uint32_t bits) {
-    const cl_uint n = count;
-    const cl_uint chunk = (count + RUBBLE_SORT_ITEMS - 1) / RUBBLE_SORT_ITEMS;
+                           std::uint32_t count, std::uint32_t bits, std::uint32_t countSlot) {
+    const cl_uint n = count, slot = countSlot;
     const cl_uint buckets = RUBBLE_SORT_BUCKETS * RUBBLE_SORT_ITEMS;
     for (cl_uint shift = 0; shift < bits; shift += RUBBLE_SORT_DIGIT_BITS) {
-        RUBBLE_TRY(Dispatch(*context_, KernelId::SortHistogram)
+        RUBBLE_TRY(Dispatch(*context_, KernelId::SortHistogram, &profile_)
                        .arg(n)
-                       .arg(chunk)
+                       .arg(status_)
+                       .arg(slot)
                        .arg(shift)
                        .arg(keys)
                        .arg(particles_.histogram)
                        .run(RUBBLE_SORT_ITEMS, RUBBLE_GROUP_SCAN));
         RUBBLE_TRY(exclusiveScan(particles_.histogram, particles_.offsets, buckets));
-        RUBBLE_TRY(Dispatch(*context_, KernelId::SortScatter)
+        RUBBLE_TRY(Dispatch(*context_, KernelId::SortScatter, &profile_)
                        .arg(n)
-                       .arg(chunk)
+                       .arg(status_)
+                       .arg(slot)
                        .arg(shift)
                        .arg(keys)
                        .arg(values)
@@ -43,7 +49,7 @@ Status Pipeline::radixSort(Buffer& keys, Buffer& values, Buffer& keysAlt, Buffer
 Status Pipeline::buildGrid() {
     const cl_uint count = particles_.count, bits = particles_.bits;
     const cl_float inverseCellSize = 1.0f / particles_.cellSize;
-    RUBBLE_TRY(Dispatch(*context_, KernelId::ComputeCellKeys)
+    RUBBLE_TRY(Dispatch(*context_, KernelId::ComputeCellKeys, &profile_)
                    .arg(count)
                    .arg(inverseCellSize)
                    .arg(bits)
@@ -54,13 +60,20 @@ Status Pipeline::buildGrid() {
     RUBBLE_TRY(radixSort(particles_.keys, particles_.values, particles_.keysAlt,
                          particles_.valuesAlt, count, bits));
     const std::size_t cells = std::size_t(1) << bits;
-    RUBBLE_TRY(fill(*context_, particles_.cellStart, RUBBLE_EMPTY_CELL, cells * sizeof(cl_uint)));
-    RUBBLE_TRY(fill(*context_, particles_.cellEnd, RUBBLE_EMPTY_CELL, cells * sizeof(cl_uint)));
-    return Dispatch(*context_, KernelId::FindCellRanges)
+    RUBBLE_TRY(fill(*context_, particles_.cellStart, RUBBLE_EMPTY_CELL, cells * sizeof(cl_uint),
+                    &profile_));
+    RUBBLE_TRY(fill(*context_, particles_.cellEnd, RUBBLE_EMPTY_CELL, cells * sizeof(cl_uint),
+                    &profile_));
+    return Dispatch(*context_, KernelId::FindCellRanges, &profile_)
         .arg(count)
         .arg(particles_.keys)
+        .arg(particles_.values)
+        .arg(particles_.world)
+        .arg(particles_.records)
         .arg(particles_.cellStart)
         .arg(particles_.cellEnd)
+        .arg(particles_.sortedWorld)
+        .arg(particles_.sortedBody)
         .run(count, RUBBLE_GROUP_PARTICLES);
 }
 

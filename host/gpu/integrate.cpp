@@ -8,11 +8,12 @@ namespace rubble::gpu {
 Status Pipeline::integrateVelocities(shared::float4 gravity, float dt) {
     const cl_uint count = bodies_.count;
     const cl_float4 g = {{gravity.x, gravity.y, gravity.z, gravity.w}};
-    return Dispatch(*context_, KernelId::IntegrateVelocities)
+    return Dispatch(*context_, KernelId::IntegrateVelocities, &profile_)
         .arg(count)
         .arg(bodies_.momenta)
         .arg(bodies_.forces)
         .arg(bodies_.masses)
+        .arg(bodies_.flags)
         .arg(bodies_.poses)
         .arg(bodies_.velocities)
         .arg(g)
@@ -22,7 +23,7 @@ Status Pipeline::integrateVelocities(shared::float4 gravity, float dt) {
 
 Status Pipeline::absorbVelocityChange() {
     const cl_uint count = bodies_.count;
-    return Dispatch(*context_, KernelId::AbsorbVelocityChange)
+    return Dispatch(*context_, KernelId::AbsorbVelocityChange, &profile_)
         .arg(count)
         .arg(bodies_.momenta)
         .arg(bodies_.before)
@@ -35,8 +36,10 @@ Status Pipeline::absorbVelocityChange() {
 Status Pipeline::integratePositions(float dt, bool symplectic) {
     const cl_uint count = bodies_.count;
     const cl_uint isSymplectic = symplectic ? 1u : 0u;
-    return Dispatch(*context_, KernelId::IntegratePositions)
+    return Dispatch(*context_, KernelId::IntegratePositions, &profile_)
         .arg(count)
+        .arg(status_)
+        .arg(bodies_.flags)
         .arg(bodies_.poses)
         .arg(bodies_.velocities)
         .arg(bodies_.atStart)
@@ -44,7 +47,6 @@ Status Pipeline::integratePositions(float dt, bool symplectic) {
         .arg(bodies_.masses)
         .arg(dt)
         .arg(isSymplectic)
-        .arg(status_)
         .run(count, RUBBLE_GROUP_BODIES);
 }
 

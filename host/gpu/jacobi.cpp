@@ -1,6 +1,7 @@
 // host/gpu/jacobi.cpp: dispatch of OpenCL stage 5, solveJacobi (kernels/jacobi.cl): per-body
-// row lists, warm start from last step's contacts, rows, and the iterations. The CPU twins are
-// in host/dynamics/jacobi.cpp. Argument order is the kernel signature's.
+// row lists, warm start from last step's contacts, rows, the iterations, and the impulses on the
+// host's bodies. The CPU twins are in host/dynamics/jacobi.cpp. Argument order is the kernel
+// signature's; stages over contacts stride through the count the status block holds.
 #include <utility>
 
 #include "host/gpu/pipeline.h"
@@ -9,27 +10,28 @@ namespace rubble::gpu {
 
 Status Pipeline::buildJacobiRows(const shared::SolverParams& params, bool warmStart) {
     const Context& c = *context_;
-    const cl_uint count = contacts_.count, bodies = bodies_.count;
+    const cl_uint bodies = bodies_.count;
     // Per-body lists: count, scan, fill, then each list in row order.
-    RUBBLE_TRY(fill(c, contacts_.bodyCount, 0u, bodies * sizeof(cl_uint)));
-    RUBBLE_TRY(Dispatch(c, KernelId::CountBodyContacts)
-                   .arg(count)
+    RUBBLE_TRY(fill(c, contacts_.bodyCount, 0u, bodies * sizeof(cl_uint), &profile_));
+    RUBBLE_TRY(Dispatch(c, KernelId::CountBodyContacts, &profile_)
+                   .arg(status_)
                    .arg(contacts_.contacts)
-                   .arg(bodies_.masses)
+                   .arg(bodies_.flags)
                    .arg(contacts_.bodyCount)
-                   .run(count, RUBBLE_GROUP_CONTACTS));
+                   .run(strideItems(), RUBBLE_GROUP_CONTACTS));
     RUBBLE_TRY(exclusiveScan(contacts_.bodyCount, contacts_.bodyStart, bodies));
+    const std::size_t listBytes = (bodies + 1) * sizeof(cl_uint);
     RUBBLE_CL_CHECK(clEnqueueCopyBuffer(c.queue(), contacts_.bodyStart.mem(),
-                                        contacts_.cursor.mem(), 0, 0,
-                                        (bodies + 1) * sizeof(cl_uint), 0, nullptr, nullptr));
-    RUBBLE_TRY(Dispatch(c, KernelId::FillBodyLists)
-                   .arg(count)
+                                        contacts_.cursor.mem(), 0, 0, listBytes, 0, nullptr,
+                                        profile_.transfer(Transfer::Copy, listBytes)));
+    RUBBLE_TRY(Dispatch(c, KernelId::FillBodyLists, &profile_)
+                   .arg(status_)
                    .arg(contacts_.contacts)
-                   .arg(bodies_.masses)
+                   .arg(bodies_.flags)
                    .arg(contacts_.cursor)
                    .arg(contacts_.bodyList)
-                   .run(count, RUBBLE_GROUP_CONTACTS));
-    RUBBLE_TRY(Dispatch(c, KernelId::SortBodyLists)
+                   .run(strideItems(), RUBBLE_GROUP_CONTACTS));
+    RUBBLE_TRY(Dispatch(c, KernelId::SortBodyLists, &profile_)
                    .arg(bodies)
                    .arg(contacts_.bodyStart)
                    .arg(contacts_.bodyList)
@@ -39,23 +41,23 @@ Status Pipeline::buildJacobiRows(const shared::SolverParams& params, bool warmSt
     const cl_uint previousCount = warmStart ? contacts_.previousCount : 0u;
     if (previousCount > 0) {
         RUBBLE_TRY(contacts_.next.reserve(c.context(), previousCount * sizeof(cl_uint)));
-        RUBBLE_TRY(fill(c, contacts_.head, RUBBLE_EMPTY_CELL, particles_.count * sizeof(cl_uint)));
-        RUBBLE_TRY(Dispatch(c, KernelId::LinkPrevious)
+        RUBBLE_TRY(fill(c, contacts_.head, RUBBLE_EMPTY_CELL, particles_.count * sizeof(cl_uint),
+                        &profile_));
+        RUBBLE_TRY(Dispatch(c, KernelId::LinkPrevious, &profile_)
                        .arg(previousCount)
                        .arg(contacts_.previous)
                        .arg(contacts_.head)
                        .arg(contacts_.next)
                        .run(previousCount, RUBBLE_GROUP_CONTACTS));
     }
-    for (Buffer* b : {&contacts_.next, &contacts_.previous, &contacts_.previousRows})
-        RUBBLE_TRY(b->reserve(c.context(), 16)); // bound even when empty
     const cl_uint warm = previousCount > 0 ? 1u : 0u;
-    return Dispatch(c, KernelId::BuildJacobiRows)
-        .arg(count)
+    return Dispatch(c, KernelId::BuildJacobiRows, &profile_)
+        .arg(status_)
         .arg(contacts_.contacts)
         .arg(bodies_.poses)
         .arg(bodies_.velocities)
         .arg(bodies_.masses)
+        .arg(bodies_.flags)
         .arg(contacts_.surfaces)
         .arg(contacts_.bodyCount)
         .arg(params)
@@ -65,50 +67,66 @@ Status Pipeline::buildJacobiRows(const shared::SolverParams& params, bool warmSt
         .arg(contacts_.previous)
         .arg(contacts_.previousRows)
         .arg(contacts_.rows)
-        .run(count, RUBBLE_GROUP_CONTACTS);
+        .run(strideItems(), RUBBLE_GROUP_CONTACTS);
 }
 
 Status Pipeline::solveJacobi(int iterations, float relaxation, bool warmStart) {
     const Context& c = *context_;
-    const cl_uint count = contacts_.count, bodies = bodies_.count;
+    const cl_uint bodies = bodies_.count;
     RUBBLE_TRY(copyVelocities(bodies_.before));
     auto gather = [&] {
-        return Dispatch(c, KernelId::GatherJacobi)
+        return Dispatch(c, KernelId::GatherJacobi, &profile_)
             .arg(bodies)
             .arg(contacts_.rows)
             .arg(contacts_.bodyStart)
             .arg(contacts_.bodyList)
             .arg(bodies_.before)
             .arg(bodies_.masses)
+            .arg(bodies_.flags)
             .arg(bodies_.poses)
             .arg(bodies_.velocities)
             .run(bodies, RUBBLE_GROUP_BODIES);
     };
-    if (count > 0) {
-        // Warm-started impulses act before the first sweep.
+    // Warm-started impulses act before the first sweep.
+    RUBBLE_TRY(gather());
+    for (int k = 0; k < iterations; ++k) {
+        const cl_uint last = k + 1 == iterations ? 1u : 0u;
+        RUBBLE_TRY(Dispatch(c, KernelId::SolveJacobiRows, &profile_)
+                       .arg(status_)
+                       .arg(contacts_.rows)
+                       .arg(bodies_.velocities)
+                       .arg(relaxation)
+                       .arg(last)
+                       .run(strideItems(), RUBBLE_GROUP_CONTACTS));
         RUBBLE_TRY(gather());
-        for (int k = 0; k < iterations; ++k) {
-            const cl_uint last = k + 1 == iterations ? 1u : 0u;
-            RUBBLE_TRY(Dispatch(c, KernelId::SolveJacobiRows)
-                           .arg(count)
-                           .arg(contacts_.rows)
-                           .arg(bodies_.velocities)
-                           .arg(relaxation)
-                           .arg(last)
-                           .arg(status_)
-                           .run(count, RUBBLE_GROUP_CONTACTS));
-            RUBBLE_TRY(gather());
-        }
     }
     RUBBLE_TRY(absorbVelocityChange());
     // This step's contacts and impulses become the next step's warm start.
     if (warmStart) {
         std::swap(contacts_.contacts, contacts_.previous);
         std::swap(contacts_.rows, contacts_.previousRows);
-        contacts_.previousCount = count;
+        contacts_.previousCount = contacts_.count;
         // The swapped-in buffers must still hold a full step.
         RUBBLE_TRY(setContactCapacity(contacts_.capacity, contacts_.growable));
     }
+    return {};
+}
+
+Status Pipeline::gatherObstacleImpulses() {
+    const cl_uint count = obstacles_.count;
+    RUBBLE_TRY(Dispatch(*context_, KernelId::GatherObstacleImpulses, &profile_)
+                   .arg(count)
+                   .arg(obstacles_.bodies)
+                   .arg(contacts_.rows)
+                   .arg(contacts_.bodyStart)
+                   .arg(contacts_.bodyList)
+                   .arg(obstacles_.impulses)
+                   .run(count, RUBBLE_GROUP_BODIES));
+    // Read without waiting: the host applies them in the next step.
+    const std::size_t bytes = impulsesHost_.size() * sizeof(shared::BodyImpulse);
+    RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), obstacles_.impulses.mem(), CL_FALSE, 0,
+                                        bytes, impulsesHost_.data(), 0, nullptr,
+                                        profile_.transfer(Transfer::Read, bytes)));
     return {};
 }
 

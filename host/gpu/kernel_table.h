@@ -34,6 +34,11 @@ enum class KernelId : unsigned {
     ScaleLcpRows,
     ProjectLcp,
     StoreLcpImpulses,
+    ApplyExplosion,
+    PlaceObstacles,
+    GatherObstacleImpulses,
+    MarkRestless,
+    SleepBodies,
     Count
 };
 

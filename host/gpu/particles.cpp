@@ -4,10 +4,15 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "host/collision/particle_world.h"
+#include "host/dynamics/jacobi.h"
 #include "host/gpu/pipeline.h"
 #include "host/world/world_state.h"
 
 namespace rubble::gpu {
+namespace {
+template <class T> std::span<const T> view(const std::vector<T>& v) { return {v.data(), v.size()}; }
+} // namespace
 
 Status Pipeline::uploadParticles(const WorldState& s) {
     const Context& c = *context_;
@@ -20,8 +25,9 @@ Status Pipeline::uploadParticles(const WorldState& s) {
     RUBBLE_TRY(upload(c, particles_.statics, std::span(p.statics)));
     const std::size_t n = particles_.count, words = n * sizeof(cl_uint);
     RUBBLE_TRY(particles_.world.reserve(c.context(), n * sizeof(shared::float4)));
+    RUBBLE_TRY(particles_.sortedWorld.reserve(c.context(), n * sizeof(shared::float4)));
     for (Buffer* b : {&particles_.keys, &particles_.values, &particles_.keysAlt,
-                      &particles_.valuesAlt, &contacts_.head})
+                      &particles_.valuesAlt, &particles_.sortedBody, &contacts_.head})
         RUBBLE_TRY(b->reserve(c.context(), words));
     const std::size_t histogram = RUBBLE_SORT_BUCKETS * RUBBLE_SORT_ITEMS;
     RUBBLE_TRY(particles_.histogram.reserve(c.context(), histogram * sizeof(cl_uint)));
@@ -29,6 +35,10 @@ Status Pipeline::uploadParticles(const WorldState& s) {
     const std::size_t cells = std::size_t(1) << particles_.bits;
     RUBBLE_TRY(particles_.cellStart.reserve(c.context(), cells * sizeof(cl_uint)));
     RUBBLE_TRY(particles_.cellEnd.reserve(c.context(), cells * sizeof(cl_uint)));
+    // Particles of bodies asleep at upload keep these positions until they wake.
+    std::vector<shared::float4> world(n);
+    rubble::transformParticles(p.particles, s.poses, world);
+    RUBBLE_TRY(upload(c, particles_.world, view(world)));
 
     // Per-body lists and surfaces.
     const std::size_t bodies = s.bodyCount();
@@ -37,6 +47,9 @@ Status Pipeline::uploadParticles(const WorldState& s) {
     RUBBLE_TRY(contacts_.cursor.reserve(c.context(), (bodies + 1) * sizeof(cl_uint)));
     const std::vector<shared::float4> surfaces = bodySurfaces(s);
     RUBBLE_TRY(upload(c, contacts_.surfaces, std::span(surfaces)));
+    // Last step's contacts: none yet, but bound by every step.
+    for (Buffer* b : {&contacts_.next, &contacts_.previous, &contacts_.previousRows})
+        RUBBLE_TRY(b->reserve(c.context(), 16));
     // A first guess of the contacts: a few per particle; it grows when a step needs more.
     return setContactCapacity(std::max<std::uint32_t>(1024, 2 * particles_.count), true);
 }
@@ -61,15 +74,21 @@ Status Pipeline::uploadContacts(std::span<const shared::ParticleContact> contact
     if (contacts.size() > contacts_.capacity)
         RUBBLE_TRY(setContactCapacity(std::uint32_t(contacts.size()), contacts_.growable));
     contacts_.count = std::uint32_t(contacts.size());
-    return upload(*context_, contacts_.contacts, contacts);
+    RUBBLE_TRY(upload(*context_, contacts_.contacts, contacts));
+    // The stages read the count from the status block.
+    statusHost_[RUBBLE_STATUS_CONTACTS] = contacts_.count;
+    statusHost_[RUBBLE_STATUS_CAPACITY] = contacts_.capacity;
+    RUBBLE_TRY(upload(*context_, status_, std::span<const cl_uint>(statusHost_)));
+    return finish();
 }
 
 Status Pipeline::transformParticles() {
     const cl_uint count = particles_.count;
-    return Dispatch(*context_, KernelId::TransformParticles)
+    return Dispatch(*context_, KernelId::TransformParticles, &profile_)
         .arg(count)
         .arg(particles_.records)
         .arg(bodies_.poses)
+        .arg(bodies_.flags)
         .arg(particles_.world)
         .run(count, RUBBLE_GROUP_PARTICLES); // no host copy: buildGrid reads the world
 }
@@ -78,28 +97,28 @@ Status Pipeline::collideParticles() {
     const cl_uint count = particles_.count, statics = particles_.staticCount;
     const cl_float inverseCellSize = 1.0f / particles_.cellSize;
     const cl_uint bits = particles_.bits;
+    return Dispatch(*context_, KernelId::CollideParticles, &profile_)
+        .arg(count)
+        .arg(statics)
+        .arg(inverseCellSize)
+        .arg(bits)
+        .arg(particles_.cellStart)
+        .arg(particles_.cellEnd)
+        .arg(particles_.sortedWorld)
+        .arg(particles_.sortedBody)
+        .arg(particles_.values)
+        .arg(bodies_.flags)
+        .arg(particles_.statics)
+        .arg(contacts_.contacts)
+        .arg(status_)
+        .run(count, RUBBLE_GROUP_PARTICLES);
+}
+
+Status Pipeline::readContactCount() {
     for (;;) {
-        const cl_uint capacity = contacts_.capacity;
-        RUBBLE_TRY(Dispatch(*context_, KernelId::CollideParticles)
-                       .arg(count)
-                       .arg(statics)
-                       .arg(inverseCellSize)
-                       .arg(bits)
-                       .arg(capacity)
-                       .arg(particles_.values)
-                       .arg(particles_.cellStart)
-                       .arg(particles_.cellEnd)
-                       .arg(particles_.world)
-                       .arg(particles_.records)
-                       .arg(bodies_.masses)
-                       .arg(particles_.statics)
-                       .arg(contacts_.contacts)
-                       .arg(status_)
-                       .run(count, RUBBLE_GROUP_PARTICLES));
-        // The contact count decides the size of every later dispatch: the host reads it.
         Result<DeviceStatus> st = readStatus();
         RUBBLE_TRY(st);
-        if (st->contacts <= capacity) {
+        if (st->contacts <= st->capacity) {
             contacts_.count = st->contacts;
             return {};
         }
@@ -107,39 +126,42 @@ Status Pipeline::collideParticles() {
             return makeError(ErrorKind::Numerical, "collideParticles",
                              "contact overflow: " + std::to_string(st->contacts) +
                                  " contacts do not fit the buffer of " +
-                                 std::to_string(capacity));
+                                 std::to_string(st->capacity));
         const std::uint32_t grown = st->contacts + st->contacts / 2;
         std::fprintf(stderr, "rubble: contact overflow (%u contacts, room for %u): buffer grown "
                              "to %u and the stage run again\n",
-                     st->contacts, capacity, grown);
+                     st->contacts, st->capacity, grown);
         RUBBLE_TRY(setContactCapacity(grown, true));
-        const cl_uint zero = 0;
+        const cl_uint zero = 0, capacity = contacts_.capacity;
         RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_TRUE,
                                              RUBBLE_STATUS_CONTACTS * sizeof(cl_uint),
                                              sizeof zero, &zero, 0, nullptr, nullptr));
+        RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_TRUE,
+                                             RUBBLE_STATUS_CAPACITY * sizeof(cl_uint),
+                                             sizeof capacity, &capacity, 0, nullptr, nullptr));
+        RUBBLE_TRY(collideParticles());
     }
 }
 
 Status Pipeline::sortContacts() {
-    const cl_uint count = contacts_.count;
-    if (count == 0) return {};
-    RUBBLE_TRY(Dispatch(*context_, KernelId::ContactKeys)
-                   .arg(count)
+    const cl_uint capacity = contacts_.capacity;
+    RUBBLE_TRY(Dispatch(*context_, KernelId::ContactKeys, &profile_)
+                   .arg(status_)
                    .arg(contacts_.contacts)
                    .arg(contacts_.sortKeys)
                    .arg(contacts_.sortValues)
-                   .run(count, RUBBLE_GROUP_CONTACTS));
+                   .run(strideItems(), RUBBLE_GROUP_CONTACTS));
     std::uint32_t bits = 1;
     while (bits < 32 && (std::uint64_t(1) << bits) < particles_.count) ++bits;
     RUBBLE_TRY(radixSort(contacts_.sortKeys, contacts_.sortValues, contacts_.sortKeysAlt,
-                         contacts_.sortValuesAlt, count, bits));
+                         contacts_.sortValuesAlt, capacity, bits, RUBBLE_STATUS_CONTACTS));
     std::swap(contacts_.contacts, contacts_.unsorted);
-    return Dispatch(*context_, KernelId::PermuteContacts)
-        .arg(count)
+    return Dispatch(*context_, KernelId::PermuteContacts, &profile_)
+        .arg(status_)
         .arg(contacts_.sortValues)
         .arg(contacts_.unsorted)
         .arg(contacts_.contacts)
-        .run(count, RUBBLE_GROUP_CONTACTS);
+        .run(strideItems(), RUBBLE_GROUP_CONTACTS);
 }
 
 } // namespace rubble::gpu

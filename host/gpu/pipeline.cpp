@@ -1,11 +1,16 @@
 // host/gpu/pipeline.cpp: the device arrays of a world, their transfers, and the device step as
-// a list of stages, each timed (the stage waits for the queue so that its time is its own).
+// a list of stages enqueued without waiting; the host meets the step once, at its end, and
+// reads each stage's device time from the profiling events.
 #include "host/gpu/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 
+#include "host/core/assert.h"
 #include "host/core/math.h"
+#include "host/dynamics/jacobi.h"
 #include "host/world/world_state.h"
 
 namespace rubble::gpu {
@@ -14,38 +19,67 @@ void PipelineDeleter::operator()(Pipeline* p) const { delete p; }
 
 namespace {
 
-// Adds the wall time of its scope to a StepStats field, in milliseconds.
-class StageTimer {
-  public:
-    explicit StageTimer(double& total) : total_(total), start_(Clock::now()) {}
-    ~StageTimer() {
-        total_ += std::chrono::duration<double, std::milli>(Clock::now() - start_).count();
-    }
-    StageTimer(const StageTimer&) = delete;
-    StageTimer& operator=(const StageTimer&) = delete;
-
-  private:
-    using Clock = std::chrono::steady_clock;
-    double& total_;
-    Clock::time_point start_;
-};
-
 template <class T> std::span<const T> view(const std::vector<T>& v) { return {v.data(), v.size()}; }
+
+double msSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+        .count();
+}
 
 } // namespace
 
-Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context, const WorldState& s) {
+Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context, const WorldState& s,
+                                        std::span<const std::uint8_t> kinematic) {
     PipelineHandle p(new Pipeline(std::move(context)));
     const Context& c = *p->context_;
     const std::size_t n = s.bodyCount();
     p->bodies_.count = std::uint32_t(n);
+    p->kinematic_.assign(n, 0);
+    std::copy(kinematic.begin(), kinematic.begin() + std::min(kinematic.size(), n),
+              p->kinematic_.begin());
     RUBBLE_TRY(p->bodies_.atStart.reserve(c.context(), n * sizeof(shared::BodyVelocity)));
     RUBBLE_TRY(p->bodies_.before.reserve(c.context(), n * sizeof(shared::BodyVelocity)));
+    RUBBLE_TRY(p->bodies_.slowFor.reserve(c.context(), n * sizeof(cl_float)));
+    RUBBLE_TRY(p->bodies_.restless.reserve(c.context(), n * sizeof(cl_uint)));
+    RUBBLE_TRY(fill(c, p->bodies_.slowFor, 0u, n * sizeof(cl_float)));
+    RUBBLE_TRY(fill(c, p->bodies_.restless, 0u, n * sizeof(cl_uint)));
     RUBBLE_TRY(upload(c, p->bodies_.forces, view(s.forces)));
     RUBBLE_TRY(p->status_.reserve(c.context(), RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
     RUBBLE_TRY(p->uploadBodies(s));
     RUBBLE_TRY(p->uploadParticles(s));
+
+    // The host's bodies, in index order: the order of each step's obstacle states.
+    std::vector<cl_uint> obstacles;
+    for (std::uint32_t i = 0; i < n; ++i)
+        if (p->kinematic_[i]) obstacles.push_back(i);
+    ObstacleBuffers& o = p->obstacles_;
+    o.count = std::uint32_t(obstacles.size());
+    RUBBLE_TRY(upload(c, o.bodies, view(obstacles)));
+    RUBBLE_TRY(o.states.reserve(c.context(), obstacles.size() * sizeof(shared::ObstacleState)));
+    RUBBLE_TRY(o.impulses.reserve(c.context(), obstacles.size() * sizeof(shared::BodyImpulse)));
+    p->obstaclesHost_.resize(obstacles.size());
+    p->impulsesHost_.assign(obstacles.size(), shared::BodyImpulse{});
+
+    // A status block that stages run alone (twin tests) can read.
+    p->statusHost_ = p->statusInit_;
+    RUBBLE_TRY(upload(c, p->status_, std::span<const cl_uint>(p->statusInit_)));
+    RUBBLE_TRY(p->finish());
     return p;
+}
+
+Status Pipeline::uploadMassesAndFlags(const WorldState& s) {
+    const Context& c = *context_;
+    // Kinematic bodies are walls on the device; their flags are the host's to set each step.
+    std::vector<shared::BodyMass> masses(s.masses.begin(), s.masses.end());
+    std::vector<cl_uint> flags(masses.size());
+    for (std::size_t i = 0; i < masses.size(); ++i) {
+        flags[i] = masses[i].flags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP);
+        if (!kinematic_[i]) continue;
+        masses[i] = shared::wallMassItem(masses[i]);
+        flags[i] = RUBBLE_BODY_KINEMATIC;
+    }
+    RUBBLE_TRY(upload(c, bodies_.masses, view(masses)));
+    return upload(c, bodies_.flags, view(flags));
 }
 
 Status Pipeline::uploadBodies(const WorldState& s) {
@@ -53,8 +87,7 @@ Status Pipeline::uploadBodies(const WorldState& s) {
     RUBBLE_TRY(upload(c, bodies_.poses, view(s.poses)));
     RUBBLE_TRY(upload(c, bodies_.velocities, view(s.velocities)));
     RUBBLE_TRY(upload(c, bodies_.momenta, view(s.momenta)));
-    RUBBLE_TRY(upload(c, bodies_.masses, view(s.masses)));
-    return {};
+    return uploadMassesAndFlags(s);
 }
 
 Status Pipeline::downloadBodies(WorldState& s) {
@@ -62,6 +95,22 @@ Status Pipeline::downloadBodies(WorldState& s) {
     RUBBLE_TRY(download(c, bodies_.poses, std::span(s.poses)));
     RUBBLE_TRY(download(c, bodies_.velocities, std::span(s.velocities)));
     RUBBLE_TRY(download(c, bodies_.momenta, std::span(s.momenta)));
+    std::vector<cl_uint> flags(bodies_.count);
+    RUBBLE_TRY(download(c, bodies_.flags, std::span(flags)));
+    for (std::size_t i = 0; i < flags.size(); ++i) {
+        if (kinematic_[i]) continue; // the host's own flags
+        s.masses[i].flags = (s.masses[i].flags & ~RUBBLE_BODY_ASLEEP) |
+                            (flags[i] & RUBBLE_BODY_ASLEEP);
+    }
+    return {};
+}
+
+Status Pipeline::downloadPoses(std::uint32_t first, std::span<shared::BodyPose> out) {
+    RUBBLE_ASSERT(std::size_t(first) + out.size() <= bodies_.count);
+    if (out.empty()) return {};
+    RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), bodies_.poses.mem(), CL_TRUE,
+                                        first * sizeof(shared::BodyPose), out.size_bytes(),
+                                        out.data(), 0, nullptr, nullptr));
     return {};
 }
 
@@ -75,27 +124,46 @@ Status Pipeline::copyVelocities(Buffer& to) {
     const std::size_t bytes = std::size_t(bodies_.count) * sizeof(shared::BodyVelocity);
     if (bytes == 0) return {};
     RUBBLE_CL_CHECK(clEnqueueCopyBuffer(context_->queue(), bodies_.velocities.mem(), to.mem(), 0,
-                                        0, bytes, 0, nullptr, nullptr));
+                                        0, bytes, 0, nullptr,
+                                        profile_.transfer(Transfer::Copy, bytes)));
     return {};
+}
+
+std::size_t Pipeline::strideItems() const {
+    const std::size_t units = std::max<std::uint32_t>(1, context_->device().computeUnits);
+    const std::size_t items = units * RUBBLE_STRIDE_GROUPS_PER_UNIT * RUBBLE_GROUP_CONTACTS;
+    return std::min(items, roundUp(contacts_.capacity, RUBBLE_GROUP_CONTACTS));
 }
 
 Status Pipeline::resetStatus() {
-    const cl_uint initial[RUBBLE_STATUS_COUNT] = {0u, 0xffffffffu, 0u, 0u};
-    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_TRUE, 0,
-                                         sizeof initial, initial, 0, nullptr, nullptr));
+    statusInit_ = {};
+    statusInit_[RUBBLE_STATUS_NONFINITE] = 0xffffffffu;
+    statusInit_[RUBBLE_STATUS_CAPACITY] = contacts_.capacity;
+    // Non-blocking: statusInit_ stays put until the step is met.
+    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_FALSE, 0,
+                                         sizeof statusInit_, statusInit_.data(), 0, nullptr,
+                                         profile_.transfer(Transfer::Write, sizeof statusInit_)));
     return {};
 }
 
-Result<DeviceStatus> Pipeline::readStatus() {
-    cl_uint slots[RUBBLE_STATUS_COUNT] = {};
-    RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), status_.mem(), CL_TRUE, 0, sizeof slots,
-                                        slots, 0, nullptr, nullptr));
+DeviceStatus Pipeline::statusFromSlots() const {
+    const std::array<cl_uint, RUBBLE_STATUS_COUNT>& slots = statusHost_;
     DeviceStatus d;
     d.contacts = slots[RUBBLE_STATUS_CONTACTS];
     d.firstNonFinite = slots[RUBBLE_STATUS_NONFINITE];
     std::memcpy(&d.largestPenetration, &slots[RUBBLE_STATUS_PENETRATION], sizeof(float));
     std::memcpy(&d.solverResidual, &slots[RUBBLE_STATUS_RESIDUAL], sizeof(float));
+    d.capacity = slots[RUBBLE_STATUS_CAPACITY];
+    d.asleep = slots[RUBBLE_STATUS_ASLEEP];
+    d.woken = slots[RUBBLE_STATUS_WOKEN];
     return d;
+}
+
+Result<DeviceStatus> Pipeline::readStatus() {
+    RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), status_.mem(), CL_TRUE, 0,
+                                        sizeof statusHost_, statusHost_.data(), 0, nullptr,
+                                        nullptr));
+    return statusFromSlots();
 }
 
 Status Pipeline::finish() {
@@ -103,67 +171,136 @@ Status Pipeline::finish() {
     return {};
 }
 
-Status Pipeline::step(WorldState& s, StepStats& stats) {
+Status Pipeline::beginStep(const WorldState& s, const StepInputs& in) {
+    RUBBLE_ASSERT(!stepPending_);
     const float dt = s.options.dt;
     const bool symplectic = s.options.integrator == Integrator::Symplectic;
+    profile_.discard();
+    profile_.setStage(DeviceStage::ApplyForces);
     RUBBLE_TRY(resetStatus());
-    {
-        StageTimer t(stats.integrateVelocitiesMs);
-        // Explicit Euler moves positions with the velocities the step started with.
-        if (!symplectic) RUBBLE_TRY(copyVelocities(bodies_.atStart));
-        RUBBLE_TRY(integrateVelocities(toFloat4(s.options.gravity), dt));
-        RUBBLE_TRY(finish());
-    }
-    {
-        StageTimer t(stats.broadPhaseMs);
-        RUBBLE_TRY(transformParticles());
-        RUBBLE_TRY(buildGrid());
-        RUBBLE_TRY(finish());
-    }
-    {
-        StageTimer t(stats.narrowPhaseMs);
-        RUBBLE_TRY(collideParticles());
-        if (s.run.deterministic) RUBBLE_TRY(sortContacts());
-        RUBBLE_TRY(finish());
-    }
-    const SolverOptions& solver = s.options.solver;
-    {
-        StageTimer t(stats.buildContactRowsMs);
-        RUBBLE_TRY(buildJacobiRows(solverParams(solver, dt), solver.warmStart));
-        RUBBLE_TRY(finish());
-    }
-    {
-        StageTimer t(stats.solveMs);
-        // lcp-jacobi solves the dense problem; the Jacobi stage then only applies its impulses.
-        const bool dense = solver.type == SolverType::LcpJacobi;
-        if (dense)
-            RUBBLE_TRY(solveLcpJacobi(lcpStride(bodySurfaces(s), s.masses),
-                                      solver.iterations, lcpJacobiRelaxation(solver)));
-        RUBBLE_TRY(solveJacobi(dense ? 0 : solver.iterations, jacobiRelaxation(solver),
-                               solver.warmStart));
-        RUBBLE_TRY(finish());
-    }
-    {
-        StageTimer t(stats.integratePositionsMs);
-        RUBBLE_TRY(integratePositions(dt, symplectic));
-        // Forces hold for one step.
-        if (forcesOnDevice_) {
-            RUBBLE_TRY(fill(*context_, bodies_.forces, 0u,
-                            std::size_t(bodies_.count) * sizeof(shared::BodyForce)));
-            forcesOnDevice_ = false;
-        }
-        RUBBLE_TRY(finish());
-    }
-    Result<DeviceStatus> status = readStatus();
-    RUBBLE_TRY(status);
-    stats.contactCount = contacts_.count;
-    stats.largestPenetration = status->largestPenetration;
-    stats.solverResidual = status->solverResidual;
-    if (status->firstNonFinite < bodies_.count)
-        return makeError(ErrorKind::Numerical, "body " + s.names[status->firstNonFinite],
-                         "its state is not finite after step " + std::to_string(s.step + 1) +
-                             " (t = " + std::to_string(double(s.step + 1) * double(dt)) + " s)");
+    if (obstacles_.count > 0) RUBBLE_TRY(placeObstacles(in.obstacles));
+    for (const EventDesc& e : in.explosions) RUBBLE_TRY(applyExplosion(e));
+    profile_.setStage(DeviceStage::IntegrateVelocities);
+    // Explicit Euler moves positions with the velocities the step started with.
+    if (!symplectic) RUBBLE_TRY(copyVelocities(bodies_.atStart));
+    RUBBLE_TRY(integrateVelocities(toFloat4(s.options.gravity), dt));
+    profile_.setStage(DeviceStage::BroadPhase);
+    RUBBLE_TRY(transformParticles());
+    RUBBLE_TRY(buildGrid());
+    gatherImpulses_ = in.gatherObstacleImpulses && obstacles_.count > 0;
+    RUBBLE_TRY(enqueueFromCollision(s));
+    stepPending_ = true;
     return {};
+}
+
+Status Pipeline::enqueueFromCollision(const WorldState& s) {
+    const float dt = s.options.dt;
+    const bool symplectic = s.options.integrator == Integrator::Symplectic;
+    const SolverOptions& solver = s.options.solver;
+    // lcp-jacobi sizes its dense problem on the host: it waits here for the contact count.
+    const bool dense = solver.type == SolverType::LcpJacobi;
+    profile_.setStage(DeviceStage::NarrowPhase);
+    RUBBLE_TRY(collideParticles());
+    if (dense) RUBBLE_TRY(readContactCount());
+    if (s.run.deterministic) RUBBLE_TRY(sortContacts());
+    profile_.setStage(DeviceStage::BuildContactRows);
+    RUBBLE_TRY(buildJacobiRows(solverParams(solver, dt), solver.warmStart));
+    profile_.setStage(DeviceStage::Solve);
+    // lcp-jacobi solves the dense problem; the Jacobi stage then only applies its impulses.
+    if (dense)
+        RUBBLE_TRY(solveLcpJacobi(lcpStride(bodySurfaces(s), s.masses), solver.iterations,
+                                  lcpJacobiRelaxation(solver)));
+    RUBBLE_TRY(solveJacobi(dense ? 0 : solver.iterations, jacobiRelaxation(solver), false));
+    profile_.setStage(DeviceStage::IntegratePositions);
+    RUBBLE_TRY(integratePositions(dt, symplectic));
+    // Forces hold for one step.
+    if (forcesOnDevice_) {
+        RUBBLE_TRY(fill(*context_, bodies_.forces, 0u,
+                        std::size_t(bodies_.count) * sizeof(shared::BodyForce), &profile_));
+        forcesOnDevice_ = false;
+    }
+    profile_.setStage(DeviceStage::Sleep);
+    RUBBLE_TRY(sleepBodies(dt));
+    if (gatherImpulses_) RUBBLE_TRY(gatherObstacleImpulses());
+    // This step's contacts and impulses become the next step's warm start.
+    warmSwapped_ = false;
+    if (solver.warmStart) {
+        std::swap(contacts_.contacts, contacts_.previous);
+        std::swap(contacts_.rows, contacts_.previousRows);
+        warmSwapped_ = true;
+        // The swapped-in buffers must still hold a full step.
+        RUBBLE_TRY(setContactCapacity(contacts_.capacity, contacts_.growable));
+    }
+    RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), status_.mem(), CL_FALSE, 0,
+                                        sizeof statusHost_, statusHost_.data(), 0, nullptr,
+                                        profile_.transfer(Transfer::Read, sizeof statusHost_)));
+    RUBBLE_CL_CHECK(clFlush(context_->queue()));
+    return {};
+}
+
+void Pipeline::undoWarmStartSwap() {
+    if (!warmSwapped_) return;
+    std::swap(contacts_.contacts, contacts_.previous);
+    std::swap(contacts_.rows, contacts_.previousRows);
+    warmSwapped_ = false;
+}
+
+Status Pipeline::endStep(const WorldState& s, StepStats& stats) {
+    RUBBLE_ASSERT(stepPending_);
+    stepPending_ = false;
+    const auto waitStart = std::chrono::steady_clock::now();
+    RUBBLE_TRY(finish());
+    stats.deviceWaitMs = msSince(waitStart);
+    for (;;) {
+        const DeviceStatus st = statusFromSlots();
+        if (st.contacts <= st.capacity) break;
+        // The stages after collision did nothing: grow the buffer and run them again.
+        undoWarmStartSwap();
+        if (!contacts_.growable) {
+            profile_.discard();
+            return makeError(ErrorKind::Numerical, "collideParticles",
+                             "contact overflow: " + std::to_string(st.contacts) +
+                                 " contacts do not fit the buffer of " +
+                                 std::to_string(st.capacity));
+        }
+        const std::uint32_t grown = st.contacts + st.contacts / 2;
+        std::fprintf(stderr, "rubble: contact overflow (%u contacts, room for %u): buffer grown "
+                             "to %u and the step's contact stages run again\n",
+                     st.contacts, st.capacity, grown);
+        RUBBLE_TRY(setContactCapacity(grown, true));
+        const cl_uint slots[2] = {0u, 0u};
+        const cl_uint capacity = contacts_.capacity;
+        RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_TRUE,
+                                             RUBBLE_STATUS_CONTACTS * sizeof(cl_uint),
+                                             sizeof slots[0], &slots[0], 0, nullptr, nullptr));
+        RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_TRUE,
+                                             RUBBLE_STATUS_CAPACITY * sizeof(cl_uint),
+                                             sizeof capacity, &capacity, 0, nullptr, nullptr));
+        RUBBLE_TRY(enqueueFromCollision(s));
+        RUBBLE_TRY(finish());
+    }
+    const DeviceStatus st = statusFromSlots();
+    contacts_.count = st.contacts;
+    if (warmSwapped_) contacts_.previousCount = st.contacts;
+    Result<DeviceTimes> times = profile_.collect();
+    RUBBLE_TRY(times);
+    stats.deviceMs = times->busyMs;
+    stats.deviceStages = times->stages;
+    stats.deviceContactCount = st.contacts;
+    stats.deviceAsleep = st.asleep;
+    stats.largestPenetration = std::max(stats.largestPenetration, st.largestPenetration);
+    stats.solverResidual = std::max(stats.solverResidual, st.solverResidual);
+    if (st.firstNonFinite < bodies_.count)
+        return makeError(ErrorKind::Numerical, "body " + s.names[st.firstNonFinite],
+                         "its state is not finite after step " + std::to_string(s.step + 1) +
+                             " (t = " + std::to_string(double(s.step + 1) * double(s.options.dt)) +
+                             " s)");
+    return {};
+}
+
+Status Pipeline::step(WorldState& s, StepStats& stats) {
+    RUBBLE_TRY(beginStep(s, StepInputs{}));
+    return endStep(s, stats);
 }
 
 } // namespace rubble::gpu

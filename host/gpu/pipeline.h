@@ -1,18 +1,24 @@
 // host/gpu/pipeline.h: the OpenCL pipeline of one world (DESIGN.md, "One step, OpenCL
 // pipeline"): the device arrays, uploaded at load and kept there, and one method per stage.
-// Each stage's dispatch lives in host/gpu/<stage>.cpp; its CPU twin has the same name.
+// Each stage's dispatch lives in host/gpu/<stage>.cpp; its CPU twin has the same name. A step
+// is enqueued whole without waiting (beginStep) and met once (endStep), so that the host can
+// step its own bodies meanwhile.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "host/gpu/buffer.h"
 #include "host/gpu/context.h"
 #include "host/gpu/lcp_jacobi.h"
 #include "host/gpu/pipeline_handle.h"
+#include "host/gpu/profile.h"
+#include "rubble/scene.h"
 #include "rubble/shared/contact_row.h"
+#include "rubble/shared/obstacle.h"
 #include "rubble/world.h"
 
 namespace rubble {
@@ -25,8 +31,11 @@ namespace rubble::gpu {
 struct BodyBuffers {
     std::uint32_t count = 0;
     Buffer poses, velocities, momenta, forces, masses;
-    Buffer atStart; ///< velocities at the start of the step (explicit Euler)
-    Buffer before;  ///< velocities before the solve
+    Buffer flags;    ///< RUBBLE_BODY_* per body: the device's own (sleep, kinematic)
+    Buffer slowFor;  ///< per body: how long it has been slow, s (sleeping)
+    Buffer restless; ///< per body: RUBBLE_RESTLESS_* bits of this step's contacts
+    Buffer atStart;  ///< velocities at the start of the step (explicit Euler)
+    Buffer before;   ///< velocities before the solve
 };
 
 /// The particles and the grid over them.
@@ -37,11 +46,15 @@ struct ParticleBuffers {
     Buffer keys, values, keysAlt, valuesAlt; ///< sorted cell keys and particles (ping-pong)
     Buffer histogram, offsets;               ///< radix sort counts and their exclusive scan
     Buffer cellStart, cellEnd;
+    Buffer sortedWorld, sortedBody; ///< positions and bodies in sorted order, for collision
 };
 
-/// Contacts, rows, the per-body row lists, and last step's contacts for warm starting.
+/// Contacts, rows, the per-body row lists, and last step's contacts for warm starting. The
+/// contact count is known on the device; the host learns it when the step is met.
 struct ContactBuffers {
-    std::uint32_t capacity = 0, count = 0, previousCount = 0;
+    std::uint32_t capacity = 0;
+    std::uint32_t count = 0;         ///< contacts of the last step met (or uploaded)
+    std::uint32_t previousCount = 0; ///< contacts in `previous`, for warm starting
     bool growable = true; ///< grow on overflow (tests turn it off to see the error)
     Buffer contacts, previous, unsorted;
     Buffer rows, previousRows;
@@ -51,88 +64,156 @@ struct ContactBuffers {
     Buffer sortKeys, sortValues, sortKeysAlt, sortValuesAlt;
 };
 
+/// The host's bodies on the device (debris offloading): kinematic there, placed every step, and
+/// the impulses the device's rows put on them.
+struct ObstacleBuffers {
+    std::uint32_t count = 0;
+    Buffer states;   ///< ObstacleState per obstacle, this step's
+    Buffer bodies;   ///< their body indices
+    Buffer impulses; ///< BodyImpulse per obstacle, gathered after the solve
+};
+
 /// What the host reads at the end of a step (RUBBLE_STATUS_* slots).
 struct DeviceStatus {
     std::uint32_t contacts = 0;
     std::uint32_t firstNonFinite = 0xffffffffu; ///< a body index, or none
     float largestPenetration = 0;               ///< m
     float solverResidual = 0;                   ///< N s
+    std::uint32_t capacity = 0;
+    std::uint32_t asleep = 0, woken = 0;
+};
+
+/// What a step takes from the host besides the world's options.
+struct StepInputs {
+    std::span<const EventDesc> explosions;           ///< due this step
+    std::span<const shared::ObstacleState> obstacles; ///< one per obstacle, in obstacle order
+    bool gatherObstacleImpulses = false;              ///< two-way coupling
 };
 
 class Pipeline {
   public:
-    /// Sizes the device arrays for a world and uploads its bodies. Errors: Device.
-    static Result<PipelineHandle> create(std::shared_ptr<Context> context, const WorldState& s);
+    /// Sizes the device arrays for a world and uploads its bodies. Bodies marked in `kinematic`
+    /// (the host steps them: debris offloading) are infinite masses on the device, placed by
+    /// each step's obstacles, whose list is their indices in order. Errors: Device.
+    static Result<PipelineHandle> create(std::shared_ptr<Context> context, const WorldState& s,
+                                         std::span<const std::uint8_t> kinematic = {});
 
     const Context& context() const { return *context_; }
     const std::shared_ptr<Context>& sharedContext() const { return context_; }
     const BodyBuffers& bodies() const { return bodies_; }
 
-    /// Copies the host's poses, velocities, momenta and masses to the device: at load, and when
-    /// the host changed them (impulses, events). Errors: Device.
+    /// Copies the host's poses, velocities, momenta, masses and flags to the device: at load,
+    /// and when the host changed them (impulses). Errors: Device.
     Status uploadBodies(const WorldState& s);
-    /// Reads poses, velocities and momenta back into the host arrays, for whoever asked for
-    /// the state (World::body, writers, metrics). Errors: Device.
+    /// Reads poses, velocities, momenta and the sleep flags back into the host arrays, for
+    /// whoever asked for the state (World::body, writers, metrics). Errors: Device.
     Status downloadBodies(WorldState& s);
+    /// Reads `out.size()` poses from body `first` on, for drawing. Errors: Device.
+    Status downloadPoses(std::uint32_t first, std::span<shared::BodyPose> out);
     /// This step's forces and torques (World::addForce), uploaded when any were added.
     Status uploadForces(std::span<const shared::BodyForce> forces);
 
-    /// One whole step on the device; the stage timings go into `stats`. Errors: Device,
-    /// Numerical (a body that is not finite, named).
+    /// Enqueues a whole step without waiting: the obstacles placed, the explosions, every
+    /// stage, and the read of the status block (and of the obstacles' impulses). Only
+    /// lcp-jacobi waits in the middle (its dense problem is sized on the host). Errors: Device.
+    Status beginStep(const WorldState& s, const StepInputs& in);
+    /// Waits for the step, reads its status and device times into `stats`. On a contact
+    /// overflow the buffer grows and the stages from collision on run again (said on stderr),
+    /// or, when it may not grow, an error. Errors: Device, Numerical (a contact overflow, a body
+    /// that is not finite, named).
+    Status endStep(const WorldState& s, StepStats& stats);
+    /// beginStep then endStep.
     Status step(WorldState& s, StepStats& stats);
+    /// The impulses the rows put on each obstacle in the step met last (two-way coupling).
+    std::span<const shared::BodyImpulse> obstacleImpulses() const { return impulsesHost_; }
 
-    // Stages, each the twin of the CPU function of the same name.
+    // Stages, each the twin of the CPU function of the same name. They only enqueue.
     Status integrateVelocities(shared::float4 gravity, float dt);
     Status absorbVelocityChange();
     Status integratePositions(float dt, bool symplectic);
     /// Copies the velocities into `to` (atStart or before).
     Status copyVelocities(Buffer& to);
     Status transformParticles();
-    /// Cell keys, the radix sort, the cell ranges.
+    /// Cell keys, the radix sort, the cell ranges and the sorted copies of the particles.
     Status buildGrid();
-    /// Contacts into the contact buffer; on overflow the buffer grows and the stage runs again
-    /// (said on stderr), or, when it may not grow, an error. Reads the contact count back.
+    /// Contacts into the contact buffer, counted in the status block.
     Status collideParticles();
+    /// Waits for the queue and reads the contact count into contacts().count; an overflow grows
+    /// the buffer and collides again, or is an error when the buffer may not grow. Errors:
+    /// Device, Numerical.
+    Status readContactCount();
     /// Deterministic mode: contacts ordered by a stable sort on their particle.
     Status sortContacts();
     /// Row lists per body, warm start, rows.
     Status buildJacobiRows(const shared::SolverParams& params, bool warmStart);
-    /// Copies the velocities to `before`, then `iterations` sweeps (rows, then the gather), and
-    /// keeps this step's contacts and rows for the next step's warm start.
+    /// Copies the velocities to `before`, then `iterations` sweeps (rows, then the gather); with
+    /// warmStart, keeps this step's contacts and rows for the next step's warm start.
     Status solveJacobi(int iterations, float relaxation, bool warmStart);
     /// lcp-jacobi: the dense problem from the rows (`stride` rows per contact), `iterations`
     /// sweeps, the impulses back into the rows; solveJacobi(0, ...) then applies them.
     Status solveLcpJacobi(std::uint32_t stride, int iterations, float relaxation);
+    /// Explosions on the device's bodies (stage applyForces).
+    Status applyExplosion(const EventDesc& e);
+    /// The obstacles' states for this step (stage applyForces).
+    Status placeObstacles(std::span<const shared::ObstacleState> obstacles);
+    /// Stage sleepBodies: restless marks from the rows, then each body's sleep.
+    Status sleepBodies(float dt);
+    /// The summed impulse of the rows on each obstacle.
+    Status gatherObstacleImpulses();
     /// Sorts `count` (key, value) pairs by the low `bits` of the key, stably; the result is in
-    /// keys and values (the Alt buffers are scratch).
+    /// keys and values (the Alt buffers are scratch). With a status slot named, the count is
+    /// the smaller of `count` and that slot's value, read on the device.
     Status radixSort(Buffer& keys, Buffer& values, Buffer& keysAlt, Buffer& valuesAlt,
-                     std::uint32_t count, std::uint32_t bits);
+                     std::uint32_t count, std::uint32_t bits,
+                     std::uint32_t countSlot = RUBBLE_STATUS_COUNT);
     /// out[i] = sum of in[0..i-1] for i <= count.
     Status exclusiveScan(const Buffer& in, Buffer& out, std::uint32_t count);
 
     const ParticleBuffers& particles() const { return particles_; }
     const ContactBuffers& contacts() const { return contacts_; }
+    const ObstacleBuffers& obstacles() const { return obstacles_; }
     /// Replaces this step's contacts (twin tests feed both paths the same set).
     Status uploadContacts(std::span<const shared::ParticleContact> contacts);
     /// Sets the contact capacity (and whether it may grow), for tests of overflow.
     Status setContactCapacity(std::uint32_t capacity, bool growable);
 
-    /// Clears the status slots at the start of a step, and reads them at its end.
+    /// Clears the status slots at the start of a step (enqueued), and reads them (waits).
     Status resetStatus();
     Result<DeviceStatus> readStatus();
-    /// Waits until the queue is empty (stage timings, transfers).
+    /// Waits until the queue is empty.
     Status finish();
+    /// Device time of each kernel and transfer over the steps so far.
+    std::vector<CommandTotals> profileTotals() const { return profile_.totals(); }
 
   private:
     explicit Pipeline(std::shared_ptr<Context> context) : context_(std::move(context)) {}
-    std::shared_ptr<Context> context_;
     Status uploadParticles(const WorldState& s);
+    Status uploadMassesAndFlags(const WorldState& s);
+    /// The stages from collision to the end of the step, and the status read.
+    Status enqueueFromCollision(const WorldState& s);
+    /// Puts back last step's contacts as the warm start after a step whose contacts overflowed.
+    void undoWarmStartSwap();
+    DeviceStatus statusFromSlots() const;
+    /// The global size of a stage that strides through the contacts.
+    std::size_t strideItems() const;
+
+    std::shared_ptr<Context> context_;
     BodyBuffers bodies_;
     ParticleBuffers particles_;
     ContactBuffers contacts_;
-    LcpBuffers lcp_;
+    ObstacleBuffers obstacles_;
     Buffer status_;
-    bool forcesOnDevice_ = false; ///< the device force buffer holds non-zero forces
+    Profile profile_;
+    LcpBuffers lcp_;
+    std::vector<std::uint8_t> kinematic_; ///< per body, as created
+    bool forcesOnDevice_ = false;         ///< the device force buffer holds non-zero forces
+    bool stepPending_ = false;            ///< beginStep ran, endStep not yet
+    bool warmSwapped_ = false;            ///< this step's solve kept its contacts for the next
+    bool gatherImpulses_ = false;         ///< this step reads the obstacles' impulses
+    // Host memory the step's non-blocking transfers read from or write to.
+    std::array<cl_uint, RUBBLE_STATUS_COUNT> statusInit_{}, statusHost_{};
+    std::vector<shared::ObstacleState> obstaclesHost_;
+    std::vector<shared::BodyImpulse> impulsesHost_;
 };
 
 } // namespace rubble::gpu

@@ -39,6 +39,20 @@ void MetricsRecorder::afterStep(const World& world) {
     totals_.integratePositionsMs += s.integratePositionsMs;
     totals_.solvePositionsMs += s.solvePositionsMs;
     totals_.islandsMs += s.islandsMs;
+    deviceMs_.push_back(s.deviceMs);
+    deviceWaitMs_.push_back(s.deviceWaitMs);
+    deviceHiddenMs_.push_back(s.deviceHiddenMs);
+    hostMs_.push_back(s.hostMs);
+    const DeviceStageMs& d = s.deviceStages;
+    DeviceStageMs& t = deviceStages_;
+    t.applyForces += d.applyForces;
+    t.integrateVelocities += d.integrateVelocities;
+    t.broadPhase += d.broadPhase;
+    t.narrowPhase += d.narrowPhase;
+    t.buildContactRows += d.buildContactRows;
+    t.solve += d.solve;
+    t.integratePositions += d.integratePositions;
+    t.sleep += d.sleep;
     wallS_ += s.totalMs / 1000.0;
     largestPenetration_ = std::max(largestPenetration_, s.largestPenetration);
     lastContacts_ = s.contactCount;
@@ -100,6 +114,33 @@ std::string MetricsRecorder::toJson(const World& world) const {
     if (quality_) j["quality"] = qualityJson(*quality_);
     j["backend"] = std::string(toString(world.options().backend));
     j["device"] = world.deviceName();
+    if (world.options().backend == Backend::OpenCl) {
+        // Medians per step of the device's part, and where its time went over the run.
+        double busy = 0, hidden = 0;
+        for (double v : deviceMs_) busy += v;
+        for (double v : deviceHiddenMs_) hidden += v;
+        j["host_ms_per_step"] = {{"median", percentile(hostMs_, 0.5)},
+                                 {"p90", percentile(hostMs_, 0.9)}};
+        j["device_ms_per_step"] = {{"median", percentile(deviceMs_, 0.5)},
+                                   {"p90", percentile(deviceMs_, 0.9)}};
+        j["device_wait_ms_per_step"] = {{"median", percentile(deviceWaitMs_, 0.5)}};
+        j["device_hidden_ms_per_step"] = {{"median", percentile(deviceHiddenMs_, 0.5)}};
+        j["device_hidden_share"] = busy > 0 ? hidden / busy : 0.0;
+        const DeviceStageMs& t = deviceStages_;
+        j["device_stages_ms"] = {{"apply_forces", t.applyForces},
+                                 {"integrate_velocities", t.integrateVelocities},
+                                 {"broad_phase", t.broadPhase},
+                                 {"narrow_phase", t.narrowPhase},
+                                 {"build_contact_rows", t.buildContactRows},
+                                 {"solve", t.solve},
+                                 {"integrate_positions", t.integratePositions},
+                                 {"sleep", t.sleep}};
+        nlohmann::ordered_json kernels = nlohmann::ordered_json::array();
+        for (const DeviceCommandTime& c : world.deviceProfile())
+            kernels.push_back({{"name", c.name}, {"ms", c.ms}, {"launches", c.launches},
+                               {"bytes", c.bytes}});
+        j["device_kernels"] = kernels;
+    }
     return j.dump(2) + "\n";
 }
 

@@ -51,6 +51,9 @@ class MetricsRecorder {
     std::string scene_;
     std::uint32_t bodies_ = 0;
     std::vector<double> stepMs_;
+    // The device's part of each step (OpenCL backend): busy, waited for, hidden; host time.
+    std::vector<double> deviceMs_, deviceWaitMs_, deviceHiddenMs_, hostMs_;
+    DeviceStageMs deviceStages_;
     StepStats totals_;
     Invariants first_, last_;
     float largestPenetration_ = 0;

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include "host/world/offload.h"
+
 namespace rubble {
 
 Status checkBackendCombination(const Scene& scene) {
@@ -18,10 +20,16 @@ Status checkBackendCombination(const Scene& scene) {
                          "the " + std::string(toString(sim.solver.type)) +
                              " solver runs on the cpu backend only; the opencl backend solves "
                              "with jacobi or lcp-jacobi (--solver jacobi)");
-    if (!scene.joints.empty())
-        return makeError(ErrorKind::NotSupported, scene.joints[0].where,
-                         "joints run on the cpu backend only (the opencl backend has no joint "
-                         "rows)");
+    // Jointed bodies stay on the CPU; a joint on a debris body cannot.
+    const std::vector<std::uint8_t> onDevice = deviceBodies(scene);
+    for (const JointDesc& j : scene.joints) {
+        const std::uint32_t d = onDevice[j.a] ? j.a : j.b;
+        if (!onDevice[d]) continue;
+        return makeError(ErrorKind::NotSupported, j.where,
+                         "joins debris body \"" + scene.bodies[d].name +
+                             "\": the debris set steps on the OpenCL device, which has no joint "
+                             "rows (leave the body out of the debris set)");
+    }
     return {};
 }
 

@@ -8,8 +8,10 @@
 namespace rubble {
 
 /// {sat, particles} x {pgs, jacobi, lcp-jacobi, lemke} on the cpu backend; particles with jacobi
-/// or lcp-jacobi on opencl. Errors: NotSupported naming the scene field of the option that
-/// cannot run with the others (SAT and PGS are CPU stages; the device pipeline has no joints).
+/// or lcp-jacobi on opencl, where jointed bodies step on the CPU (host/world/offload.h).
+/// Errors: NotSupported naming the scene field of the option that cannot run with the others
+/// (SAT and PGS are CPU stages), or a joint on a body of the debris set (the device has no
+/// joint rows).
 Status checkBackendCombination(const Scene& scene);
 
 } // namespace rubble

@@ -8,6 +8,7 @@
 #include "host/collision/particle_world.h"
 #include "host/core/integrate.h"
 #include "host/core/math.h"
+#include "host/dynamics/body_sleep.h"
 #include "host/dynamics/dynamics_world.h"
 #include "host/dynamics/forces.h"
 #include "host/dynamics/jacobi_solvers.h"
@@ -101,8 +102,9 @@ void stepCpuReference(WorldState& s, StepStats& stats) {
     }
     {
         StageTimer t(stats.islandsMs);
-        // Sleeping belongs to the reference solver; the device pipeline has none.
+        // PGS sleeps by islands; the device's solvers sleep as the device does (its twin).
         if (pgs) runUpdateSleep(s);
+        else if (!lemke) runSleepBodies(s);
     }
 }
 

@@ -1,18 +1,46 @@
-// host/world/device_step.cpp: the OpenCL backend of a World over host/gpu's Pipeline.
+// host/world/device_step.cpp: the OpenCL backend of a World over host/gpu's Pipeline, and the
+// meeting of an offloaded world's two halves.
 #include "host/world/device_step.h"
 
-#include "host/dynamics/forces.h"
+#include <algorithm>
+#include <chrono>
+
 #include "host/gpu/pipeline.h"
+#include "host/world/offload.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+        .count();
+}
+
+// A world without CPU bodies reports the device's stage times as its stages.
+void deviceStagesAsStages(StepStats& stats) {
+    const DeviceStageMs& d = stats.deviceStages;
+    stats.applyForcesMs = d.applyForces;
+    stats.integrateVelocitiesMs = d.integrateVelocities;
+    stats.broadPhaseMs = d.broadPhase;
+    stats.narrowPhaseMs = d.narrowPhase;
+    stats.buildContactRowsMs = d.buildContactRows;
+    stats.solveMs = d.solve;
+    stats.integratePositionsMs = d.integratePositions;
+    stats.islandsMs = d.sleep;
+}
+
+} // namespace
 
 Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
                     const SimulationOptions& options) {
     s.options = options;
     s.options.backend = Backend::OpenCl;
     RUBBLE_TRY(buildParticles(s));
-    Result<gpu::PipelineHandle> p = gpu::Pipeline::create(std::move(context), s);
+    const std::span<const std::uint8_t> kinematic =
+        s.offload ? std::span<const std::uint8_t>(s.offload->kinematic)
+                  : std::span<const std::uint8_t>();
+    Result<gpu::PipelineHandle> p = gpu::Pipeline::create(std::move(context), s, kinematic);
     RUBBLE_TRY(p);
     s.device = std::move(*p);
     s.hostStale = false;
@@ -24,6 +52,7 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
 Status syncHost(WorldState& s) {
     if (!s.device || !s.hostStale) return {};
     RUBBLE_TRY(s.device->downloadBodies(s));
+    if (s.offload) copyCpuBodies(*s.offload, s);
     s.hostStale = false;
     return {};
 }
@@ -35,14 +64,9 @@ Status beginHostChange(WorldState& s) {
 }
 
 Status stepDevice(WorldState& s, StepStats& stats) {
+    const auto start = std::chrono::steady_clock::now();
     gpu::Pipeline& p = *s.device;
-    // Events act on the host's copy of the momenta, which then goes back up.
-    for (std::size_t e = 0; e < s.events.size(); ++e) {
-        if (s.eventFired[e] || s.time() + 1e-9 < double(s.events[e].time)) continue;
-        RUBBLE_TRY(beginHostChange(s));
-        applyExplosion(s.events[e], s.poses, s.masses, s.momenta);
-        s.eventFired[e] = 1;
-    }
+    Offload* o = s.offload.get();
     if (s.hostDirty) {
         RUBBLE_TRY(p.uploadBodies(s));
         s.hostDirty = false;
@@ -51,9 +75,51 @@ Status stepDevice(WorldState& s, StepStats& stats) {
         RUBBLE_TRY(p.uploadForces(s.forces));
         s.forcesDirty = false;
     }
-    const Status stepped = p.step(s, stats);
+    // Explosions due this step act on the device's bodies there (the CPU world has its own).
+    s.dueEvents.clear();
+    for (std::size_t e = 0; e < s.events.size(); ++e) {
+        if (s.eventFired[e] || s.time() + 1e-9 < double(s.events[e].time)) continue;
+        s.dueEvents.push_back(s.events[e]);
+        s.eventFired[e] = 1;
+    }
+    gpu::StepInputs in;
+    in.explosions = s.dueEvents;
+    if (o) {
+        prepareObstacles(*o);
+        in.obstacles = o->states;
+        in.gatherObstacleImpulses = o->coupling == Coupling::TwoWay;
+    }
+    // The device's step is enqueued first; the CPU world steps while it runs; they meet.
+    RUBBLE_TRY(p.beginStep(s, in));
     s.hostStale = true;
-    return stepped;
+    Status cpuStepped;
+    if (o) cpuStepped = o->cpu->step();
+    const Status met = p.endStep(s, stats);
+    if (o && in.gatherObstacleImpulses) {
+        const std::span<const shared::BodyImpulse> j = p.obstacleImpulses();
+        std::copy(j.begin(), j.end(), o->pending.begin());
+    }
+    if (o) {
+        // The CPU world's stages are this step's stages; contacts add up.
+        const StepStats& c = o->cpu->lastStep();
+        const StepStats device = stats;
+        stats = c;
+        stats.deviceMs = device.deviceMs;
+        stats.deviceWaitMs = device.deviceWaitMs;
+        stats.deviceStages = device.deviceStages;
+        stats.deviceContactCount = device.deviceContactCount;
+        stats.deviceAsleep = device.deviceAsleep;
+        stats.contactCount = c.contactCount + device.deviceContactCount;
+        stats.largestPenetration = std::max(c.largestPenetration, device.largestPenetration);
+        stats.solverResidual = std::max(c.solverResidual, device.solverResidual);
+    } else {
+        deviceStagesAsStages(stats);
+        stats.contactCount = stats.deviceContactCount;
+    }
+    stats.hostMs = msSince(start) - stats.deviceWaitMs;
+    stats.deviceHiddenMs = std::max(0.0, stats.deviceMs - stats.deviceWaitMs);
+    RUBBLE_TRY(met);
+    return cpuStepped;
 }
 
 } // namespace rubble

@@ -1,5 +1,6 @@
 // host/world/device_step.h: the OpenCL backend of a World: attaching a device pipeline, one
-// step on it, and keeping the host's copy of the bodies current when someone asks for it.
+// step on it (beside the CPU world of an offloaded scene), and keeping the host's copy of the
+// bodies current when someone asks for it.
 #pragma once
 
 #include <memory>
@@ -15,13 +16,15 @@ namespace gpu {
 class Context;
 }
 
-/// Puts a world on the OpenCL backend of `context` (shared, so that tests and tools build the
-/// program once) with the given options (backend set to opencl): sizes the device arrays and
-/// uploads the bodies. Errors: NotSupported for options the device pipeline cannot run, Device.
+/// Puts a whole world on the OpenCL backend of `context` (shared, so that tests and tools build
+/// the program once) with the given options (backend set to opencl): sizes the device arrays and
+/// uploads the bodies. When s.offload is set, its CPU-owned bodies are kinematic on the device.
+/// Errors: NotSupported for options the device pipeline cannot run, Device.
 Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
                     const SimulationOptions& options);
 
-/// One step on the device: what the host changed (impulses, events, forces) is uploaded first.
+/// One step on the device: what the host changed (impulses, forces) is uploaded first, the
+/// step is enqueued, the CPU world of an offloaded scene steps meanwhile, and the two meet.
 /// Errors: Device, Numerical naming the body.
 Status stepDevice(WorldState& s, StepStats& stats);
 

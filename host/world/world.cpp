@@ -129,6 +129,13 @@ const StepStats& World::lastStep() const { return s_->stats; }
 std::string World::deviceName() const {
     return s_->device ? s_->device->context().describe() : "cpu";
 }
+std::vector<DeviceCommandTime> World::deviceProfile() const {
+    std::vector<DeviceCommandTime> out;
+    if (!s_->device) return out;
+    for (const gpu::CommandTotals& c : s_->device->profileTotals())
+        out.push_back(DeviceCommandTime{std::string(c.name), c.ms, c.launches, c.bytes});
+    return out;
+}
 WorldState& World::state() { return *s_; }
 const WorldState& World::state() const { return *s_; }
 

@@ -4,6 +4,7 @@
 #include "host/gpu/context.h"
 #include "host/world/backend_check.h"
 #include "host/world/device_step.h"
+#include "host/world/offload.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -97,6 +98,15 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     if (scene.simulation.collisionMethod() == CollisionMethod::Particles)
         RUBBLE_TRY(buildParticles(*s));
     if (scene.simulation.backend == Backend::OpenCl) {
+        // Bodies the device does not step (joints, outside the debris set) get a CPU world.
+        const std::vector<std::uint8_t> onDevice = deviceBodies(scene);
+        for (std::size_t i = 0; i < n; ++i) {
+            if (scene.bodies[i].isStatic || onDevice[i]) continue;
+            Result<std::unique_ptr<Offload>> offload = makeOffload(scene, onDevice, run);
+            RUBBLE_TRY(offload);
+            s->offload = std::move(*offload);
+            break;
+        }
         Result<std::shared_ptr<gpu::Context>> context = gpu::Context::create(run);
         RUBBLE_TRY(context);
         RUBBLE_TRY(attachDevice(*s, std::move(*context), scene.simulation));

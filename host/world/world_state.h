@@ -10,11 +10,13 @@
 #include "host/collision/collision_world.h"
 #include "host/collision/contact.h"
 #include "host/collision/particle_world.h"
+#include "host/dynamics/body_sleep.h"
 #include "host/dynamics/dynamics_world.h"
 #include "host/dynamics/jacobi.h"
 #include "host/dynamics/lcp_jacobi.h"
 #include "host/geometry/shape.h"
 #include "host/gpu/pipeline_handle.h"
+#include "host/world/offload.h"
 #include "rubble/options.h"
 #include "rubble/scene.h"
 #include "rubble/shared/body.h"
@@ -61,6 +63,7 @@ struct WorldState {
     SolverCache solver;
     ParticleState particles; ///< the particle collision method (CPU, and the device's source)
     JacobiState jacobi;      ///< the jacobi, lcp-jacobi and lemke solvers on the CPU
+    BodySleepState bodySleep; ///< sleeping as on the device, for the device's solvers on the CPU
     DenseLcp lcp;            ///< the dense problem of lcp-jacobi and lemke on the CPU
     std::optional<Error> stepFailure; ///< a CPU stage that could not run this step
 
@@ -76,6 +79,11 @@ struct WorldState {
     bool hostStale = false;
     bool hostDirty = false;
     bool forcesDirty = false;
+    /// Debris offloading: the CPU world of the bodies the device does not step, which are
+    /// kinematic obstacles on the device (host/world/offload.h); null when the device steps
+    /// every moving body.
+    std::unique_ptr<Offload> offload;
+    std::vector<EventDesc> dueEvents; ///< scratch: the events the device applies this step
 
     std::uint32_t bodyCount() const { return std::uint32_t(poses.size()); }
     bool isStatic(std::uint32_t i) const { return masses[i].inverseMass == 0.0f; }

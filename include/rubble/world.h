@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -32,16 +33,49 @@ struct BodyState {
     bool asleep = false;
 };
 
-/// Milliseconds spent in each stage of the last step (CPU wall time), and what it produced.
+/// Device time of each stage of the last step on the OpenCL device (profiling events), ms.
+struct DeviceStageMs {
+    double applyForces = 0;         ///< obstacles placed, explosions
+    double integrateVelocities = 0;
+    double broadPhase = 0;          ///< particles transformed, the grid
+    double narrowPhase = 0;         ///< particle collision
+    double buildContactRows = 0;
+    double solve = 0;
+    double integratePositions = 0;
+    double sleep = 0;               ///< sleeping and waking, impulses gathered for the host
+};
+
+/// Milliseconds spent in each stage of the last step, and what it produced. The stage fields
+/// are host wall time of the CPU pipeline; a world whose every moving body is on the OpenCL
+/// device has no CPU stages and reports its device stage times there instead.
 struct StepStats {
     double applyForcesMs = 0, integrateVelocitiesMs = 0, broadPhaseMs = 0, narrowPhaseMs = 0,
            buildContactRowsMs = 0, solveMs = 0, integratePositionsMs = 0, solvePositionsMs = 0,
            islandsMs = 0;
-    double totalMs = 0;
+    double totalMs = 0;             ///< wall time of World::step
     std::uint32_t pairCount = 0;    ///< broad-phase pairs
-    std::uint32_t contactCount = 0; ///< contact points
+    std::uint32_t contactCount = 0; ///< contact points (both populations)
     float largestPenetration = 0;   ///< m, before the solve
     float solverResidual = 0;       ///< largest |impulse change| in the last sweep, N s
+
+    // The OpenCL device's part of the step, which runs while the host steps its own bodies.
+    double hostMs = 0;         ///< host time of the step other than waiting for the device
+    double deviceMs = 0;       ///< device busy time: the sum of its commands' durations
+    double deviceWaitMs = 0;   ///< host time spent waiting for the device to finish the step
+    /// Device time that ran while the host worked: deviceMs - deviceWaitMs, at least 0 (the
+    /// device is busy from the enqueue to its end, so what the host did not wait for was hidden).
+    double deviceHiddenMs = 0;
+    DeviceStageMs deviceStages;
+    std::uint32_t deviceContactCount = 0; ///< contact points on the device (its rows / 3)
+    std::uint32_t deviceAsleep = 0;       ///< device bodies asleep after the step
+};
+
+/// One device kernel's (or kind of transfer's) total over the steps taken so far.
+struct DeviceCommandTime {
+    std::string name;
+    double ms = 0;              ///< device time, profiling events
+    std::uint64_t launches = 0;
+    std::uint64_t bytes = 0;    ///< transfers only
 };
 
 /// A simulated world. Move-only.
@@ -87,6 +121,8 @@ class World {
 
     /// The OpenCL device's name, or "cpu".
     std::string deviceName() const;
+    /// Device time of each kernel and transfer over the steps so far (empty on the cpu backend).
+    std::vector<DeviceCommandTime> deviceProfile() const;
 
     /// Internal arrays, for rubble's own stages and tests.
     WorldState& state();

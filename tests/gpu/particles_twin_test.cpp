@@ -108,6 +108,7 @@ TEST_F(ParticlesTwin, CollideParticlesGivesTheSameContactSet) {
     ASSERT_TRUE(p().buildGrid().ok());
     ASSERT_TRUE(p().resetStatus().ok());
     ASSERT_TRUE(p().collideParticles().ok());
+    ASSERT_TRUE(p().readContactCount().ok());
     buildGrid(ps.world, ps.cellSize, ps.bits, ps.keys, ps.order, ps.cellStart, ps.cellEnd);
     collideParticles(ps, s().masses, ps.contacts);
     ASSERT_GT(ps.contacts.size(), 100u);

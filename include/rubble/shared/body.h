@@ -7,9 +7,25 @@
 
 RUBBLE_SHARED_BEGIN
 
-// Body flags (BodyMass.flags).
-#define RUBBLE_BODY_STATIC 1u // infinite mass, never moves
-#define RUBBLE_BODY_ASLEEP 2u // skipped by integration and the solver until woken
+// Body flags (BodyMass.flags on the host; the device keeps them in an array of their own).
+#define RUBBLE_BODY_STATIC 1u    // infinite mass, never moves
+#define RUBBLE_BODY_ASLEEP 2u    // skipped by integration and the solver until woken
+#define RUBBLE_BODY_KINEMATIC 4u // device: moved by the host (a CPU body), infinite mass there
+#define RUBBLE_BODY_ABSENT 8u    // device: a kinematic body far from everything, not collided
+#define RUBBLE_BODY_WAKING 16u   // device: a kinematic body that moves: it wakes what it touches
+
+// A body that integrates, collides on its own initiative and has its rows gathered: dynamic,
+// awake and not moved by the host.
+RUBBLE_FN int activeBodyItem(uint flags) {
+    return (flags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP | RUBBLE_BODY_KINEMATIC |
+                     RUBBLE_BODY_ABSENT)) == 0u;
+}
+
+// A body whose rows are listed for a gather: an active body (its velocity) or a kinematic one
+// (the impulses it takes, for the host); sleeping and static bodies take part as walls.
+RUBBLE_FN int listedBodyItem(uint flags) {
+    return (flags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP | RUBBLE_BODY_ABSENT)) == 0u;
+}
 
 // 32 bytes: where a body is. position is the centre of mass, world frame, m (w = 0);
 // orientation is the unit quaternion (x, y, z, w) from the body frame to the world frame.
@@ -51,6 +67,16 @@ typedef struct BodyMass {
     uint pad0;
 } BodyMass;
 RUBBLE_STATIC_ASSERT_SIZE(BodyMass, 112);
+
+// A body's mass record as a wall: infinite mass and inertia (a sleeping body in a contact row).
+RUBBLE_FN BodyMass wallMassItem(BodyMass m) {
+    BodyMass w = m;
+    w.inverseMass = 0.0f;
+    w.inverseInertiaBody.r0 = make4(0.0f, 0.0f, 0.0f, 0.0f);
+    w.inverseInertiaBody.r1 = make4(0.0f, 0.0f, 0.0f, 0.0f);
+    w.inverseInertiaBody.r2 = make4(0.0f, 0.0f, 0.0f, 0.0f);
+    return w;
+}
 
 // I_w^-1 = R I_b^-1 R^T.
 RUBBLE_FN Mat3 inverseInertiaWorldItem(BodyMass m, float4 orientation) {

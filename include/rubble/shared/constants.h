@@ -21,9 +21,28 @@
 // A particle meets at most this many static shapes (planes and static boxes) per step.
 #define RUBBLE_MAX_STATIC_SHAPES 64u
 
-// Slots of the per-step status buffer that the host reads once at the end of a step.
+// Slots of the per-step status buffer that the host reads once at the end of a step. The
+// stages after collideParticles read the contact count from it (the host does not know it when
+// it enqueues them), and do nothing when it exceeds the capacity: the host then grows the
+// buffer and runs them again.
 #define RUBBLE_STATUS_CONTACTS 0u    // contacts appended by collideParticles (may exceed capacity)
 #define RUBBLE_STATUS_NONFINITE 1u   // lowest index of a body whose state is not finite
 #define RUBBLE_STATUS_PENETRATION 2u // largest contact depth, float bits (depths are >= 0)
 #define RUBBLE_STATUS_RESIDUAL 3u    // largest |impulse change| in the last sweep, float bits
-#define RUBBLE_STATUS_COUNT 4u
+#define RUBBLE_STATUS_CAPACITY 4u    // room in the contact buffer, written with the reset
+#define RUBBLE_STATUS_ASLEEP 5u      // bodies asleep after the step
+#define RUBBLE_STATUS_WOKEN 6u       // bodies woken in the step
+#define RUBBLE_STATUS_SPARE 7u       // keeps the block at 32 bytes
+#define RUBBLE_STATUS_COUNT 8u
+
+// Stages over contacts run a fixed number of work-items that stride through however many
+// contacts there are: this many work-groups per compute unit.
+#define RUBBLE_STRIDE_GROUPS_PER_UNIT 32u
+
+// Sleeping on the device (shared/sleep.h): a body slower than both speeds for
+// RUBBLE_SLEEP_TIME, none of whose neighbours is faster, falls asleep; a body faster than
+// RUBBLE_WAKE_SPEED wakes the sleeping bodies it touches.
+#define RUBBLE_SLEEP_LINEAR_SPEED 0.05f  // m/s
+#define RUBBLE_SLEEP_ANGULAR_SPEED 0.05f // rad/s
+#define RUBBLE_SLEEP_TIME 0.5f           // s
+#define RUBBLE_WAKE_SPEED 0.2f           // m/s, at the body's centre of mass

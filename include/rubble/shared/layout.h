@@ -4,6 +4,7 @@
 
 #include "rubble/shared/body.h"
 #include "rubble/shared/contact_row.h"
+#include "rubble/shared/obstacle.h"
 #include "rubble/shared/lcp.h"
 #include "rubble/shared/particle.h"
 
@@ -27,5 +28,8 @@
     F(ContactRow, a) F(ContactRow, b) F(ContactRow, bias) F(ContactRow, friction)                  \
     X(SolverParams) F(SolverParams, baumgarte) F(SolverParams, slop) F(SolverParams, inverseDt)    \
     F(SolverParams, relaxation)                                                                    \
+    X(ObstacleState) F(ObstacleState, pose) F(ObstacleState, velocity) F(ObstacleState, body)      \
+    F(ObstacleState, flags) F(ObstacleState, pad1)                                                 \
+    X(BodyImpulse) F(BodyImpulse, linear) F(BodyImpulse, angular)                                  \
     X(LcpRow) F(LcpRow, direction) F(LcpRow, armA) F(LcpRow, armB) F(LcpRow, turnA)                \
     F(LcpRow, turnB) F(LcpRow, a) F(LcpRow, b) F(LcpRow, pad1)

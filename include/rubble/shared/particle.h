@@ -38,7 +38,9 @@ RUBBLE_STATIC_ASSERT_SIZE(StaticShape, 80);
 typedef struct ParticleContact {
     float4 point;   // midway between the two surfaces, world, m (w = depth: penetration, m)
     float4 normal;  // unit, world, from body a to body b (w = 0)
-    uint a, b;      // body indices; b is the static body for the static world
+    uint a, b;      // body indices: a found it (active, or a moving kinematic body meeting a
+                    // sleeping b); b may be static, kinematic or asleep (the static body for the
+                    // static world)
     uint particleA; // a's particle: rows are sorted by it in deterministic mode
     uint featureB;  // b's particle, or particle count + static shape index
 } ParticleContact;
@@ -79,6 +81,28 @@ RUBBLE_FN int neighbourCellIsNewItem(const uint* seen, uint n, uint key) {
 RUBBLE_FN uint cellKeyItem(float4 x, float inverseCellSize, uint bits) {
     return cellHashItem(cellCoordinate(x.x, inverseCellSize), cellCoordinate(x.y, inverseCellSize),
                         cellCoordinate(x.z, inverseCellSize), bits);
+}
+
+// The contacts the stages after collideParticles work on: all that were appended, or none when
+// they overflowed the buffer (the host grows it and runs those stages again).
+RUBBLE_FN uint liveContactsItem(uint appended, uint capacity) {
+    return appended <= capacity ? appended : 0u;
+}
+
+// Bodies whose particles start collision tests: active ones, and kinematic ones that move
+// (they meet sleeping bodies, to wake them).
+RUBBLE_FN int testsPairsItem(uint flags) {
+    return activeBodyItem(flags) || (flags & RUBBLE_BODY_WAKING) != 0u;
+}
+
+// Whether a particle of body `self` tests a pair with a particle of body `other`: never its own
+// body or an absent one; an active body tests another active one from the lower index (the pair
+// once) and every static, kinematic or sleeping one (those test nothing themselves), so that
+// body a of a contact is active; a moving kinematic body tests sleeping ones only.
+RUBBLE_FN int pairFromHereItem(uint self, uint selfFlags, uint other, uint otherFlags) {
+    if (other == self || (otherFlags & RUBBLE_BODY_ABSENT)) return 0;
+    if (activeBodyItem(selfFlags)) return !activeBodyItem(otherFlags) || other > self;
+    return (otherFlags & RUBBLE_BODY_ASLEEP) != 0u;
 }
 
 // Two particles (xyz world, w radius) touching: depth > 0 in point.w, normal from a to b.

@@ -1,0 +1,97 @@
+// host/gpu/profile.cpp: reading OpenCL profiling events into stage and kernel times.
+#include "host/gpu/profile.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "host/gpu/cl_check.h"
+
+namespace rubble::gpu {
+namespace {
+
+constexpr unsigned kKernels = static_cast<unsigned>(KernelId::Count);
+constexpr std::string_view kTransferNames[] = {"(write to device)", "(read from device)",
+                                               "(copy on device)", "(fill on device)"};
+
+double& stageField(DeviceStageMs& s, DeviceStage stage) {
+    switch (stage) {
+    case DeviceStage::ApplyForces: return s.applyForces;
+    case DeviceStage::IntegrateVelocities: return s.integrateVelocities;
+    case DeviceStage::BroadPhase: return s.broadPhase;
+    case DeviceStage::NarrowPhase: return s.narrowPhase;
+    case DeviceStage::BuildContactRows: return s.buildContactRows;
+    case DeviceStage::Solve: return s.solve;
+    case DeviceStage::IntegratePositions: return s.integratePositions;
+    case DeviceStage::Sleep:
+    case DeviceStage::Count: break;
+    }
+    return s.sleep;
+}
+
+} // namespace
+
+Profile::Profile() {
+    totals_.resize(kKernels + static_cast<unsigned>(Transfer::Count));
+    for (unsigned k = 0; k < kKernels; ++k) totals_[k].name = signatureOf(KernelId(k)).name;
+    for (unsigned t = 0; t < static_cast<unsigned>(Transfer::Count); ++t)
+        totals_[kKernels + t].name = kTransferNames[t];
+}
+
+Profile::~Profile() { discard(); }
+
+cl_event* Profile::add(unsigned command, std::size_t bytes) {
+    records_.push_back(Record{command, stage_, bytes, nullptr});
+    return &records_.back().event;
+}
+
+cl_event* Profile::kernel(KernelId id) { return add(static_cast<unsigned>(id), 0); }
+
+cl_event* Profile::transfer(Transfer kind, std::size_t bytes) {
+    return add(kKernels + static_cast<unsigned>(kind), bytes);
+}
+
+void Profile::discard() {
+    for (Record& r : records_)
+        if (r.event) clReleaseEvent(r.event);
+    records_.clear();
+}
+
+Result<DeviceTimes> Profile::collect() {
+    DeviceTimes t;
+    cl_ulong first = std::numeric_limits<cl_ulong>::max(), last = 0;
+    Status failed;
+    for (Record& r : records_) {
+        if (!r.event || !failed.ok()) continue;
+        cl_ulong start = 0, end = 0;
+        failed = [&]() -> Status {
+            RUBBLE_CL_CHECK(clGetEventProfilingInfo(r.event, CL_PROFILING_COMMAND_START,
+                                                    sizeof start, &start, nullptr));
+            RUBBLE_CL_CHECK(clGetEventProfilingInfo(r.event, CL_PROFILING_COMMAND_END, sizeof end,
+                                                    &end, nullptr));
+            return {};
+        }();
+        if (!failed.ok()) continue;
+        const double ms = end > start ? double(end - start) * 1e-6 : 0.0;
+        first = std::min(first, start);
+        last = std::max(last, end);
+        t.busyMs += ms;
+        stageField(t.stages, r.stage) += ms;
+        CommandTotals& total = totals_[r.command];
+        total.ms += ms;
+        total.launches += 1;
+        total.bytes += r.bytes;
+    }
+    discard();
+    RUBBLE_TRY(failed);
+    if (last > first) t.spanMs = double(last - first) * 1e-6;
+    return t;
+}
+
+std::vector<CommandTotals> Profile::totals() const {
+    std::vector<CommandTotals> out;
+    for (const CommandTotals& c : totals_)
+        if (c.launches > 0) out.push_back(c);
+    return out;
+}
+
+} // namespace rubble::gpu

@@ -1,0 +1,86 @@
+// host/gpu/profile.h: the device time of every command of a step, from OpenCL profiling events:
+// summed by stage for the step's StepStats, and by kernel or transfer over the whole run.
+#pragma once
+
+#include <CL/cl.h>
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "host/gpu/kernel_table.h"
+#include "rubble/error.h"
+#include "rubble/world.h"
+
+namespace rubble::gpu {
+
+/// Commands that are not kernels, counted beside them.
+enum class Transfer : unsigned { Write, Read, Copy, Fill, Count };
+
+/// The stage a command belongs to; each is a field of DeviceStageMs.
+enum class DeviceStage : unsigned {
+    ApplyForces,
+    IntegrateVelocities,
+    BroadPhase,
+    NarrowPhase,
+    BuildContactRows,
+    Solve,
+    IntegratePositions,
+    Sleep,
+    Count
+};
+
+/// One kernel's or transfer's totals over the run.
+struct CommandTotals {
+    std::string_view name;
+    double ms = 0;            ///< device time, from CL_PROFILING_COMMAND_START to _END
+    std::uint64_t launches = 0;
+    std::uint64_t bytes = 0;  ///< transfers only: bytes moved
+};
+
+/// What one step's commands took on the device.
+struct DeviceTimes {
+    double busyMs = 0;   ///< sum of the commands' durations
+    double spanMs = 0;   ///< first start to last end
+    DeviceStageMs stages;
+};
+
+/// Collects the events of one step's commands; the host reads their times once the step is done.
+class Profile {
+  public:
+    Profile();
+    ~Profile();
+    Profile(const Profile&) = delete;
+    Profile& operator=(const Profile&) = delete;
+
+    /// Commands recorded from now on belong to `stage`.
+    void setStage(DeviceStage stage) { stage_ = stage; }
+    /// The event slot of the next command, a kernel or a transfer of `bytes`.
+    cl_event* kernel(KernelId id);
+    cl_event* transfer(Transfer kind, std::size_t bytes);
+
+    /// Reads the times of the recorded commands (all of them must have completed), adds them to
+    /// the run's totals, releases their events and returns the step's figures. Errors: Device.
+    Result<DeviceTimes> collect();
+    /// Releases the recorded events without reading them (a step that failed).
+    void discard();
+
+    /// Totals over the run, kernels in KernelId order then transfers; commands never run are
+    /// left out.
+    std::vector<CommandTotals> totals() const;
+
+  private:
+    struct Record {
+        unsigned command;   ///< KernelId, or KernelId::Count + Transfer
+        DeviceStage stage;
+        std::size_t bytes;
+        cl_event event;
+    };
+    cl_event* add(unsigned command, std::size_t bytes);
+    DeviceStage stage_ = DeviceStage::ApplyForces;
+    std::vector<Record> records_;
+    std::vector<CommandTotals> totals_;
+};
+
+} // namespace rubble::gpu

@@ -1,0 +1,62 @@
+// include/rubble/shared/sleep.h: sleeping on the device, per element (stage sleepBodies,
+// kernels/sleep.cl; CPU twin in host/dynamics/body_sleep.cpp). A body at rest long enough
+// sleeps: it is not integrated, its particles start no collision tests and its contacts make
+// no rows. A fast body touching it, an explosion or the host wakes it.
+#pragma once
+
+#include "rubble/shared/body.h"
+
+RUBBLE_SHARED_BEGIN
+
+// What a step's contacts say about a body (bits of its `restless` word).
+#define RUBBLE_RESTLESS_NEIGHBOUR 1u // touches a body that is not slow: it may not fall asleep
+#define RUBBLE_RESTLESS_WAKE 2u      // asleep, and touched by a body faster than the wake speed
+
+// Below both sleep speeds (RUBBLE_SLEEP_LINEAR_SPEED, RUBBLE_SLEEP_ANGULAR_SPEED).
+RUBBLE_FN int slowBodyItem(BodyVelocity v) {
+    return dot3(v.linear, v.linear) < RUBBLE_SLEEP_LINEAR_SPEED * RUBBLE_SLEEP_LINEAR_SPEED &&
+           dot3(v.angular, v.angular) < RUBBLE_SLEEP_ANGULAR_SPEED * RUBBLE_SLEEP_ANGULAR_SPEED;
+}
+
+// Faster than the wake speed at its centre of mass, or a kinematic body that moves at all.
+RUBBLE_FN int wakingBodyItem(BodyVelocity v, uint flags) {
+    if (flags & RUBBLE_BODY_KINEMATIC) return !slowBodyItem(v);
+    return dot3(v.linear, v.linear) > RUBBLE_WAKE_SPEED * RUBBLE_WAKE_SPEED;
+}
+
+// The restless bits one contact gives its body `self` from the other body's state and velocity:
+// a neighbour that is not slow keeps an awake body awake; one that is fast wakes a sleeping
+// body. Static and sleeping neighbours say nothing.
+RUBBLE_FN uint restlessFromContactItem(uint selfFlags, uint otherFlags, BodyVelocity other) {
+    if (otherFlags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP | RUBBLE_BODY_ABSENT)) return 0u;
+    if (selfFlags & RUBBLE_BODY_ASLEEP)
+        return wakingBodyItem(other, otherFlags) ? RUBBLE_RESTLESS_WAKE : 0u;
+    return slowBodyItem(other) ? 0u : RUBBLE_RESTLESS_NEIGHBOUR;
+}
+
+// 8 bytes, not stored: a body's flags and how long it has been slow, s.
+typedef struct SleepRecord {
+    uint flags;
+    float slowFor;
+} SleepRecord;
+
+// One step of a dynamic body's sleep: a sleeping body touched by a fast one wakes (slow time
+// starting again); an awake body adds dt to its slow time while slow (else starts again) and
+// falls asleep once that reaches RUBBLE_SLEEP_TIME with no restless neighbour. The caller
+// zeroes the velocities and momenta of a body that fell asleep.
+RUBBLE_FN SleepRecord sleepItem(SleepRecord s, uint restless, int slow, float dt) {
+    SleepRecord r = s;
+    if (s.flags & RUBBLE_BODY_ASLEEP) {
+        if (restless & RUBBLE_RESTLESS_WAKE) {
+            r.flags = s.flags & ~RUBBLE_BODY_ASLEEP;
+            r.slowFor = 0.0f;
+        }
+        return r;
+    }
+    r.slowFor = slow ? s.slowFor + dt : 0.0f;
+    if (r.slowFor >= RUBBLE_SLEEP_TIME && !(restless & RUBBLE_RESTLESS_NEIGHBOUR))
+        r.flags = s.flags | RUBBLE_BODY_ASLEEP;
+    return r;
+}
+
+RUBBLE_SHARED_END

@@ -1,0 +1,62 @@
+// kernels/sleep.cl: entry points of the device's sleeping (stage sleepBodies), after
+// integratePositions: each contact tells its bodies whether a neighbour is restless or fast,
+// then each dynamic body updates its sleep. The math is in rubble/shared/sleep.h; the CPU twin in
+// host/dynamics/body_sleep.cpp.
+#include "rubble/shared/contact_row.h"
+#include "rubble/shared/sleep.h"
+
+// Every row marks both of its bodies from the other's velocity after the step (restless was
+// zeroed by the last step's sleepBodies, or at load).
+__kernel void markRestless(__global const uint* status, __global const ContactRow* rows,
+                           __global const BodyVelocity* velocities, __global const uint* flags,
+                           __global uint* restless) {
+    const uint n = liveContactsItem(status[RUBBLE_STATUS_CONTACTS], status[RUBBLE_STATUS_CAPACITY]);
+    for (uint r = get_global_id(0); r < n; r += get_global_size(0)) {
+        const uint a = rows[r].a, b = rows[r].b;
+        const uint fa = flags[a], fb = flags[b];
+        const uint toA = restlessFromContactItem(fa, fb, velocities[b]);
+        const uint toB = restlessFromContactItem(fb, fa, velocities[a]);
+        const uint fixed = RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC;
+        if (toA && !(fa & fixed)) atomic_or(&restless[a], toA);
+        if (toB && !(fb & fixed)) atomic_or(&restless[b], toB);
+    }
+}
+
+// Each dynamic body's sleep for the step; a body falling asleep stops (velocities and momenta
+// zero). The group's counts of sleeping and woken bodies go to the status block.
+__kernel void sleepBodies(const uint count, __global uint* status, __global uint* flags,
+                          __global BodyVelocity* velocities, __global BodyMomentum* momenta,
+                          __global float* slowFor, __global uint* restless, const float dt) {
+    __local uint asleep, woken;
+    const uint i = get_global_id(0);
+    if (status[RUBBLE_STATUS_CONTACTS] > status[RUBBLE_STATUS_CAPACITY]) return; // the whole NDRange
+    if (get_local_id(0) == 0) {
+        asleep = 0;
+        woken = 0;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (i < count && !(flags[i] & (RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC))) {
+        SleepRecord s;
+        s.flags = flags[i];
+        s.slowFor = slowFor[i];
+        const SleepRecord next = sleepItem(s, restless[i], slowBodyItem(velocities[i]), dt);
+        if ((next.flags & RUBBLE_BODY_ASLEEP) && !(s.flags & RUBBLE_BODY_ASLEEP)) {
+            const float4 zero = vec4(0.0f, 0.0f, 0.0f);
+            velocities[i].linear = zero;
+            velocities[i].angular = zero;
+            momenta[i].linear = zero;
+            momenta[i].angular = zero;
+        }
+        if (!(next.flags & RUBBLE_BODY_ASLEEP) && (s.flags & RUBBLE_BODY_ASLEEP))
+            atomic_inc(&woken);
+        if (next.flags & RUBBLE_BODY_ASLEEP) atomic_inc(&asleep);
+        flags[i] = next.flags;
+        slowFor[i] = next.slowFor;
+        restless[i] = 0u;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (get_local_id(0) == 0) {
+        if (asleep) atomic_add(&status[RUBBLE_STATUS_ASLEEP], asleep);
+        if (woken) atomic_add(&status[RUBBLE_STATUS_WOKEN], woken);
+    }
+}
