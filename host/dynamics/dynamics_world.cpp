@@ -65,8 +65,13 @@ void runSolvePositions(WorldState& s) {
 
 void runUpdateSleep(WorldState& s) {
     SolverCache& c = s.solver;
-    c.lastSleep =
-        updateSleep(s.manifolds, c.joints, s.masses, s.velocities, s.momenta, s.options.dt, c.sleep);
+    if (c.radii.size() != s.bodyCount()) {
+        c.radii.resize(s.bodyCount());
+        for (std::uint32_t i = 0; i < s.bodyCount(); ++i)
+            c.radii[i] = s.shapes[s.shapeOf[i]].boundingRadius;
+    }
+    c.lastSleep = updateSleep(s.manifolds, c.joints, c.radii, s.masses, s.velocities, s.momenta,
+                              s.options.dt, c.sleep);
 }
 
 } // namespace rubble

@@ -33,6 +33,7 @@ struct SolverCache {
     bool pushed = false;                  ///< the split position pass ran this step
     JointPositionReport jointPositions;   ///< the last position correction
     SleepState sleep;
+    std::vector<float> radii;             ///< each body's bounding radius, m (for sleeping)
     SleepReport lastSleep;
 };
 

@@ -30,16 +30,14 @@ void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b)
         parent[ra] = rb;
 }
 
-float squared(glm::vec3 v) { return glm::dot(v, v); }
-
 } // namespace
 
 SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joint> joints,
-                        std::span<shared::BodyMass> masses,
+                        std::span<const float> radii, std::span<shared::BodyMass> masses,
                         std::span<shared::BodyVelocity> velocities,
                         std::span<shared::BodyMomentum> momenta, float dt, SleepState& st) {
     const std::uint32_t n = std::uint32_t(masses.size());
-    RUBBLE_ASSERT(velocities.size() == n && momenta.size() == n);
+    RUBBLE_ASSERT(velocities.size() == n && momenta.size() == n && radii.size() == n);
     if (st.slowFor.size() != n) {
         st.slowFor.assign(n, 0.0f);
         st.group.assign(n, kNoGroup);
@@ -49,16 +47,16 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
     }
 
     // How long each awake body has been slow; one woken from outside starts again.
-    const float linear2 = kSleepLinearSpeed * kSleepLinearSpeed;
-    const float angular2 = kSleepAngularSpeed * kSleepAngularSpeed;
     for (std::uint32_t i = 0; i < n; ++i) {
         if (!isDynamic(masses[i]) || (masses[i].flags & RUBBLE_BODY_ASLEEP)) continue;
         if (st.wasAsleep[i]) {
             st.slowFor[i] = 0.0f;
             st.group[i] = kNoGroup;
         }
-        const bool slow = squared(toVec3(velocities[i].linear)) < linear2 &&
-                          squared(toVec3(velocities[i].angular)) < angular2;
+        // The fastest point of the body: the centre's speed plus the turn at the rim.
+        const float speed = glm::length(toVec3(velocities[i].linear)) +
+                            radii[i] * glm::length(toVec3(velocities[i].angular));
+        const bool slow = speed < kSleepSpeed;
         st.slowFor[i] = slow ? st.slowFor[i] + dt : 0.0f;
     }
 

@@ -12,14 +12,15 @@
 
 namespace rubble {
 
-/// A body sleeps when its island has stayed below both speeds for kTimeToSleep.
-inline constexpr float kSleepLinearSpeed = 0.05f;  ///< m/s
-inline constexpr float kSleepAngularSpeed = 0.05f; ///< rad/s
-inline constexpr float kTimeToSleep = 0.5f;        ///< s
+/// A body is slow while no point of it moves faster than this: |v| + r |omega| < kSleepSpeed,
+/// r its bounding radius (m/s). An island sleeps once all its bodies have been slow for
+/// kTimeToSleep.
+inline constexpr float kSleepSpeed = 0.05f; ///< m/s
+inline constexpr float kTimeToSleep = 0.5f; ///< s
 
 /// What sleeping keeps between steps, by body index.
 struct SleepState {
-    std::vector<float> slowFor;          ///< how long the body has been below both speeds, s
+    std::vector<float> slowFor;          ///< how long the body has been slow, s
     std::vector<std::uint32_t> group;    ///< the island it fell asleep with (kNoGroup if awake)
     std::vector<std::uint8_t> wasAsleep; ///< asleep at the end of the last step
     // Scratch reused every step.
@@ -44,9 +45,10 @@ struct SleepReport {
 /// island whose awake bodies have all been slow that long goes to sleep: RUBBLE_BODY_ASLEEP is
 /// set and its velocities and momenta are zeroed. A body woken from outside (the API, an
 /// explosion) starts its slow time again.
-/// reads: manifolds, joints, velocities   writes: masses (flags), velocities, momenta, state
+/// reads: manifolds, joints, velocities, radii (each body's bounding radius, m)
+/// writes: masses (flags), velocities, momenta, state
 SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joint> joints,
-                        std::span<shared::BodyMass> masses,
+                        std::span<const float> radii, std::span<shared::BodyMass> masses,
                         std::span<shared::BodyVelocity> velocities,
                         std::span<shared::BodyMomentum> momenta, float dt, SleepState& state);
 

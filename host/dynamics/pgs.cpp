@@ -56,22 +56,29 @@ float solveContactSweep(ContactRows& contacts, SolverBodies& bodies, float relax
         applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB, applied);
         residual = std::max(residual, std::abs(applied));
     }
-    // Friction: each tangent row within the box |lambda_t| <= mu lambda_n.
+    // Friction: a point's two tangent rows from the same velocities, each within the box
+    // |lambda_t| <= mu lambda_n, applied together.
     for (std::size_t i = 0; i < contacts.size(); ++i) {
         FrictionRows& r = contacts.frictions[i];
         SolverVelocity& a = bodies.velocity[r.a];
         SolverVelocity& b = bodies.velocity[r.b];
         const float bound = r.friction * contacts.normals[i].impulse;
+        const Lanes dv = b.linear - a.linear;
+        float applied[2];
         for (int k = 0; k < 2; ++k) {
-            const float speed = rowSpeed(a, b, r.tangent[k], r.crossA[k], r.crossB[k]);
+            const float speed = sum3(r.tangent[k] * dv + r.crossB[k] * b.angular -
+                                     r.crossA[k] * a.angular);
             const float change = -r.mass[k] * speed * relaxation;
             const float total = std::clamp(r.impulse[k] + change, -bound, bound);
-            const float applied = total - r.impulse[k];
+            applied[k] = total - r.impulse[k];
             r.impulse[k] = total;
-            applyRow(a, b, r.tangent[k], r.turnA[k], r.turnB[k], r.inverseMassA, r.inverseMassB,
-                     applied);
-            residual = std::max(residual, std::abs(applied));
+            residual = std::max(residual, std::abs(applied[k]));
         }
+        const Lanes push = r.tangent[0] * applied[0] + r.tangent[1] * applied[1];
+        a.linear -= push * r.inverseMassA;
+        a.angular -= r.turnA[0] * applied[0] + r.turnA[1] * applied[1];
+        b.linear += push * r.inverseMassB;
+        b.angular += r.turnB[0] * applied[0] + r.turnB[1] * applied[1];
     }
     return residual;
 }

@@ -15,8 +15,9 @@ namespace rubble {
 /// Stage solvePgs (Catto, "Iterative Dynamics with Temporal Coherence", GDC 2005, and "Fast and
 /// Simple Physics using Sequential Impulses", GDC 2006). Warm start: the rows' accumulated
 /// impulses are applied first. Then `iterations` sweeps over the joints, then every contact's
-/// normal row, then every friction row (bounded by this sweep's normal impulses; a tall stack
-/// stands better than with each point's rows together): lambda_new = clamp(lambda + w dlambda),
+/// normal row, then every point's pair of friction rows (bounded by this sweep's normal
+/// impulses, a tall stack stands better than with each point's rows together; the pair is
+/// updated from the same velocities and applied at once): lambda_new = clamp(lambda + w dlambda),
 /// dlambda = m_eff (target - J v), w = relaxation; lambda_n >= 0 and |lambda_t| <= mu lambda_n;
 /// only the clamped change is applied. residuals[k] is the largest |applied change| (N s) of
 /// sweep k. Then, when a contact penetrates beyond the slop, the split position pass: up to the

@@ -16,6 +16,7 @@ struct Sleepers {
     std::vector<shared::BodyMomentum> momenta;
     std::vector<Manifold> manifolds;
     std::vector<Joint> joints;
+    std::vector<float> radii;
     SleepState state;
 
     explicit Sleepers(std::uint32_t n) {
@@ -26,6 +27,7 @@ struct Sleepers {
         masses[n - 1].flags = RUBBLE_BODY_STATIC;
         velocities.assign(n, shared::BodyVelocity{});
         momenta.assign(n, shared::BodyMomentum{});
+        radii.assign(n, 0.5f);
     }
     void touch(std::uint32_t a, std::uint32_t b) {
         Manifold m;
@@ -41,7 +43,7 @@ struct Sleepers {
     SleepReport step(int n = 1) {
         SleepReport r;
         for (int i = 0; i < n; ++i)
-            r = updateSleep(manifolds, joints, masses, velocities, momenta, 0.1f, state);
+            r = updateSleep(manifolds, joints, radii, masses, velocities, momenta, 0.1f, state);
         return r;
     }
     bool asleep(std::uint32_t i) const { return (masses[i].flags & RUBBLE_BODY_ASLEEP) != 0; }
@@ -75,6 +77,16 @@ TEST(Islands, OneMovingBodyKeepsItsIslandAwake) {
     // Asleep means still: velocity and momentum zeroed.
     EXPECT_EQ(s.velocities[3].linear.x, 0.0f);
     EXPECT_EQ(s.momenta[3].linear.x, 0.0f);
+}
+
+TEST(Islands, TurningCountsAtTheRim) {
+    // 0.08 rad/s at a radius of 0.5 m moves the rim at 4 cm/s: slow; at 1 m, 8 cm/s: not.
+    Sleepers s(3);
+    s.velocities[0].angular = s.velocities[1].angular = shared::vec4(0, 0.08f, 0);
+    s.radii[1] = 1.0f;
+    s.step(10);
+    EXPECT_TRUE(s.asleep(0));
+    EXPECT_FALSE(s.asleep(1));
 }
 
 TEST(Islands, JointsJoinIslands) {
