@@ -41,6 +41,8 @@ GpuCommands::GpuCommands(CLI::App& app) {
     solvers_->add_option("--iterations", s.iterations, "Iterations of each iterative solver");
     solvers_->add_option("--collision", s.collision, "sat or particles (default: the scene's)");
     solvers_->add_option("--csv", s.csv, "Write the per-iteration table as CSV");
+    solvers_->add_flag("--frictionless", s.frictionless,
+                       "Set every material's friction to 0 (lemke solves frictionless sets)");
     solvers_->add_option("--device", s.run.device, "OpenCL device: a name fragment or an index");
     solvers_->add_option("--kernel-dir", s.run.kernelDir, "Load kernels/*.cl from this folder");
 }

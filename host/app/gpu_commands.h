@@ -29,6 +29,7 @@ struct SolversArgs {
     int iterations = 50;
     std::string csv;
     std::string collision;
+    bool frictionless = false; ///< every material's friction set to 0, so that lemke can solve
     RunOptions run;
 };
 

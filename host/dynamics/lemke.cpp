@@ -9,11 +9,15 @@
 namespace rubble {
 namespace {
 
-// Ratios closer than this (relative) tie, and the rows of the basis inverse decide.
-constexpr double kTieTolerance = 1e-9;
+// Ratios closer than this, relative to their size, tie, and the rows of the basis inverse
+// decide. Relative only: a resting contact's ratios can all be 1e-6 and differ in the 5th digit.
+constexpr double kTieTolerance = 1e-11;
+
+// A solution whose natural residual (scaled problem) exceeds this times max |q'| is refused.
+constexpr double kAcceptedResidual = 1e-7;
 
 bool ties(double x, double y) {
-    return std::abs(x - y) <= kTieTolerance * (1.0 + std::max(std::abs(x), std::abs(y)));
+    return std::abs(x - y) <= kTieTolerance * std::max(std::abs(x), std::abs(y));
 }
 
 // The scaled system w - M' z - d z0 = q' in basic form: B^-1 and B^-1 q', and which variable is
@@ -52,9 +56,15 @@ void enteringColumn(const Tableau& t, std::size_t v, std::vector<double>& out) {
     }
 }
 
+// A basic variable's value in the ratio test: round-off can leave a degenerate one slightly
+// below zero, where it is zero (a negative ratio would look like the least).
+double ratioOf(const Tableau& t, const std::vector<double>& column, std::size_t i) {
+    return std::max(t.value[i], 0.0) / column[i];
+}
+
 // True when row i's (value, B^-1 row) / column is lexicographically smaller than row j's.
 bool lexLess(const Tableau& t, const std::vector<double>& column, std::size_t i, std::size_t j) {
-    const double ri = t.value[i] / column[i], rj = t.value[j] / column[j];
+    const double ri = ratioOf(t, column, i), rj = ratioOf(t, column, j);
     if (!ties(ri, rj)) return ri < rj;
     const double* a = t.inverseRow(i);
     const double* b = t.inverseRow(j);
@@ -74,10 +84,10 @@ std::size_t ratioTest(const Tableau& t, const std::vector<double>& column, doubl
         if (best == t.n || lexLess(t, column, i, best)) best = i;
     }
     if (best == t.n) return best;
-    const double least = t.value[best] / column[best];
+    const double least = ratioOf(t, column, best);
     for (std::size_t i = 0; i < t.n; ++i)
         if (t.basic[i] == t.artificial() && column[i] > tolerance &&
-            ties(t.value[i] / column[i], least))
+            ties(ratioOf(t, column, i), least))
             return i;
     return best;
 }
@@ -239,6 +249,16 @@ Result<LemkeSolution> solveLemke(std::span<const double> m, std::span<const doub
             if (t.basic[i] >= n && t.basic[i] < 2 * n)
                 out.z[t.basic[i] - n] = std::max(t.value[i], 0.0);
         polish(scaled, scaledQ, out.z);
+        // The pivots are exact in exact arithmetic; a basis that round-off broke shows here.
+        double scale = 0.0;
+        for (double v : scaledQ) scale = std::max(scale, std::abs(v));
+        const double residual = lcpNaturalResidual(scaled, scaledQ, out.z);
+        if (residual > kAcceptedResidual * scale)
+            return makeError(ErrorKind::Numerical, "lemke",
+                             "round-off: the final basis leaves a residual of " +
+                                 std::to_string(residual) + " against |q| up to " +
+                                 std::to_string(scale) + " (after " +
+                                 std::to_string(out.pivots) + " pivots)");
     }
     for (std::size_t i = 0; i < n; ++i) out.z[i] *= s[i];
     out.w = slack(m, q, out.z);

@@ -50,6 +50,8 @@ Status reserveLcp(const Context& c, std::uint32_t contacts, std::uint32_t stride
     for (Buffer* b : {&lcp.rhs, &lcp.inverseScale, &lcp.lambda, &lcp.product})
         RUBBLE_TRY(b->reserve(c.context(), n * sizeof(float)));
     RUBBLE_TRY(lcp.friction.reserve(c.context(), contacts * sizeof(float)));
+    // SGEMV forms beta y even for beta = 0: a NaN left in fresh memory would survive it.
+    RUBBLE_TRY(fill(c, lcp.product, 0u, n * sizeof(float)));
     return lcp.status.reserve(c.context(), RUBBLE_STATUS_COUNT * sizeof(cl_uint));
 }
 

@@ -1,0 +1,144 @@
+// tests/gpu/lcp_twin_test.cpp: OpenCL stage 5, dense variant (buildLcpRows, assembleDelassus,
+// scaleLcpRows, CLBlast's SGEMV and projectLcp) against its CPU twin on one input, and the
+// lcp-jacobi solver on the opencl backend against the cpu backend.
+#include "gpu_fixture.h"
+#include "host/dynamics/lcp_convergence.h"
+#include "host/dynamics/lcp_jacobi.h"
+#include "host/gpu/lcp_convergence.h"
+#include "host/gpu/lcp_jacobi.h"
+
+namespace rubble {
+namespace {
+
+using namespace shared;
+
+// A loose heap of 32 boxes and a ball on a floor (0.5 m particles, with friction): about a
+// hundred contacts, three rows each; `frictionless` zeroes the materials' friction.
+std::string heap(bool frictionless) {
+    return R"({"format": "rubble-scene", "version": 1, "name": "heap",
+      "simulation": {"dt": 0.016666667, "collision": {"method": "particles",
+                     "particle_spacing": 0.5}, "solver": {"type": "lcp-jacobi", "iterations": 10}},
+      "materials": {"default": {"friction": )" + std::string(frictionless ? "0" : "0.6") + R"(}},
+      "shapes": {"floor": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
+                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]},
+                 "ball": {"type": "sphere", "radius": 0.5}},
+      "bodies": [{"name": "floor", "shape": "floor", "static": true},
+                 {"name": "ball", "shape": "ball", "mass": 2, "position": [0.3, 3.2, 0.2]}],
+      "generators": [{"type": "grid", "shape": "crate", "mass": 1, "count": [4, 2, 4],
+                      "origin": [-1.6, 0.5, -1.6], "spacing": [1.05, 1.02, 1.05],
+                      "rotation_jitter": 0.2, "seed": 4, "name_prefix": "c"}]})";
+}
+
+class LcpTwin : public test::GpuTest {
+  protected:
+    // The device world after 30 steps, with this step's contacts collided and their rows built
+    // on the device; the same rows and bodies on the host.
+    void prepare(bool frictionless) {
+        world_.emplace(deviceWorld(heap(frictionless)));
+        for (int i = 0; i < 30; ++i) ASSERT_TRUE(world_->step().ok());
+        ASSERT_TRUE(syncHost(s()).ok());
+        gpu::Pipeline& p = *s().device;
+        ASSERT_TRUE(p.transformParticles().ok());
+        ASSERT_TRUE(p.buildGrid().ok());
+        ASSERT_TRUE(p.resetStatus().ok());
+        ASSERT_TRUE(p.collideParticles().ok());
+        ASSERT_TRUE(p.buildJacobiRows(solverParams(s().options.solver, s().options.dt), true).ok());
+        rows_.resize(p.contacts().count);
+        ASSERT_TRUE(gpu::download(p.context(), p.contacts().rows, std::span(rows_)).ok());
+        ASSERT_GT(rows_.size(), 60u);
+    }
+    WorldState& s() { return world_->state(); }
+    std::optional<World> world_;
+    std::vector<ContactRow> rows_;
+};
+
+TEST_F(LcpTwin, TheDenseProblemMatchesCpu) {
+    prepare(false);
+    gpu::Pipeline& p = *s().device;
+    const std::uint32_t stride = lcpStride(bodySurfaces(s()), s().masses);
+    ASSERT_EQ(stride, 3u);
+    gpu::LcpBuffers device;
+    ASSERT_TRUE(gpu::buildLcpOnDevice(p.context(), p.contacts().rows, p.contacts().count, stride,
+                                      p.bodies().velocities, p.bodies().masses, p.bodies().poses,
+                                      device).ok());
+    DenseLcp cpu;
+    buildLcpRows(rows_, s().velocities, s().masses, s().poses, stride, cpu);
+    assembleDelassus(cpu);
+    scaleLcpRows(cpu);
+    std::vector<float> matrix, rhs, inverseScale, lambda;
+    ASSERT_TRUE(gpu::downloadLcpProblem(p.context(), device, matrix, rhs, inverseScale).ok());
+    ASSERT_TRUE(gpu::downloadLcpLambda(p.context(), device, lambda).ok());
+    test::expectNearRel(matrix, cpu.matrix, 1e-5f);
+    test::expectNearRel(rhs, cpu.rhs, 1e-5f);
+    test::expectNearRel(inverseScale, cpu.inverseScale, 1e-5f);
+    test::expectNearRel(lambda, cpu.lambda, 1e-5f);
+}
+
+// Relative 1e-5 against the larger of the two, so that impulses near zero compare absolutely.
+void expectLambdaNear(const std::vector<float>& a, const std::vector<float>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    float scale = 0.0f;
+    for (float v : b) scale = std::max(scale, std::fabs(v));
+    int failures = 0;
+    for (std::size_t i = 0; i < a.size() && failures < 10; ++i)
+        if (std::fabs(a[i] - b[i]) > 1e-5f * scale) {
+            ADD_FAILURE() << "lambda[" << i << "]: " << a[i] << " vs " << b[i] << " (scale " << scale
+                          << ")";
+            ++failures;
+        }
+}
+
+void iterateTwins(gpu::Pipeline& p, DenseLcp cpu, int iterations) {
+    const float relaxation = 1.8f;
+    gpu::LcpBuffers device;
+    ASSERT_TRUE(gpu::uploadLcp(p.context(), cpu, device).ok());
+    ASSERT_TRUE(gpu::iterateLcpJacobi(p.context(), device, iterations, relaxation, device.status).ok());
+    solveLcpJacobi(cpu, iterations, relaxation);
+    std::vector<float> lambda;
+    ASSERT_TRUE(gpu::downloadLcpLambda(p.context(), device, lambda).ok());
+    expectLambdaNear(lambda, cpu.lambda);
+}
+
+TEST_F(LcpTwin, SolveLcpJacobiMatchesCpuWithFriction) {
+    prepare(false);
+    DenseLcp cpu;
+    buildLcpRows(rows_, s().velocities, s().masses, s().poses, 3u, cpu);
+    assembleDelassus(cpu);
+    scaleLcpRows(cpu);
+    ASSERT_GT(cpu.size(), 180u);
+    iterateTwins(*s().device, cpu, 20);
+}
+
+TEST_F(LcpTwin, SolveLcpJacobiMatchesCpuFrictionless) {
+    prepare(true);
+    const std::uint32_t stride = lcpStride(bodySurfaces(s()), s().masses);
+    ASSERT_EQ(stride, 1u);
+    DenseLcp cpu;
+    buildLcpRows(rows_, s().velocities, s().masses, s().poses, stride, cpu);
+    assembleDelassus(cpu);
+    scaleLcpRows(cpu);
+    iterateTwins(*s().device, cpu, 20);
+}
+
+// SGEMV forms beta y with beta = 0: the product buffer is zeroed when the problem is uploaded,
+// so that a NaN left in it cannot reach lambda (fmax(NaN, 0) would quietly make it 0).
+TEST_F(LcpTwin, ANaNLeftInTheProductBufferDoesNotReachLambda) {
+    prepare(true);
+    gpu::Pipeline& p = *s().device;
+    DenseLcp cpu;
+    buildLcpRows(rows_, s().velocities, s().masses, s().poses, 1u, cpu);
+    assembleDelassus(cpu);
+    scaleLcpRows(cpu);
+    gpu::LcpBuffers device;
+    ASSERT_TRUE(gpu::uploadLcp(p.context(), cpu, device).ok());
+    ASSERT_TRUE(gpu::fill(p.context(), device.product, 0x7fc00000u, cpu.size() * sizeof(float)).ok());
+    ASSERT_TRUE(gpu::uploadLcp(p.context(), cpu, device).ok());
+    ASSERT_TRUE(gpu::iterateLcpJacobi(p.context(), device, 5, 1.8f, device.status).ok());
+    solveLcpJacobi(cpu, 5, 1.8f);
+    std::vector<float> lambda;
+    ASSERT_TRUE(gpu::downloadLcpLambda(p.context(), device, lambda).ok());
+    expectLambdaNear(lambda, cpu.lambda);
+}
+
+} // namespace
+} // namespace rubble

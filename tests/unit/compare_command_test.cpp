@@ -1,0 +1,129 @@
+// tests/unit/compare_command_test.cpp: `rubble compare` on the cpu backend: a scene against
+// itself does not diverge, two solvers do, its CSV has a row per step, a bad KEY=VALUE is exit
+// status 2 naming it, and --plot draws a PNG; `rubble solvers` refuses what it cannot do.
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "support/test_util.h"
+
+namespace rubble {
+namespace {
+
+// Two boxes falling onto a floor and one onto the other.
+const char* kScene = R"({"format": "rubble-scene", "version": 1, "name": "drop",
+  "simulation": {"dt": 0.016666667, "steps": 60},
+  "shapes": {"floor": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
+             "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
+  "bodies": [{"name": "floor", "shape": "floor", "static": true},
+             {"name": "a", "shape": "crate", "mass": 1, "position": [0, 0.6, 0]},
+             {"name": "b", "shape": "crate", "mass": 1, "position": [0.2, 1.8, 0.1],
+              "orientation": [0.98, 0.1, 0.1, 0.1]}]})";
+
+std::vector<std::vector<std::string>> csv(const std::string& text) {
+    std::vector<std::vector<std::string>> rows;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+        std::vector<std::string> cells;
+        std::istringstream l(line);
+        for (std::string cell; std::getline(l, cell, ',');) cells.push_back(cell);
+        rows.push_back(cells);
+    }
+    return rows;
+}
+
+class CompareCommand : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        dir_ = test::tempDir(::testing::UnitTest::GetInstance()->current_test_info()->name());
+        test::writeText(dir_ + "/s.json", kScene);
+    }
+    test::CommandResult compare(const std::string& args) {
+        return test::runRubble("compare " + dir_ + "/s.json " + args);
+    }
+    std::string dir_;
+};
+
+TEST_F(CompareCommand, ASceneAgainstItselfDoesNotDiverge) {
+    const test::CommandResult r =
+        compare("--steps 40 --a solver=pgs --b solver=pgs --csv " + dir_ + "/c.csv");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const auto rows = csv(test::readText(dir_ + "/c.csv"));
+    ASSERT_EQ(rows.size(), 42u); // header, steps 0 to 40
+    ASSERT_EQ(rows[0][2], "position_max");
+    ASSERT_EQ(rows[0][4], "angle_max");
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+        EXPECT_EQ(std::stod(rows[i][2]), 0.0) << "step " << rows[i][0];
+        EXPECT_EQ(std::stod(rows[i][4]), 0.0) << "step " << rows[i][0];
+        EXPECT_EQ(rows[i][6], rows[i][7]) << "kinetic energy, step " << rows[i][0];
+    }
+    // The table: a heading and a row every 10% of the steps.
+    EXPECT_NE(r.output.find("pos max"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("\n    40 "), std::string::npos) << r.output;
+}
+
+TEST_F(CompareCommand, TwoSolversDivergeAndBothStayFinite) {
+    const test::CommandResult r =
+        compare("--steps 60 --a solver=pgs --b solver=lcp-jacobi,iterations=20 --csv " + dir_ +
+                "/c.csv");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const auto rows = csv(test::readText(dir_ + "/c.csv"));
+    ASSERT_EQ(rows.size(), 62u);
+    EXPECT_GT(std::stod(rows.back()[2]), 0.0);
+    EXPECT_LT(std::stod(rows.back()[2]), 0.5); // both stacks stand
+    EXPECT_GT(std::stod(rows.back()[16]), 0.0); // contacts on side a
+}
+
+TEST_F(CompareCommand, BadSettingsAreExitStatus2NamingThem) {
+    const std::pair<std::string, std::string> cases[] = {
+        {"--a solver=foo --b solver=pgs", "--a solver=foo"},
+        {"--a solver=pgs --b colour=red", "--b colour=red: unknown key"},
+        {"--a iterations=0 --b solver=pgs", "--a iterations=0"},
+        {"--a dt=-1 --b solver=pgs", "--a dt=-1"},
+        {"--a solver --b solver=pgs", "--a solver: expected KEY=VALUE"},
+        {"--a deterministic=maybe --b solver=pgs", "--a deterministic=maybe"},
+        {"--a dt=0.01 --b dt=0.015", "must be equal or one a whole multiple"},
+    };
+    for (const auto& [args, message] : cases) {
+        const test::CommandResult r = compare("--steps 2 " + args);
+        EXPECT_EQ(r.exitCode, 2) << args << "\n" << r.output;
+        EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;
+    }
+}
+
+TEST_F(CompareCommand, DifferentTimeStepsCompareAtTheSameTimes) {
+    const test::CommandResult r =
+        compare("--steps 10 --a dt=0.02 --b dt=0.01 --csv " + dir_ + "/c.csv");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const auto rows = csv(test::readText(dir_ + "/c.csv"));
+    ASSERT_EQ(rows.size(), 12u);
+    EXPECT_NEAR(std::stod(rows.back()[1]), 0.2, 1e-6);
+}
+
+TEST_F(CompareCommand, PlotDrawsAPng) {
+    if (test::runShell("/usr/bin/python3 -c 'import matplotlib'").exitCode != 0)
+        GTEST_SKIP() << "/usr/bin/python3 with matplotlib is not installed";
+    const test::CommandResult r =
+        compare("--steps 10 --a solver=pgs --b solver=jacobi --plot " + dir_ + "/c.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const std::string png = test::readText(dir_ + "/c.png");
+    ASSERT_GT(png.size(), 1000u);
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+}
+
+TEST(SolversCommand, BadArgumentsAreExitStatus2) {
+    const std::string dir = test::tempDir("solvers_bad");
+    test::writeText(dir + "/s.json", kScene);
+    const test::CommandResult step0 = test::runRubble("solvers " + dir + "/s.json --step 0");
+    EXPECT_EQ(step0.exitCode, 2) << step0.output;
+    EXPECT_NE(step0.output.find("--step"), std::string::npos) << step0.output;
+    // Before the boxes land there is nothing to solve.
+    const test::CommandResult early = test::runRubble("solvers " + dir + "/s.json --step 1");
+    EXPECT_EQ(early.exitCode, 2) << early.output;
+    EXPECT_NE(early.output.find("no contacts"), std::string::npos) << early.output;
+    const test::CommandResult k0 = test::runRubble("solvers " + dir + "/s.json --iterations 0");
+    EXPECT_EQ(k0.exitCode, 2) << k0.output;
+}
+
+} // namespace
+} // namespace rubble
