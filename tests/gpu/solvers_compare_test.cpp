@@ -93,10 +93,14 @@ TEST_F(SolversCompare, CompareCpuAgainstOpenclIsSmall) {
         const auto rows = csv(test::readText(dir_ + "/c.csv"));
         ASSERT_EQ(rows.size(), 62u);
         double largest = 0.0;
-        for (std::size_t i = 1; i < rows.size(); ++i) largest = std::max(largest, std::stod(rows[i][2]));
+        int contacts = 0;
+        for (std::size_t i = 1; i < rows.size(); ++i) {
+            largest = std::max(largest, std::stod(rows[i][2]));
+            contacts = std::max(contacts, std::stoi(rows[i][16]));
+            EXPECT_EQ(rows[i][16], rows[i][17]) << "contacts of both sides, step " << rows[i][0];
+        }
         EXPECT_LT(largest, 1e-3) << r.output;
-        EXPECT_GT(std::stoi(rows.back()[16]), 0); // contacts on the cpu side
-        EXPECT_EQ(rows.back()[16], rows.back()[17]) << "the same contacts on both sides";
+        EXPECT_GT(contacts, 40);
     }
 }
 
