@@ -5,17 +5,20 @@
 #include "rubble/shared/lcp.h"
 
 // One work-item per contact: its `stride` dense rows, their b, and lambda from the row's
-// (warm-start) impulses.
+// (warm-start) impulses. A sleeping body takes part as a wall, as in buildJacobiRows.
 __kernel void buildLcpRows(const uint count, const uint stride,
                            __global const ContactRow* rows,
                            __global const BodyVelocity* velocities,
-                           __global const BodyMass* masses, __global const BodyPose* poses,
-                           __global LcpRow* lcpRows, __global float* rhs,
-                           __global float* lambda, __global float* friction) {
+                           __global const BodyMass* masses, __global const uint* flags,
+                           __global const BodyPose* poses, __global LcpRow* lcpRows,
+                           __global float* rhs, __global float* lambda,
+                           __global float* friction) {
     const uint c = get_global_id(0);
     if (c >= count) return;
     const ContactRow r = rows[c];
-    const BodyMass ma = masses[r.a], mb = masses[r.b];
+    BodyMass ma = masses[r.a], mb = masses[r.b];
+    if (flags[r.a] & RUBBLE_BODY_ASLEEP) ma = wallMassItem(ma);
+    if (flags[r.b] & RUBBLE_BODY_ASLEEP) mb = wallMassItem(mb);
     const Mat3 invIA = inverseInertiaWorldItem(ma, poses[r.a].orientation);
     const Mat3 invIB = inverseInertiaWorldItem(mb, poses[r.b].orientation);
     const BodyVelocity va = velocities[r.a], vb = velocities[r.b];

@@ -35,6 +35,15 @@ std::uint32_t lcpStrideOfRows(std::span<const shared::ContactRow> rows) {
     return 1u;
 }
 
+namespace {
+
+// A sleeping body takes part as a wall, as in buildJacobiRows.
+BodyMass rowMassOf(const BodyMass& m) {
+    return (m.flags & RUBBLE_BODY_ASLEEP) ? wallMassItem(m) : m;
+}
+
+} // namespace
+
 void buildLcpRows(std::span<const shared::ContactRow> rows, std::span<const BodyVelocity> velocities,
                   std::span<const BodyMass> masses, std::span<const BodyPose> poses,
                   std::uint32_t stride, DenseLcp& p) {
@@ -48,12 +57,13 @@ void buildLcpRows(std::span<const shared::ContactRow> rows, std::span<const Body
     p.friction.resize(p.contacts);
     for (std::uint32_t c = 0; c < p.contacts; ++c) {
         const shared::ContactRow& r = rows[c];
-        const Mat3 invIA = inverseInertiaWorldItem(masses[r.a], poses[r.a].orientation);
-        const Mat3 invIB = inverseInertiaWorldItem(masses[r.b], poses[r.b].orientation);
+        const BodyMass ma = rowMassOf(masses[r.a]), mb = rowMassOf(masses[r.b]);
+        const Mat3 invIA = inverseInertiaWorldItem(ma, poses[r.a].orientation);
+        const Mat3 invIB = inverseInertiaWorldItem(mb, poses[r.b].orientation);
         const float warm[3] = {r.lambda.x, r.lambda.y, r.lambda.z};
         for (std::uint32_t k = 0; k < stride; ++k) {
             const std::size_t i = std::size_t(c) * stride + k;
-            p.rows[i] = lcpRowItem(r, k, masses[r.a], invIA, masses[r.b], invIB);
+            p.rows[i] = lcpRowItem(r, k, ma, invIA, mb, invIB);
             p.rhs[i] = lcpRhsItem(r, k, velocities[r.a], velocities[r.b]);
             p.lambda[i] = warm[k];
         }

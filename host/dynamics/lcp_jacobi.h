@@ -56,7 +56,8 @@ std::uint32_t lcpStride(std::span<const shared::float4> surfaces,
 std::uint32_t lcpStrideOfRows(std::span<const shared::ContactRow> rows);
 
 /// Stage buildLcpRows: each contact row's `stride` dense rows, b from the velocities before the
-/// solve, lambda from the rows' accumulated (warm-start) impulses, friction.
+/// solve, lambda from the rows' accumulated (warm-start) impulses, friction. A sleeping body
+/// (RUBBLE_BODY_ASLEEP in its mass record's flags) takes part as a wall.
 /// reads: rows, velocities, masses, poses   writes: p.rows, p.rhs, p.lambda, p.friction
 void buildLcpRows(std::span<const shared::ContactRow> rows,
                   std::span<const shared::BodyVelocity> velocities,

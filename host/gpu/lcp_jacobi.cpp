@@ -59,7 +59,7 @@ Status reserveLcp(const Context& c, std::uint32_t contacts, std::uint32_t stride
 
 Status buildLcpOnDevice(const Context& c, const Buffer& rows, std::uint32_t count,
                         std::uint32_t stride, const Buffer& velocities, const Buffer& masses,
-                        const Buffer& poses, LcpBuffers& lcp) {
+                        const Buffer& flags, const Buffer& poses, LcpBuffers& lcp) {
     const std::size_t n = std::size_t(count) * stride;
     if (n > kLcpMaxRows)
         return makeError(ErrorKind::NotSupported, "lcp-jacobi",
@@ -75,6 +75,7 @@ Status buildLcpOnDevice(const Context& c, const Buffer& rows, std::uint32_t coun
                    .arg(rows)
                    .arg(velocities)
                    .arg(masses)
+                   .arg(flags)
                    .arg(poses)
                    .arg(lcp.lcpRows)
                    .arg(lcp.rhs)
@@ -161,7 +162,7 @@ Status downloadLcpProblem(const Context& c, const LcpBuffers& lcp, std::vector<f
 Status Pipeline::solveLcpJacobi(std::uint32_t stride, int iterations, float relaxation) {
     const Context& c = *context_;
     RUBBLE_TRY(buildLcpOnDevice(c, contacts_.rows, contacts_.count, stride, bodies_.velocities,
-                                bodies_.masses, bodies_.poses, lcp_));
+                                bodies_.masses, bodies_.flags, bodies_.poses, lcp_));
     RUBBLE_TRY(iterateLcpJacobi(c, lcp_, iterations, relaxation, status_));
     return storeLcpImpulses(c, lcp_, contacts_.rows);
 }

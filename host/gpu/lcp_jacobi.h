@@ -27,11 +27,11 @@ struct LcpBuffers {
 };
 
 /// Stages buildLcpRows, assembleDelassus and scaleLcpRows on the device from `count` contact
-/// rows (ContactRow) and the bodies' velocities before the solve, masses and poses.
-/// Errors: NotSupported past kLcpMaxRows rows, Device.
+/// rows (ContactRow) and the bodies' velocities before the solve, masses, flags (sleeping
+/// bodies are walls) and poses. Errors: NotSupported past kLcpMaxRows rows, Device.
 Status buildLcpOnDevice(const Context& c, const Buffer& rows, std::uint32_t count,
                         std::uint32_t stride, const Buffer& velocities, const Buffer& masses,
-                        const Buffer& poses, LcpBuffers& lcp);
+                        const Buffer& flags, const Buffer& poses, LcpBuffers& lcp);
 
 /// A problem built on the host (its rows are not needed): matrix, rhs, inverseScale, friction
 /// and lambda uploaded. Errors: Device.

@@ -59,8 +59,8 @@ TEST_F(LcpTwin, TheDenseProblemMatchesCpu) {
     ASSERT_EQ(stride, 3u);
     gpu::LcpBuffers device;
     ASSERT_TRUE(gpu::buildLcpOnDevice(p.context(), p.contacts().rows, p.contacts().count, stride,
-                                      p.bodies().velocities, p.bodies().masses, p.bodies().poses,
-                                      device).ok());
+                                      p.bodies().velocities, p.bodies().masses,
+                                      p.bodies().flags, p.bodies().poses, device).ok());
     DenseLcp cpu;
     buildLcpRows(rows_, s().velocities, s().masses, s().poses, stride, cpu);
     assembleDelassus(cpu);
