@@ -3,18 +3,26 @@
 // rubble/shared/body.h, the CPU twins in host/core/integrate.cpp.
 #include "rubble/shared/body.h"
 
-// Sleeping bodies keep their state; kinematic ones keep the velocity the host gave them.
+// Kinematic bodies keep the velocity the host gave them; sleeping ones keep their state unless
+// the host put a force on them, which wakes them.
 __kernel void integrateVelocities(const uint count, __global BodyMomentum* momenta,
                                   __global const BodyForce* forces,
-                                  __global const BodyMass* masses, __global const uint* flags,
+                                  __global const BodyMass* masses, __global uint* flags,
                                   __global const BodyPose* poses,
                                   __global BodyVelocity* velocities, const float4 gravity,
                                   const float dt) {
     const uint i = get_global_id(0);
     if (i >= count) return; // the global size is rounded up to the group size
-    if (flags[i] & (RUBBLE_BODY_ASLEEP | RUBBLE_BODY_KINEMATIC)) return;
+    const uint f = flags[i];
+    if (f & RUBBLE_BODY_KINEMATIC) return;
+    const BodyForce force = forces[i];
+    if (f & RUBBLE_BODY_ASLEEP) {
+        if (dot3(force.force, force.force) == 0.0f && dot3(force.torque, force.torque) == 0.0f)
+            return;
+        flags[i] = f & ~RUBBLE_BODY_ASLEEP;
+    }
     const BodyMass m = masses[i];
-    const BodyMomentum p = integrateMomentumItem(momenta[i], forces[i], m, gravity, dt);
+    const BodyMomentum p = integrateMomentumItem(momenta[i], force, m, gravity, dt);
     momenta[i] = p;
     velocities[i] = velocityFromMomentumItem(p, m, poses[i].orientation);
 }

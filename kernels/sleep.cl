@@ -29,13 +29,14 @@ __kernel void sleepBodies(const uint count, __global uint* status, __global uint
                           __global float* slowFor, __global uint* restless, const float dt) {
     __local uint asleep, woken;
     const uint i = get_global_id(0);
-    if (status[RUBBLE_STATUS_CONTACTS] > status[RUBBLE_STATUS_CAPACITY]) return; // the whole NDRange
+    // Every work-item reaches both barriers; a step whose contacts overflowed changes nothing.
+    const int aborted = status[RUBBLE_STATUS_CONTACTS] > status[RUBBLE_STATUS_CAPACITY];
     if (get_local_id(0) == 0) {
         asleep = 0;
         woken = 0;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
-    if (i < count && !(flags[i] & (RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC))) {
+    if (!aborted && i < count && !(flags[i] & (RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC))) {
         SleepRecord s;
         s.flags = flags[i];
         s.slowFor = slowFor[i];
@@ -55,7 +56,7 @@ __kernel void sleepBodies(const uint count, __global uint* status, __global uint
         restless[i] = 0u;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
-    if (get_local_id(0) == 0) {
+    if (get_local_id(0) == 0 && !aborted) {
         if (asleep) atomic_add(&status[RUBBLE_STATUS_ASLEEP], asleep);
         if (woken) atomic_add(&status[RUBBLE_STATUS_WOKEN], woken);
     }

@@ -105,12 +105,13 @@ Status Pipeline::downloadBodies(WorldState& s) {
     return {};
 }
 
-Status Pipeline::downloadPoses(std::uint32_t first, std::span<shared::BodyPose> out) {
-    RUBBLE_ASSERT(std::size_t(first) + out.size() <= bodies_.count);
-    if (out.empty()) return {};
+Status Pipeline::downloadPoses(std::uint32_t first, std::uint32_t count, void* out) {
+    RUBBLE_ASSERT(std::size_t(first) + count <= bodies_.count);
+    if (count == 0) return {};
     RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), bodies_.poses.mem(), CL_TRUE,
-                                        first * sizeof(shared::BodyPose), out.size_bytes(),
-                                        out.data(), 0, nullptr, nullptr));
+                                        first * sizeof(shared::BodyPose),
+                                        count * sizeof(shared::BodyPose), out, 0, nullptr,
+                                        nullptr));
     return {};
 }
 

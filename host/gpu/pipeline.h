@@ -108,8 +108,9 @@ class Pipeline {
     /// Reads poses, velocities, momenta and the sleep flags back into the host arrays, for
     /// whoever asked for the state (World::body, writers, metrics). Errors: Device.
     Status downloadBodies(WorldState& s);
-    /// Reads `out.size()` poses from body `first` on, for drawing. Errors: Device.
-    Status downloadPoses(std::uint32_t first, std::span<shared::BodyPose> out);
+    /// Reads `count` BodyPose records from body `first` on into `out` (as many bytes), for
+    /// drawing. Errors: Device.
+    Status downloadPoses(std::uint32_t first, std::uint32_t count, void* out);
     /// This step's forces and torques (World::addForce), uploaded when any were added.
     Status uploadForces(std::span<const shared::BodyForce> forces);
 
@@ -184,6 +185,8 @@ class Pipeline {
     Status finish();
     /// Device time of each kernel and transfer over the steps so far.
     std::vector<CommandTotals> profileTotals() const { return profile_.totals(); }
+    /// Carries another pipeline's totals on (a world's device arrays built again).
+    void keepProfileOf(const Pipeline& old) { profile_.addTotals(old.profile_); }
 
   private:
     explicit Pipeline(std::shared_ptr<Context> context) : context_(std::move(context)) {}

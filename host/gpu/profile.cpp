@@ -87,6 +87,14 @@ Result<DeviceTimes> Profile::collect() {
     return t;
 }
 
+void Profile::addTotals(const Profile& other) {
+    for (std::size_t k = 0; k < totals_.size(); ++k) {
+        totals_[k].ms += other.totals_[k].ms;
+        totals_[k].launches += other.totals_[k].launches;
+        totals_[k].bytes += other.totals_[k].bytes;
+    }
+}
+
 std::vector<CommandTotals> Profile::totals() const {
     std::vector<CommandTotals> out;
     for (const CommandTotals& c : totals_)

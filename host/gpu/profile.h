@@ -69,6 +69,8 @@ class Profile {
     /// Totals over the run, kernels in KernelId order then transfers; commands never run are
     /// left out.
     std::vector<CommandTotals> totals() const;
+    /// Adds another profile's totals to these.
+    void addTotals(const Profile& other);
 
   private:
     struct Record {

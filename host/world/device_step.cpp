@@ -49,6 +49,22 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
     return {};
 }
 
+Status attachScene(WorldState& s, const Scene& scene, std::shared_ptr<gpu::Context> context,
+                   const RunOptions& run) {
+    s.offload.reset();
+    const std::vector<std::uint8_t> onDevice = deviceBodies(scene);
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+        if (scene.bodies[i].isStatic || onDevice[i]) continue;
+        Result<std::unique_ptr<Offload>> offload = makeOffload(scene, onDevice, run);
+        RUBBLE_TRY(offload);
+        s.offload = std::move(*offload);
+        break;
+    }
+    SimulationOptions options = scene.simulation;
+    options.backend = Backend::OpenCl;
+    return attachDevice(s, std::move(context), options);
+}
+
 Status syncHost(WorldState& s) {
     if (!s.device || !s.hostStale) return {};
     RUBBLE_TRY(s.device->downloadBodies(s));

@@ -7,6 +7,7 @@
 
 #include "rubble/error.h"
 #include "rubble/options.h"
+#include "rubble/scene.h"
 
 namespace rubble {
 
@@ -22,6 +23,13 @@ class Context;
 /// Errors: NotSupported for options the device pipeline cannot run, Device.
 Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
                     const SimulationOptions& options);
+
+/// Puts a world built from `scene` (all its bodies, in order) on the OpenCL backend of `context`
+/// with the scene's options: the bodies the device does not step (host/world/offload.h,
+/// deviceBodies) get a CPU world of their own, then attachDevice. Errors: those of
+/// World::create and attachDevice.
+Status attachScene(WorldState& s, const Scene& scene, std::shared_ptr<gpu::Context> context,
+                   const RunOptions& run);
 
 /// One step on the device: what the host changed (impulses, forces) is uploaded first, the
 /// step is enqueued, the CPU world of an offloaded scene steps meanwhile, and the two meet.

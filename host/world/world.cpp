@@ -4,8 +4,8 @@
 #include <cstdio>
 
 #include "host/core/math.h"
-#include "host/world/cpu_step.h"
 #include "host/gpu/pipeline.h"
+#include "host/world/cpu_step.h"
 #include "host/world/device_step.h"
 #include "host/world/world_state.h"
 
@@ -92,7 +92,19 @@ BodyState World::body(std::uint32_t i) const {
     return b;
 }
 
+namespace {
+
+// The CPU world's index of a body that an offloaded world steps on the CPU, if it is one.
+std::optional<std::uint32_t> cpuBody(const WorldState& s, std::uint32_t i) {
+    if (!s.offload || s.offload->worldToCpu.at(i) == kNotOnCpu) return std::nullopt;
+    return s.offload->worldToCpu[i];
+}
+
+} // namespace
+
 void World::addForce(std::uint32_t i, glm::vec3 force) {
+    if (const auto c = cpuBody(*s_, i)) return s_->offload->cpu->addForce(*c, force);
+    // The device wakes a sleeping body that has a force (kernels/integrate.cl).
     s_->forcesDirty = s_->device != nullptr;
     shared::BodyForce& f = s_->forces.at(i);
     f.force = toFloat4(toVec3(f.force) + force);
@@ -100,6 +112,7 @@ void World::addForce(std::uint32_t i, glm::vec3 force) {
 }
 
 void World::addTorque(std::uint32_t i, glm::vec3 torque) {
+    if (const auto c = cpuBody(*s_, i)) return s_->offload->cpu->addTorque(*c, torque);
     s_->forcesDirty = s_->device != nullptr;
     shared::BodyForce& f = s_->forces.at(i);
     f.torque = toFloat4(toVec3(f.torque) + torque);
@@ -114,6 +127,11 @@ void World::addForceAtPoint(std::uint32_t i, glm::vec3 force, glm::vec3 point) {
 void World::applyImpulse(std::uint32_t i, glm::vec3 impulse, glm::vec3 point) {
     WorldState& s = *s_;
     if (s.isStatic(i)) return;
+    if (const auto c = cpuBody(s, i)) {
+        s.offload->cpu->applyImpulse(*c, impulse, point);
+        s.hostStale = true; // the world's copy of the CPU bodies is refreshed when read
+        return;
+    }
     if (const Status synced = beginHostChange(s); !synced)
         std::fprintf(stderr, "rubble: reading bodies from the device: %s\n",
                      synced.error().describe().c_str());

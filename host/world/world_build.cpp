@@ -4,7 +4,7 @@
 #include "host/gpu/context.h"
 #include "host/world/backend_check.h"
 #include "host/world/device_step.h"
-#include "host/world/offload.h"
+#include "host/world/world_build.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -54,6 +54,28 @@ BodyMass makeMass(const BodyDesc& b, const Shape& shape) {
 
 } // namespace
 
+void appendBody(WorldState& s, const BodyDesc& b) {
+    const Shape& shape = s.shapes[b.shape];
+    const BodyMass mass = makeMass(b, shape);
+    const BodyPose pose{toFloat4(b.position), toFloat4(glm::normalize(b.orientation))};
+    const Mat3 inertiaWorld =
+        shared::mat3RotateTensor(shared::mat3FromQuat(pose.orientation), mass.inertiaBody);
+    BodyMomentum momentum{};
+    momentum.linear = toFloat4(b.linearVelocity * mass.mass);
+    momentum.angular = shared::mat3MulVec(inertiaWorld, toFloat4(b.angularVelocity));
+    s.names.push_back(b.name);
+    s.poses.push_back(pose);
+    s.masses.push_back(mass);
+    s.momenta.push_back(momentum);
+    s.velocities.push_back(shared::velocityFromMomentumItem(momentum, mass, pose.orientation));
+    s.forces.push_back(BodyForce{});
+    s.shapeOf.push_back(b.shape);
+    s.materialOf.push_back(b.material);
+    s.debris.push_back(b.debris ? 1 : 0);
+    s.velocitiesBeforeSolve.emplace_back();
+    s.velocitiesAtStart.emplace_back();
+}
+
 Result<World> World::create(const Scene& scene, const RunOptions& run) {
     RUBBLE_TRY(checkSupported(scene));
     auto s = std::make_unique<WorldState>();
@@ -71,27 +93,7 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     s->poses.reserve(n);
     s->momenta.reserve(n);
     s->masses.reserve(n);
-    for (const BodyDesc& b : scene.bodies) {
-        const Shape& shape = s->shapes[b.shape];
-        const BodyMass mass = makeMass(b, shape);
-        const BodyPose pose{toFloat4(b.position), toFloat4(glm::normalize(b.orientation))};
-        const Mat3 inertiaWorld =
-            shared::mat3RotateTensor(shared::mat3FromQuat(pose.orientation), mass.inertiaBody);
-        BodyMomentum momentum{};
-        momentum.linear = toFloat4(b.linearVelocity * mass.mass);
-        momentum.angular = shared::mat3MulVec(inertiaWorld, toFloat4(b.angularVelocity));
-        s->names.push_back(b.name);
-        s->poses.push_back(pose);
-        s->masses.push_back(mass);
-        s->momenta.push_back(momentum);
-        s->velocities.push_back(shared::velocityFromMomentumItem(momentum, mass, pose.orientation));
-        s->shapeOf.push_back(b.shape);
-        s->materialOf.push_back(b.material);
-        s->debris.push_back(b.debris ? 1 : 0);
-    }
-    s->forces.assign(n, BodyForce{});
-    s->velocitiesBeforeSolve.resize(n);
-    s->velocitiesAtStart.resize(n);
+    for (const BodyDesc& b : scene.bodies) appendBody(*s, b);
     s->joints = scene.joints;
     s->events = scene.events;
     s->eventFired.assign(scene.events.size(), 0);
@@ -99,17 +101,9 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
         RUBBLE_TRY(buildParticles(*s));
     if (scene.simulation.backend == Backend::OpenCl) {
         // Bodies the device does not step (joints, outside the debris set) get a CPU world.
-        const std::vector<std::uint8_t> onDevice = deviceBodies(scene);
-        for (std::size_t i = 0; i < n; ++i) {
-            if (scene.bodies[i].isStatic || onDevice[i]) continue;
-            Result<std::unique_ptr<Offload>> offload = makeOffload(scene, onDevice, run);
-            RUBBLE_TRY(offload);
-            s->offload = std::move(*offload);
-            break;
-        }
         Result<std::shared_ptr<gpu::Context>> context = gpu::Context::create(run);
         RUBBLE_TRY(context);
-        RUBBLE_TRY(attachDevice(*s, std::move(*context), scene.simulation));
+        RUBBLE_TRY(attachScene(*s, scene, std::move(*context), run));
     }
     return World(std::move(s));
 }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -78,6 +79,25 @@ struct DeviceCommandTime {
     std::uint64_t bytes = 0;    ///< transfers only
 };
 
+/// A body's pose for drawing, 32 bytes: the layout of the device's pose records, so that bodies on
+/// the OpenCL device are read into it without conversion.
+struct BodyTransform {
+    glm::vec4 position{0.0f};                      ///< centre of mass, world, m (w unused)
+    glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f}; ///< body to world, stored x, y, z, w
+};
+
+/// One piece of debris for World::addDebris: a shape of the scene, its mass, where it starts.
+struct DebrisPiece {
+    std::string name;                              ///< the body's name (need not be unique)
+    std::uint32_t shape = 0;                       ///< a shape of the scene (World::findShape)
+    std::uint32_t material = 0;                    ///< a material of the scene; 0 is "default"
+    float mass = 1.0f;                             ///< kg, > 0
+    glm::vec3 position{0.0f};                      ///< centre of mass, world, m
+    glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f}; ///< body to world
+    glm::vec3 linearVelocity{0.0f};                ///< m/s
+    glm::vec3 angularVelocity{0.0f};               ///< rad/s, world frame
+};
+
 /// A simulated world. Move-only.
 class World {
   public:
@@ -118,6 +138,30 @@ class World {
 
     /// Statistics of the last step.
     const StepStats& lastStep() const;
+
+    /// Index of the scene shape with that name, if any.
+    std::optional<std::uint32_t> findShape(std::string_view name) const;
+
+    /// Adds pieces of debris after the last body, in order, and returns the index of the first.
+    /// On the opencl backend they join the bodies the OpenCL device steps: the device arrays are
+    /// sized again and uploaded whole, and the last step's contacts are forgotten (their warm
+    /// start), so add many at once rather than one at a time. On the cpu backend they are
+    /// ordinary bodies. Errors: BadInput naming the piece for a shape or material that does not
+    /// exist, a plane, or a mass that is not > 0; Device.
+    Result<std::uint32_t> addDebris(std::span<const DebrisPiece> pieces);
+
+    /// Removes every body of the debris set (the scene's `debris` flag, or World::addDebris)
+    /// whose centre of mass is outside the box [lo, hi] (world, m), except bodies with joints,
+    /// and returns how many went. The other bodies keep their order, so the index of a body
+    /// after a removed one goes down. The device arrays are rebuilt as by addDebris.
+    /// Errors: BadInput when lo > hi on an axis; Device.
+    Result<std::uint32_t> removeDebrisOutside(glm::vec3 lo, glm::vec3 hi);
+
+    /// Copies the poses of bodies first .. first + out.size() - 1 into `out`, for drawing.
+    /// Bodies on the OpenCL device are read straight from it and nothing else is read back, so
+    /// this is the cheap way to draw every frame. Errors: BadInput for a range past the last
+    /// body; Device.
+    Status readTransforms(std::uint32_t first, std::span<BodyTransform> out) const;
 
     /// The OpenCL device's name, or "cpu".
     std::string deviceName() const;

@@ -65,6 +65,26 @@ class GpuTest : public ::testing::Test {
         return std::move(*w);
     }
     gpu::Pipeline& pipeline(World& w) { return *w.state().device; }
+
+    /// A world from scene text on the shared device as World::create would put it there: the
+    /// debris set (or the bodies without joints) on the device, the other bodies in a CPU world
+    /// of their own (built as a cpu world first, then attached).
+    World offloadedWorld(const std::string& json) {
+        Result<Scene> scene = parseScene(json, "inline.json", ".");
+        EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().describe());
+        if (!scene.ok()) std::abort();
+        scene->simulation.backend = Backend::OpenCl;
+        Scene cpu = *scene;
+        cpu.simulation.backend = Backend::Cpu;
+        cpu.simulation.collision.method = CollisionMethod::Sat;
+        cpu.simulation.solver.type = SolverType::Pgs;
+        Result<World> w = World::create(cpu);
+        EXPECT_TRUE(w.ok()) << (w.ok() ? "" : w.error().describe());
+        if (!w.ok()) std::abort();
+        const Status attached = attachScene(w->state(), *scene, context(), RunOptions{});
+        EXPECT_TRUE(attached.ok()) << attached.error().describe();
+        return std::move(*w);
+    }
 };
 
 /// |a - b| <= tol * max(1, |a|, |b|), component by component.
