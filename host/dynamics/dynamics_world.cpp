@@ -1,5 +1,5 @@
-// host/dynamics/dynamics_world.cpp: CPU stages 5 and 6 over a world's arrays, the joint position
-// correction after stage 7, and sleeping.
+// host/dynamics/dynamics_world.cpp: CPU stages 5 and 6 over a world's arrays, the position
+// corrections after stage 7 (contact push, joint projection), and sleeping.
 #include "host/dynamics/dynamics_world.h"
 
 #include "host/core/math.h"

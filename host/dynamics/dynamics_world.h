@@ -1,5 +1,5 @@
 // host/dynamics/dynamics_world.h: CPU stages 5 and 6 on a whole world (contact and joint rows,
-// the velocity solve), the position correction after stage 7, and islands and sleeping.
+// the velocity solve), the position corrections after stage 7, and islands and sleeping.
 #pragma once
 
 #include <vector>
@@ -26,7 +26,7 @@ struct SolverCache {
     std::vector<BodyPair> joined;         ///< joined pairs, sorted: they do not collide
     JointGroups jointGroups;              ///< joints connected through moving bodies
     JointPositionScratch jointScratch;
-    std::vector<ContactImpulse> impulses; ///< last step's contact impulses, sorted by key
+    std::vector<ContactImpulse> impulses; ///< last step's contact impulses, in pair order
     SolverBodies bodies;                  ///< this step's solver view of the bodies
     ContactRows contacts;                 ///< this step's contact rows
     std::vector<float> residuals;         ///< largest |impulse change| of each sweep, N s
@@ -41,14 +41,16 @@ struct SolverCache {
 /// writes: constraint rows
 void runBuildContactRows(WorldState& s);
 
-/// Stage solve. reads: rows   writes: velocities, impulses, stats.solverResidual
+/// Stage solve: PGS, then the split position pass. reads: rows   writes: velocities, impulses,
+/// residuals (every sweep's), stats.solverResidual (the last sweep's)
 void runSolveVelocities(WorldState& s);
 
 /// After integratePositions: the contacts' split position pass moves the bodies, then the
 /// joints are projected onto their constraints. writes: poses, velocities
 void runSolvePositions(WorldState& s);
 
-/// Islands and sleeping. reads: velocities, manifolds, joints   writes: masses[i].flags
+/// Islands and sleeping. reads: velocities, manifolds, joints, shapes
+/// writes: masses[i].flags, velocities and momenta of bodies put to sleep
 void runUpdateSleep(WorldState& s);
 
 } // namespace rubble

@@ -1,5 +1,4 @@
-// host/dynamics/joints.cpp: ball and hinge joints: velocity rows (stages 5, 6) and the
-// non-linear Gauss-Seidel position correction after stage 7.
+// host/dynamics/joints.cpp: ball and hinge joints: body frames, velocity blocks (stages 5, 6).
 #include "host/dynamics/joints.h"
 
 #include <algorithm>

@@ -1,5 +1,5 @@
-// host/dynamics/joints.h: ball-and-socket and hinge joints: their rows for CPU stages 5 and 6
-// (velocities), and the position correction after stage 7 (non-linear Gauss-Seidel on poses).
+// host/dynamics/joints.h: ball-and-socket and hinge joints in body frames and their velocity
+// blocks for CPU stages 5 and 6; host/dynamics/joint_positions projects their poses.
 #pragma once
 
 #include <cstdint>
