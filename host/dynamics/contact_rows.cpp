@@ -31,8 +31,7 @@ RowJacobian rowJacobian(glm::vec3 d, glm::vec3 ra, glm::vec3 rb, float inverseMa
                         float inverseMassB, const glm::mat3& ia, const glm::mat3& ib) {
     const glm::vec3 crossA = glm::cross(ra, d), crossB = glm::cross(rb, d);
     const glm::vec3 turnA = ia * crossA, turnB = ib * crossB;
-    const float k =
-        inverseMassA + inverseMassB + glm::dot(crossA, turnA) + glm::dot(crossB, turnB);
+    const float k = inverseMassA + inverseMassB + glm::dot(crossA, turnA) + glm::dot(crossB, turnB);
     return RowJacobian{toLanes(crossA), toLanes(crossB), toLanes(turnA), toLanes(turnB),
                        k > 0.0f ? 1.0f / k : 0.0f};
 }
@@ -101,9 +100,9 @@ void tangentBasis(glm::vec3 n, glm::vec3& t1, glm::vec3& t2) {
 
 void buildContactRows(std::span<const Manifold> manifolds, std::span<const shared::BodyPose> poses,
                       const SolverBodies& bodies, std::span<const MaterialDesc> materials,
-                      std::span<const std::uint32_t> materialOf,
-                      std::span<const BodyPair> joined, std::span<const ContactImpulse> last,
-                      const ContactRowSettings& settings, ContactRows& rows) {
+                      std::span<const std::uint32_t> materialOf, std::span<const BodyPair> joined,
+                      std::span<const ContactImpulse> last, const ContactRowSettings& settings,
+                      ContactRows& rows) {
     rows.clear();
     const float dt = settings.dt;
     for (const Manifold& m : manifolds) {
@@ -149,7 +148,8 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
             const float approach = -normalSpeed;
             const bool bounces = restitution > 0.0f && approach > kRestitutionThreshold;
             if (p.depth >= 0.0f) {
-                const float push = settings.baumgarte / dt * std::max(p.depth - settings.slop, 0.0f);
+                const float push =
+                    settings.baumgarte / dt * std::max(p.depth - settings.slop, 0.0f);
                 nr.pushSpeed = std::min(push, kMaxPushSpeed);
                 nr.targetSpeed = bounces ? restitution * approach : 0.0f;
             } else {

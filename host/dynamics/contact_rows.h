@@ -19,16 +19,16 @@ namespace rubble {
 /// A contact point's normal row. An impulse lambda pushes body b by +lambda n and body a by
 /// -lambda n at the contact point. Vectors are world-frame Lanes (fourth lane zero).
 struct NormalRow {
-    Lanes normal{};                   ///< unit, from a to b
-    Lanes crossA{}, crossB{};         ///< r_a x n, r_b x n, m (r from each centre of mass)
-    Lanes turnA{}, turnB{};           ///< I_a^-1 (r_a x n), I_b^-1 (r_b x n), 1/(kg m)
+    Lanes normal{};           ///< unit, from a to b
+    Lanes crossA{}, crossB{}; ///< r_a x n, r_b x n, m (r from each centre of mass)
+    Lanes turnA{}, turnB{};   ///< I_a^-1 (r_a x n), I_b^-1 (r_b x n), 1/(kg m)
     std::uint32_t a = 0, b = 0;
     float inverseMassA = 0, inverseMassB = 0; ///< 1/kg
-    float mass = 0;                   ///< 1 / (J M^-1 J^T), kg
-    float targetSpeed = 0;            ///< normal velocity the solve aims at, m/s
-    float pushSpeed = 0;              ///< Baumgarte speed of the split position pass, m/s
-    float impulse = 0;                ///< accumulated, N s
-    float pushImpulse = 0;            ///< accumulated in the position pass, N s
+    float mass = 0;                           ///< 1 / (J M^-1 J^T), kg
+    float targetSpeed = 0;                    ///< normal velocity the solve aims at, m/s
+    float pushSpeed = 0;                      ///< Baumgarte speed of the split position pass, m/s
+    float impulse = 0;                        ///< accumulated, N s
+    float pushImpulse = 0;                    ///< accumulated in the position pass, N s
 };
 
 /// The same point's two friction rows, along two unit tangents.
@@ -39,8 +39,8 @@ struct FrictionRows {
     std::uint32_t a = 0, b = 0;
     float inverseMassA = 0, inverseMassB = 0;
     float mass[2] = {0, 0};
-    float friction = 0;           ///< combined Coulomb coefficient
-    float impulse[2] = {0, 0};    ///< accumulated, N s
+    float friction = 0;        ///< combined Coulomb coefficient
+    float impulse[2] = {0, 0}; ///< accumulated, N s
 };
 
 /// Where a contact point came from, to hand its impulses to the next step.
@@ -83,16 +83,16 @@ void interleaveContactRows(ContactRows& rows);
 /// A contact point's impulses at the end of a step, for warm-starting the next one.
 struct ContactImpulse {
     std::uint32_t a = 0, b = 0, feature = 0;
-    glm::vec3 pointInA{0.0f};     ///< the contact point in a's frame, m
-    float normal = 0;             ///< N s
-    glm::vec3 friction{0.0f};     ///< world frame, N s (the tangents change between steps)
+    glm::vec3 pointInA{0.0f}; ///< the contact point in a's frame, m
+    float normal = 0;         ///< N s
+    glm::vec3 friction{0.0f}; ///< world frame, N s (the tangents change between steps)
 };
 
 /// What the contact rows depend on besides the manifolds (SolverOptions, and the step).
 struct ContactRowSettings {
-    float dt = 1.0f / 60.0f;   ///< s
-    float baumgarte = 0.2f;    ///< fraction of the penetration beyond the slop removed per step
-    float slop = 0.005f;       ///< penetration left alone, m
+    float dt = 1.0f / 60.0f; ///< s
+    float baumgarte = 0.2f;  ///< fraction of the penetration beyond the slop removed per step
+    float slop = 0.005f;     ///< penetration left alone, m
     bool warmStart = true;
 };
 
@@ -126,9 +126,9 @@ bool isJoinedPair(std::span<const BodyPair> joined, std::uint32_t a, std::uint32
 /// (sorted by pair)   writes: rows
 void buildContactRows(std::span<const Manifold> manifolds, std::span<const shared::BodyPose> poses,
                       const SolverBodies& bodies, std::span<const MaterialDesc> materials,
-                      std::span<const std::uint32_t> materialOf,
-                      std::span<const BodyPair> joined, std::span<const ContactImpulse> last,
-                      const ContactRowSettings& settings, ContactRows& rows);
+                      std::span<const std::uint32_t> materialOf, std::span<const BodyPair> joined,
+                      std::span<const ContactImpulse> last, const ContactRowSettings& settings,
+                      ContactRows& rows);
 
 /// The rows' accumulated impulses in manifold order (sorted by pair when the manifolds are;
 /// sorted here otherwise), for the next step.

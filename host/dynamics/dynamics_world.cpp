@@ -29,8 +29,8 @@ void runBuildContactRows(WorldState& s) {
 void runSolveVelocities(WorldState& s) {
     SolverCache& c = s.solver;
     solvePgs(c.contacts, c.joints, c.bodies, s.options.solver, c.residuals);
-    c.pushed = solvePushes(c.contacts, c.bodies, s.options.solver.iterations,
-                           s.options.solver.relaxation);
+    c.pushed =
+        solvePushes(c.contacts, c.bodies, s.options.solver.iterations, s.options.solver.relaxation);
     scatterSolverVelocities(c.bodies, s.velocities);
     storeContactImpulses(c.contacts, c.impulses);
     s.stats.solverResidual = c.residuals.empty() ? 0.0f : c.residuals.back();
@@ -46,7 +46,8 @@ void runSolvePositions(WorldState& s) {
             if (!c.bodies.moves(i)) continue;
             BodyPose& pose = s.poses[i];
             pose.position = toFloat4(toVec3(pose.position) + fromLanes(p.linear) * dt);
-            pose.orientation = shared::quatIntegrate(pose.orientation, toFloat4(fromLanes(p.angular)), dt);
+            pose.orientation =
+                shared::quatIntegrate(pose.orientation, toFloat4(fromLanes(p.angular)), dt);
             s.velocities[i] =
                 shared::velocityFromMomentumItem(s.momenta[i], s.masses[i], pose.orientation);
         }

@@ -22,9 +22,9 @@ inline constexpr int kJointPositionIterations = 20;
 /// the buffers it reuses. Ordered containers only: the reference path is deterministic.
 struct SolverCache {
     bool jointsBuilt = false;
-    std::vector<Joint> joints;            ///< the scene's joints in body frames, with impulses
-    std::vector<BodyPair> joined;         ///< joined pairs, sorted: they do not collide
-    JointGroups jointGroups;              ///< joints connected through moving bodies
+    std::vector<Joint> joints;    ///< the scene's joints in body frames, with impulses
+    std::vector<BodyPair> joined; ///< joined pairs, sorted: they do not collide
+    JointGroups jointGroups;      ///< joints connected through moving bodies
     JointPositionScratch jointScratch;
     std::vector<ContactImpulse> impulses; ///< last step's contact impulses, in pair order
     SolverBodies bodies;                  ///< this step's solver view of the bodies
@@ -33,7 +33,7 @@ struct SolverCache {
     bool pushed = false;                  ///< the split position pass ran this step
     JointPositionReport jointPositions;   ///< the last position correction
     SleepState sleep;
-    std::vector<float> radii;             ///< each body's bounding radius, m (for sleeping)
+    std::vector<float> radii; ///< each body's bounding radius, m (for sleeping)
     SleepReport lastSleep;
 };
 

@@ -10,7 +10,9 @@
 namespace rubble {
 namespace {
 
-bool isDynamic(const shared::BodyMass& m) { return m.inverseMass > 0.0f; }
+bool isDynamic(const shared::BodyMass& m) {
+    return m.inverseMass > 0.0f;
+}
 
 // Root of i, halving the path on the way.
 std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {

@@ -146,7 +146,8 @@ void applySolution(std::span<shared::BodyPose> poses, JointPositionScratch& scra
     float largestTurn = 0.0f;
     for (const PositionRow& r : scratch.rows)
         largestTurn = std::max({largestTurn, glm::length(dq[r.a]), glm::length(dq[r.b])});
-    const float scale = largestTurn > kMaxAngularCorrection ? kMaxAngularCorrection / largestTurn : 1.0f;
+    const float scale =
+        largestTurn > kMaxAngularCorrection ? kMaxAngularCorrection / largestTurn : 1.0f;
     for (const PositionRow& r : scratch.rows) {
         for (const std::uint32_t body : {r.a, r.b}) {
             dx[body] *= scale;
@@ -249,7 +250,8 @@ JointPositionReport correctJointPositions(std::span<const Joint> joints, const J
                 // Too large to factor: one joint at a time (non-linear Gauss-Seidel).
                 bool moved = false;
                 for (std::size_t m = 0; m < members.size(); ++m)
-                    moved = projectOnce(joints, members.subspan(m, 1), masses, poses, scratch) || moved;
+                    moved =
+                        projectOnce(joints, members.subspan(m, 1), masses, poses, scratch) || moved;
                 if (!moved) break;
             }
         }

@@ -27,10 +27,10 @@ JointGroups groupJoints(std::span<const Joint> joints, std::span<const shared::B
 /// One constraint row at the current poses: C and its Jacobian, and M^-1 J^T.
 struct PositionRow {
     std::uint32_t a = 0, b = 0;
-    float error = 0;                          ///< C: m for point rows, the cosine for hinge rows
-    glm::vec3 linearA{0.0f}, angularA{0.0f};  ///< J on a (position, rotation vector)
-    glm::vec3 linearB{0.0f}, angularB{0.0f};  ///< J on b
-    glm::vec3 moveA{0.0f}, turnA{0.0f};       ///< m_a^-1 J_lin, I_a^-1 J_ang
+    float error = 0;                         ///< C: m for point rows, the cosine for hinge rows
+    glm::vec3 linearA{0.0f}, angularA{0.0f}; ///< J on a (position, rotation vector)
+    glm::vec3 linearB{0.0f}, angularB{0.0f}; ///< J on b
+    glm::vec3 moveA{0.0f}, turnA{0.0f};      ///< m_a^-1 J_lin, I_a^-1 J_ang
     glm::vec3 moveB{0.0f}, turnB{0.0f};
 };
 

@@ -107,8 +107,8 @@ void prepareJoints(std::span<Joint> joints, std::span<const shared::BodyPose> po
         const glm::mat3& ib = bodies.inverseInertia[j.b];
         j.ra = rotate(pa, j.anchorA);
         j.rb = rotate(pb, j.anchorB);
-        j.pointMass = safeInverse(pointMatrix(j.ra, j.rb, bodies.inverseMass[j.a],
-                                              bodies.inverseMass[j.b], ia, ib));
+        j.pointMass = safeInverse(
+            pointMatrix(j.ra, j.rb, bodies.inverseMass[j.a], bodies.inverseMass[j.b], ia, ib));
         if (j.type == JointType::Hinge) {
             hingeRows(j, pa, pb, j.turn, nullptr);
             j.turnMass = safeInverse(hingeMatrix(j.turn, ia, ib));

@@ -27,11 +27,11 @@ struct Joint {
     glm::vec3 perpB[2];                     ///< unit, perpendicular to the axis, in b's frame
 
     // This step's rows (world frame), from prepareJoints.
-    bool active = false;         ///< false when neither body moves in the solve
-    glm::vec3 ra{0.0f}, rb{0.0f};  ///< centres of mass to the anchor, m
-    glm::mat3 pointMass{0.0f};   ///< (J M^-1 J^T)^-1 of the point rows, kg
-    glm::vec3 turn[2];           ///< a_1 x b_2, a_1 x c_2: the hinge rows' angular Jacobian on a
-    glm::mat2 turnMass{0.0f};    ///< (J M^-1 J^T)^-1 of the hinge rows, kg m^2
+    bool active = false;          ///< false when neither body moves in the solve
+    glm::vec3 ra{0.0f}, rb{0.0f}; ///< centres of mass to the anchor, m
+    glm::mat3 pointMass{0.0f};    ///< (J M^-1 J^T)^-1 of the point rows, kg
+    glm::vec3 turn[2];            ///< a_1 x b_2, a_1 x c_2: the hinge rows' angular Jacobian on a
+    glm::mat2 turnMass{0.0f};     ///< (J M^-1 J^T)^-1 of the hinge rows, kg m^2
 
     // Accumulated impulses, kept between steps for warm starting.
     glm::vec3 pointImpulse{0.0f}; ///< on b at the anchor (a gets the opposite), N s

@@ -37,8 +37,8 @@ void warmStartContacts(const ContactRows& contacts, SolverBodies& bodies) {
         const FrictionRows& f = contacts.frictions[i];
         for (int k = 0; k < 2; ++k)
             if (f.impulse[k] != 0.0f)
-                applyRow(a, b, f.tangent[k], f.turnA[k], f.turnB[k], f.inverseMassA,
-                         f.inverseMassB, f.impulse[k]);
+                applyRow(a, b, f.tangent[k], f.turnA[k], f.turnB[k], f.inverseMassA, f.inverseMassB,
+                         f.impulse[k]);
     }
 }
 
@@ -66,8 +66,8 @@ float solveContactSweep(ContactRows& contacts, SolverBodies& bodies, float relax
         const Lanes dv = b.linear - a.linear;
         float applied[2];
         for (int k = 0; k < 2; ++k) {
-            const float speed = sum3(r.tangent[k] * dv + r.crossB[k] * b.angular -
-                                     r.crossA[k] * a.angular);
+            const float speed =
+                sum3(r.tangent[k] * dv + r.crossB[k] * b.angular - r.crossA[k] * a.angular);
             const float change = -r.mass[k] * speed * relaxation;
             const float total = std::clamp(r.impulse[k] + change, -bound, bound);
             applied[k] = total - r.impulse[k];

@@ -40,14 +40,14 @@ struct Link {
 };
 
 constexpr Link kLinks[] = {
-    {0, 1, JointType::Ball, {0.0f, 0.32f, 0.0f}, {1.0f, 0.0f, 0.0f}},    // neck
-    {0, 2, JointType::Ball, {0.18f, 0.22f, 0.0f}, {1.0f, 0.0f, 0.0f}},   // left shoulder
-    {0, 3, JointType::Ball, {-0.18f, 0.22f, 0.0f}, {1.0f, 0.0f, 0.0f}},  // right shoulder
-    {2, 4, JointType::Hinge, {0.50f, 0.22f, 0.0f}, {0.0f, 1.0f, 0.0f}},  // left elbow
-    {3, 5, JointType::Hinge, {-0.50f, 0.22f, 0.0f}, {0.0f, 1.0f, 0.0f}}, // right elbow
-    {0, 6, JointType::Ball, {0.09f, -0.31f, 0.0f}, {1.0f, 0.0f, 0.0f}},  // left hip
-    {0, 7, JointType::Ball, {-0.09f, -0.31f, 0.0f}, {1.0f, 0.0f, 0.0f}}, // right hip
-    {6, 8, JointType::Hinge, {0.09f, -0.78f, 0.0f}, {1.0f, 0.0f, 0.0f}}, // left knee
+    {0, 1, JointType::Ball, {0.0f, 0.32f, 0.0f}, {1.0f, 0.0f, 0.0f}},     // neck
+    {0, 2, JointType::Ball, {0.18f, 0.22f, 0.0f}, {1.0f, 0.0f, 0.0f}},    // left shoulder
+    {0, 3, JointType::Ball, {-0.18f, 0.22f, 0.0f}, {1.0f, 0.0f, 0.0f}},   // right shoulder
+    {2, 4, JointType::Hinge, {0.50f, 0.22f, 0.0f}, {0.0f, 1.0f, 0.0f}},   // left elbow
+    {3, 5, JointType::Hinge, {-0.50f, 0.22f, 0.0f}, {0.0f, 1.0f, 0.0f}},  // right elbow
+    {0, 6, JointType::Ball, {0.09f, -0.31f, 0.0f}, {1.0f, 0.0f, 0.0f}},   // left hip
+    {0, 7, JointType::Ball, {-0.09f, -0.31f, 0.0f}, {1.0f, 0.0f, 0.0f}},  // right hip
+    {6, 8, JointType::Hinge, {0.09f, -0.78f, 0.0f}, {1.0f, 0.0f, 0.0f}},  // left knee
     {7, 9, JointType::Hinge, {-0.09f, -0.78f, 0.0f}, {1.0f, 0.0f, 0.0f}}, // right knee
 };
 

@@ -16,10 +16,16 @@ namespace rubble {
 /// solver's inner loops. A 3-vector keeps its fourth lane at zero.
 using Lanes = float __attribute__((vector_size(16)));
 
-inline Lanes toLanes(glm::vec3 v) { return Lanes{v.x, v.y, v.z, 0.0f}; }
-inline glm::vec3 fromLanes(Lanes v) { return glm::vec3(v[0], v[1], v[2]); }
+inline Lanes toLanes(glm::vec3 v) {
+    return Lanes{v.x, v.y, v.z, 0.0f};
+}
+inline glm::vec3 fromLanes(Lanes v) {
+    return glm::vec3(v[0], v[1], v[2]);
+}
 /// x + y + z: a dot product once the lanes are multiplied.
-inline float sum3(Lanes v) { return v[0] + v[1] + v[2]; }
+inline float sum3(Lanes v) {
+    return v[0] + v[1] + v[2];
+}
 
 /// A body's velocity in the solve, 32 bytes so that the rows' random reads hit one cache line.
 struct SolverVelocity {
@@ -30,9 +36,9 @@ struct SolverVelocity {
 /// One solve's view of every body, by body index. World frame throughout.
 struct SolverBodies {
     std::vector<SolverVelocity> velocity;
-    std::vector<SolverVelocity> push;       ///< split position pass: displacement per s
-    std::vector<float> inverseMass;         ///< 1/kg; 0 when the body does not move in the solve
-    std::vector<glm::mat3> inverseInertia;  ///< I_w^-1, 1/(kg m^2); 0 when it does not move
+    std::vector<SolverVelocity> push;      ///< split position pass: displacement per s
+    std::vector<float> inverseMass;        ///< 1/kg; 0 when the body does not move in the solve
+    std::vector<glm::mat3> inverseInertia; ///< I_w^-1, 1/(kg m^2); 0 when it does not move
 
     /// True when impulses change the body's velocity (dynamic and awake).
     bool moves(std::uint32_t i) const { return inverseMass[i] > 0.0f; }
@@ -49,8 +55,7 @@ void gatherSolverMasses(std::span<const shared::BodyMass> masses,
                         std::span<const shared::BodyPose> poses, SolverBodies& bodies);
 
 /// reads: velocities   writes: bodies.velocity
-void gatherSolverVelocities(std::span<const shared::BodyVelocity> velocities,
-                            SolverBodies& bodies);
+void gatherSolverVelocities(std::span<const shared::BodyVelocity> velocities, SolverBodies& bodies);
 
 /// Writes the solved velocities of the bodies that move back. reads: bodies   writes: velocities
 void scatterSolverVelocities(const SolverBodies& bodies,

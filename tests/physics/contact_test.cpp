@@ -53,8 +53,12 @@ void expectStands(const std::string& file, float sideways, float down) {
     EXPECT_EQ(asleep, world.bodyCount() - 1) << file << ": everything but the floor settles";
 }
 
-TEST(Contacts, StackOfTenStands) { expectStands("stack_10.json", 0.1f, 0.06f); }
-TEST(Contacts, PyramidOfTwentyStands) { expectStands("pyramid_20.json", 0.1f, 0.06f); }
+TEST(Contacts, StackOfTenStands) {
+    expectStands("stack_10.json", 0.1f, 0.06f);
+}
+TEST(Contacts, PyramidOfTwentyStands) {
+    expectStands("pyramid_20.json", 0.1f, 0.06f);
+}
 
 // The slope scenes: a box on a static ramp turned by the slope angle about z, friction 0.5.
 double slopeAngle(const World& world) {
@@ -140,7 +144,7 @@ TEST(Contacts, FrictionAndRestitutionCombinePerContact) {
     for (int i = 1; i <= 240; ++i) {
         ASSERT_TRUE(test::stepWorld(world, 1));
         ballUp = std::max(ballUp, world.body(ball).linearVelocity.y);
-        if (i == 24) v0 = world.body(block).linearVelocity.x; // after 0.1 s of sliding
+        if (i == 24) v0 = world.body(block).linearVelocity.x;  // after 0.1 s of sliding
         if (i == 120) v1 = world.body(block).linearVelocity.x; // 0.4 s later
     }
     EXPECT_NEAR((v0 - v1) / 0.4f, 0.2f * 9.81f, 0.05f * 0.2f * 9.81f);

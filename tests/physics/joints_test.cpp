@@ -50,8 +50,10 @@ void measure(const World& world, const std::vector<Probe>& ps, Worst& worst) {
         const glm::vec3 pb = b.position + b.orientation * p.anchorB;
         worst.separation = std::max(worst.separation, glm::length(pb - pa));
         if (!p.hinge) continue;
-        const float c = glm::clamp(glm::dot(a.orientation * p.axisA, b.orientation * p.axisB), -1.0f, 1.0f);
-        worst.axisDegrees = std::max(worst.axisDegrees, float(std::acos(c) * 180.0 / std::numbers::pi));
+        const float c =
+            glm::clamp(glm::dot(a.orientation * p.axisA, b.orientation * p.axisB), -1.0f, 1.0f);
+        worst.axisDegrees =
+            std::max(worst.axisDegrees, float(std::acos(c) * 180.0 / std::numbers::pi));
     }
 }
 

@@ -15,12 +15,15 @@ namespace {
 // 1 m below a static pivot, released from rest at `degrees` from the vertical.
 std::string pendulumScene(double degrees, double dt) {
     const double theta = degrees * std::numbers::pi / 180.0;
-    const std::string x = std::to_string(std::sin(theta)), y = std::to_string(2.0 - std::cos(theta));
+    const std::string x = std::to_string(std::sin(theta)),
+                      y = std::to_string(2.0 - std::cos(theta));
     return R"({"format": "rubble-scene", "version": 1,
-      "simulation": {"dt": )" + std::to_string(dt) + R"(},
+      "simulation": {"dt": )" +
+           std::to_string(dt) + R"(},
       "shapes": {"pin": {"type": "sphere", "radius": 0.02}, "bob": {"type": "sphere", "radius": 0.02}},
       "bodies": [{"name": "pivot", "shape": "pin", "static": true, "position": [0, 2, 0]},
-                 {"name": "bob", "shape": "bob", "mass": 1.0, "position": [)" + x + ", " + y +
+                 {"name": "bob", "shape": "bob", "mass": 1.0, "position": [)" +
+           x + ", " + y +
            R"(, 0]}],
       "joints": [{"type": "ball", "a": "pivot", "b": "bob", "anchor": [0, 2, 0]}]})";
 }
@@ -37,8 +40,8 @@ std::vector<double> downwardCrossings(World& world, int steps, float& worstStret
         if (lastX > 0.0 && x <= 0.0) crossings.push_back(lastT + (t - lastT) * lastX / (lastX - x));
         lastX = x;
         lastT = t;
-        worstStretch = std::max(worstStretch,
-                                std::abs(glm::length(b.position - glm::vec3(0, 2, 0)) - 1.0f));
+        worstStretch =
+            std::max(worstStretch, std::abs(glm::length(b.position - glm::vec3(0, 2, 0)) - 1.0f));
     }
     return crossings;
 }
@@ -46,7 +49,8 @@ std::vector<double> downwardCrossings(World& world, int steps, float& worstStret
 void checkPeriod(double degrees, double dt) {
     World world = test::worldFromText(pendulumScene(degrees, dt));
     float stretch = 0.0f;
-    const std::vector<double> crossings = downwardCrossings(world, int(12.0 / world.options().dt), stretch);
+    const std::vector<double> crossings =
+        downwardCrossings(world, int(12.0 / world.options().dt), stretch);
     ASSERT_GE(crossings.size(), 5u);
     const double period = (crossings.back() - crossings.front()) / double(crossings.size() - 1);
     const double theta = degrees * std::numbers::pi / 180.0;
@@ -58,8 +62,12 @@ void checkPeriod(double degrees, double dt) {
     EXPECT_FALSE(world.body(1).asleep);
 }
 
-TEST(Pendulum, PeriodMatchesSmallAngleTheoryAt240Hz) { checkPeriod(10.0, 1.0 / 240.0); }
-TEST(Pendulum, PeriodMatchesSmallAngleTheoryAt60Hz) { checkPeriod(10.0, 1.0 / 60.0); }
+TEST(Pendulum, PeriodMatchesSmallAngleTheoryAt240Hz) {
+    checkPeriod(10.0, 1.0 / 240.0);
+}
+TEST(Pendulum, PeriodMatchesSmallAngleTheoryAt60Hz) {
+    checkPeriod(10.0, 1.0 / 60.0);
+}
 
 } // namespace
 } // namespace rubble

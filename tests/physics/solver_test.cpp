@@ -43,8 +43,9 @@ TEST(Solver, MoreIterationsLowerTheResidual) {
 // A 1 kg box started 4 cm into the ground, at rest.
 World sunkenBox(float baumgarte, float slop) {
     return test::worldFromText(R"({"format": "rubble-scene", "version": 1,
-      "simulation": {"solver": {"baumgarte": )" + std::to_string(baumgarte) + R"(, "slop": )" +
-                               std::to_string(slop) + R"(}},
+      "simulation": {"solver": {"baumgarte": )" +
+                               std::to_string(baumgarte) + R"(, "slop": )" + std::to_string(slop) +
+                               R"(}},
       "shapes": {"ground": {"type": "plane"}, "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
       "bodies": [{"name": "floor", "shape": "ground", "static": true},
                  {"name": "box", "shape": "crate", "mass": 1, "position": [0, 0.46, 0]}]})");
@@ -68,7 +69,8 @@ TEST(Solver, RelaxationScalesTheFirstSweep) {
     // One cold sweep over a single box landing flat: relaxation w scales its first impulses.
     auto firstSweep = [](float w) {
         World world = test::worldFromText(R"({"format": "rubble-scene", "version": 1,
-          "simulation": {"solver": {"iterations": 1, "relaxation": )" + std::to_string(w) + R"(}},
+          "simulation": {"solver": {"iterations": 1, "relaxation": )" +
+                                          std::to_string(w) + R"(}},
           "shapes": {"ground": {"type": "plane"}, "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
           "bodies": [{"name": "floor", "shape": "ground", "static": true},
                      {"name": "box", "shape": "crate", "mass": 1, "position": [0, 0.499, 0],

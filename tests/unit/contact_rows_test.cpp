@@ -36,13 +36,13 @@ struct Fixture {
         cube.inverseInertiaBody = toShared(glm::mat3(3.0f));
         masses = {ground, cube, cube};
         const float4 identity = shared::make4(0, 0, 0, 1);
-        poses = {{shared::vec4(0, 0, 0), identity}, {shared::vec4(0, 0.5f, 0), identity},
+        poses = {{shared::vec4(0, 0, 0), identity},
+                 {shared::vec4(0, 0.5f, 0), identity},
                  {shared::vec4(3, 0.5f, 0), identity}};
         velocities.assign(3, BodyVelocity{});
     }
     void setVelocity(std::uint32_t i, glm::vec3 v) { velocities[i].linear = toFloat4(v); }
-    ContactRows build(const std::vector<Manifold>& manifolds,
-                      std::span<const BodyPair> joined = {},
+    ContactRows build(const std::vector<Manifold>& manifolds, std::span<const BodyPair> joined = {},
                       std::span<const ContactImpulse> last = {}) {
         gatherSolverMasses(masses, poses, bodies);
         gatherSolverVelocities(velocities, bodies);
@@ -62,8 +62,8 @@ Manifold floorContact(std::uint32_t b, float x, float depth, std::uint32_t count
     m.count = count;
     const glm::vec2 corners[4] = {{-0.5f, -0.5f}, {0.5f, -0.5f}, {0.5f, 0.5f}, {-0.5f, 0.5f}};
     for (std::uint32_t k = 0; k < count; ++k)
-        m.points[k] = ContactPoint{{x + corners[k].x, -depth / 2, corners[k].y}, depth, 10 + k,
-                                   m.normal};
+        m.points[k] =
+            ContactPoint{{x + corners[k].x, -depth / 2, corners[k].y}, depth, 10 + k, m.normal};
     return m;
 }
 
@@ -118,8 +118,8 @@ TEST(ContactRows, TangentsFollowTheSlidingDirection) {
     EXPECT_NEAR(glm::dot(fromLanes(fr.tangent[1]), glm::vec3(0, 1, 0)), 0.0f, 1e-6f);
     EXPECT_NEAR(glm::dot(fromLanes(fr.tangent[0]), fromLanes(fr.tangent[1])), 0.0f, 1e-6f);
     glm::vec3 t1, t2;
-    for (const glm::vec3 n : {glm::vec3(0, 1, 0), glm::normalize(glm::vec3(1, 1, 1)),
-                              glm::vec3(-1, 0, 0)}) {
+    for (const glm::vec3 n :
+         {glm::vec3(0, 1, 0), glm::normalize(glm::vec3(1, 1, 1)), glm::vec3(-1, 0, 0)}) {
         tangentBasis(n, t1, t2);
         EXPECT_NEAR(glm::length(t1), 1.0f, 1e-6f);
         EXPECT_NEAR(glm::dot(glm::cross(t1, t2), n), 1.0f, 1e-6f); // right-handed

@@ -61,7 +61,8 @@ JointDesc joint(JointType type, std::uint32_t a, std::uint32_t b, glm::vec3 anch
 
 TEST(Joints, BodyFrameAnchorsAndAxesMapBackToTheScene) {
     Bodies w({{0, 0, 0}, {2, 0, 0}});
-    const JointDesc d = joint(JointType::Hinge, 0, 1, {1, 0.2f, 0}, glm::normalize(glm::vec3(1, 1, 0)));
+    const JointDesc d =
+        joint(JointType::Hinge, 0, 1, {1, 0.2f, 0}, glm::normalize(glm::vec3(1, 1, 0)));
     const std::vector<Joint> joints = makeJoints(std::vector<JointDesc>{d}, w.poses);
     ASSERT_EQ(joints.size(), 1u);
     EXPECT_NEAR(glm::length(w.point(0, joints[0].anchorA) - d.anchor), 0.0f, 1e-6f);
@@ -70,7 +71,8 @@ TEST(Joints, BodyFrameAnchorsAndAxesMapBackToTheScene) {
     jointError(joints[0], w.poses, linear, angular);
     EXPECT_NEAR(linear, 0.0f, 1e-6f);
     EXPECT_NEAR(angular, 0.0f, 1e-3f);
-    for (const glm::vec3& p : joints[0].perpB) EXPECT_NEAR(glm::dot(p, glm::vec3(d.axis)), 0.0f, 1e-6f);
+    for (const glm::vec3& p : joints[0].perpB)
+        EXPECT_NEAR(glm::dot(p, glm::vec3(d.axis)), 0.0f, 1e-6f);
 }
 
 TEST(Joints, JoinedPairsAreSortedAndUnique) {
@@ -103,9 +105,8 @@ TEST(Joints, BallBlockStopsTheAnchorsDriftingApartAndKeepsMomentum) {
 
 TEST(Joints, HingeBlockKeepsOnlyTheTurnAboutItsAxis) {
     Bodies w({{0, 0, 0}, {2, 0, 0}});
-    std::vector<Joint> joints =
-        makeJoints(std::vector<JointDesc>{joint(JointType::Hinge, 2, 1, {1, 0, 0}, {0, 1, 0})},
-                   w.poses);
+    std::vector<Joint> joints = makeJoints(
+        std::vector<JointDesc>{joint(JointType::Hinge, 2, 1, {1, 0, 0}, {0, 1, 0})}, w.poses);
     w.solver.velocity[1].angular = toLanes({1, 3, -2});
     prepareJoints(joints, w.poses, w.solver, true);
     for (int i = 0; i < 10; ++i) solveJointVelocity(joints[0], w.solver, 1.0f);
@@ -126,7 +127,8 @@ TEST(JointPositions, NewtonStepsCloseAnOpenJoint) {
     const glm::vec3 centre = (toVec3(w.poses[0].position) + toVec3(w.poses[1].position)) * 0.5f;
     const JointGroups groups = groupJoints(joints, w.masses);
     JointPositionScratch scratch;
-    const JointPositionReport r = correctJointPositions(joints, groups, w.masses, w.poses, 8, scratch);
+    const JointPositionReport r =
+        correctJointPositions(joints, groups, w.masses, w.poses, 8, scratch);
     EXPECT_GT(r.linearErrorBefore, 0.05f);
     EXPECT_LT(r.linearErrorAfter, 1e-4f);
     EXPECT_LT(r.angularErrorAfter, 1e-3f);
@@ -163,8 +165,8 @@ TEST(JointPositions, LargeGroupsFallBackToJointByJoint) {
     ASSERT_GT(joints.size() * 3, kDirectRowLimit);
     for (std::size_t i = 1; i < centres.size(); i += 2) w.poses[i].position.y += 0.01f;
     JointPositionScratch scratch;
-    const JointPositionReport r =
-        correctJointPositions(joints, groupJoints(joints, w.masses), w.masses, w.poses, 20, scratch);
+    const JointPositionReport r = correctJointPositions(joints, groupJoints(joints, w.masses),
+                                                        w.masses, w.poses, 20, scratch);
     EXPECT_LT(r.linearErrorAfter, 0.1f * r.linearErrorBefore);
 }
 

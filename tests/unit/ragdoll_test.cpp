@@ -9,8 +9,8 @@
 namespace rubble {
 namespace {
 
-const char* kParts[] = {"chest",     "head",      "upper_arm_l", "upper_arm_r", "forearm_l",
-                        "forearm_r", "thigh_l",   "thigh_r",     "shin_l",      "shin_r"};
+const char* kParts[] = {"chest",     "head",    "upper_arm_l", "upper_arm_r", "forearm_l",
+                        "forearm_r", "thigh_l", "thigh_r",     "shin_l",      "shin_r"};
 
 Scene ragdollScene(const std::string& generator) {
     Result<Scene> scene = parseScene(R"({"format": "rubble-scene", "version": 1,
