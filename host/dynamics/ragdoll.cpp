@@ -4,30 +4,30 @@
 namespace rubble {
 namespace {
 
-// One part at scale 1: a box (half extents, m) or a sphere (radius, m), its centre relative to
-// the chest's centre (m) and its mass (kg). Proportions after adult segment tables: the chest
-// carries the pelvis, the forearm the hand.
+// One part at scale 1: a box (half extents, m), its centre relative to the chest's centre (m)
+// and its mass (kg). Proportions after adult segment tables: the chest carries the pelvis, the
+// forearm the hand. The head is a box too: a sphere on the neck's ball joint, touching the
+// ground at one point, could spin about the line through that point and the neck for ever
+// (a point contact has no spinning friction).
 struct Part {
     const char* name;
-    bool sphere;
     glm::vec3 halfExtents;
-    float radius;
     glm::vec3 centre;
     float mass;
 };
 
 // Chest 0.6 m tall; head to 0.56 m above the chest's centre, feet 1.24 m below it.
 constexpr Part kParts[] = {
-    {"chest", false, {0.17f, 0.30f, 0.10f}, 0.0f, {0.0f, 0.0f, 0.0f}, 30.0f},
-    {"head", true, {0.0f, 0.0f, 0.0f}, 0.11f, {0.0f, 0.45f, 0.0f}, 5.0f},
-    {"upper_arm_l", false, {0.15f, 0.05f, 0.05f}, 0.0f, {0.34f, 0.22f, 0.0f}, 2.5f},
-    {"upper_arm_r", false, {0.15f, 0.05f, 0.05f}, 0.0f, {-0.34f, 0.22f, 0.0f}, 2.5f},
-    {"forearm_l", false, {0.19f, 0.04f, 0.04f}, 0.0f, {0.70f, 0.22f, 0.0f}, 2.0f},
-    {"forearm_r", false, {0.19f, 0.04f, 0.04f}, 0.0f, {-0.70f, 0.22f, 0.0f}, 2.0f},
-    {"thigh_l", false, {0.075f, 0.225f, 0.075f}, 0.0f, {0.09f, -0.545f, 0.0f}, 8.0f},
-    {"thigh_r", false, {0.075f, 0.225f, 0.075f}, 0.0f, {-0.09f, -0.545f, 0.0f}, 8.0f},
-    {"shin_l", false, {0.06f, 0.225f, 0.06f}, 0.0f, {0.09f, -1.015f, 0.0f}, 5.0f},
-    {"shin_r", false, {0.06f, 0.225f, 0.06f}, 0.0f, {-0.09f, -1.015f, 0.0f}, 5.0f},
+    {"chest", {0.17f, 0.30f, 0.10f}, {0.0f, 0.0f, 0.0f}, 30.0f},
+    {"head", {0.09f, 0.11f, 0.10f}, {0.0f, 0.45f, 0.0f}, 5.0f},
+    {"upper_arm_l", {0.15f, 0.05f, 0.05f}, {0.34f, 0.22f, 0.0f}, 2.5f},
+    {"upper_arm_r", {0.15f, 0.05f, 0.05f}, {-0.34f, 0.22f, 0.0f}, 2.5f},
+    {"forearm_l", {0.19f, 0.04f, 0.04f}, {0.70f, 0.22f, 0.0f}, 2.0f},
+    {"forearm_r", {0.19f, 0.04f, 0.04f}, {-0.70f, 0.22f, 0.0f}, 2.0f},
+    {"thigh_l", {0.075f, 0.225f, 0.075f}, {0.09f, -0.545f, 0.0f}, 8.0f},
+    {"thigh_r", {0.075f, 0.225f, 0.075f}, {-0.09f, -0.545f, 0.0f}, 8.0f},
+    {"shin_l", {0.06f, 0.225f, 0.06f}, {0.09f, -1.015f, 0.0f}, 5.0f},
+    {"shin_r", {0.06f, 0.225f, 0.06f}, {-0.09f, -1.015f, 0.0f}, 5.0f},
 };
 
 // A joint at scale 1: the parts it joins (indices into kParts), the anchor relative to the
@@ -61,9 +61,8 @@ RagdollParts buildRagdoll(const RagdollSpec& spec) {
         ShapeDesc shape;
         shape.name = name;
         shape.where = spec.where + " (" + name + ")";
-        shape.type = p.sphere ? ShapeType::Sphere : ShapeType::Box;
+        shape.type = ShapeType::Box;
         shape.halfExtents = p.halfExtents * s;
-        shape.radius = p.radius * s;
         BodyDesc body;
         body.name = name;
         body.where = shape.where;

@@ -1,5 +1,5 @@
 // host/dynamics/ragdoll.h: the ten-part ragdoll of the `ragdoll` scene generator (SCENE_FORMAT.md;
-// physics report section 5.3): boxes and a sphere joined by ball joints and hinges.
+// physics report section 5.3): ten boxes joined by ball joints and hinges.
 #pragma once
 
 #include <cstdint>
@@ -33,7 +33,8 @@ struct RagdollParts {
 /// Builds a ragdoll standing upright in a T-pose, facing +z, about 1.8 m tall and 70 kg at
 /// scale 1: chest, head, upper arms, forearms, thighs, shins (in that order, left before
 /// right; left is +x); ball joints at the neck, shoulders and hips, hinges at the elbows (y axis)
-/// and knees (x axis). Neighbouring parts leave a small gap around each joint.
+/// and knees (x axis). Every part is a box; neighbouring parts leave a small gap around each
+/// joint.
 RagdollParts buildRagdoll(const RagdollSpec& spec);
 
 } // namespace rubble

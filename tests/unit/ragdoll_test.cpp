@@ -134,7 +134,7 @@ TEST(Ragdoll, BuilderUsesTheSpec) {
         EXPECT_EQ(parts.bodies[k].shape, k);
         EXPECT_TRUE(parts.bodies[k].debris);
     }
-    EXPECT_EQ(parts.shapes[1].type, ShapeType::Sphere);
+    EXPECT_EQ(parts.shapes[1].type, ShapeType::Box);
 }
 
 } // namespace
