@@ -68,22 +68,24 @@ __kernel void exclusiveScan(const uint count, __global const uint* in, __global 
     out[count] = sum;
 }
 
-// cellStart and cellEnd were filled with RUBBLE_EMPTY_CELL; each run of equal keys sets its own.
-// The particles' positions and bodies are copied in sorted order for collideParticles, which
-// then reads a cell's particles from consecutive memory.
+// cellRanges was filled with RUBBLE_EMPTY_CELL; each run of equal keys sets its first sorted
+// slot (x) and one past its last (y). The particles' positions and bodies (tagged with their
+// flags) are copied in sorted order for collideParticles, which then reads a cell's particles
+// from consecutive memory.
 __kernel void findCellRanges(const uint count, __global const uint* keys,
                              __global const uint* order, __global const float4* world,
-                             __global const Particle* particles, __global uint* cellStart,
-                             __global uint* cellEnd, __global float4* sortedWorld,
-                             __global uint* sortedBody) {
+                             __global const Particle* particles, __global const uint* flags,
+                             __global uint2* cellRanges, __global float4* sortedWorld,
+                             __global uint* sortedTags) {
     const uint i = get_global_id(0);
     if (i >= count) return;
     const uint k = keys[i];
-    if (i == 0 || keys[i - 1] != k) cellStart[k] = i;
-    if (i + 1 == count || keys[i + 1] != k) cellEnd[k] = i + 1;
+    if (i == 0 || keys[i - 1] != k) cellRanges[k].x = i;
+    if (i + 1 == count || keys[i + 1] != k) cellRanges[k].y = i + 1;
     const uint p = order[i];
     sortedWorld[i] = world[p];
-    sortedBody[i] = particles[p].body;
+    const uint body = particles[p].body;
+    sortedTags[i] = bodyTagItem(body, flags[body]);
 }
 
 // Deterministic mode: contacts in the order a stable sort by particle gave (`order`).

@@ -58,12 +58,22 @@ __kernel void linkPrevious(const uint count, __global const ParticleContact* pre
     next[r] = atomic_xchg(&head[previous[r].particleA], r);
 }
 
-// A sleeping body takes part as a wall: its mass is infinite in the row.
+// What the rows and gathers need of each body this step; a sleeping body is a wall.
+__kernel void prepareJacobiBodies(const uint count, __global const BodyMass* masses,
+                                  __global const uint* flags, __global const BodyPose* poses,
+                                  __global JacobiBody* jacobiBodies) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    BodyMass m = masses[i];
+    if (flags[i] & RUBBLE_BODY_ASLEEP) m = wallMassItem(m);
+    jacobiBodies[i] = jacobiBodyItem(m, poses[i].orientation);
+}
+
 __kernel void buildJacobiRows(__global const uint* status,
                               __global const ParticleContact* contacts,
                               __global const BodyPose* poses,
                               __global const BodyVelocity* velocities,
-                              __global const BodyMass* masses, __global const uint* flags,
+                              __global const JacobiBody* jacobiBodies,
                               __global const float4* surfaces, __global const uint* bodyCount,
                               const SolverParams params, const uint warmStart,
                               __global const uint* head, __global const uint* next,
@@ -83,54 +93,86 @@ __kernel void buildJacobiRows(__global const uint* status,
                 }
             }
         }
-        BodyMass ma = masses[c.a], mb = masses[c.b];
-        if (flags[c.a] & RUBBLE_BODY_ASLEEP) ma = wallMassItem(ma);
-        if (flags[c.b] & RUBBLE_BODY_ASLEEP) mb = wallMassItem(mb);
-        rows[r] = contactRowFromContactItem(c, poses[c.a], poses[c.b], velocities[c.a],
-                                            velocities[c.b], ma, mb, surfaces[c.a],
-                                            surfaces[c.b], bodyCount[c.a], bodyCount[c.b],
-                                            params, warm);
+        rows[r] = contactRowFromJacobiItem(c, poses[c.a].position, poses[c.b].position,
+                                           velocities[c.a], velocities[c.b], jacobiBodies[c.a],
+                                           jacobiBodies[c.b], surfaces[c.a], surfaces[c.b],
+                                           bodyCount[c.a], bodyCount[c.b], params, warm);
     }
 }
 
-// The first half of an iteration: each row's impulses from the last iteration's velocities.
-// On the last sweep, the largest change goes to the status buffer as the residual.
+// The first half of an iteration: each row's impulses from the last iteration's velocities,
+// and the impulse they put on body b, for the gather. On the last sweep, the largest change
+// goes to the status buffer as the residual.
 __kernel void solveJacobiRows(__global uint* status, __global ContactRow* rows,
                               __global const BodyVelocity* velocities, const float relaxation,
-                              const uint lastSweep) {
+                              const uint lastSweep, __global float4* impulses) {
     const uint n = RUBBLE_LIVE_CONTACTS(status);
     for (uint r = get_global_id(0); r < n; r += get_global_size(0)) {
-        const ContactRow row = rows[r];
+        ContactRow row = rows[r];
         const float4 next = solveContactItem(row, velocities[row.a], velocities[row.b],
                                              relaxation);
-        rows[r].lambda = next;
         if (lastSweep)
             atomic_max(&status[RUBBLE_STATUS_RESIDUAL],
                        as_uint(impulseChangeItem(row.lambda, next)));
+        row.lambda = next;
+        rows[r].lambda = next;
+        impulses[r] = rowImpulseItem(row);
     }
 }
 
-// The second half: each active body's velocity from the solve's start and its rows.
-__kernel void gatherJacobi(const uint bodies, __global const ContactRow* rows,
-                           __global const uint* bodyStart, __global const uint* bodyList,
-                           __global const BodyVelocity* before, __global const BodyMass* masses,
-                           __global const uint* flags, __global const BodyPose* poses,
-                           __global BodyVelocity* velocities) {
+// The gather before the first sweep (warm-started impulses, or the dense solver's): each active
+// body's velocity from the solve's start and its rows, read whole; it keeps each entry's arm
+// (the contact point from the body's centre of mass) for the later gathers.
+__kernel void gatherJacobiRows(const uint bodies, __global const ContactRow* rows,
+                               __global const uint* bodyStart, __global const uint* bodyList,
+                               __global const BodyVelocity* before,
+                               __global const JacobiBody* jacobiBodies,
+                               __global const uint* flags, __global BodyVelocity* velocities,
+                               __global float4* arms) {
     const uint b = get_global_id(0);
     if (b >= bodies) return;
     if (!activeBodyItem(flags[b])) return;
-    const BodyMass m = masses[b];
-    if (m.inverseMass == 0.0f) return;
+    const JacobiBody j = jacobiBodies[b];
+    const float inverseMass = j.inverseInertiaWorld.r0.w;
+    if (inverseMass == 0.0f) return;
     float4 linear = vec4(0.0f, 0.0f, 0.0f), angular = vec4(0.0f, 0.0f, 0.0f);
     const uint end = bodyStart[b + 1];
     for (uint e = bodyStart[b]; e < end; ++e) {
         const uint entry = bodyList[e];
-        const BodyImpulse i = rowImpulseOnBodyItem(rows[entry >> 1], entry & 1u);
+        const ContactRow row = rows[entry >> 1];
+        const float4 arm = (entry & 1u) ? row.rB : row.rA;
+        arms[e] = arm;
+        const BodyImpulse i = impulseOnBodyItem(rowImpulseItem(row), arm, entry & 1u);
         linear = add4(linear, i.linear);
         angular = add4(angular, i.angular);
     }
-    velocities[b] = applyImpulseSumItem(before[b], linear, angular, m.inverseMass,
-                                        inverseInertiaWorldItem(m, poses[b].orientation));
+    velocities[b] = applyImpulseSumItem(before[b], linear, angular, inverseMass,
+                                        j.inverseInertiaWorld);
+}
+
+// The second half: each active body's velocity from the solve's start and the impulses of its
+// rows (solveJacobiRows), 32 bytes per entry instead of the whole row.
+__kernel void gatherJacobi(const uint bodies, __global const float4* impulses,
+                           __global const uint* bodyStart, __global const uint* bodyList,
+                           __global const float4* arms, __global const BodyVelocity* before,
+                           __global const JacobiBody* jacobiBodies, __global const uint* flags,
+                           __global BodyVelocity* velocities) {
+    const uint b = get_global_id(0);
+    if (b >= bodies) return;
+    if (!activeBodyItem(flags[b])) return;
+    const JacobiBody j = jacobiBodies[b];
+    const float inverseMass = j.inverseInertiaWorld.r0.w;
+    if (inverseMass == 0.0f) return;
+    float4 linear = vec4(0.0f, 0.0f, 0.0f), angular = vec4(0.0f, 0.0f, 0.0f);
+    const uint end = bodyStart[b + 1];
+    for (uint e = bodyStart[b]; e < end; ++e) {
+        const uint entry = bodyList[e];
+        const BodyImpulse i = impulseOnBodyItem(impulses[entry >> 1], arms[e], entry & 1u);
+        linear = add4(linear, i.linear);
+        angular = add4(angular, i.angular);
+    }
+    velocities[b] = applyImpulseSumItem(before[b], linear, angular, inverseMass,
+                                        j.inverseInertiaWorld);
 }
 
 // Two-way coupling: the summed impulse of its rows on each of the host's bodies (about its centre

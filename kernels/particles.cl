@@ -24,35 +24,48 @@ static void appendContact(ParticleContact c, const uint capacity,
 
 // One work-item per sorted slot: a particle of a body that tests pairs against the other bodies'
 // particles in the 27 neighbouring cells (distinct keys: see cellHashItem), then, for an active
-// body, against the static shapes. The grid's sorted copies (sortedWorld, sortedBody) keep a
-// cell's particles together in memory. Which side tests a pair: pairFromHereItem.
+// body, against the static shapes. Which side tests a pair: pairFromHereItem. The grid's sorted
+// copies (sortedWorld, sortedTags) keep a cell's particles together, and the three cells of a
+// row in x are consecutive keys unless the row wraps: their particles are then one run of slots.
 __kernel void collideParticles(const uint count, const uint staticCount,
                                const float inverseCellSize, const uint bits,
-                               __global const uint* cellStart, __global const uint* cellEnd,
+                               __global const uint2* cellRanges,
                                __global const float4* sortedWorld,
-                               __global const uint* sortedBody, __global const uint* order,
-                               __global const uint* flags, __global const StaticShape* statics,
+                               __global const uint* sortedTags, __global const uint* order,
+                               __global const StaticShape* statics,
                                __global ParticleContact* contacts, __global uint* status) {
     const uint slot = get_global_id(0);
     if (slot >= count) return;
-    const uint bodyI = sortedBody[slot];
-    const uint flagsI = flags[bodyI];
+    const uint tagI = sortedTags[slot];
+    const uint bodyI = tagBodyItem(tagI), flagsI = tagFlagsItem(tagI);
     if (!testsPairsItem(flagsI)) return;
     const uint capacity = status[RUBBLE_STATUS_CAPACITY];
     const float4 xi = sortedWorld[slot];
     const int cx = cellCoordinate(xi.x, inverseCellSize), cy = cellCoordinate(xi.y, inverseCellSize),
               cz = cellCoordinate(xi.z, inverseCellSize);
+    const uint xMask = (1u << cellBitsXItem(bits)) - 1u;
+    const int wraps = ((uint)(cx - 1) & xMask) > ((uint)(cx + 1) & xMask);
     for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz)
             for (int dx = -1; dx <= 1; ++dx) {
-                const uint key = cellHashItem(cx + dx, cy + dy, cz + dz, bits);
-                const uint start = cellStart[key];
-                if (start == RUBBLE_EMPTY_CELL) continue;
-                const uint end = cellEnd[key];
-                for (uint s = start; s < end; ++s) {
-                    const uint bodyJ = sortedBody[s];
-                    if (!pairFromHereItem(bodyI, flagsI, bodyJ, flags[bodyJ])) continue;
-                    ParticleContact c = particlePairItem(xi, sortedWorld[s]);
+                // A row that does not wrap is one run from its first cell's first slot to its
+                // last cell's last: read it once, from dx = -1.
+                uint begin = RUBBLE_EMPTY_CELL, end = 0;
+                const int last = wraps ? dx : 1;
+                for (int x = dx; x <= last; ++x) {
+                    const uint2 range = cellRanges[cellHashItem(cx + x, cy + dy, cz + dz, bits)];
+                    if (range.x == RUBBLE_EMPTY_CELL) continue;
+                    begin = min(begin, range.x);
+                    end = max(end, range.y);
+                }
+                if (!wraps) dx = 1;
+                for (uint s = begin; s < end; ++s) {
+                    const float4 xj = sortedWorld[s];
+                    if (!particlesMayTouchItem(xi, xj)) continue;
+                    const uint tagJ = sortedTags[s];
+                    const uint bodyJ = tagBodyItem(tagJ);
+                    if (!pairFromHereItem(bodyI, flagsI, bodyJ, tagFlagsItem(tagJ))) continue;
+                    ParticleContact c = particlePairItem(xi, xj);
                     if (!(c.point.w > 0.0f)) continue;
                     c.a = bodyI;
                     c.b = bodyJ;

@@ -141,6 +141,7 @@ void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
                     if (start == RUBBLE_EMPTY_CELL) continue;
                     for (std::uint32_t s = start; s < p.cellEnd[key]; ++s) {
                         const std::uint32_t j = p.order[s];
+                        if (!particlesMayTouchItem(xi, p.world[j])) continue;
                         const std::uint32_t bodyJ = p.particles[j].body;
                         if (!pairFromHereItem(bodyI, flagsI, bodyJ, masses[bodyJ].flags))
                             continue;

@@ -60,20 +60,18 @@ Status Pipeline::buildGrid() {
     RUBBLE_TRY(radixSort(particles_.keys, particles_.values, particles_.keysAlt,
                          particles_.valuesAlt, count, bits));
     const std::size_t cells = std::size_t(1) << bits;
-    RUBBLE_TRY(fill(*context_, particles_.cellStart, RUBBLE_EMPTY_CELL, cells * sizeof(cl_uint),
-                    &profile_));
-    RUBBLE_TRY(fill(*context_, particles_.cellEnd, RUBBLE_EMPTY_CELL, cells * sizeof(cl_uint),
-                    &profile_));
+    RUBBLE_TRY(fill(*context_, particles_.cellRanges, RUBBLE_EMPTY_CELL,
+                    cells * sizeof(cl_uint2), &profile_));
     return Dispatch(*context_, KernelId::FindCellRanges, &profile_)
         .arg(count)
         .arg(particles_.keys)
         .arg(particles_.values)
         .arg(particles_.world)
         .arg(particles_.records)
-        .arg(particles_.cellStart)
-        .arg(particles_.cellEnd)
+        .arg(bodies_.flags)
+        .arg(particles_.cellRanges)
         .arg(particles_.sortedWorld)
-        .arg(particles_.sortedBody)
+        .arg(particles_.sortedTags)
         .run(count, RUBBLE_GROUP_PARTICLES);
 }
 

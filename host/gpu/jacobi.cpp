@@ -11,6 +11,13 @@ namespace rubble::gpu {
 Status Pipeline::buildJacobiRows(const shared::SolverParams& params, bool warmStart) {
     const Context& c = *context_;
     const cl_uint bodies = bodies_.count;
+    RUBBLE_TRY(Dispatch(c, KernelId::PrepareJacobiBodies, &profile_)
+                   .arg(bodies)
+                   .arg(bodies_.masses)
+                   .arg(bodies_.flags)
+                   .arg(bodies_.poses)
+                   .arg(bodies_.jacobi)
+                   .run(bodies, RUBBLE_GROUP_BODIES));
     // Per-body lists: count, scan, fill, then each list in row order.
     RUBBLE_TRY(fill(c, contacts_.bodyCount, 0u, bodies * sizeof(cl_uint), &profile_));
     RUBBLE_TRY(Dispatch(c, KernelId::CountBodyContacts, &profile_)
@@ -56,8 +63,7 @@ Status Pipeline::buildJacobiRows(const shared::SolverParams& params, bool warmSt
         .arg(contacts_.contacts)
         .arg(bodies_.poses)
         .arg(bodies_.velocities)
-        .arg(bodies_.masses)
-        .arg(bodies_.flags)
+        .arg(bodies_.jacobi)
         .arg(contacts_.surfaces)
         .arg(contacts_.bodyCount)
         .arg(params)
@@ -74,21 +80,19 @@ Status Pipeline::solveJacobi(int iterations, float relaxation, bool warmStart) {
     const Context& c = *context_;
     const cl_uint bodies = bodies_.count;
     RUBBLE_TRY(copyVelocities(bodies_.before));
-    auto gather = [&] {
-        return Dispatch(c, KernelId::GatherJacobi, &profile_)
-            .arg(bodies)
-            .arg(contacts_.rows)
-            .arg(contacts_.bodyStart)
-            .arg(contacts_.bodyList)
-            .arg(bodies_.before)
-            .arg(bodies_.masses)
-            .arg(bodies_.flags)
-            .arg(bodies_.poses)
-            .arg(bodies_.velocities)
-            .run(bodies, RUBBLE_GROUP_BODIES);
-    };
-    // Warm-started impulses act before the first sweep.
-    RUBBLE_TRY(gather());
+    // Warm-started impulses (or the dense solver's) act before the first sweep; this gather
+    // reads the rows whole and keeps each entry's arm for the later ones.
+    RUBBLE_TRY(Dispatch(c, KernelId::GatherJacobiRows, &profile_)
+                   .arg(bodies)
+                   .arg(contacts_.rows)
+                   .arg(contacts_.bodyStart)
+                   .arg(contacts_.bodyList)
+                   .arg(bodies_.before)
+                   .arg(bodies_.jacobi)
+                   .arg(bodies_.flags)
+                   .arg(bodies_.velocities)
+                   .arg(contacts_.arms)
+                   .run(bodies, RUBBLE_GROUP_BODIES));
     for (int k = 0; k < iterations; ++k) {
         const cl_uint last = k + 1 == iterations ? 1u : 0u;
         RUBBLE_TRY(Dispatch(c, KernelId::SolveJacobiRows, &profile_)
@@ -97,8 +101,19 @@ Status Pipeline::solveJacobi(int iterations, float relaxation, bool warmStart) {
                        .arg(bodies_.velocities)
                        .arg(relaxation)
                        .arg(last)
+                       .arg(contacts_.impulses)
                        .run(strideItems(), RUBBLE_GROUP_CONTACTS));
-        RUBBLE_TRY(gather());
+        RUBBLE_TRY(Dispatch(c, KernelId::GatherJacobi, &profile_)
+                       .arg(bodies)
+                       .arg(contacts_.impulses)
+                       .arg(contacts_.bodyStart)
+                       .arg(contacts_.bodyList)
+                       .arg(contacts_.arms)
+                       .arg(bodies_.before)
+                       .arg(bodies_.jacobi)
+                       .arg(bodies_.flags)
+                       .arg(bodies_.velocities)
+                       .run(bodies, RUBBLE_GROUP_BODIES));
     }
     RUBBLE_TRY(absorbVelocityChange());
     // This step's contacts and impulses become the next step's warm start.

@@ -39,6 +39,8 @@ enum class KernelId : unsigned {
     GatherObstacleImpulses,
     MarkRestless,
     SleepBodies,
+    PrepareJacobiBodies,
+    GatherJacobiRows,
     Count
 };
 

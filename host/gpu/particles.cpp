@@ -27,14 +27,13 @@ Status Pipeline::uploadParticles(const WorldState& s) {
     RUBBLE_TRY(particles_.world.reserve(c.context(), n * sizeof(shared::float4)));
     RUBBLE_TRY(particles_.sortedWorld.reserve(c.context(), n * sizeof(shared::float4)));
     for (Buffer* b : {&particles_.keys, &particles_.values, &particles_.keysAlt,
-                      &particles_.valuesAlt, &particles_.sortedBody, &contacts_.head})
+                      &particles_.valuesAlt, &particles_.sortedTags, &contacts_.head})
         RUBBLE_TRY(b->reserve(c.context(), words));
     const std::size_t histogram = RUBBLE_SORT_BUCKETS * RUBBLE_SORT_ITEMS;
     RUBBLE_TRY(particles_.histogram.reserve(c.context(), histogram * sizeof(cl_uint)));
     RUBBLE_TRY(particles_.offsets.reserve(c.context(), (histogram + 1) * sizeof(cl_uint)));
     const std::size_t cells = std::size_t(1) << particles_.bits;
-    RUBBLE_TRY(particles_.cellStart.reserve(c.context(), cells * sizeof(cl_uint)));
-    RUBBLE_TRY(particles_.cellEnd.reserve(c.context(), cells * sizeof(cl_uint)));
+    RUBBLE_TRY(particles_.cellRanges.reserve(c.context(), cells * sizeof(cl_uint2)));
     // Particles of bodies asleep at upload keep these positions until they wake.
     std::vector<shared::float4> world(n);
     rubble::transformParticles(p.particles, s.poses, world);
@@ -62,7 +61,9 @@ Status Pipeline::setContactCapacity(std::uint32_t capacity, bool growable) {
     RUBBLE_TRY(contacts_.contacts.reserve(c.context(), n * sizeof(shared::ParticleContact)));
     RUBBLE_TRY(contacts_.unsorted.reserve(c.context(), n * sizeof(shared::ParticleContact)));
     RUBBLE_TRY(contacts_.rows.reserve(c.context(), n * sizeof(shared::ContactRow)));
+    RUBBLE_TRY(contacts_.impulses.reserve(c.context(), n * sizeof(shared::float4)));
     RUBBLE_TRY(contacts_.bodyList.reserve(c.context(), 2 * n * sizeof(cl_uint)));
+    RUBBLE_TRY(contacts_.arms.reserve(c.context(), 2 * n * sizeof(shared::float4)));
     for (Buffer* b : {&contacts_.sortKeys, &contacts_.sortValues, &contacts_.sortKeysAlt,
                       &contacts_.sortValuesAlt})
         RUBBLE_TRY(b->reserve(c.context(), n * sizeof(cl_uint)));
@@ -102,12 +103,10 @@ Status Pipeline::collideParticles() {
         .arg(statics)
         .arg(inverseCellSize)
         .arg(bits)
-        .arg(particles_.cellStart)
-        .arg(particles_.cellEnd)
+        .arg(particles_.cellRanges)
         .arg(particles_.sortedWorld)
-        .arg(particles_.sortedBody)
+        .arg(particles_.sortedTags)
         .arg(particles_.values)
-        .arg(bodies_.flags)
         .arg(particles_.statics)
         .arg(contacts_.contacts)
         .arg(status_)

@@ -30,15 +30,21 @@ double msSince(std::chrono::steady_clock::time_point start) {
 
 Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context, const WorldState& s,
                                         std::span<const std::uint8_t> kinematic) {
+    const std::size_t n = s.bodyCount();
+    if (n >= RUBBLE_TAG_MAX_BODIES)
+        return makeError(ErrorKind::NotSupported, "bodies",
+                         "the OpenCL pipeline takes fewer than " +
+                             std::to_string(RUBBLE_TAG_MAX_BODIES) + " bodies; this world has " +
+                             std::to_string(n));
     PipelineHandle p(new Pipeline(std::move(context)));
     const Context& c = *p->context_;
-    const std::size_t n = s.bodyCount();
     p->bodies_.count = std::uint32_t(n);
     p->kinematic_.assign(n, 0);
     std::copy(kinematic.begin(), kinematic.begin() + std::min(kinematic.size(), n),
               p->kinematic_.begin());
     RUBBLE_TRY(p->bodies_.atStart.reserve(c.context(), n * sizeof(shared::BodyVelocity)));
     RUBBLE_TRY(p->bodies_.before.reserve(c.context(), n * sizeof(shared::BodyVelocity)));
+    RUBBLE_TRY(p->bodies_.jacobi.reserve(c.context(), n * sizeof(shared::JacobiBody)));
     RUBBLE_TRY(p->bodies_.slowFor.reserve(c.context(), n * sizeof(cl_float)));
     RUBBLE_TRY(p->bodies_.restless.reserve(c.context(), n * sizeof(cl_uint)));
     RUBBLE_TRY(fill(c, p->bodies_.slowFor, 0u, n * sizeof(cl_float)));

@@ -36,6 +36,7 @@ struct BodyBuffers {
     Buffer restless; ///< per body: RUBBLE_RESTLESS_* bits of this step's contacts
     Buffer atStart;  ///< velocities at the start of the step (explicit Euler)
     Buffer before;   ///< velocities before the solve
+    Buffer jacobi;   ///< JacobiBody per body, this step's
 };
 
 /// The particles and the grid over them.
@@ -45,8 +46,8 @@ struct ParticleBuffers {
     Buffer records, statics, world;
     Buffer keys, values, keysAlt, valuesAlt; ///< sorted cell keys and particles (ping-pong)
     Buffer histogram, offsets;               ///< radix sort counts and their exclusive scan
-    Buffer cellStart, cellEnd;
-    Buffer sortedWorld, sortedBody; ///< positions and bodies in sorted order, for collision
+    Buffer cellRanges; ///< per cell: first sorted slot and one past the last (uint2)
+    Buffer sortedWorld, sortedTags; ///< positions and bodyTagItem in sorted order, for collision
 };
 
 /// Contacts, rows, the per-body row lists, and last step's contacts for warm starting. The
@@ -58,7 +59,9 @@ struct ContactBuffers {
     bool growable = true; ///< grow on overflow (tests turn it off to see the error)
     Buffer contacts, previous, unsorted;
     Buffer rows, previousRows;
+    Buffer impulses; ///< per row: its impulse on body b this sweep (rowImpulseItem)
     Buffer bodyCount, bodyStart, cursor, bodyList;
+    Buffer arms;     ///< per list entry: the contact point from the body's centre of mass
     Buffer head, next; ///< last step's contacts chained per particle
     Buffer surfaces;   ///< per body: friction, restitution
     Buffer sortKeys, sortValues, sortKeysAlt, sortValuesAlt;

@@ -70,8 +70,16 @@ TEST_F(ParticlesTwin, BuildGridMatchesCpu) {
     const std::size_t n = ps.world.size();
     EXPECT_EQ(read<std::uint32_t>(p().particles().keys, n), ps.keys);
     EXPECT_EQ(read<std::uint32_t>(p().particles().values, n), ps.order);
-    EXPECT_EQ(read<std::uint32_t>(p().particles().cellStart, ps.cellStart.size()), ps.cellStart);
-    EXPECT_EQ(read<std::uint32_t>(p().particles().cellEnd, ps.cellEnd.size()), ps.cellEnd);
+    // The device keeps each cell's start and end side by side.
+    const std::vector<std::uint32_t> ranges =
+        read<std::uint32_t>(p().particles().cellRanges, 2 * ps.cellStart.size());
+    std::vector<std::uint32_t> start(ps.cellStart.size()), end(ps.cellEnd.size());
+    for (std::size_t k = 0; k < start.size(); ++k) {
+        start[k] = ranges[2 * k];
+        end[k] = ranges[2 * k + 1];
+    }
+    EXPECT_EQ(start, ps.cellStart);
+    EXPECT_EQ(end, ps.cellEnd);
 }
 
 TEST_F(ParticlesTwin, RadixSortSortsStablyAnyCount) {

@@ -59,26 +59,28 @@ RUBBLE_FN float4 relativeVelocityItem(ContactRow r, BodyVelocity va, BodyVelocit
 // A row for a contact at `point` (world, m) with penetration `depth` (m) and normal from a to b.
 // Baumgarte bias corrects beta (depth - slop) / dt; restitution asks for -e vn when the bodies
 // approach faster than 1 m/s. `warm` holds impulses to start from (x, y, z as in lambda).
+// xA, xB are the bodies' centres of mass (world, m), invMassA/B their inverse masses (1/kg) and
+// invIA/B their inverse inertia in the world frame.
 RUBBLE_FN ContactRow makeContactRowItem(float4 point, float4 normal, float depth, uint a, uint b,
-                                        BodyPose pa, BodyPose pb, BodyVelocity va,
-                                        BodyVelocity vb, BodyMass ma, BodyMass mb, Mat3 invIA,
-                                        Mat3 invIB, float splitA, float splitB, float friction,
+                                        float4 xA, float4 xB, BodyVelocity va, BodyVelocity vb,
+                                        float invMassA, float invMassB, Mat3 invIA, Mat3 invIB,
+                                        float splitA, float splitB, float friction,
                                         float restitution, SolverParams p, float4 warm) {
     ContactRow r;
     r.normal = vec4(normal.x, normal.y, normal.z);
     r.tangent1 = perpendicularItem(r.normal);
     r.tangent2 = cross3(r.normal, r.tangent1);
-    r.rA = sub4(vec4(point.x, point.y, point.z), pa.position);
-    r.rB = sub4(vec4(point.x, point.y, point.z), pb.position);
+    r.rA = sub4(vec4(point.x, point.y, point.z), vec4(xA.x, xA.y, xA.z));
+    r.rB = sub4(vec4(point.x, point.y, point.z), vec4(xB.x, xB.y, xB.z));
     r.a = a;
     r.b = b;
     r.friction = friction;
-    r.mass = vec4(rowMassItem(r.normal, r.rA, r.rB, ma.inverseMass, invIA, mb.inverseMass, invIB,
-                              splitA, splitB),
-                  rowMassItem(r.tangent1, r.rA, r.rB, ma.inverseMass, invIA, mb.inverseMass, invIB,
-                              splitA, splitB),
-                  rowMassItem(r.tangent2, r.rA, r.rB, ma.inverseMass, invIA, mb.inverseMass, invIB,
-                              splitA, splitB));
+    r.mass = vec4(rowMassItem(r.normal, r.rA, r.rB, invMassA, invIA, invMassB, invIB, splitA,
+                              splitB),
+                  rowMassItem(r.tangent1, r.rA, r.rB, invMassA, invIA, invMassB, invIB, splitA,
+                              splitB),
+                  rowMassItem(r.tangent2, r.rA, r.rB, invMassA, invIA, invMassB, invIB, splitA,
+                              splitB));
     const float penetration = depth - p.slop;
     r.bias = penetration > 0.0f ? -p.baumgarte * p.inverseDt * penetration : 0.0f;
     const float vn = dot3(relativeVelocityItem(r, va, vb), r.normal);
@@ -108,21 +110,49 @@ RUBBLE_FN float4 rowImpulseItem(ContactRow r) {
                 scale4(r.tangent2, r.lambda.z));
 }
 
-// A row for a contact point: materials combine as sqrt(mu_a mu_b) and max(e_a, e_b) (surface
-// x = friction, y = restitution); each body's mass is split among its `count` rows.
+// 48 bytes, made once per step (stage buildJacobiRows, prepareJacobiBodies on the device): what
+// the rows and the gathers need of a body: its inverse inertia in the world frame (rows,
+// 1/(kg m^2)) with its inverse mass (1/kg) in the first row's w. mat3MulVec ignores w.
+typedef struct JacobiBody {
+    Mat3 inverseInertiaWorld;
+} JacobiBody;
+RUBBLE_STATIC_ASSERT_SIZE(JacobiBody, 48);
+
+RUBBLE_FN JacobiBody jacobiBodyItem(BodyMass m, float4 orientation) {
+    JacobiBody j;
+    j.inverseInertiaWorld = inverseInertiaWorldItem(m, orientation);
+    j.inverseInertiaWorld.r0.w = m.inverseMass;
+    return j;
+}
+
+// A row for a contact point from the bodies' positions, velocities and JacobiBody records:
+// materials combine as sqrt(mu_a mu_b) and max(e_a, e_b) (surface x = friction, y =
+// restitution); each body's mass is split among its `count` rows.
+RUBBLE_FN ContactRow contactRowFromJacobiItem(ParticleContact c, float4 xA, float4 xB,
+                                              BodyVelocity va, BodyVelocity vb, JacobiBody ja,
+                                              JacobiBody jb, float4 surfaceA, float4 surfaceB,
+                                              uint countA, uint countB, SolverParams p,
+                                              float4 warm) {
+    const float friction = sqrt(surfaceA.x * surfaceB.x);
+    const float restitution = fmax(surfaceA.y, surfaceB.y);
+    const float splitA = countA > 1u ? (float)countA : 1.0f;
+    const float splitB = countB > 1u ? (float)countB : 1.0f;
+    return makeContactRowItem(c.point, c.normal, c.point.w, c.a, c.b, xA, xB, va, vb,
+                              ja.inverseInertiaWorld.r0.w, jb.inverseInertiaWorld.r0.w,
+                              ja.inverseInertiaWorld, jb.inverseInertiaWorld, splitA, splitB,
+                              friction, restitution, p, warm);
+}
+
+// The same from the bodies' poses and mass records.
 RUBBLE_FN ContactRow contactRowFromContactItem(ParticleContact c, BodyPose pa, BodyPose pb,
                                                BodyVelocity va, BodyVelocity vb, BodyMass ma,
                                                BodyMass mb, float4 surfaceA, float4 surfaceB,
                                                uint countA, uint countB, SolverParams p,
                                                float4 warm) {
-    const float friction = sqrt(surfaceA.x * surfaceB.x);
-    const float restitution = fmax(surfaceA.y, surfaceB.y);
-    const float splitA = countA > 1u ? (float)countA : 1.0f;
-    const float splitB = countB > 1u ? (float)countB : 1.0f;
-    return makeContactRowItem(c.point, c.normal, c.point.w, c.a, c.b, pa, pb, va, vb, ma, mb,
-                              inverseInertiaWorldItem(ma, pa.orientation),
-                              inverseInertiaWorldItem(mb, pb.orientation), splitA, splitB,
-                              friction, restitution, p, warm);
+    return contactRowFromJacobiItem(c, pa.position, pb.position, va, vb,
+                                    jacobiBodyItem(ma, pa.orientation),
+                                    jacobiBodyItem(mb, pb.orientation), surfaceA, surfaceB, countA,
+                                    countB, p, warm);
 }
 
 // The largest change of any of a row's three impulses, N s.
@@ -137,13 +167,18 @@ typedef struct BodyImpulse {
 } BodyImpulse;
 RUBBLE_STATIC_ASSERT_SIZE(BodyImpulse, 32);
 
-// A row's impulse on its body a (side 0: minus J^T lambda) or b (side 1).
-RUBBLE_FN BodyImpulse rowImpulseOnBodyItem(ContactRow r, uint side) {
-    const float4 onB = rowImpulseItem(r);
+// The impulse `onB` of a row (rowImpulseItem) on its body a (side 0: the negative) or b (side
+// 1), with the arm from that body's centre of mass to the contact point.
+RUBBLE_FN BodyImpulse impulseOnBodyItem(float4 onB, float4 arm, uint side) {
     BodyImpulse i;
     i.linear = side ? onB : scale4(onB, -1.0f);
-    i.angular = cross3(side ? r.rB : r.rA, i.linear);
+    i.angular = cross3(arm, i.linear);
     return i;
+}
+
+// A row's impulse on its body a (side 0: minus J^T lambda) or b (side 1).
+RUBBLE_FN BodyImpulse rowImpulseOnBodyItem(ContactRow r, uint side) {
+    return impulseOnBodyItem(rowImpulseItem(r), side ? r.rB : r.rA, side);
 }
 
 // Velocities after the summed impulse P (N s) and angular impulse H (N m s) of a body's rows:

@@ -31,5 +31,6 @@
     X(ObstacleState) F(ObstacleState, pose) F(ObstacleState, velocity) F(ObstacleState, body)      \
     F(ObstacleState, flags) F(ObstacleState, pad1)                                                 \
     X(BodyImpulse) F(BodyImpulse, linear) F(BodyImpulse, angular)                                  \
+    X(JacobiBody) F(JacobiBody, inverseInertiaWorld)                                               \
     X(LcpRow) F(LcpRow, direction) F(LcpRow, armA) F(LcpRow, armB) F(LcpRow, turnA)                \
     F(LcpRow, turnB) F(LcpRow, a) F(LcpRow, b) F(LcpRow, pad1)

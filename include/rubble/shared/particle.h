@@ -62,6 +62,10 @@ RUBBLE_FN int cellCoordinate(float x, float inverseCellSize) {
 // so that the 27 cells around a particle are 9 short runs of memory (a hash with large primes
 // scatters them and the stage waits on cache misses), and the 27 keys are distinct. Cells
 // that alias across the wrap only add candidates that the distance test rejects.
+RUBBLE_FN uint cellBitsXItem(uint bits) {
+    const uint by = bits / 3u, bz = (bits - by) / 2u;
+    return bits - by - bz;
+}
 RUBBLE_FN uint cellHashItem(int x, int y, int z, uint bits) {
     const uint by = bits / 3u, bz = (bits - by) / 2u, bx = bits - by - bz;
     const uint ux = (uint)x & ((1u << bx) - 1u), uz = (uint)z & ((1u << bz) - 1u),
@@ -87,6 +91,23 @@ RUBBLE_FN uint cellKeyItem(float4 x, float inverseCellSize, uint bits) {
 // they overflowed the buffer (the host grows it and runs those stages again).
 RUBBLE_FN uint liveContactsItem(uint appended, uint capacity) {
     return appended <= capacity ? appended : 0u;
+}
+
+// The grid's sorted copy of a particle's body: its index in the low 27 bits and its flags
+// (RUBBLE_BODY_*, five bits) above, so that collision reads one word per candidate.
+#define RUBBLE_TAG_BODY_BITS 27u
+#define RUBBLE_TAG_MAX_BODIES (1u << RUBBLE_TAG_BODY_BITS)
+RUBBLE_FN uint bodyTagItem(uint body, uint flags) { return body | (flags << RUBBLE_TAG_BODY_BITS); }
+RUBBLE_FN uint tagBodyItem(uint tag) { return tag & (RUBBLE_TAG_MAX_BODIES - 1u); }
+RUBBLE_FN uint tagFlagsItem(uint tag) { return tag >> RUBBLE_TAG_BODY_BITS; }
+
+// A cheap test before particlePairItem: false only when the two particles (xyz world, w
+// radius) are certainly apart (their squared distance beyond the squared reach, with room for
+// the round-off of the exact test).
+RUBBLE_FN int particlesMayTouchItem(float4 xa, float4 xb) {
+    const float dx = xb.x - xa.x, dy = xb.y - xa.y, dz = xb.z - xa.z;
+    const float reach = xa.w + xb.w;
+    return dx * dx + dy * dy + dz * dz <= reach * reach * 1.0001f;
 }
 
 // Bodies whose particles start collision tests: active ones, and kinematic ones that move
