@@ -226,12 +226,14 @@ void interleaveContactRows(ContactRows& rows) {
     rows.slot.clear();
 }
 
-void storeContactImpulses(const ContactRows& rows, std::vector<ContactImpulse>& impulses) {
-    impulses.resize(rows.size());
+void storeContactImpulses(const ContactRows& rows, std::span<const ContactImpulse> previous,
+                          const SolverBodies& bodies, std::vector<ContactImpulse>& impulses,
+                          std::vector<ContactImpulse>& scratch) {
+    scratch.resize(rows.size());
     for (std::size_t i = 0; i < rows.size(); ++i) {
         const ContactKey& key = rows.keys[i];
         const FrictionRows& f = rows.frictions[i];
-        ContactImpulse& c = impulses[rows.built.empty() ? i : rows.built[i]];
+        ContactImpulse& c = scratch[rows.built.empty() ? i : rows.built[i]];
         c.a = key.a;
         c.b = key.b;
         c.feature = key.feature;
@@ -243,8 +245,18 @@ void storeContactImpulses(const ContactRows& rows, std::vector<ContactImpulse>& 
     const auto byPair = [](const ContactImpulse& x, const ContactImpulse& y) {
         return x.a != y.a ? x.a < y.a : x.b < y.b;
     };
-    if (!std::is_sorted(impulses.begin(), impulses.end(), byPair))
-        std::stable_sort(impulses.begin(), impulses.end(), byPair);
+    if (!std::is_sorted(scratch.begin(), scratch.end(), byPair))
+        std::stable_sort(scratch.begin(), scratch.end(), byPair);
+    // Merge in the still pairs' impulses; a pair with rows has a moving body, so none repeats.
+    impulses.clear();
+    std::size_t next = 0;
+    for (const ContactImpulse& old : previous) {
+        if (bodies.moves(old.a) || bodies.moves(old.b)) continue;
+        while (next < scratch.size() && byPair(scratch[next], old))
+            impulses.push_back(scratch[next++]);
+        impulses.push_back(old);
+    }
+    impulses.insert(impulses.end(), scratch.begin() + std::ptrdiff_t(next), scratch.end());
 }
 
 } // namespace rubble

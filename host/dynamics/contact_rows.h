@@ -130,10 +130,14 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                       std::span<const ContactImpulse> last, const ContactRowSettings& settings,
                       ContactRows& rows);
 
-/// The rows' accumulated impulses in manifold order (sorted by pair when the manifolds are;
-/// sorted here otherwise), for the next step.
-/// reads: rows   writes: impulses
-void storeContactImpulses(const ContactRows& rows, std::vector<ContactImpulse>& impulses);
+/// The impulses for the next step's warm start, in pair order: the rows' accumulated impulses,
+/// and those of `previous` (last step's) whose two bodies both stood still in this solve (static
+/// or asleep: their contacts made no rows), so that an island woken later starts from the
+/// impulses it fell asleep with instead of from nothing.
+/// reads: rows, previous, bodies (which move)   writes: impulses, scratch
+void storeContactImpulses(const ContactRows& rows, std::span<const ContactImpulse> previous,
+                          const SolverBodies& bodies, std::vector<ContactImpulse>& impulses,
+                          std::vector<ContactImpulse>& scratch);
 
 /// Two unit tangents that make a right-handed basis with the unit normal n, the same for the
 /// same n.

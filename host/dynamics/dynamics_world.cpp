@@ -32,7 +32,8 @@ void runSolveVelocities(WorldState& s) {
     c.pushed =
         solvePushes(c.contacts, c.bodies, s.options.solver.iterations, s.options.solver.relaxation);
     scatterSolverVelocities(c.bodies, s.velocities);
-    storeContactImpulses(c.contacts, c.impulses);
+    storeContactImpulses(c.contacts, c.impulses, c.bodies, c.nextImpulses, c.impulseScratch);
+    std::swap(c.impulses, c.nextImpulses);
     s.stats.solverResidual = c.residuals.empty() ? 0.0f : c.residuals.back();
 }
 

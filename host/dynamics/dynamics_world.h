@@ -27,11 +27,12 @@ struct SolverCache {
     JointGroups jointGroups;      ///< joints connected through moving bodies
     JointPositionScratch jointScratch;
     std::vector<ContactImpulse> impulses; ///< last step's contact impulses, in pair order
-    SolverBodies bodies;                  ///< this step's solver view of the bodies
-    ContactRows contacts;                 ///< this step's contact rows
-    std::vector<float> residuals;         ///< largest |impulse change| of each sweep, N s
-    bool pushed = false;                  ///< the split position pass ran this step
-    JointPositionReport jointPositions;   ///< the last position correction
+    std::vector<ContactImpulse> nextImpulses, impulseScratch;
+    SolverBodies bodies;                ///< this step's solver view of the bodies
+    ContactRows contacts;               ///< this step's contact rows
+    std::vector<float> residuals;       ///< largest |impulse change| of each sweep, N s
+    bool pushed = false;                ///< the split position pass ran this step
+    JointPositionReport jointPositions; ///< the last position correction
     SleepState sleep;
     std::vector<float> radii; ///< each body's bounding radius, m (for sleeping)
     SleepReport lastSleep;

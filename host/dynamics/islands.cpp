@@ -48,18 +48,19 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
             st.wasAsleep[i] = (masses[i].flags & RUBBLE_BODY_ASLEEP) ? 1 : 0;
     }
 
-    // How long each awake body has been slow; one woken from outside starts again.
+    // How long each awake body has been slow; one woken from outside starts again. A body that
+    // is not slow, or was just woken from outside, is restless: it wakes what it touches.
+    st.restless.assign(n, 0);
     for (std::uint32_t i = 0; i < n; ++i) {
         if (!isDynamic(masses[i]) || (masses[i].flags & RUBBLE_BODY_ASLEEP)) continue;
-        if (st.wasAsleep[i]) {
-            st.slowFor[i] = 0.0f;
-            st.group[i] = kNoGroup;
-        }
+        const bool wokenFromOutside = st.wasAsleep[i] != 0;
+        if (wokenFromOutside) st.slowFor[i] = 0.0f;
         // The fastest point of the body: the centre's speed plus the turn at the rim.
         const float speed = glm::length(toVec3(velocities[i].linear)) +
                             radii[i] * glm::length(toVec3(velocities[i].angular));
         const bool slow = speed < kSleepSpeed;
         st.slowFor[i] = slow ? st.slowFor[i] + dt : 0.0f;
+        st.restless[i] = !slow || wokenFromOutside ? 1 : 0;
     }
 
     // Islands over dynamic bodies: contacts, joints, and the groups that sleep together.
@@ -72,7 +73,8 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
         if (isDynamic(masses[j.a]) && isDynamic(masses[j.b])) unite(st.parent, j.a, j.b);
     st.groupFirst.assign(n, kNoGroup);
     for (std::uint32_t i = 0; i < n; ++i) {
-        if (!(masses[i].flags & RUBBLE_BODY_ASLEEP) || st.group[i] == kNoGroup) continue;
+        // Asleep, or asleep until woken from outside this step: still one of its group.
+        if (st.group[i] == kNoGroup) continue;
         std::uint32_t& first = st.groupFirst[st.group[i]];
         if (first == kNoGroup)
             first = i;
@@ -80,9 +82,10 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
             unite(st.parent, first, i);
     }
 
-    // Per island: awake and asleep bodies, and the shortest slow time of the awake ones.
+    // Per island: awake, restless and asleep bodies, and the shortest slow time of the awake.
     st.awake.assign(n, 0);
     st.asleep.assign(n, 0);
+    st.islandRestless.assign(n, 0);
     st.islandSlowFor.assign(n, std::numeric_limits<float>::infinity());
     SleepReport report;
     for (std::uint32_t i = 0; i < n; ++i) {
@@ -93,11 +96,15 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
             ++st.asleep[r];
         } else {
             ++st.awake[r];
+            st.islandRestless[r] += st.restless[i];
             st.islandSlowFor[r] = std::min(st.islandSlowFor[r], st.slowFor[i]);
         }
     }
 
-    // Wake the islands that something awake and moving touches; put the slow ones to sleep.
+    // Put the islands slow for long enough to sleep; wake the sleeping bodies of the others if
+    // something restless touches them. A slow body touching a sleeping one leaves it asleep (it
+    // is as heavy as the ground meanwhile): a contact that comes and goes at rest must not wake
+    // and sleep an island over and over.
     for (std::uint32_t i = 0; i < n; ++i) {
         if (!isDynamic(masses[i])) continue;
         const std::uint32_t r = findRoot(st.parent, i);
@@ -109,7 +116,7 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
                 st.group[i] = r;
                 velocities[i] = shared::BodyVelocity{};
                 momenta[i] = shared::BodyMomentum{};
-            } else if (asleep) {
+            } else if (asleep && st.islandRestless[r] > 0) {
                 ++report.woken;
                 masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
                 st.slowFor[i] = 0.0f;
@@ -117,7 +124,10 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
             }
         }
         st.wasAsleep[i] = (masses[i].flags & RUBBLE_BODY_ASLEEP) ? 1 : 0;
-        if (st.wasAsleep[i]) ++report.asleepBodies;
+        if (st.wasAsleep[i])
+            ++report.asleepBodies;
+        else
+            st.group[i] = kNoGroup;
     }
     return report;
 }

@@ -24,7 +24,8 @@ struct SleepState {
     std::vector<std::uint32_t> group;    ///< the island it fell asleep with (kNoGroup if awake)
     std::vector<std::uint8_t> wasAsleep; ///< asleep at the end of the last step
     // Scratch reused every step.
-    std::vector<std::uint32_t> parent, groupFirst, awake, asleep;
+    std::vector<std::uint32_t> parent, groupFirst, awake, asleep, islandRestless;
+    std::vector<std::uint8_t> restless;
     std::vector<float> islandSlowFor;
 };
 
@@ -40,11 +41,11 @@ struct SleepReport {
 
 /// Stage updateSleep (islands as in Catto, "Box2D" island management; union-find after Tarjan).
 /// Dynamic bodies are joined by every manifold with points and every joint; bodies that fell
-/// asleep together stay together (their pairs are not collided while they sleep). An island with
-/// an awake body that has not been slow for kTimeToSleep wakes all its sleeping bodies; an
-/// island whose awake bodies have all been slow that long goes to sleep: RUBBLE_BODY_ASLEEP is
-/// set and its velocities and momenta are zeroed. A body woken from outside (the API, an
-/// explosion) starts its slow time again.
+/// asleep together stay together (their pairs are not collided while they sleep). An island whose
+/// awake bodies have all been slow for kTimeToSleep goes to sleep: RUBBLE_BODY_ASLEEP is set and
+/// its velocities and momenta are zeroed. Otherwise its sleeping bodies wake when one of its
+/// awake bodies is restless: not slow, or woken from outside this step (the API, an explosion;
+/// such a body also starts its slow time again).
 /// reads: manifolds, joints, velocities, radii (each body's bounding radius, m)
 /// writes: masses (flags), velocities, momenta, state
 SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joint> joints,

@@ -144,8 +144,8 @@ TEST(ContactRows, WarmStartMatchesFeaturesThenNearestPoints) {
         rows.normals[i].impulse = 1.0f + float(i);
         rows.frictions[i].impulse[0] = -0.1f;
     }
-    std::vector<ContactImpulse> last;
-    storeContactImpulses(rows, last);
+    std::vector<ContactImpulse> last, scratch;
+    storeContactImpulses(rows, {}, f.bodies, last, scratch);
     ASSERT_EQ(last.size(), 4u);
     // Same features: the same impulses, friction kept along the same tangent.
     const ContactRows same = f.build({floorContact(1, 0, 0.001f)}, {}, last);
@@ -180,10 +180,30 @@ TEST(ContactRows, RowsInterleavePointsAndStoreInManifoldOrder) {
         EXPECT_EQ(rows.keys[i].feature, features[i]);
         rows.normals[i].impulse = float(i);
     }
-    std::vector<ContactImpulse> last;
-    storeContactImpulses(rows, last);
+    std::vector<ContactImpulse> last, scratch;
+    storeContactImpulses(rows, {}, f.bodies, last, scratch);
     const float inOrder[] = {0, 2, 1, 3, 4};
     for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(last[i].normal, inOrder[i]);
+}
+
+TEST(ContactRows, SleepingPairsKeepTheirImpulsesUntilWoken) {
+    Fixture f;
+    ContactRows rows = f.build({floorContact(1, 0, 0.001f), floorContact(2, 3, 0.001f)});
+    for (NormalRow& r : rows.normals) r.impulse = r.b == 1 ? 1.0f : 2.0f;
+    std::vector<ContactImpulse> first, second, scratch;
+    storeContactImpulses(rows, {}, f.bodies, first, scratch);
+    // Body 1 falls asleep: its contact makes no row, but its impulses are kept, in pair order.
+    f.masses[1].flags |= RUBBLE_BODY_ASLEEP;
+    const ContactRows asleep =
+        f.build({floorContact(1, 0, 0.001f), floorContact(2, 3, 0.001f)}, {}, first);
+    ASSERT_EQ(asleep.size(), 4u);
+    storeContactImpulses(asleep, first, f.bodies, second, scratch);
+    ASSERT_EQ(second.size(), 8u);
+    for (std::size_t i = 0; i < 8; ++i) EXPECT_EQ(second[i].b, i < 4 ? 1u : 2u);
+    // Woken, it starts from them.
+    f.masses[1].flags &= ~RUBBLE_BODY_ASLEEP;
+    for (const NormalRow& r : f.build({floorContact(1, 0, 0.001f)}, {}, second).normals)
+        EXPECT_EQ(r.impulse, 1.0f);
 }
 
 } // namespace

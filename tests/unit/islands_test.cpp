@@ -118,6 +118,27 @@ TEST(Islands, AwakeBodyTouchingASleepingGroupWakesAllOfIt) {
     EXPECT_EQ(r.woken, 3u);
 }
 
+TEST(Islands, SlowBodyTouchingASleepingGroupLetsItSleepAndJoinsIt) {
+    Sleepers s(4);
+    s.touch(0, 1);
+    s.move(2, {1, 0, 0});
+    s.step(6);
+    ASSERT_TRUE(s.asleep(0) && s.asleep(1));
+    ASSERT_FALSE(s.asleep(2));
+    // 2 has stopped against 1: slow, but not for long. 0 and 1 stay asleep.
+    s.move(2, {0.01f, 0, 0});
+    s.manifolds.clear();
+    s.touch(1, 2);
+    EXPECT_EQ(s.step(1).woken, 0u);
+    EXPECT_TRUE(s.asleep(0) && s.asleep(1));
+    // Half a second later all three sleep as one group, and wake as one.
+    s.step(5);
+    ASSERT_TRUE(s.asleep(2));
+    s.manifolds.clear();
+    s.masses[2].flags &= ~RUBBLE_BODY_ASLEEP;
+    EXPECT_EQ(s.step(1).woken, 2u);
+}
+
 TEST(Islands, BodyWokenFromOutsideStartsItsSlowTimeAgain) {
     Sleepers s(2);
     s.step(6);
