@@ -95,12 +95,16 @@ __kernel void permuteContacts(__global const uint* status, __global const uint* 
     for (uint i = get_global_id(0); i < n; i += get_global_size(0)) out[i] = in[order[i]];
 }
 
-// Deterministic mode: each contact's sort key (its particle) and index.
+// Deterministic mode: each contact's sort key and index, for a pass of the stable sort by
+// (particleA, featureB): first by featureB (`order` unused), then by particleA in the order the
+// first pass left.
 __kernel void contactKeys(__global const uint* status, __global const ParticleContact* contacts,
-                          __global uint* keys, __global uint* values) {
+                          __global const uint* order, const uint byParticle, __global uint* keys,
+                          __global uint* values) {
     const uint n = liveContactsItem(status[RUBBLE_STATUS_CONTACTS], status[RUBBLE_STATUS_CAPACITY]);
     for (uint i = get_global_id(0); i < n; i += get_global_size(0)) {
-        keys[i] = contacts[i].particleA;
-        values[i] = i;
+        const uint c = byParticle ? order[i] : i;
+        keys[i] = byParticle ? contacts[c].particleA : contacts[c].featureB;
+        values[i] = c;
     }
 }

@@ -22,6 +22,21 @@ static void appendContact(ParticleContact c, const uint capacity,
     atomic_max(&status[RUBBLE_STATUS_PENETRATION], as_uint(c.point.w));
 }
 
+// The contact of the particles in sorted slots `slot` (body a) and `other` (body b), if they
+// touch.
+static void touchParticles(const float4 xi, const float4 xj, const uint slot, const uint other,
+                           const uint a, const uint b, __global const uint* order,
+                           const uint capacity, __global ParticleContact* contacts,
+                           __global uint* status) {
+    ParticleContact c = particlePairItem(xi, xj);
+    if (!(c.point.w > 0.0f)) return;
+    c.a = a;
+    c.b = b;
+    c.particleA = order[slot];
+    c.featureB = order[other];
+    appendContact(c, capacity, contacts, status);
+}
+
 // One work-item per sorted slot: a particle of a body that tests pairs against the other bodies'
 // particles in the 27 neighbouring cells (distinct keys: see cellHashItem), then, for an active
 // body, against the static shapes. Which side tests a pair: pairFromHereItem. The grid's sorted
@@ -59,19 +74,33 @@ __kernel void collideParticles(const uint count, const uint staticCount,
                     end = max(end, range.y);
                 }
                 if (!wraps) dx = 1;
-                for (uint s = begin; s < end; ++s) {
+                // Particles sorted before this one: only those that test nothing themselves
+                // (static, kinematic, asleep) pair from here, and their flags say so first.
+                for (uint s = begin; s < min(end, slot); ++s) {
+                    const uint tagJ = sortedTags[s];
+                    const uint bodyJ = tagBodyItem(tagJ);
+                    if (!pairFromHereItem(bodyI, flagsI, bodyJ, tagFlagsItem(tagJ), 0)) continue;
+                    const float4 xj = sortedWorld[s];
+                    if (!particlesMayTouchItem(xi, xj)) continue;
+                    touchParticles(xi, xj, slot, s, bodyI, bodyJ, order, capacity, contacts,
+                                   status);
+                }
+                // Particles sorted after it: most are out of reach, which the distance says.
+                for (uint s = max(begin, slot + 1); s < end; ++s) {
                     const float4 xj = sortedWorld[s];
                     if (!particlesMayTouchItem(xi, xj)) continue;
                     const uint tagJ = sortedTags[s];
                     const uint bodyJ = tagBodyItem(tagJ);
-                    if (!pairFromHereItem(bodyI, flagsI, bodyJ, tagFlagsItem(tagJ))) continue;
-                    ParticleContact c = particlePairItem(xi, xj);
-                    if (!(c.point.w > 0.0f)) continue;
-                    c.a = bodyI;
-                    c.b = bodyJ;
-                    c.particleA = order[slot];
-                    c.featureB = order[s];
-                    appendContact(c, capacity, contacts, status);
+                    const uint flagsJ = tagFlagsItem(tagJ);
+                    if (!pairFromHereItem(bodyI, flagsI, bodyJ, flagsJ, 1)) continue;
+                    // Two active bodies meet in the order of their indices, whichever particle
+                    // found the pair: the contact keeps its key (warm start) from step to step.
+                    if (activeBodyItem(flagsJ) && bodyJ < bodyI)
+                        touchParticles(xj, xi, s, slot, bodyJ, bodyI, order, capacity, contacts,
+                                       status);
+                    else
+                        touchParticles(xi, xj, slot, s, bodyI, bodyJ, order, capacity, contacts,
+                                       status);
                 }
             }
     if (!activeBodyItem(flagsI)) return;

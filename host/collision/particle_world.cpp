@@ -143,14 +143,17 @@ void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
                         const std::uint32_t j = p.order[s];
                         if (!particlesMayTouchItem(xi, p.world[j])) continue;
                         const std::uint32_t bodyJ = p.particles[j].body;
-                        if (!pairFromHereItem(bodyI, flagsI, bodyJ, masses[bodyJ].flags))
-                            continue;
-                        ParticleContact c = particlePairItem(xi, p.world[j]);
+                        const std::uint32_t flagsJ = masses[bodyJ].flags;
+                        if (!pairFromHereItem(bodyI, flagsI, bodyJ, flagsJ, s > slot)) continue;
+                        // Two active bodies meet in the order of their indices.
+                        const bool swap = activeBodyItem(flagsJ) && bodyJ < bodyI;
+                        ParticleContact c = swap ? particlePairItem(p.world[j], xi)
+                                                 : particlePairItem(xi, p.world[j]);
                         if (!(c.point.w > 0.0f)) continue;
-                        c.a = bodyI;
-                        c.b = bodyJ;
-                        c.particleA = i;
-                        c.featureB = j;
+                        c.a = swap ? bodyJ : bodyI;
+                        c.b = swap ? bodyI : bodyJ;
+                        c.particleA = swap ? j : i;
+                        c.featureB = swap ? i : j;
                         contacts.push_back(c);
                     }
                 }
@@ -167,10 +170,11 @@ void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
 }
 
 void sortContactsByParticle(std::vector<ParticleContact>& contacts) {
-    std::stable_sort(contacts.begin(), contacts.end(),
-                     [](const ParticleContact& x, const ParticleContact& y) {
-                         return x.particleA < y.particleA;
-                     });
+    std::sort(contacts.begin(), contacts.end(),
+              [](const ParticleContact& x, const ParticleContact& y) {
+                  return x.particleA != y.particleA ? x.particleA < y.particleA
+                                                    : x.featureB < y.featureB;
+              });
 }
 
 void particleContactsToManifolds(std::span<const ParticleContact> contacts,

@@ -56,16 +56,16 @@ void buildGrid(std::span<const shared::float4> world, float cellSize, std::uint3
                std::vector<std::uint32_t>& cellStart, std::vector<std::uint32_t>& cellEnd);
 
 /// Stage collideParticles: each particle of a body that tests pairs (testsPairsItem: an awake
-/// dynamic body) against the particles of other bodies in its 27 neighbouring cells (which side
-/// tests a pair: pairFromHereItem; body a of a contact is the awake body, an awake pair once
-/// from the lower index) and against the static shapes. Appends to `contacts` in sorted-slot
-/// order.
+/// dynamic body) against the particles of other bodies in its 27 neighbouring cells and against
+/// the static shapes. Which side tests a pair: pairFromHereItem (two awake bodies' pair once,
+/// from the particle sorted first); body a of a contact is the awake body, or the lower index
+/// of two awake ones. Appends to `contacts` in sorted-slot order.
 /// reads: world, particles, grid, statics, masses   writes: contacts
 void collideParticles(const ParticleState& p, std::span<const shared::BodyMass> masses,
                       std::vector<shared::ParticleContact>& contacts);
 
-/// Orders contacts by their particle a, stably: the device's deterministic mode gives the same
-/// order, and so the same sums.
+/// Orders contacts by their particle a, then by feature b (the pair names a contact): the
+/// device's deterministic mode gives the same order, and so the same sums.
 void sortContactsByParticle(std::vector<shared::ParticleContact>& contacts);
 
 /// Particle contacts as single-point manifolds for the PGS solver (a < b, the normal flipped

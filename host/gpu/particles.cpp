@@ -144,16 +144,30 @@ Status Pipeline::readContactCount() {
 
 Status Pipeline::sortContacts() {
     const cl_uint capacity = contacts_.capacity;
-    RUBBLE_TRY(Dispatch(*context_, KernelId::ContactKeys, &profile_)
-                   .arg(status_)
-                   .arg(contacts_.contacts)
-                   .arg(contacts_.sortKeys)
-                   .arg(contacts_.sortValues)
-                   .run(strideItems(), RUBBLE_GROUP_CONTACTS));
-    std::uint32_t bits = 1;
-    while (bits < 32 && (std::uint64_t(1) << bits) < particles_.count) ++bits;
-    RUBBLE_TRY(radixSort(contacts_.sortKeys, contacts_.sortValues, contacts_.sortKeysAlt,
-                         contacts_.sortValuesAlt, capacity, bits, RUBBLE_STATUS_CONTACTS));
+    auto bitsFor = [](std::uint64_t values) {
+        std::uint32_t bits = 1;
+        while (bits < 32 && (std::uint64_t(1) << bits) < values) ++bits;
+        return bits;
+    };
+    // Two stable passes make the order of (particleA, featureB), which names a contact.
+    const std::uint32_t featureBits = bitsFor(std::uint64_t(particles_.count) +
+                                              particles_.staticCount);
+    const std::uint32_t particleBits = bitsFor(particles_.count);
+    for (const cl_uint byParticle : {0u, 1u}) {
+        // The second pass reads the first's order; keys and values are then written afresh.
+        if (byParticle) std::swap(contacts_.sortValues, contacts_.sortKeysAlt);
+        RUBBLE_TRY(Dispatch(*context_, KernelId::ContactKeys, &profile_)
+                       .arg(status_)
+                       .arg(contacts_.contacts)
+                       .arg(contacts_.sortKeysAlt)
+                       .arg(byParticle)
+                       .arg(contacts_.sortKeys)
+                       .arg(contacts_.sortValues)
+                       .run(strideItems(), RUBBLE_GROUP_CONTACTS));
+        RUBBLE_TRY(radixSort(contacts_.sortKeys, contacts_.sortValues, contacts_.sortKeysAlt,
+                             contacts_.sortValuesAlt, capacity,
+                             byParticle ? particleBits : featureBits, RUBBLE_STATUS_CONTACTS));
+    }
     std::swap(contacts_.contacts, contacts_.unsorted);
     return Dispatch(*context_, KernelId::PermuteContacts, &profile_)
         .arg(status_)

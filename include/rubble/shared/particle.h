@@ -116,13 +116,15 @@ RUBBLE_FN int testsPairsItem(uint flags) {
     return activeBodyItem(flags) || (flags & RUBBLE_BODY_WAKING) != 0u;
 }
 
-// Whether a particle of body `self` tests a pair with a particle of body `other`: never its own
-// body or an absent one; an active body tests another active one from the lower index (the pair
-// once) and every static, kinematic or sleeping one (those test nothing themselves), so that
-// body a of a contact is active; a moving kinematic body tests sleeping ones only.
-RUBBLE_FN int pairFromHereItem(uint self, uint selfFlags, uint other, uint otherFlags) {
+// Whether a particle of body `self` tests a pair with a particle of body `other` that comes
+// after it in the grid's sorted order (`later`) or before it: never its own body or an absent
+// one; an active body tests another active one when that one comes later (the pair once) and
+// every static, kinematic or sleeping one (those test nothing themselves), so that body a of a
+// contact is active; a moving kinematic body tests sleeping ones only.
+RUBBLE_FN int pairFromHereItem(uint self, uint selfFlags, uint other, uint otherFlags,
+                               int later) {
     if (other == self || (otherFlags & RUBBLE_BODY_ABSENT)) return 0;
-    if (activeBodyItem(selfFlags)) return !activeBodyItem(otherFlags) || other > self;
+    if (activeBodyItem(selfFlags)) return !activeBodyItem(otherFlags) || later;
     return (otherFlags & RUBBLE_BODY_ASLEEP) != 0u;
 }
 
