@@ -29,8 +29,11 @@ struct RowJacobian {
 };
 RowJacobian rowJacobian(glm::vec3 d, glm::vec3 ra, glm::vec3 rb, float inverseMassA,
                         float inverseMassB, const glm::mat3& ia, const glm::mat3& ib) {
-    const glm::vec3 crossA = glm::cross(ra, d), crossB = glm::cross(rb, d);
-    const glm::vec3 turnA = ia * crossA, turnB = ib * crossB;
+    // A body that does not move has no velocity to read and takes no impulse: zeros.
+    const glm::vec3 crossA = inverseMassA > 0.0f ? glm::cross(ra, d) : glm::vec3(0.0f);
+    const glm::vec3 crossB = inverseMassB > 0.0f ? glm::cross(rb, d) : glm::vec3(0.0f);
+    const glm::vec3 turnA = inverseMassA > 0.0f ? ia * crossA : glm::vec3(0.0f);
+    const glm::vec3 turnB = inverseMassB > 0.0f ? ib * crossB : glm::vec3(0.0f);
     const float k = inverseMassA + inverseMassB + glm::dot(crossA, turnA) + glm::dot(crossB, turnB);
     return RowJacobian{toLanes(crossA), toLanes(crossB), toLanes(turnA), toLanes(turnB),
                        k > 0.0f ? 1.0f / k : 0.0f};
@@ -121,6 +124,8 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
         const glm::mat3& ia = bodies.inverseInertia[m.a];
         const glm::mat3& ib = bodies.inverseInertia[m.b];
         const glm::vec3 n = m.normal;
+        glm::vec3 fixedTangent[2];
+        tangentBasis(n, fixedTangent[0], fixedTangent[1]);
         const std::size_t first = rows.size();
 
         for (std::uint32_t k = 0; k < m.count; ++k) {
@@ -172,7 +177,8 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                 tangent[0] = sliding / slidingSpeed;
                 tangent[1] = glm::cross(n, tangent[0]);
             } else {
-                tangentBasis(n, tangent[0], tangent[1]);
+                tangent[0] = fixedTangent[0];
+                tangent[1] = fixedTangent[1];
             }
             for (int d = 0; d < 2; ++d) {
                 const RowJacobian jt = rowJacobian(tangent[d], ra, rb, ima, imb, ia, ib);
