@@ -3,8 +3,12 @@
 
   bench/plot.py bench/results/<machine>/<run>.csv --out docs/images/
 
-writes bench_ms_per_step.png: median ms/step against body count on log axes for every
-configuration, with the fitted growth exponent of each (ms ~ bodies^k) in the legend.
+writes
+  bench_ms_per_step.png  median ms/step against body count on log axes for every configuration
+                         and peer, with the fitted growth exponent of each (ms ~ bodies^k);
+  bench_stages.png       where a step's time goes, stage by stage (mean ms/step over the run), for
+                         each rubble configuration on each debris pile: the CPU stages of the cpu
+                         backend beside the device stages of the opencl backend.
 """
 import argparse
 import csv
@@ -61,6 +65,52 @@ def main():
     ax.legend(fontsize=8)
     fig.tight_layout()
     path = os.path.join(args.out, args.prefix + "_ms_per_step.png")
+    fig.savefig(path)
+    print("wrote", path)
+    plot_stages(rows, args)
+
+
+STAGE_COLUMNS = ["apply_forces", "integrate_velocities", "broad_phase", "narrow_phase", "build_contact_rows",
+                 "solve", "integrate_positions", "solve_positions", "islands", "sleep"]
+
+
+def plot_stages(rows, args):
+    """One panel per debris scene; one stacked bar per rubble configuration."""
+    staged = [r for r in rows if any(r.get("stage_%s_ms" % c) not in (None, "") for c in STAGE_COLUMNS)]
+    if not staged:
+        print("bench/plot.py: no per-stage columns in %s; skipping the stage plot" % args.results)
+        return
+    scenes = sorted({r["scene"] for r in staged}, key=lambda s: min(int(r["bodies"]) for r in staged
+                                                                     if r["scene"] == s))
+    fig, axes = plt.subplots(len(scenes), 1, figsize=(8, 1.2 + 1.3 * len(scenes)), dpi=110, squeeze=False)
+    colours = plt.get_cmap("tab10")
+    for ax, scene in zip(axes[:, 0], scenes):
+        order = ["opencl-particles-jacobi", "cpu-particles-jacobi", "cpu-sat-pgs"]
+        mine = sorted((r for r in staged if r["scene"] == scene),
+                      key=lambda r: order.index(r["config"]) if r["config"] in order else -1)
+        for y, r in enumerate(mine):
+            left = 0.0
+            for i, c in enumerate(STAGE_COLUMNS):
+                v = float(r.get("stage_%s_ms" % c) or 0.0)
+                if v <= 0:
+                    continue
+                ax.barh(y, v, left=left, color=colours(i), label=c)
+                left += v
+        ax.set_yticks(range(len(mine)))
+        ax.set_yticklabels([r["config"] for r in mine], fontsize=8)
+        ax.set_title("%s (%s bodies)" % (scene, mine[0]["bodies"]), fontsize=9)
+        ax.set_xlabel("mean ms/step", fontsize=8)
+        ax.grid(True, axis="x", alpha=0.3)
+    # One legend for all panels, each stage once.
+    handles, labels = [], []
+    for ax in axes[:, 0]:
+        for h, l in zip(*ax.get_legend_handles_labels()):
+            if l not in labels:
+                handles.append(h)
+                labels.append(l)
+    fig.legend(handles, labels, loc="lower center", ncol=5, fontsize=7)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    path = os.path.join(args.out, args.prefix + "_stages.png")
     fig.savefig(path)
     print("wrote", path)
 
