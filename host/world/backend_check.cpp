@@ -15,11 +15,14 @@ Status checkBackendCombination(const Scene& scene) {
         return makeError(ErrorKind::NotSupported, field + "collision.method",
                          "sat collision runs on the cpu backend only; the opencl backend finds "
                          "contacts with particles (--collision particles)");
-    if (sim.solver.type == SolverType::Pgs || sim.solver.type == SolverType::Lemke)
+    // With a debris set, pgs is the CPU bodies' solver and the set takes jacobi (offload.h).
+    const SolverType device = deviceSolver(scene);
+    if (device == SolverType::Pgs || device == SolverType::Lemke)
         return makeError(ErrorKind::NotSupported, field + "solver.type",
-                         "the " + std::string(toString(sim.solver.type)) +
+                         "the " + std::string(toString(device)) +
                              " solver runs on the cpu backend only; the opencl backend solves "
-                             "with jacobi or lcp-jacobi (--solver jacobi)");
+                             "with jacobi or lcp-jacobi (--solver jacobi), or, in a scene with "
+                             "a debris set, steps the set with jacobi and the rest with pgs");
     // Jointed bodies stay on the CPU; a joint on a debris body cannot.
     const std::vector<std::uint8_t> onDevice = deviceBodies(scene);
     for (const JointDesc& j : scene.joints) {

@@ -8,7 +8,8 @@
 namespace rubble {
 
 /// {sat, particles} x {pgs, jacobi, lcp-jacobi, lemke} on the cpu backend; particles with jacobi
-/// or lcp-jacobi on opencl, where jointed bodies step on the CPU (host/world/offload.h).
+/// or lcp-jacobi on opencl, where jointed bodies step on the CPU (host/world/offload.h); pgs on
+/// opencl in a scene with a debris set (its CPU bodies step with PGS, the set with jacobi).
 /// Errors: NotSupported naming the scene field of the option that cannot run with the others
 /// (SAT and PGS are CPU stages), or a joint on a body of the debris set (the device has no
 /// joint rows).

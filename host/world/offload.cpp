@@ -10,11 +10,20 @@
 
 namespace rubble {
 
+bool hasDebrisSet(const Scene& scene) {
+    return std::any_of(scene.bodies.begin(), scene.bodies.end(),
+                       [](const BodyDesc& b) { return b.debris && !b.isStatic; });
+}
+
+SolverType deviceSolver(const Scene& scene) {
+    const SolverType t = scene.simulation.solver.type;
+    return t == SolverType::Pgs && hasDebrisSet(scene) ? SolverType::Jacobi : t;
+}
+
 std::vector<std::uint8_t> deviceBodies(const Scene& scene) {
     const std::size_t n = scene.bodies.size();
     std::vector<std::uint8_t> onDevice(n, 0);
-    const bool debrisSet = std::any_of(scene.bodies.begin(), scene.bodies.end(),
-                                       [](const BodyDesc& b) { return b.debris && !b.isStatic; });
+    const bool debrisSet = hasDebrisSet(scene);
     std::vector<std::uint8_t> jointed(n, 0);
     for (const JointDesc& j : scene.joints) jointed[j.a] = jointed[j.b] = 1;
     for (std::size_t i = 0; i < n; ++i) {
@@ -25,9 +34,8 @@ std::vector<std::uint8_t> deviceBodies(const Scene& scene) {
     return onDevice;
 }
 
-Result<std::unique_ptr<Offload>> makeOffload(const Scene& scene,
-                                             const std::vector<std::uint8_t>& onDevice,
-                                             const RunOptions& run) {
+Result<std::unique_ptr<Offload>>
+makeOffload(const Scene& scene, const std::vector<std::uint8_t>& onDevice, const RunOptions& run) {
     auto o = std::make_unique<Offload>();
     o->coupling = scene.simulation.coupling;
     const std::size_t n = scene.bodies.size();
@@ -70,8 +78,8 @@ void prepareObstacles(Offload& o) {
         const std::uint32_t i = o.obstacles[k];
         shared::BodyImpulse& j = o.pending[k];
         // Two-way: the debris' push of the last step, as an impulse about the centre of mass.
-        if (j.linear.x != 0.0f || j.linear.y != 0.0f || j.linear.z != 0.0f ||
-            j.angular.x != 0.0f || j.angular.y != 0.0f || j.angular.z != 0.0f) {
+        if (j.linear.x != 0.0f || j.linear.y != 0.0f || j.linear.z != 0.0f || j.angular.x != 0.0f ||
+            j.angular.y != 0.0f || j.angular.z != 0.0f) {
             c.momenta[i].linear = shared::add4(c.momenta[i].linear, j.linear);
             c.momenta[i].angular = shared::add4(c.momenta[i].angular, j.angular);
             c.velocities[i] =
@@ -84,8 +92,8 @@ void prepareObstacles(Offload& o) {
         st.velocity = c.velocities[i];
         st.body = o.cpuToWorld[i];
         // A moving obstacle wakes the sleeping debris it touches.
-        st.flags = RUBBLE_BODY_KINEMATIC |
-                   (shared::slowBodyItem(st.velocity) ? 0u : RUBBLE_BODY_WAKING);
+        st.flags =
+            RUBBLE_BODY_KINEMATIC | (shared::slowBodyItem(st.velocity) ? 0u : RUBBLE_BODY_WAKING);
     }
 }
 

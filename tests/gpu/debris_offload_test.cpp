@@ -8,6 +8,8 @@
 #include "gpu_fixture.h"
 #include "host/core/math.h"
 #include "host/dynamics/forces.h"
+#include "host/world/backend_check.h"
+#include "host/world/offload.h"
 
 namespace rubble {
 namespace {
@@ -27,8 +29,10 @@ std::string scene(const std::string& simulation, const std::string& bodies,
                  "crate": {"type": "box", "half_extents": [0.25, 0.25, 0.25]},
                  "block": {"type": "box", "half_extents": [0.5, 0.5, 0.5]},
                  "slab": {"type": "box", "half_extents": [2, 0.25, 2]}},
-      "bodies": [)" + bodies + R"(],
-      "generators": [)" + generators + "]" + extra + "}";
+      "bodies": [)" +
+           bodies + R"(],
+      "generators": [)" +
+           generators + "]" + extra + "}";
 }
 
 bool sameBits(const BodyState& a, const BodyState& b) {
@@ -55,7 +59,8 @@ TEST_F(DebrisOffload, OneWayLeavesTheCpuBodiesAsTheyWouldBeWithoutDebris) {
     ASSERT_TRUE(offloaded.state().offload != nullptr);
     // The same CPU bodies in the same order, without the debris, on the reference pipeline.
     std::string alone = scene("", std::string(kFloor) + R"(, {"name": "box", "shape": "block",
-        "mass": 4, "position": [3, 0.5, 0]})", kRagdoll);
+        "mass": 4, "position": [3, 0.5, 0]})",
+                              kRagdoll);
     alone.replace(alone.find("\"jacobi\""), 8, "\"pgs\"");
     alone.replace(alone.find("\"particles\""), 11, "\"sat\"");
     World reference = test::worldFromText(alone);
@@ -77,7 +82,8 @@ TEST_F(DebrisOffload, OneWayLeavesTheCpuBodiesAsTheyWouldBeWithoutDebris) {
 TEST_F(DebrisOffload, DebrisOnAMovingCpuPlatformMovesWithIt) {
     World w = offloadedWorld(scene("", R"({"name": "slab", "shape": "slab", "mass": 100,
         "position": [0, 0, 0]}, {"name": "crate", "shape": "crate", "mass": 1, "debris": true,
-        "position": [0, 0.5, 0]})", ""));
+        "position": [0, 0.5, 0]})",
+                                   ""));
     const std::uint32_t slab = *w.findBody("slab"), crate = *w.findBody("crate");
     w.applyImpulse(slab, glm::vec3(100.0f, 0.0f, 0.0f), w.body(slab).position);
     for (int i = 0; i < 120; ++i) {
@@ -140,7 +146,8 @@ TEST_F(DebrisOffload, TwoWayStreamPushesABoxAndKeepsMomentum) {
 TEST_F(DebrisOffload, SleepingDebrisCostsNoRowsAndAnExplosionWakesIt) {
     World w = deviceWorld(scene("", kFloor, R"({"type": "grid", "shape": "crate", "mass": 1,
         "count": [4, 1, 4], "origin": [-0.9, 0.25, -0.9], "spacing": [0.6, 0.6, 0.6],
-        "name_prefix": "d"})", R"(, "events": [{"type": "explosion", "time": 2.0,
+        "name_prefix": "d"})",
+                                R"(, "events": [{"type": "explosion", "time": 2.0,
         "centre": [0, -0.5, 0], "impulse": 5, "radius": 4}])"));
     for (int i = 0; i < 110; ++i) ASSERT_TRUE(w.step().ok());
     EXPECT_EQ(w.lastStep().deviceAsleep, 16u);
@@ -175,6 +182,63 @@ TEST_F(DebrisOffload, OffloadingChangesNothingOnTheCpuBackend) {
     ASSERT_EQ(a.bodyCount(), b.bodyCount());
     for (std::uint32_t i = 0; i < a.bodyCount(); ++i)
         EXPECT_TRUE(sameBits(a.body(i), b.body(i))) << a.bodyName(i);
+}
+
+// An explosion reaches both populations once: a CPU crate and a debris crate in free fall, each
+// 1 m from the centre of a 4 N s blast of radius 2 m, get 2 N s straight away from it in the
+// first step (1 kg: 2 m/s) and keep it; a crate beyond the radius gets nothing. The file names
+// pgs, which in a scene with a debris set is the CPU bodies' solver (the device takes jacobi).
+TEST_F(DebrisOffload, ExplosionReachesBothPopulationsOnce) {
+    std::string text = scene("", R"({"name": "cpu", "shape": "crate", "mass": 1,
+        "position": [-1, 5, 0]}, {"name": "far", "shape": "crate", "mass": 1,
+        "position": [0, 5, 3]}, {"name": "debris", "shape": "crate", "mass": 1, "debris": true,
+        "position": [1, 5, 0]})",
+                             "", R"(, "events": [{"type": "explosion", "time": 0.0,
+        "centre": [0, 5, 0], "impulse": 4, "radius": 2}])");
+    text.replace(text.find("\"jacobi\""), 8, "\"pgs\"");
+    World w = offloadedWorld(text);
+    ASSERT_TRUE(w.state().offload != nullptr);
+    EXPECT_EQ(w.options().solver.type, SolverType::Jacobi);
+    const std::uint32_t cpu = *w.findBody("cpu"), far = *w.findBody("far"),
+                        debris = *w.findBody("debris");
+    const float fall = -9.81f * 0.016666667f;
+    for (int i = 1; i <= 10; ++i) {
+        ASSERT_TRUE(w.step().ok()) << "step " << i;
+        const glm::vec3 vc = w.body(cpu).linearVelocity, vd = w.body(debris).linearVelocity;
+        const glm::vec3 vf = w.body(far).linearVelocity;
+        EXPECT_NEAR(vc.x, -2.0f, 1e-5f) << "step " << i;
+        EXPECT_NEAR(vd.x, 2.0f, 1e-5f) << "step " << i;
+        EXPECT_NEAR(vf.x, 0.0f, 1e-6f) << "step " << i;
+        for (const glm::vec3& v : {vc, vd, vf}) {
+            EXPECT_NEAR(v.y, float(i) * fall, 1e-4f) << "step " << i;
+            EXPECT_NEAR(v.z, 0.0f, 1e-6f) << "step " << i;
+        }
+    }
+}
+
+// The combinations: on opencl a scene with a debris set may name pgs (its CPU bodies' solver),
+// one without may not; lemke is refused either way.
+TEST(DebrisSolver, PgsNamesTheCpuHalfOnlyWithADebrisSet) {
+    std::string text = scene("", std::string(kFloor) + R"(, {"name": "box", "shape": "block",
+        "mass": 4, "position": [3, 0.5, 0]}, {"name": "d", "shape": "crate", "mass": 1,
+        "debris": true, "position": [0, 0.25, 0]})",
+                             "");
+    text.replace(text.find("\"jacobi\""), 8, "\"pgs\"");
+    Result<Scene> withSet = parseScene(text, "inline.json", ".");
+    ASSERT_TRUE(withSet.ok());
+    withSet->simulation.backend = Backend::OpenCl;
+    EXPECT_TRUE(checkBackendCombination(*withSet).ok());
+    EXPECT_EQ(deviceSolver(*withSet), SolverType::Jacobi);
+
+    Scene withoutSet = *withSet;
+    for (BodyDesc& b : withoutSet.bodies) b.debris = false;
+    const Status refused = checkBackendCombination(withoutSet);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().where, "inline.json: simulation.solver.type");
+    EXPECT_EQ(deviceSolver(withoutSet), SolverType::Pgs);
+
+    withSet->simulation.solver.type = SolverType::Lemke;
+    EXPECT_FALSE(checkBackendCombination(*withSet).ok());
 }
 
 // The explosion kernel against forces.cpp on the same bodies: the same momenta, bit for bit
@@ -235,8 +299,8 @@ TEST_F(DebrisOffload, DebrisIsAddedInBulkDrawnAndRemoved) {
     for (std::size_t k = 0; k < pieces.size(); ++k) {
         pieces[k].name = "added" + std::to_string(k);
         pieces[k].shape = *w.findShape("crate");
-        pieces[k].position = glm::vec3(-6.0f + 0.6f * float(k % 10), 1.0f + 0.6f * float(k / 10),
-                                       3.0f);
+        pieces[k].position =
+            glm::vec3(-6.0f + 0.6f * float(k % 10), 1.0f + 0.6f * float(k / 10), 3.0f);
         pieces[k].linearVelocity = glm::vec3(k < 25 ? -20.0f : 0.0f, 0.0f, 0.0f);
     }
     Result<std::uint32_t> first = w.addDebris(pieces);
@@ -252,8 +316,8 @@ TEST_F(DebrisOffload, DebrisIsAddedInBulkDrawnAndRemoved) {
         EXPECT_EQ(drawn[i].orientation, b.orientation) << i;
     }
     // The 25 thrown at 20 m/s are 10 m away after half a second.
-    Result<std::uint32_t> removed = w.removeDebrisOutside(glm::vec3(-8.0f, -1.0f, -8.0f),
-                                                          glm::vec3(8.0f, 10.0f, 8.0f));
+    Result<std::uint32_t> removed =
+        w.removeDebrisOutside(glm::vec3(-8.0f, -1.0f, -8.0f), glm::vec3(8.0f, 10.0f, 8.0f));
     ASSERT_TRUE(removed.ok()) << removed.error().describe();
     EXPECT_EQ(*removed, 25u);
     EXPECT_EQ(w.bodyCount(), 30u);
