@@ -58,9 +58,15 @@ inline CommandResult runRubble(const std::string& args) {
     return runShell(std::string(RUBBLE_BINARY) + " " + args);
 }
 
-/// A fresh temporary directory for one test.
+/// A fresh, empty folder for one test. ctest runs the tests of one binary as parallel processes,
+/// so the folder is named after the running test as well as `name`: two tests asking for the same
+/// name never empty each other's folder.
 inline std::string tempDir(const std::string& name) {
-    const std::string dir = ::testing::TempDir() + "rubble_" + name;
+    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string who = test ? std::string(test->test_suite_name()) + "." + test->name() : "none";
+    for (char& c : who)
+        if (c == '/') c = '_';
+    const std::string dir = ::testing::TempDir() + "rubble_" + name + "_" + who;
     runShell("rm -rf '" + dir + "' && mkdir -p '" + dir + "'");
     return dir;
 }
