@@ -68,20 +68,25 @@ __kernel void exclusiveScan(const uint count, __global const uint* in, __global 
     out[count] = sum;
 }
 
-// cellRanges was filled with RUBBLE_EMPTY_CELL; each run of equal keys sets its first sorted
-// slot (x) and one past its last (y). The particles' positions and bodies (tagged with their
-// flags) are copied in sorted order for collideParticles, which then reads a cell's particles
-// from consecutive memory.
-__kernel void findCellRanges(const uint count, __global const uint* keys,
+// cellFirst[k] becomes the first sorted slot whose key is k or more, for every k up to and
+// including the cell count: cell k's particles are slots cellFirst[k] to cellFirst[k + 1], and
+// the cells k to k + 2 of a row one run from cellFirst[k] to cellFirst[k + 3], two reads and no
+// test for empty cells. Each item writes the keys from its predecessor's (excluded) to its own,
+// and the last item the keys after its own, so every entry is written once and nothing is
+// cleared first. The particles' positions and bodies (tagged with their flags) are copied in
+// sorted order for collideParticles, which then reads a cell's particles from consecutive memory.
+__kernel void findCellRanges(const uint count, const uint cells, __global const uint* keys,
                              __global const uint* order, __global const float4* world,
                              __global const Particle* particles, __global const uint* flags,
-                             __global uint2* cellRanges, __global float4* sortedWorld,
+                             __global uint* cellFirst, __global float4* sortedWorld,
                              __global uint* sortedTags) {
     const uint i = get_global_id(0);
     if (i >= count) return;
     const uint k = keys[i];
-    if (i == 0 || keys[i - 1] != k) cellRanges[k].x = i;
-    if (i + 1 == count || keys[i + 1] != k) cellRanges[k].y = i + 1;
+    const uint from = i == 0 ? 0u : keys[i - 1] + 1u;
+    for (uint c = from; c <= k; ++c) cellFirst[c] = i;
+    if (i + 1 == count)
+        for (uint c = k + 1u; c <= cells; ++c) cellFirst[c] = count;
     const uint p = order[i];
     sortedWorld[i] = world[p];
     const uint body = particles[p].body;

@@ -41,11 +41,11 @@ static void touchParticles(const float4 xi, const float4 xj, const uint slot, co
 // particles in the 27 neighbouring cells (distinct keys: see cellHashItem), then, for an active
 // body, against the static shapes. Which side tests a pair: pairFromHereItem. The grid's sorted
 // copies (sortedWorld, sortedTags) keep a cell's particles together, and the three cells of a
-// row in x are consecutive keys unless the row wraps: their particles are then one run of slots.
+// row in x are consecutive keys unless the row wraps: their particles are then one run of slots,
+// from cellFirst of the row's first cell to cellFirst of the cell after its last.
 __kernel void collideParticles(const uint count, const uint staticCount,
                                const float inverseCellSize, const uint bits,
-                               __global const uint2* cellRanges,
-                               __global const float4* sortedWorld,
+                               __global const uint* cellFirst, __global const float4* sortedWorld,
                                __global const uint* sortedTags, __global const uint* order,
                                __global const StaticShape* statics,
                                __global ParticleContact* contacts, __global uint* status) {
@@ -63,16 +63,10 @@ __kernel void collideParticles(const uint count, const uint staticCount,
     for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz)
             for (int dx = -1; dx <= 1; ++dx) {
-                // A row that does not wrap is one run from its first cell's first slot to its
-                // last cell's last: read it once, from dx = -1.
-                uint begin = RUBBLE_EMPTY_CELL, end = 0;
-                const int last = wraps ? dx : 1;
-                for (int x = dx; x <= last; ++x) {
-                    const uint2 range = cellRanges[cellHashItem(cx + x, cy + dy, cz + dz, bits)];
-                    if (range.x == RUBBLE_EMPTY_CELL) continue;
-                    begin = min(begin, range.x);
-                    end = max(end, range.y);
-                }
+                // A row that does not wrap is one run of slots, read once, from dx = -1; a row
+                // that wraps is read cell by cell.
+                const uint key = cellHashItem(cx + dx, cy + dy, cz + dz, bits);
+                const uint begin = cellFirst[key], end = cellFirst[key + (wraps ? 1u : 3u)];
                 if (!wraps) dx = 1;
                 // Particles sorted before this one: only those that test nothing themselves
                 // (static, kinematic, asleep) pair from here, and their flags say so first.

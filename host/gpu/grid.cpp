@@ -59,17 +59,20 @@ Status Pipeline::buildGrid() {
                    .run(count, RUBBLE_GROUP_PARTICLES));
     RUBBLE_TRY(radixSort(particles_.keys, particles_.values, particles_.keysAlt,
                          particles_.valuesAlt, count, bits));
-    const std::size_t cells = std::size_t(1) << bits;
-    RUBBLE_TRY(fill(*context_, particles_.cellRanges, RUBBLE_EMPTY_CELL,
-                    cells * sizeof(cl_uint2), &profile_));
+    const cl_uint cells = cl_uint(1) << bits;
+    // No particles: every cell starts (and ends) at slot 0.
+    if (count == 0)
+        return fill(*context_, particles_.cellFirst, 0u, (std::size_t(cells) + 1) * sizeof(cl_uint),
+                    &profile_);
     return Dispatch(*context_, KernelId::FindCellRanges, &profile_)
         .arg(count)
+        .arg(cells)
         .arg(particles_.keys)
         .arg(particles_.values)
         .arg(particles_.world)
         .arg(particles_.records)
         .arg(bodies_.flags)
-        .arg(particles_.cellRanges)
+        .arg(particles_.cellFirst)
         .arg(particles_.sortedWorld)
         .arg(particles_.sortedTags)
         .run(count, RUBBLE_GROUP_PARTICLES);

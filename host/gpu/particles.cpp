@@ -33,7 +33,7 @@ Status Pipeline::uploadParticles(const WorldState& s) {
     RUBBLE_TRY(particles_.histogram.reserve(c.context(), histogram * sizeof(cl_uint)));
     RUBBLE_TRY(particles_.offsets.reserve(c.context(), (histogram + 1) * sizeof(cl_uint)));
     const std::size_t cells = std::size_t(1) << particles_.bits;
-    RUBBLE_TRY(particles_.cellRanges.reserve(c.context(), cells * sizeof(cl_uint2)));
+    RUBBLE_TRY(particles_.cellFirst.reserve(c.context(), (cells + 1) * sizeof(cl_uint)));
     // Particles of bodies asleep at upload keep these positions until they wake.
     std::vector<shared::float4> world(n);
     rubble::transformParticles(p.particles, s.poses, world);
@@ -103,7 +103,7 @@ Status Pipeline::collideParticles() {
         .arg(statics)
         .arg(inverseCellSize)
         .arg(bits)
-        .arg(particles_.cellRanges)
+        .arg(particles_.cellFirst)
         .arg(particles_.sortedWorld)
         .arg(particles_.sortedTags)
         .arg(particles_.values)

@@ -46,7 +46,7 @@ struct ParticleBuffers {
     Buffer records, statics, world;
     Buffer keys, values, keysAlt, valuesAlt; ///< sorted cell keys and particles (ping-pong)
     Buffer histogram, offsets;               ///< radix sort counts and their exclusive scan
-    Buffer cellRanges; ///< per cell: first sorted slot and one past the last (uint2)
+    Buffer cellFirst; ///< per cell and one more: the first sorted slot of a key >= the cell's
     Buffer sortedWorld, sortedTags; ///< positions and bodyTagItem in sorted order, for collision
 };
 

@@ -70,13 +70,15 @@ TEST_F(ParticlesTwin, BuildGridMatchesCpu) {
     const std::size_t n = ps.world.size();
     EXPECT_EQ(read<std::uint32_t>(p().particles().keys, n), ps.keys);
     EXPECT_EQ(read<std::uint32_t>(p().particles().values, n), ps.order);
-    // The device keeps each cell's start and end side by side.
-    const std::vector<std::uint32_t> ranges =
-        read<std::uint32_t>(p().particles().cellRanges, 2 * ps.cellStart.size());
+    // The device keeps, per cell, the first slot of a key at least the cell's; an empty cell
+    // starts where the next one does.
+    const std::vector<std::uint32_t> first =
+        read<std::uint32_t>(p().particles().cellFirst, ps.cellStart.size() + 1);
     std::vector<std::uint32_t> start(ps.cellStart.size()), end(ps.cellEnd.size());
     for (std::size_t k = 0; k < start.size(); ++k) {
-        start[k] = ranges[2 * k];
-        end[k] = ranges[2 * k + 1];
+        const bool empty = first[k] == first[k + 1];
+        start[k] = empty ? RUBBLE_EMPTY_CELL : first[k];
+        end[k] = empty ? RUBBLE_EMPTY_CELL : first[k + 1];
     }
     EXPECT_EQ(start, ps.cellStart);
     EXPECT_EQ(end, ps.cellEnd);
