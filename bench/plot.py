@@ -9,6 +9,7 @@ writes
   bench_stages.png       where a step's time goes, stage by stage (mean ms/step over the run), for
                          each rubble configuration on each debris pile: the CPU stages of the cpu
                          backend beside the device stages of the opencl backend.
+With --table, prints the results as a Markdown table instead (the tables of docs/BENCHMARKS.md).
 """
 import argparse
 import csv
@@ -36,12 +37,40 @@ def fit_exponent(xs, ys):
     return sum((a - mx) * (b - my) for a, b in zip(lx, ly)) / var if var > 0 else float("nan")
 
 
+def print_table(path):
+    """Every row of the CSV, failures included, as Markdown."""
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+
+    def num(r, key, fmt, scale=1.0):
+        v = r.get(key, "")
+        return fmt % (float(v) * scale) if v not in ("", None) else "-"
+
+    print("| scene | config | bodies | median ms | p90 ms | mean ms | peak MiB | sunk | floor pen. mm "
+          "| drift m/s | ratio |")
+    print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+    for r in rows:
+        if r["status"] != "ok":
+            reason = r["status"].split("(")[0].strip()
+            print("| %s | %s | | %s | | | | | | | |" % (r["scene"], r["config"], reason[:90]))
+            continue
+        print("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+            r["scene"], r["config"], r["bodies"], num(r, "median_ms", "%.3g"), num(r, "p90_ms", "%.3g"),
+            num(r, "mean_ms", "%.3g"), num(r, "peak_mib", "%.0f"), r.get("sunk", "-") or "-",
+            num(r, "floor_penetration_m", "%.1f", 1000.0), num(r, "mean_drift_m_per_s", "%.3f"),
+            num(r, "ratio_to_reference", "%.2f")))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("results", help="a CSV written by bench/run")
     ap.add_argument("--out", default="docs/images", help="folder for the PNG files")
     ap.add_argument("--prefix", default="bench", help="file name prefix")
+    ap.add_argument("--table", action="store_true", help="print a Markdown table of the CSV and stop")
     args = ap.parse_args()
+    if args.table:
+        print_table(args.results)
+        return
     with open(args.results) as f:
         rows = [r for r in csv.DictReader(f) if r["status"] == "ok" and r["scene"].startswith("debris_")]
     if not rows:
