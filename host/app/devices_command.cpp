@@ -1,11 +1,17 @@
-// host/app/devices_command.cpp: `rubble devices`: the OpenCL devices by index, and the
+// host/app/devices_command.cpp: `rubble devices`: the OpenCL devices by index, with
+// --bandwidth the measured copy bandwidths and each kernel's achieved share of them; and the
 // registration of the gpu subcommands (devices, compare, solvers).
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 
 #include "host/app/commands.h"
 #include "host/app/gpu_commands.h"
+#include "host/gpu/context.h"
 #include "host/gpu/device.h"
+#include "host/gpu/traffic.h"
+#include "rubble/scene.h"
+#include "rubble/world.h"
 
 namespace rubble::app {
 
@@ -17,6 +23,17 @@ void deviceFromEnvironment(RunOptions& run) {
 GpuCommands::GpuCommands(CLI::App& app) {
     devices_ = app.add_subcommand("devices", "List the OpenCL devices (--device takes the index "
                                              "or a part of the name; so does RUBBLE_DEVICE)");
+    DevicesArgs& d = devicesArgs_;
+    devices_->add_flag("--bandwidth", d.bandwidth,
+                       "Measure the device's copy bandwidth, host<->device and host memcpy");
+    devices_->add_option("--megabytes", d.megabytes, "Size of each measured copy, MiB");
+    devices_->add_option("--repeats", d.repeats, "Copies of each kind (the median is reported)");
+    devices_->add_option("--scene", d.scene,
+                         "With --bandwidth: run this scene on the device (particles, jacobi) and "
+                         "report each kernel's bytes/s against the copy bandwidth");
+    devices_->add_option("--steps", d.steps, "Steps of the scene's run");
+    devices_->add_option("--particle-spacing", d.particleSpacing, "Particle spacing, m");
+    devices_->add_option("--device", d.run.device, "OpenCL device: a name fragment or an index");
 
     compare_ = app.add_subcommand(
         "compare", "Run a scene on two configurations and report their divergence step by step");
@@ -49,7 +66,8 @@ GpuCommands::GpuCommands(CLI::App& app) {
 
 bool GpuCommands::dispatch(int& exitCode) {
     if (devices_->parsed()) {
-        exitCode = devicesCommand();
+        deviceFromEnvironment(devicesArgs_.run);
+        exitCode = devicesCommand(devicesArgs_);
         return true;
     }
     if (compare_->parsed()) {
@@ -65,7 +83,74 @@ bool GpuCommands::dispatch(int& exitCode) {
     return false;
 }
 
-int devicesCommand() {
+namespace {
+
+double gbps(double bytesPerSecond) { return bytesPerSecond * 1e-9; }
+
+// Each kernel's device time over a run of the scene, its bytes (host/gpu/traffic.h) and their
+// rate as a fraction of the device's copy bandwidth.
+int kernelShares(const DevicesArgs& args, double deviceCopy) {
+    Result<Scene> scene = loadScene(args.scene);
+    if (!scene) return report(scene.error());
+    SimulationOptions& sim = scene->simulation;
+    sim.backend = Backend::OpenCl;
+    sim.collision.method = CollisionMethod::Particles;
+    sim.collision.particleSpacing = args.particleSpacing;
+    sim.solver.type = SolverType::Jacobi;
+    Result<World> world = World::create(*scene, args.run);
+    if (!world) return report(world.error());
+    for (int i = 0; i < args.steps; ++i)
+        if (Status s = world->step(); !s) return report(s.error());
+    std::vector<DeviceCommandTime> kernels = world->deviceProfile();
+    std::sort(kernels.begin(), kernels.end(),
+              [](const DeviceCommandTime& a, const DeviceCommandTime& b) { return a.ms > b.ms; });
+    std::printf("\n%s, %d steps, particle spacing %.2f m: device time per step and bytes moved "
+                "(each element a kernel touches, once)\n",
+                args.scene.c_str(), args.steps, double(args.particleSpacing));
+    std::printf("%-24s %10s %9s %12s %10s %9s\n", "kernel", "ms/step", "launches", "MB/launch",
+                "GB/s", "of copy");
+    double ms = 0, bytes = 0;
+    for (const DeviceCommandTime& k : kernels) {
+        const double perStep = k.ms / args.steps, seconds = k.ms * 1e-3;
+        const double rate = seconds > 0 ? double(k.bytes) / seconds : 0.0;
+        ms += perStep;
+        bytes += double(k.bytes) / args.steps;
+        std::printf("%-24s %10.3f %9.1f %12.3f %10.2f %8.1f%%\n", k.name.c_str(), perStep,
+                    double(k.launches) / args.steps,
+                    k.launches ? double(k.bytes) / double(k.launches) * 1e-6 : 0.0, gbps(rate),
+                    100.0 * rate / deviceCopy);
+    }
+    const double rate = ms > 0 ? bytes / (ms * 1e-3) : 0.0;
+    std::printf("%-24s %10.3f %9s %12.3f %10.2f %8.1f%%\n", "(all)", ms, "", bytes * 1e-6,
+                gbps(rate), 100.0 * rate / deviceCopy);
+    std::printf("bytes per step %.1f MB: %.2f ms at the device copy bandwidth\n", bytes * 1e-6,
+                bytes / deviceCopy * 1e3);
+    return kExitOk;
+}
+
+int bandwidthCommand(const DevicesArgs& args) {
+    Result<std::shared_ptr<gpu::Context>> context = gpu::Context::create(args.run);
+    if (!context) return report(context.error());
+    const gpu::Context& c = **context;
+    std::printf("device: %s\nprogram build (clBuildProgram): %.1f ms\n", c.describe().c_str(),
+                c.buildMs());
+    const std::uint64_t bytes = std::uint64_t(std::max(args.megabytes, 1)) << 20;
+    Result<gpu::Bandwidth> b = gpu::measureBandwidth(c, bytes, args.repeats);
+    if (!b) return report(b.error());
+    std::printf("copies of %llu MiB, median of %d (a copy counts its bytes read and written)\n",
+                static_cast<unsigned long long>(bytes >> 20), std::max(args.repeats, 1));
+    std::printf("%-34s %8.2f GB/s\n", "device copy (clEnqueueCopyBuffer)", gbps(b->deviceCopy));
+    std::printf("%-34s %8.2f GB/s\n", "host to device (clEnqueueWrite)", gbps(b->hostToDevice));
+    std::printf("%-34s %8.2f GB/s\n", "device to host (clEnqueueRead)", gbps(b->deviceToHost));
+    std::printf("%-34s %8.2f GB/s\n", "host memcpy", gbps(b->hostMemcpy));
+    if (args.scene.empty()) return kExitOk;
+    return kernelShares(args, b->deviceCopy);
+}
+
+} // namespace
+
+int devicesCommand(const DevicesArgs& args) {
+    if (args.bandwidth) return bandwidthCommand(args);
     Result<std::vector<gpu::DeviceInfo>> devices = gpu::listDevices();
     if (!devices) return report(devices.error());
     for (const gpu::DeviceInfo& d : *devices)

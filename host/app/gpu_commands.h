@@ -15,6 +15,16 @@ namespace rubble::app {
 /// once, and nowhere in the library).
 void deviceFromEnvironment(RunOptions& run);
 
+struct DevicesArgs {
+    bool bandwidth = false; ///< measure the copy bandwidths of the chosen device and the host
+    int megabytes = 256;    ///< size of each measured copy, MiB
+    int repeats = 10;       ///< copies of each kind; the median is reported
+    std::string scene;      ///< with --bandwidth: run it and set each kernel against them
+    int steps = 120;
+    float particleSpacing = 0.5f; ///< m, for the scene's run
+    RunOptions run;
+};
+
 struct CompareArgs {
     std::string scene;
     int steps = 60;
@@ -45,11 +55,12 @@ class GpuCommands {
     CLI::App* devices_ = nullptr;
     CLI::App* compare_ = nullptr;
     CLI::App* solvers_ = nullptr;
+    DevicesArgs devicesArgs_;
     CompareArgs compareArgs_;
     SolversArgs solversArgs_;
 };
 
-int devicesCommand();
+int devicesCommand(const DevicesArgs& args);
 int compareCommand(const CompareArgs& args);
 int solversCommand(const SolversArgs& args);
 

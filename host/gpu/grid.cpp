@@ -8,11 +8,13 @@
 namespace rubble::gpu {
 
 Status Pipeline::exclusiveScan(const Buffer& in, Buffer& out, std::uint32_t count) {
-    return Dispatch(*context_, KernelId::ExclusiveScan, &profile_)
-        .arg(count)
-        .arg(in)
-        .arg(out)
-        .run(1, 1);
+    RUBBLE_TRY(Dispatch(*context_, KernelId::ExclusiveScan, &profile_)
+                   .arg(count)
+                   .arg(in)
+                   .arg(out)
+                   .run(1, 1));
+    profile_.setLastBytes((2 * std::size_t(count) + 1) * sizeof(cl_uint)); // in read, out written
+    return {};
 }
 
 Status Pipeline::radixSort(Buffer& keys, Buffer& values, Buffer& keysAlt, Buffer& valuesAlt,

@@ -287,9 +287,15 @@ Status Pipeline::endStep(const WorldState& s, StepStats& stats) {
         RUBBLE_TRY(finish());
     }
     const DeviceStatus st = statusFromSlots();
+    TrafficCounts traffic;
+    traffic.bodies = bodies_.count;
+    traffic.particles = particles_.count;
+    traffic.cells = std::uint64_t(1) << particles_.bits;
+    traffic.contacts = st.contacts;
+    traffic.previous = s.options.solver.warmStart ? contacts_.previousCount : 0u;
     contacts_.count = st.contacts;
     if (warmSwapped_) contacts_.previousCount = st.contacts;
-    Result<DeviceTimes> times = profile_.collect();
+    Result<DeviceTimes> times = profile_.collect(traffic);
     RUBBLE_TRY(times);
     stats.deviceMs = times->busyMs;
     stats.deviceStages = times->stages;

@@ -50,13 +50,17 @@ cl_event* Profile::transfer(Transfer kind, std::size_t bytes) {
     return add(kKernels + static_cast<unsigned>(kind), bytes);
 }
 
+void Profile::setLastBytes(std::size_t bytes) {
+    if (!records_.empty()) records_.back().bytes = bytes;
+}
+
 void Profile::discard() {
     for (Record& r : records_)
         if (r.event) clReleaseEvent(r.event);
     records_.clear();
 }
 
-Result<DeviceTimes> Profile::collect() {
+Result<DeviceTimes> Profile::collect(const TrafficCounts& counts) {
     DeviceTimes t;
     cl_ulong first = std::numeric_limits<cl_ulong>::max(), last = 0;
     Status failed;
@@ -79,7 +83,9 @@ Result<DeviceTimes> Profile::collect() {
         CommandTotals& total = totals_[r.command];
         total.ms += ms;
         total.launches += 1;
-        total.bytes += r.bytes;
+        total.bytes += r.bytes > 0 || r.command >= kKernels
+                           ? r.bytes
+                           : kernelBytes(KernelId(r.command), counts);
     }
     discard();
     RUBBLE_TRY(failed);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "host/gpu/kernel_table.h"
+#include "host/gpu/traffic.h"
 #include "rubble/error.h"
 #include "rubble/world.h"
 
@@ -36,7 +37,7 @@ struct CommandTotals {
     std::string_view name;
     double ms = 0;            ///< device time, from CL_PROFILING_COMMAND_START to _END
     std::uint64_t launches = 0;
-    std::uint64_t bytes = 0;  ///< transfers only: bytes moved
+    std::uint64_t bytes = 0; ///< bytes moved: a transfer's, or a kernel's (host/gpu/traffic.h)
 };
 
 /// What one step's commands took on the device.
@@ -59,10 +60,14 @@ class Profile {
     /// The event slot of the next command, a kernel or a transfer of `bytes`.
     cl_event* kernel(KernelId id);
     cl_event* transfer(Transfer kind, std::size_t bytes);
+    /// The bytes of the command recorded last, for a kernel whose traffic the counts of
+    /// collect() do not give (exclusiveScan).
+    void setLastBytes(std::size_t bytes);
 
     /// Reads the times of the recorded commands (all of them must have completed), adds them to
-    /// the run's totals, releases their events and returns the step's figures. Errors: Device.
-    Result<DeviceTimes> collect();
+    /// the run's totals (kernels with the bytes kernelBytes gives for `counts`), releases their
+    /// events and returns the step's figures. Errors: Device.
+    Result<DeviceTimes> collect(const TrafficCounts& counts = {});
     /// Releases the recorded events without reading them (a step that failed).
     void discard();
 

@@ -76,7 +76,7 @@ struct DeviceCommandTime {
     std::string name;
     double ms = 0;              ///< device time, profiling events
     std::uint64_t launches = 0;
-    std::uint64_t bytes = 0;    ///< transfers only
+    std::uint64_t bytes = 0;    ///< moved: a transfer's, or a kernel's (counted from its code)
 };
 
 /// A body's pose for drawing, 32 bytes: the layout of the device's pose records, so that bodies on

@@ -1,0 +1,170 @@
+// host/gpu/traffic.cpp: bytes per launch of each kernel (counted from kernels/*.cl) and the
+// measured copy bandwidths they are set against (`rubble devices --bandwidth`).
+#include "host/gpu/traffic.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <vector>
+
+#include "host/gpu/buffer.h"
+#include "host/gpu/context.h"
+#include "rubble/shared/contact_row.h"
+#include "rubble/shared/particle.h"
+
+namespace rubble::gpu {
+namespace {
+
+using shared::BodyForce;
+using shared::BodyMass;
+using shared::BodyMomentum;
+using shared::BodyPose;
+using shared::BodyVelocity;
+using shared::ContactRow;
+using shared::JacobiBody;
+using shared::Particle;
+using shared::ParticleContact;
+
+constexpr std::uint64_t kWord = 4, kVec = 16;
+// The radix sort's digit-major histogram (and its scan), read or written whole by each pass.
+constexpr std::uint64_t kHistogram = RUBBLE_SORT_BUCKETS * RUBBLE_SORT_ITEMS * kWord;
+
+} // namespace
+
+std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
+    // Body list entries: one per side of a contact (an upper bound: the static side has none).
+    const std::uint64_t entries = 2 * n.contacts;
+    switch (id) {
+    case KernelId::IntegrateVelocities: // flags, forces, masses, momenta r/w, pose, velocity
+        return n.bodies * (kWord + sizeof(BodyForce) + sizeof(BodyMass) + 2 * sizeof(BodyMomentum) +
+                           sizeof(BodyPose) + sizeof(BodyVelocity));
+    case KernelId::AbsorbVelocityChange: // momenta r/w, before, after, masses, pose
+        return n.bodies * (2 * sizeof(BodyMomentum) + 2 * sizeof(BodyVelocity) + sizeof(BodyMass) +
+                           sizeof(BodyPose));
+    case KernelId::IntegratePositions: // flags, masses, momenta, pose r/w, velocity r/w
+        return n.bodies * (kWord + sizeof(BodyMass) + sizeof(BodyMomentum) + 2 * sizeof(BodyPose) +
+                           2 * sizeof(BodyVelocity));
+    case KernelId::TransformParticles: // records, world; each body's flags and pose
+        return n.particles * (sizeof(Particle) + kVec) + n.bodies * (kWord + sizeof(BodyPose));
+    case KernelId::ComputeCellKeys: // world; key and value written
+        return n.particles * (kVec + 2 * kWord);
+    case KernelId::SortHistogram: // keys; the histogram
+        return n.particles * kWord + kHistogram;
+    case KernelId::SortScatter: // keys and values read and written; the offsets
+        return n.particles * 4 * kWord + kHistogram;
+    case KernelId::FindCellRanges: // keys (and the previous), order, world, body; sorted copies
+        return n.particles * (2 * kWord + kWord + kVec + kWord + kVec + kWord) + n.bodies * kWord +
+               (n.cells + 1) * kWord;
+    case KernelId::CollideParticles: // sorted world, tags, order; the cell table; contacts
+        return n.particles * (kVec + 2 * kWord) + (n.cells + 1) * kWord +
+               n.contacts * (sizeof(ParticleContact) + 2 * kWord);
+    case KernelId::CountBodyContacts: // a and b; flags and counters of each body
+        return n.contacts * 2 * kWord + n.bodies * 3 * kWord;
+    case KernelId::FillBodyLists: // a and b, list entries; flags and cursors
+        return n.contacts * 2 * kWord + entries * kWord + n.bodies * 3 * kWord;
+    case KernelId::SortBodyLists: // starts; entries read and written
+        return (n.bodies + 1) * kWord + entries * 2 * kWord;
+    case KernelId::LinkPrevious: // particleA, next; the chain heads
+        return n.previous * 3 * kWord;
+    case KernelId::PrepareJacobiBodies: // masses, flags, pose; JacobiBody
+        return n.bodies * (sizeof(BodyMass) + kWord + sizeof(BodyPose) + sizeof(JacobiBody));
+    case KernelId::BuildJacobiRows: // contact, chain walk, last impulses, row; per body state
+        return n.contacts * (sizeof(ParticleContact) + 2 * kWord + kVec + sizeof(ParticleContact) +
+                             sizeof(ContactRow)) +
+               n.bodies *
+                   (sizeof(BodyPose) + sizeof(BodyVelocity) + sizeof(JacobiBody) + kVec + kWord);
+    case KernelId::SolveJacobiRows: // row, lambda and impulse written; velocities
+        return n.contacts * (sizeof(ContactRow) + 2 * kVec) + n.bodies * sizeof(BodyVelocity);
+    case KernelId::GatherJacobi: // entry, impulse, arm; per body start, before, JacobiBody,
+                                 // flags, velocity written
+        return entries * (kWord + 2 * kVec) +
+               n.bodies * (2 * kWord + 2 * sizeof(BodyVelocity) + sizeof(JacobiBody) + kWord);
+    case KernelId::GatherJacobiRows: // entry, row, arm written; per body as GatherJacobi
+        return entries * (kWord + sizeof(ContactRow) + kVec) +
+               n.bodies * (2 * kWord + 2 * sizeof(BodyVelocity) + sizeof(JacobiBody) + kWord);
+    case KernelId::MarkRestless: // a and b of each row; flags, velocities, restless marks
+        return n.contacts * 2 * kWord + n.bodies * (2 * kWord + sizeof(BodyVelocity));
+    case KernelId::SleepBodies: // flags, timers, marks; velocities and momenta of sleepers
+        return n.bodies * (4 * kWord + sizeof(BodyVelocity) + sizeof(BodyMomentum));
+    default:
+        return 0;
+    }
+}
+
+namespace {
+
+double secondsOf(std::vector<double>& times) {
+    std::sort(times.begin(), times.end());
+    return times[times.size() / 2];
+}
+
+template <class F> Result<double> medianSeconds(int repeats, F&& once) {
+    std::vector<double> times;
+    for (int i = 0; i < repeats; ++i) {
+        const auto start = std::chrono::steady_clock::now();
+        RUBBLE_TRY(once());
+        times.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    return secondsOf(times);
+}
+
+} // namespace
+
+Result<Bandwidth> measureBandwidth(const Context& c, std::uint64_t bytes, int repeats) {
+    Bandwidth b;
+    b.bytes = bytes;
+    repeats = std::max(repeats, 1);
+    Buffer from, to;
+    RUBBLE_TRY(from.reserve(c.context(), bytes));
+    RUBBLE_TRY(to.reserve(c.context(), bytes));
+    // Touch both once, so that first-use page faults are not timed.
+    RUBBLE_TRY(fill(c, from, 1u, bytes));
+    RUBBLE_TRY(fill(c, to, 2u, bytes));
+    std::vector<std::uint8_t> host(bytes, 3), back(bytes, 4);
+    cl_command_queue q = c.queue();
+    auto copy = [&]() -> Status {
+        RUBBLE_CL_CHECK(
+            clEnqueueCopyBuffer(q, from.mem(), to.mem(), 0, 0, bytes, 0, nullptr, nullptr));
+        RUBBLE_CL_CHECK(clFinish(q));
+        return {};
+    };
+    auto write = [&]() -> Status {
+        RUBBLE_CL_CHECK(clEnqueueWriteBuffer(q, from.mem(), CL_TRUE, 0, bytes, host.data(), 0,
+                                             nullptr, nullptr));
+        return {};
+    };
+    auto read = [&]() -> Status {
+        RUBBLE_CL_CHECK(
+            clEnqueueReadBuffer(q, to.mem(), CL_TRUE, 0, bytes, back.data(), 0, nullptr, nullptr));
+        return {};
+    };
+    auto memcpyOnce = [&]() -> Status {
+        std::memcpy(back.data(), host.data(), bytes);
+        // Keep the copy observable, so that it is not optimised away.
+        host[back[bytes / 2] % bytes] ^= 1u;
+        return {};
+    };
+    const double total = double(bytes);
+    for (int warm = 0; warm < 2; ++warm) {
+        RUBBLE_TRY(copy());
+        RUBBLE_TRY(write());
+        RUBBLE_TRY(read());
+        RUBBLE_TRY(memcpyOnce());
+    }
+    Result<double> t = medianSeconds(repeats, copy);
+    RUBBLE_TRY(t);
+    b.deviceCopy = 2 * total / *t;
+    t = medianSeconds(repeats, write);
+    RUBBLE_TRY(t);
+    b.hostToDevice = total / *t;
+    t = medianSeconds(repeats, read);
+    RUBBLE_TRY(t);
+    b.deviceToHost = total / *t;
+    t = medianSeconds(repeats, memcpyOnce);
+    RUBBLE_TRY(t);
+    b.hostMemcpy = 2 * total / *t;
+    return b;
+}
+
+} // namespace rubble::gpu
