@@ -4,6 +4,8 @@
 # steps; stage times are totals over the run divided by its steps).
 # usage: bench/opencl_pipeline.sh [BUILD_DIR] [STEPS] [SCENES...]
 #   defaults: build-gpu, 60 steps, debris_1k debris_4k debris_16k (add debris_64k by name)
+#   RUBBLE_BENCH_CONFIGS picks the configurations (default: all three), e.g.
+#   RUBBLE_BENCH_CONFIGS=opencl-particles-jacobi for the device alone
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build-gpu}
@@ -12,10 +14,11 @@ shift $(( $# > 2 ? 2 : $# ))
 scenes=("$@")
 ((${#scenes[@]})) || scenes=(debris_1k debris_4k debris_16k)
 spacing=${RUBBLE_BENCH_SPACING:-0.5}
+read -r -a configs <<<"${RUBBLE_BENCH_CONFIGS:-cpu-sat-pgs cpu-particles-jacobi opencl-particles-jacobi}"
 out=$(mktemp -d)
 printf '%-11s %-24s %9s %9s %8s %8s %8s %8s %8s %9s\n' scene config median_ms p90_ms integ grid collide rows solve contacts
 for scene in "${scenes[@]}"; do
-  for config in cpu-sat-pgs cpu-particles-jacobi opencl-particles-jacobi; do
+  for config in "${configs[@]}"; do
     IFS=- read -r backend collision solver <<<"$config"
     metrics="$out/$scene-$config.json"
     "$build/rubble" run "scenes/bench/$scene.json" --steps "$steps" --backend "$backend" \
