@@ -9,8 +9,23 @@ namespace rubble {
 
 Status checkBackendCombination(const Scene& scene) {
     const SimulationOptions& sim = scene.simulation;
-    if (sim.backend != Backend::OpenCl) return {};
     const std::string field = scene.file + ": simulation.";
+    // Joint rows live in PGS; the other solvers take contact rows only. On the cpu backend every
+    // body steps with the scene's solver, so a joint there needs pgs (on opencl jointed bodies
+    // step on the CPU with PGS whatever the device's solver is).
+    if (sim.backend != Backend::OpenCl && sim.solver.type != SolverType::Pgs &&
+        !scene.joints.empty()) {
+        std::string first = scene.joints.front().where;
+        if (first.rfind(scene.file + ": ", 0) == 0) first.erase(0, scene.file.size() + 2);
+        return makeError(ErrorKind::NotSupported, field + "solver.type",
+                         "the " + std::string(toString(sim.solver.type)) +
+                             " solver has no joint rows, and the scene has " +
+                             std::to_string(scene.joints.size()) + " joints (the first: " + first +
+                             "): solve with pgs (it takes particle contacts too: "
+                             "--collision particles --solver pgs), or step on opencl, where "
+                             "jointed bodies step on the CPU with pgs");
+    }
+    if (sim.backend != Backend::OpenCl) return {};
     if (sim.collisionMethod() == CollisionMethod::Sat)
         return makeError(ErrorKind::NotSupported, field + "collision.method",
                          "sat collision runs on the cpu backend only; the opencl backend finds "

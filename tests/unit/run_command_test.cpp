@@ -54,7 +54,8 @@ TEST(RunCommand, WritesJsonLinesWithTheSameFields) {
     ASSERT_EQ(last["bodies"].size(), 2u);
     const nlohmann::json& b = last["bodies"][1];
     EXPECT_EQ(b["body"], "b");
-    for (const char* k : {"px", "py", "pz", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy", "wz"})
+    for (const char* k :
+         {"px", "py", "pz", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy", "wz"})
         EXPECT_TRUE(b.contains(k)) << k;
     EXPECT_NEAR(b["px"].get<double>(), 1.03, 1e-6);
     EXPECT_NEAR(b["vy"].get<double>(), -3 * 0.01 * 9.81, 1e-5);
@@ -67,10 +68,10 @@ TEST(RunCommand, WritesMetricsWithTheDocumentedKeys) {
         test::runRubble("run " + dir + "/s.json --metrics " + dir + "/m.json --quiet");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const nlohmann::json m = nlohmann::json::parse(test::readText(dir + "/m.json"));
-    for (const char* k : {"scene", "steps", "bodies", "wall_s", "ms_per_step", "stages_ms",
-                          "kinetic_energy", "linear_momentum", "angular_momentum",
-                          "largest_penetration", "contact_count", "solver_residual", "backend",
-                          "device"})
+    for (const char* k :
+         {"scene", "steps", "bodies", "wall_s", "ms_per_step", "stages_ms", "kinetic_energy",
+          "linear_momentum", "angular_momentum", "largest_penetration", "contact_count",
+          "solver_residual", "backend", "device"})
         EXPECT_TRUE(m.contains(k)) << k;
     EXPECT_EQ(m["scene"], "two balls");
     EXPECT_EQ(m["steps"], 5);
@@ -107,6 +108,40 @@ TEST(RunCommand, VersionAndHelp) {
     r = test::runRubble("--help");
     EXPECT_EQ(r.exitCode, 0);
     EXPECT_NE(r.output.find("Examples:"), std::string::npos);
+}
+
+// Joint rows live in PGS only: a joint with another solver on the cpu backend would be a free
+// pair of bodies, so the run is refused, naming the option, instead of ignoring the joint.
+TEST(RunCommand, JointsWithASolverWithoutJointRowsAreRefused) {
+    const std::string dir = test::tempDir("run_joints");
+    test::writeText(dir + "/s.json", R"({"format": "rubble-scene", "version": 1, "name": "pair",
+      "shapes": {"ball": {"type": "sphere", "radius": 0.1}},
+      "bodies": [{"name": "a", "shape": "ball", "static": true, "position": [0, 2, 0]},
+                 {"name": "b", "shape": "ball", "mass": 1, "position": [0, 1, 0]}],
+      "joints": [{"type": "ball", "a": "a", "b": "b", "anchor": [0, 2, 0]}]})");
+    for (const char* solver : {"jacobi", "lcp-jacobi", "lemke"}) {
+        const test::CommandResult r = test::runRubble(
+            "run " + dir + "/s.json --steps 2 --quiet --solver " + std::string(solver));
+        EXPECT_EQ(r.exitCode, 2) << solver << ": " << r.output;
+        EXPECT_NE(r.output.find("simulation.solver.type: the " + std::string(solver) +
+                                " solver has no joint rows"),
+                  std::string::npos)
+            << r.output;
+        EXPECT_NE(r.output.find("(the first: joints[0])"), std::string::npos) << r.output;
+    }
+    // Particle contacts with PGS keep the joint: the ball hangs 1 m below its anchor (free, it
+    // would fall 4.9 m in that second).
+    const test::CommandResult ok = test::runRubble(
+        "run " + dir + "/s.json --steps 60 --quiet --collision particles --solver pgs --out " +
+        dir + "/t.csv");
+    ASSERT_EQ(ok.exitCode, 0) << ok.output;
+    const std::vector<std::string> l = lines(test::readText(dir + "/t.csv"));
+    const std::string last = l.back();
+    ASSERT_EQ(last.substr(0, 7), "60,1,b,") << last; // dt 1/60: one second
+    std::vector<std::string> f;
+    std::istringstream in(last);
+    for (std::string x; std::getline(in, x, ',');) f.push_back(x);
+    EXPECT_NEAR(std::stod(f[4]), 1.0, 0.005) << last; // py
 }
 
 } // namespace
