@@ -23,8 +23,14 @@ std::vector<float4> bodySurfaces(const WorldState& s) {
 
 float jacobiRelaxation(const SolverOptions& o) { return o.relaxation * kJacobiOverRelaxation; }
 
-SolverParams solverParams(const SolverOptions& o, float dt) {
-    return SolverParams{o.baumgarte, o.slop, 1.0f / dt, o.relaxation};
+SolverParams solverParams(const SolverOptions& o, float dt, float particleSpacing) {
+    const float slop = particleSpacing > 0.0f ? particleSlopItem(o.slop, particleSpacing) : o.slop;
+    return SolverParams{o.baumgarte, slop, 1.0f / dt, o.relaxation};
+}
+
+SolverParams solverParams(const SimulationOptions& o) {
+    const bool particles = o.collisionMethod() == CollisionMethod::Particles;
+    return solverParams(o.solver, o.dt, particles ? o.collision.particleSpacing : 0.0f);
 }
 
 void manifoldsToContacts(std::span<const Manifold> manifolds, std::vector<ParticleContact>& out) {
@@ -174,7 +180,7 @@ void runBuildJacobiRows(WorldState& s) {
     if (s.options.solver.warmStart) matchWarmStart(contacts, j.previous, j.warm);
     else j.warm.assign(contacts.size(), vec4(0.0f, 0.0f, 0.0f));
     buildJacobiRows(contacts, s.poses, s.velocities, s.masses, bodySurfaces(s),
-                    solverParams(s.options.solver, s.options.dt), j.warm, j);
+                    solverParams(s.options), j.warm, j);
 }
 
 void runSolveJacobi(WorldState& s) {

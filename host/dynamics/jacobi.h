@@ -64,8 +64,13 @@ inline constexpr float kJacobiOverRelaxation = 1.5f;
 /// The relaxation the Jacobi solver uses: the scene's times kJacobiOverRelaxation.
 float jacobiRelaxation(const SolverOptions& o);
 
-/// The solver settings of a step.
-shared::SolverParams solverParams(const SolverOptions& o, float dt);
+/// The solver settings of a step. With a particle spacing (particle contacts), the slop is at
+/// least a tenth of it (shared::particleSlopItem).
+shared::SolverParams solverParams(const SolverOptions& o, float dt, float particleSpacing = 0.0f);
+
+/// The solver settings of a step of a world: its particle spacing counts when its collision
+/// method is particles.
+shared::SolverParams solverParams(const SimulationOptions& o);
 
 /// SAT manifolds as contact points for the row builder (feature ids in featureB).
 void manifoldsToContacts(std::span<const Manifold> manifolds,

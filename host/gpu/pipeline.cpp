@@ -211,7 +211,7 @@ Status Pipeline::enqueueFromCollision(const WorldState& s) {
     if (dense) RUBBLE_TRY(readContactCount());
     if (s.run.deterministic) RUBBLE_TRY(sortContacts());
     profile_.setStage(DeviceStage::BuildContactRows);
-    RUBBLE_TRY(buildJacobiRows(solverParams(solver, dt), solver.warmStart));
+    RUBBLE_TRY(buildJacobiRows(solverParams(s.options), solver.warmStart));
     profile_.setStage(DeviceStage::Solve);
     // lcp-jacobi solves the dense problem; the Jacobi stage then only applies its impulses.
     if (dense)
