@@ -48,6 +48,36 @@ TEST(CollisionWorld, BoxOnFloorGivesFourPointsPointingUp) {
     EXPECT_NEAR(s.stats.largestPenetration, 0.01f, 1e-5f);
 }
 
+// Joined bodies do not collide: two overlapping boxes joined by a hinge give no pair, so no
+// contact is computed, counted or drawn; the floor and the free box still meet both.
+TEST(CollisionWorld, JoinedBodiesGiveNoPair) {
+    const std::string text = R"({"format": "rubble-scene", "version": 1, "name": "t",
+      "shapes": {"floor": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
+                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
+      "bodies": [{"name": "floor", "shape": "floor", "static": true},
+                 {"name": "a", "shape": "crate", "mass": 1, "position": [0, 0.49, 0]},
+                 {"name": "b", "shape": "crate", "mass": 1, "position": [0.8, 0.49, 0]},
+                 {"name": "c", "shape": "crate", "mass": 1, "position": [0.8, 1.48, 0]}],
+      "joints": [{"type": "hinge", "a": "a", "b": "b", "anchor": [0.4, 0.49, 0],
+                  "axis": [0, 0, 1]}]})";
+    World w = test::worldFromText(text);
+    WorldState& s = w.state();
+    runBroadPhase(s);
+    const auto has = [&](std::uint32_t a, std::uint32_t b) {
+        return std::find(s.pairs.begin(), s.pairs.end(), BodyPair{a, b}) != s.pairs.end() ||
+               std::find(s.pairs.begin(), s.pairs.end(), BodyPair{b, a}) != s.pairs.end();
+    };
+    EXPECT_FALSE(has(1, 2)); // joined, 0.2 m into each other
+    EXPECT_TRUE(has(0, 1));
+    EXPECT_TRUE(has(0, 2));
+    EXPECT_TRUE(has(2, 3)); // c rests on b, not joined
+    EXPECT_TRUE(has(1, 3)); // c overlaps a's corner region too
+    runNarrowPhase(s);
+    for (const Manifold& m : s.manifolds)
+        EXPECT_FALSE((m.a == 1 && m.b == 2) || (m.a == 2 && m.b == 1));
+    EXPECT_LT(s.stats.largestPenetration, 0.05f);
+}
+
 TEST(CollisionWorld, StackOfBoxesAndSpheres) {
     World w = test::worldFromText(scene(
         R"("crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]},
