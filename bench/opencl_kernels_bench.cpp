@@ -170,7 +170,7 @@ void benchBuildJacobiRows(benchmark::State& state) {
     gpu::Pipeline* p = pipelineOrSkip(state);
     if (!p) return;
     const WorldState& s = benchWorld().world->state();
-    const shared::SolverParams params = solverParams(s.options.solver, s.options.dt);
+    const shared::SolverParams params = solverParams(s.options);
     using K = gpu::KernelId;
     const std::uint64_t bytes =
         bytesOf(*p, {K::PrepareJacobiBodies, K::CountBodyContacts, K::FillBodyLists,
@@ -235,7 +235,7 @@ void benchSolveLcpJacobi(benchmark::State& state) {
     const std::uint32_t stride = lcpStride(bodySurfaces(s), s.masses);
     if (p.contacts().count * stride > 4096u)
         return state.SkipWithError("more than 4096 rows: the dense solver does not take them");
-    const shared::SolverParams params = solverParams(s.options.solver, s.options.dt);
+    const shared::SolverParams params = solverParams(s.options);
     if (Status st = p.buildJacobiRows(params, false); !st)
         return state.SkipWithError(st.error().describe().c_str());
     const int sweeps = int(state.range(0));

@@ -10,6 +10,7 @@
 #include "host/core/integrate.h"
 #include "host/core/math.h"
 #include "host/dynamics/forces.h"
+#include "host/dynamics/jacobi.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -49,6 +50,8 @@ Result<FrozenContacts> freezeContacts(World& world, std::int64_t step) {
     set.masses = s.masses;
     set.surfaces = bodySurfaces(s);
     set.solver = s.options.solver;
+    // The slop the run's rows use (particle contacts leave more of their depth uncorrected).
+    set.solver.slop = solverParams(s.options).slop;
     set.dt = s.options.dt;
     return set;
 }
