@@ -21,11 +21,6 @@ constexpr float kAbsoluteTolerance = 0.0025f;
 // Faces up to this many vertices (incident plus reference) clip in stack buffers.
 constexpr std::size_t kInlineClipVertices = 64;
 
-// A cached vertex index as a climb's start, if it still names a vertex.
-std::uint32_t startIn(const HalfEdgeMesh& m, std::uint32_t vertex) {
-    return vertex < m.vertexCount() ? vertex : 0;
-}
-
 bool clearlyLarger(float x, float preferred, float relative) {
     return x > preferred + relative * std::fabs(preferred) + kAbsoluteTolerance;
 }
@@ -155,6 +150,17 @@ ContactSet edgeContact(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Trans
     return set;
 }
 
+// A face contact on B's face, made in B's frame and brought to A's frame, its normal turned to
+// point from A to B.
+ContactSet clipFaceContactOfB(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
+                              const FaceQuery& query, float margin) {
+    ContactSet set = clipFaceContact(b, query, a, inverse(bInA), margin, ContactKind::FaceB);
+    for (std::uint32_t i = 0; i < set.count; ++i)
+        set.points[i].position = bInA.apply(set.points[i].position);
+    set.normal = -bInA.rotate(set.normal);
+    return set;
+}
+
 } // namespace
 
 HullContact collideHulls(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
@@ -187,12 +193,7 @@ HullContact collideHulls(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Tra
             r.feature = SatHint{SatFeature::FaceA, sat.faceA.face, 0, sat.faceA.vertex};
             return r.contacts.count > 0;
         }
-        // Made in B's frame with B's normal: brought to A's frame, pointing from A to B.
-        const Transform aInB = inverse(bInA);
-        r.contacts = clipFaceContact(b, sat.faceB, a, aInB, margin, ContactKind::FaceB);
-        for (std::uint32_t i = 0; i < r.contacts.count; ++i)
-            r.contacts.points[i].position = bInA.apply(r.contacts.points[i].position);
-        r.contacts.normal = -bInA.rotate(r.contacts.normal);
+        r.contacts = clipFaceContactOfB(a, b, bInA, sat.faceB, margin);
         r.feature = SatHint{SatFeature::FaceB, 0, sat.faceB.face, sat.faceB.vertex};
         return r.contacts.count > 0;
     };
@@ -215,30 +216,17 @@ HullContact collideHullsFromFeature(const HalfEdgeMesh& a, const HalfEdgeMesh& b
     HullContact r;
     r.feature = feature;
     if (feature.feature == SatFeature::FaceA && feature.indexA < a.faceCount()) {
-        const HalfEdgeFace& f = a.faces[feature.indexA];
-        const std::uint32_t v =
-            supportVertex(b, bInA.rotateInverse(-f.normal), startIn(b, feature.vertex));
-        const FaceQuery q{glm::dot(f.normal, bInA.apply(b.vertices[v])) - f.offset, feature.indexA,
-                          v};
-        r.feature.vertex = v;
+        const FaceQuery q = queryFace(a, feature.indexA, b, bInA, feature.vertex);
+        r.feature.vertex = q.vertex;
         r.separated = q.separation > margin;
         if (!r.separated) r.contacts = clipFaceContact(a, q, b, bInA, margin, ContactKind::FaceA);
         return r;
     }
     if (feature.feature == SatFeature::FaceB && feature.indexB < b.faceCount()) {
-        const Transform aInB = inverse(bInA);
-        const HalfEdgeFace& f = b.faces[feature.indexB];
-        const std::uint32_t v =
-            supportVertex(a, aInB.rotateInverse(-f.normal), startIn(a, feature.vertex));
-        const FaceQuery q{glm::dot(f.normal, aInB.apply(a.vertices[v])) - f.offset, feature.indexB,
-                          v};
-        r.feature.vertex = v;
+        const FaceQuery q = queryFace(b, feature.indexB, a, inverse(bInA), feature.vertex);
+        r.feature.vertex = q.vertex;
         r.separated = q.separation > margin;
-        if (r.separated) return r;
-        r.contacts = clipFaceContact(b, q, a, aInB, margin, ContactKind::FaceB);
-        for (std::uint32_t i = 0; i < r.contacts.count; ++i)
-            r.contacts.points[i].position = bInA.apply(r.contacts.points[i].position);
-        r.contacts.normal = -bInA.rotate(r.contacts.normal);
+        if (!r.separated) r.contacts = clipFaceContactOfB(a, b, bInA, q, margin);
         return r;
     }
     if (feature.feature == SatFeature::Edges && feature.indexA < a.edgeCount() &&

@@ -40,16 +40,15 @@ float separationAlongFrom(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Tr
     return glm::dot(axis, bInA.apply(b.vertices[startB])) - glm::dot(axis, a.vertices[startA]);
 }
 
-// The separation along a face normal of `a`, with b's support point climbed from `vertex`
-// (updated to the support).
-float faceSeparation(const HalfEdgeMesh& a, std::uint32_t face, const HalfEdgeMesh& b,
-                     const Transform& bInA, std::uint32_t& vertex) {
-    const HalfEdgeFace& f = a.faces[face];
-    vertex = supportVertex(b, bInA.rotateInverse(-f.normal), vertex < b.vertexCount() ? vertex : 0);
-    return glm::dot(f.normal, bInA.apply(b.vertices[vertex])) - f.offset;
-}
-
 } // namespace
+
+FaceQuery queryFace(const HalfEdgeMesh& a, std::uint32_t face, const HalfEdgeMesh& b,
+                    const Transform& bInA, std::uint32_t startVertex) {
+    const HalfEdgeFace& f = a.faces[face];
+    const std::uint32_t v = supportVertex(b, bInA.rotateInverse(-f.normal),
+                                          startVertex < b.vertexCount() ? startVertex : 0);
+    return FaceQuery{glm::dot(f.normal, bInA.apply(b.vertices[v])) - f.offset, face, v};
+}
 
 FaceQuery queryFaceDirections(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
                               float stopAbove) {
@@ -169,13 +168,14 @@ SatResult runSat(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& 
     };
 
     // Last step's axis first: a pair that stays apart is settled by one or two support queries.
-    std::uint32_t v = hint.vertex;
     if (hint.feature == SatFeature::FaceA && hint.indexA < a.faceCount()) {
-        const float s = faceSeparation(a, hint.indexA, b, bInA, v);
-        settle(SatFeature::FaceA, s, hint.indexA, 0, a.faces[hint.indexA].normal, v);
+        const FaceQuery q = queryFace(a, hint.indexA, b, bInA, hint.vertex);
+        settle(SatFeature::FaceA, q.separation, hint.indexA, 0, a.faces[hint.indexA].normal,
+               q.vertex);
     } else if (hint.feature == SatFeature::FaceB && hint.indexB < b.faceCount()) {
-        const float s = faceSeparation(b, hint.indexB, a, aInB, v);
-        settle(SatFeature::FaceB, s, 0, hint.indexB, -bInA.rotate(b.faces[hint.indexB].normal), v);
+        const FaceQuery q = queryFace(b, hint.indexB, a, aInB, hint.vertex);
+        settle(SatFeature::FaceB, q.separation, 0, hint.indexB,
+               -bInA.rotate(b.faces[hint.indexB].normal), q.vertex);
     } else if (hint.feature == SatFeature::Edges && hint.indexA < a.edgeCount() &&
                hint.indexB < b.edgeCount()) {
         const HalfEdgeEdge& ea = a.edgeRecords[hint.indexA];

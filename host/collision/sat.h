@@ -66,6 +66,12 @@ struct SatResult {
 FaceQuery queryFaceDirections(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
                               float stopAbove = std::numeric_limits<float>::max());
 
+/// Face query of one face of `a`: b's support point along the negated normal, climbed from
+/// `startVertex` (any index; one past b's vertices starts at 0), and its signed distance to the
+/// face plane.
+FaceQuery queryFace(const HalfEdgeMesh& a, std::uint32_t face, const HalfEdgeMesh& b,
+                    const Transform& bInA, std::uint32_t startVertex);
+
 /// Edge query over the pairs whose Gauss-map arcs cross (report 3.3.1): only those pairs span
 /// faces of the Minkowski difference, where the edges' own points are the support points.
 /// Stops at the first pair whose separation exceeds `stopAbove`.
