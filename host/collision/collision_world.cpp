@@ -3,8 +3,6 @@
 #include "host/collision/collision_world.h"
 
 #include <algorithm>
-#include <span>
-#include <vector>
 
 #include "host/collision/narrow_phase.h"
 #include "host/core/math.h"
@@ -43,21 +41,6 @@ float pairReach(const WorldState& s, const BodyPair& pair, const std::vector<flo
     return glm::length(relative) * s.options.dt + spin[pair.a] + spin[pair.b];
 }
 
-// Bodies joined to each other do not collide: their pairs leave before the narrow phase, so that
-// no work is spent on them and no contact between them is reported or drawn. The pairs keep their
-// order.
-void dropJoinedPairs(std::span<const JointDesc> joints, std::vector<BodyPair>& pairs) {
-    if (joints.empty() || pairs.empty()) return;
-    std::vector<BodyPair> joined;
-    joined.reserve(joints.size());
-    for (const JointDesc& j : joints) joined.push_back({std::min(j.a, j.b), std::max(j.a, j.b)});
-    std::sort(joined.begin(), joined.end());
-    std::erase_if(pairs, [&](const BodyPair& p) {
-        return std::binary_search(joined.begin(), joined.end(),
-                                  BodyPair{std::min(p.a, p.b), std::max(p.a, p.b)});
-    });
-}
-
 } // namespace
 
 void runBroadPhase(WorldState& s) {
@@ -90,7 +73,13 @@ void runBroadPhase(WorldState& s) {
         c.boxes[i] = worldBox(shape, c.transforms[i], kContactMargin + c.reach[i]);
     }
     findPairs(c.boxes, c.flags, c.planes, s.pairs, c.broadPhase);
-    dropJoinedPairs(s.joints, s.pairs);
+    // Bodies joined to each other do not collide: their pairs leave before the narrow phase, so
+    // that no contact between them is computed, counted or drawn (the pairs keep their order).
+    if (!s.joined.empty())
+        std::erase_if(s.pairs, [&](const BodyPair& p) {
+            return std::binary_search(s.joined.begin(), s.joined.end(),
+                                      BodyPair{std::min(p.a, p.b), std::max(p.a, p.b)});
+        });
     s.stats.pairCount = std::uint32_t(s.pairs.size());
 }
 

@@ -13,7 +13,6 @@ void runBuildContactRows(WorldState& s) {
     // Joints are turned into body frames at the poses of the first step.
     if (!c.jointsBuilt) {
         c.joints = makeJoints(s.joints, s.poses);
-        c.joined = joinedPairs(c.joints);
         c.jointGroups = groupJoints(c.joints, s.masses);
         c.jointsBuilt = true;
     }
@@ -21,7 +20,7 @@ void runBuildContactRows(WorldState& s) {
     gatherSolverVelocities(s.velocities, c.bodies);
     const SolverOptions& o = s.options.solver;
     const ContactRowSettings settings{s.options.dt, o.baumgarte, o.slop, o.warmStart};
-    buildContactRows(s.manifolds, s.poses, c.bodies, s.materials, s.materialOf, c.joined,
+    buildContactRows(s.manifolds, s.poses, c.bodies, s.materials, s.materialOf, s.joined,
                      c.impulses, settings, c.contacts);
     prepareJoints(c.joints, s.poses, c.bodies, o.warmStart);
 }

@@ -23,7 +23,6 @@ inline constexpr int kJointPositionIterations = 20;
 struct SolverCache {
     bool jointsBuilt = false;
     std::vector<Joint> joints;    ///< the scene's joints in body frames, with impulses
-    std::vector<BodyPair> joined; ///< joined pairs, sorted: they do not collide
     JointGroups jointGroups;      ///< joints connected through moving bodies
     JointPositionScratch jointScratch;
     std::vector<ContactImpulse> impulses; ///< last step's contact impulses, in pair order

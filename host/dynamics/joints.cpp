@@ -83,10 +83,10 @@ std::vector<Joint> makeJoints(std::span<const JointDesc> descs,
     return joints;
 }
 
-std::vector<BodyPair> joinedPairs(std::span<const Joint> joints) {
+std::vector<BodyPair> joinedPairs(std::span<const JointDesc> joints) {
     std::vector<BodyPair> pairs;
     pairs.reserve(joints.size());
-    for (const Joint& j : joints) pairs.push_back({std::min(j.a, j.b), std::max(j.a, j.b)});
+    for (const JointDesc& j : joints) pairs.push_back({std::min(j.a, j.b), std::max(j.a, j.b)});
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
     return pairs;

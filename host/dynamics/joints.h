@@ -43,7 +43,7 @@ std::vector<Joint> makeJoints(std::span<const JointDesc> descs,
                               std::span<const shared::BodyPose> poses);
 
 /// The joined body pairs, (min, max), sorted and unique: they do not collide.
-std::vector<BodyPair> joinedPairs(std::span<const Joint> joints);
+std::vector<BodyPair> joinedPairs(std::span<const JointDesc> joints);
 
 /// Stage buildContactRows for joints: world offsets, effective masses of both blocks at the
 /// current poses; impulses are zeroed without warm starting.

@@ -1,10 +1,11 @@
 // host/world/world_build.cpp: a Scene into a WorldState: shapes built, masses from mass or
 // density, momenta from the initial velocities. Combinations that cannot run are refused here.
+#include "host/world/world_build.h"
 #include "host/core/math.h"
+#include "host/dynamics/joints.h"
 #include "host/gpu/context.h"
 #include "host/world/backend_check.h"
 #include "host/world/device_step.h"
-#include "host/world/world_build.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -25,7 +26,8 @@ Status checkLemkeFrictionless(const Scene& scene) {
     const MaterialDesc& m = scene.materials[*roughDynamic];
     return makeError(ErrorKind::NotSupported, scene.file + ": materials." + m.name + ".friction",
                      "the lemke solver takes frictionless contacts only, and this material has "
-                     "friction " + std::to_string(m.friction) +
+                     "friction " +
+                         std::to_string(m.friction) +
                          " (set it to 0, or use lcp-jacobi, which bounds friction)");
 }
 
@@ -95,6 +97,7 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     s->masses.reserve(n);
     for (const BodyDesc& b : scene.bodies) appendBody(*s, b);
     s->joints = scene.joints;
+    s->joined = joinedPairs(s->joints);
     s->events = scene.events;
     s->eventFired.assign(scene.events.size(), 0);
     if (scene.simulation.collisionMethod() == CollisionMethod::Particles)

@@ -153,8 +153,8 @@ Result<std::uint32_t> World::removeDebrisOutside(glm::vec3 lo, glm::vec3 hi) {
         j.a = newIndex[j.a];
         j.b = newIndex[j.b];
     }
+    s.joined = joinedPairs(s.joints);
     if (s.solver.jointsBuilt) {
-        s.solver.joined = joinedPairs(s.solver.joints);
         s.solver.jointGroups = groupJoints(s.solver.joints, s.masses);
     }
     if (s.offload) {

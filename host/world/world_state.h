@@ -50,6 +50,8 @@ struct WorldState {
     std::vector<std::uint8_t> debris;
 
     std::vector<JointDesc> joints;
+    std::vector<BodyPair>
+        joined; ///< the joints' body pairs, (min, max), sorted: they do not collide
     std::vector<EventDesc> events;
     std::vector<std::uint8_t> eventFired;
 
@@ -61,10 +63,10 @@ struct WorldState {
     std::vector<Manifold> manifolds;
     CollisionCache collision;
     SolverCache solver;
-    ParticleState particles; ///< the particle collision method (CPU, and the device's source)
-    JacobiState jacobi;      ///< the jacobi, lcp-jacobi and lemke solvers on the CPU
+    ParticleState particles;  ///< the particle collision method (CPU, and the device's source)
+    JacobiState jacobi;       ///< the jacobi, lcp-jacobi and lemke solvers on the CPU
     BodySleepState bodySleep; ///< sleeping as on the device, for the device's solvers on the CPU
-    DenseLcp lcp;            ///< the dense problem of lcp-jacobi and lemke on the CPU
+    DenseLcp lcp;             ///< the dense problem of lcp-jacobi and lemke on the CPU
     std::optional<Error> stepFailure; ///< a CPU stage that could not run this step
 
     // Scratch reused every step: the velocities before the solve, and at the start of the step
