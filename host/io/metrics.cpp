@@ -6,6 +6,42 @@
 #include <nlohmann/json.hpp>
 
 namespace rubble {
+namespace {
+
+// The stages of a step as the metrics file names them (stages_ms, device_stages_ms), each with
+// the field that times it; the recorder sums and writes them from these tables alone.
+template <class Stats> struct StageField {
+    const char* name;
+    double Stats::*ms;
+};
+constexpr StageField<StepStats> kCpuStages[] = {
+    {"apply_forces", &StepStats::applyForcesMs},
+    {"integrate_velocities", &StepStats::integrateVelocitiesMs},
+    {"broad_phase", &StepStats::broadPhaseMs},
+    {"narrow_phase", &StepStats::narrowPhaseMs},
+    {"build_contact_rows", &StepStats::buildContactRowsMs},
+    {"solve", &StepStats::solveMs},
+    {"integrate_positions", &StepStats::integratePositionsMs},
+    {"solve_positions", &StepStats::solvePositionsMs},
+    {"islands", &StepStats::islandsMs}};
+constexpr StageField<DeviceStageMs> kDeviceStages[] = {
+    {"apply_forces", &DeviceStageMs::applyForces},
+    {"integrate_velocities", &DeviceStageMs::integrateVelocities},
+    {"broad_phase", &DeviceStageMs::broadPhase},
+    {"narrow_phase", &DeviceStageMs::narrowPhase},
+    {"build_contact_rows", &DeviceStageMs::buildContactRows},
+    {"solve", &DeviceStageMs::solve},
+    {"integrate_positions", &DeviceStageMs::integratePositions},
+    {"sleep", &DeviceStageMs::sleep}};
+
+template <class Stats, std::size_t N>
+nlohmann::ordered_json stagesJson(const Stats& totals, const StageField<Stats> (&fields)[N]) {
+    nlohmann::ordered_json j;
+    for (const StageField<Stats>& f : fields) j[f.name] = totals.*f.ms;
+    return j;
+}
+
+} // namespace
 
 Invariants measureInvariants(const World& world) {
     Invariants inv;
@@ -30,29 +66,13 @@ void MetricsRecorder::start(const World& world) {
 void MetricsRecorder::afterStep(const World& world) {
     const StepStats& s = world.lastStep();
     stepMs_.push_back(s.totalMs);
-    totals_.applyForcesMs += s.applyForcesMs;
-    totals_.integrateVelocitiesMs += s.integrateVelocitiesMs;
-    totals_.broadPhaseMs += s.broadPhaseMs;
-    totals_.narrowPhaseMs += s.narrowPhaseMs;
-    totals_.buildContactRowsMs += s.buildContactRowsMs;
-    totals_.solveMs += s.solveMs;
-    totals_.integratePositionsMs += s.integratePositionsMs;
-    totals_.solvePositionsMs += s.solvePositionsMs;
-    totals_.islandsMs += s.islandsMs;
+    for (const StageField<StepStats>& f : kCpuStages) totals_.*f.ms += s.*f.ms;
     deviceMs_.push_back(s.deviceMs);
     deviceWaitMs_.push_back(s.deviceWaitMs);
     deviceHiddenMs_.push_back(s.deviceHiddenMs);
     hostMs_.push_back(s.hostMs);
-    const DeviceStageMs& d = s.deviceStages;
-    DeviceStageMs& t = deviceStages_;
-    t.applyForces += d.applyForces;
-    t.integrateVelocities += d.integrateVelocities;
-    t.broadPhase += d.broadPhase;
-    t.narrowPhase += d.narrowPhase;
-    t.buildContactRows += d.buildContactRows;
-    t.solve += d.solve;
-    t.integratePositions += d.integratePositions;
-    t.sleep += d.sleep;
+    for (const StageField<DeviceStageMs>& f : kDeviceStages)
+        deviceStages_.*f.ms += s.deviceStages.*f.ms;
     wallS_ += s.totalMs / 1000.0;
     largestPenetration_ = std::max(largestPenetration_, s.largestPenetration);
     lastContacts_ = s.contactCount;
@@ -71,7 +91,9 @@ double percentile(std::vector<double> v, double q) {
 }
 
 namespace {
-nlohmann::json vec(glm::dvec3 v) { return {v.x, v.y, v.z}; }
+nlohmann::json vec(glm::dvec3 v) {
+    return {v.x, v.y, v.z};
+}
 } // namespace
 
 nlohmann::ordered_json qualityJson(const QualityReport& q) {
@@ -84,8 +106,12 @@ nlohmann::ordered_json qualityJson(const QualityReport& q) {
     return j;
 }
 
-double MetricsRecorder::medianMs() const { return percentile(stepMs_, 0.5); }
-double MetricsRecorder::p90Ms() const { return percentile(stepMs_, 0.9); }
+double MetricsRecorder::medianMs() const {
+    return percentile(stepMs_, 0.5);
+}
+double MetricsRecorder::p90Ms() const {
+    return percentile(stepMs_, 0.9);
+}
 
 std::string MetricsRecorder::toJson(const World& world) const {
     nlohmann::ordered_json j;
@@ -94,15 +120,7 @@ std::string MetricsRecorder::toJson(const World& world) const {
     j["bodies"] = bodies_;
     j["wall_s"] = wallS_;
     j["ms_per_step"] = {{"median", medianMs()}, {"p90", p90Ms()}};
-    j["stages_ms"] = {{"apply_forces", totals_.applyForcesMs},
-                      {"integrate_velocities", totals_.integrateVelocitiesMs},
-                      {"broad_phase", totals_.broadPhaseMs},
-                      {"narrow_phase", totals_.narrowPhaseMs},
-                      {"build_contact_rows", totals_.buildContactRowsMs},
-                      {"solve", totals_.solveMs},
-                      {"integrate_positions", totals_.integratePositionsMs},
-                      {"solve_positions", totals_.solvePositionsMs},
-                      {"islands", totals_.islandsMs}};
+    j["stages_ms"] = stagesJson(totals_, kCpuStages);
     j["kinetic_energy"] = {{"first", first_.kineticEnergy}, {"last", last_.kineticEnergy}};
     j["linear_momentum"] = {{"first", vec(first_.linearMomentum)},
                             {"last", vec(last_.linearMomentum)}};
@@ -126,19 +144,11 @@ std::string MetricsRecorder::toJson(const World& world) const {
         j["device_wait_ms_per_step"] = {{"median", percentile(deviceWaitMs_, 0.5)}};
         j["device_hidden_ms_per_step"] = {{"median", percentile(deviceHiddenMs_, 0.5)}};
         j["device_hidden_share"] = busy > 0 ? hidden / busy : 0.0;
-        const DeviceStageMs& t = deviceStages_;
-        j["device_stages_ms"] = {{"apply_forces", t.applyForces},
-                                 {"integrate_velocities", t.integrateVelocities},
-                                 {"broad_phase", t.broadPhase},
-                                 {"narrow_phase", t.narrowPhase},
-                                 {"build_contact_rows", t.buildContactRows},
-                                 {"solve", t.solve},
-                                 {"integrate_positions", t.integratePositions},
-                                 {"sleep", t.sleep}};
+        j["device_stages_ms"] = stagesJson(deviceStages_, kDeviceStages);
         nlohmann::ordered_json kernels = nlohmann::ordered_json::array();
         for (const DeviceCommandTime& c : world.deviceProfile())
-            kernels.push_back({{"name", c.name}, {"ms", c.ms}, {"launches", c.launches},
-                               {"bytes", c.bytes}});
+            kernels.push_back(
+                {{"name", c.name}, {"ms", c.ms}, {"launches", c.launches}, {"bytes", c.bytes}});
         j["device_kernels"] = kernels;
     }
     return j.dump(2) + "\n";
