@@ -22,18 +22,6 @@ const char* kScene = R"({"format": "rubble-scene", "version": 1, "name": "stack"
              {"name": "c", "shape": "crate", "mass": 1, "position": [0, 2.5, 0]},
              {"name": "d", "shape": "crate", "mass": 1, "position": [1.5, 1.0, 0]}]})";
 
-std::vector<std::vector<std::string>> csv(const std::string& text) {
-    std::vector<std::vector<std::string>> rows;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);) {
-        std::vector<std::string> cells;
-        std::istringstream l(line);
-        for (std::string cell; std::getline(l, cell, ',');) cells.push_back(cell);
-        rows.push_back(cells);
-    }
-    return rows;
-}
-
 class SolversCompare : public test::GpuTest {
   protected:
     void SetUp() override {
@@ -45,11 +33,13 @@ class SolversCompare : public test::GpuTest {
 };
 
 TEST_F(SolversCompare, SolversWritesEverySolverEveryIteration) {
-    const test::CommandResult r = test::runRubble("solvers " + dir_ + "/s.json --step 40 "
-                                                  "--iterations 20 --csv " + dir_ + "/s.csv");
+    const test::CommandResult r = test::runRubble("solvers " + dir_ +
+                                                  "/s.json --step 40 "
+                                                  "--iterations 20 --csv " +
+                                                  dir_ + "/s.csv");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("frictionless: normal rows only"), std::string::npos) << r.output;
-    const auto rows = csv(test::readText(dir_ + "/s.csv"));
+    const auto rows = test::csvRows(test::readText(dir_ + "/s.csv"));
     ASSERT_FALSE(rows.empty());
     EXPECT_EQ(rows[0], (std::vector<std::string>{"solver", "backend", "iteration", "residual",
                                                  "complementarity", "velocity_error"}));
@@ -64,8 +54,8 @@ TEST_F(SolversCompare, SolversWritesEverySolverEveryIteration) {
             EXPECT_EQ(std::stoi(rows[i][2]), count[key]);
         }
     }
-    const std::map<std::string, int> expected = {{"pgs/cpu", 20},        {"jacobi/cpu", 20},
-                                                 {"jacobi/opencl", 20},  {"lcp-jacobi/cpu", 20},
+    const std::map<std::string, int> expected = {{"pgs/cpu", 20},           {"jacobi/cpu", 20},
+                                                 {"jacobi/opencl", 20},     {"lcp-jacobi/cpu", 20},
                                                  {"lcp-jacobi/opencl", 20}, {"lemke/cpu", 1}};
     EXPECT_EQ(count, expected);
     // Lemke is exact; the device twins follow their CPU solvers.
@@ -84,13 +74,13 @@ TEST_F(SolversCompare, SolversWritesEverySolverEveryIteration) {
 TEST_F(SolversCompare, CompareCpuAgainstOpenclIsSmall) {
     for (const char* solver : {"jacobi", "lcp-jacobi"}) {
         SCOPED_TRACE(solver);
-        const std::string side = std::string("collision=particles,solver=") + solver +
-                                 ",deterministic=true,backend=";
+        const std::string side =
+            std::string("collision=particles,solver=") + solver + ",deterministic=true,backend=";
         const test::CommandResult r =
             test::runRubble("compare " + dir_ + "/s.json --steps 60 --a " + side + "cpu --b " +
                             side + "opencl --csv " + dir_ + "/c.csv");
         ASSERT_EQ(r.exitCode, 0) << r.output;
-        const auto rows = csv(test::readText(dir_ + "/c.csv"));
+        const auto rows = test::csvRows(test::readText(dir_ + "/c.csv"));
         ASSERT_EQ(rows.size(), 62u);
         double largest = 0.0;
         int contacts = 0;

@@ -20,18 +20,6 @@ const char* kScene = R"({"format": "rubble-scene", "version": 1, "name": "drop",
              {"name": "b", "shape": "crate", "mass": 1, "position": [0.2, 1.8, 0.1],
               "orientation": [0.98, 0.1, 0.1, 0.1]}]})";
 
-std::vector<std::vector<std::string>> csv(const std::string& text) {
-    std::vector<std::vector<std::string>> rows;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);) {
-        std::vector<std::string> cells;
-        std::istringstream l(line);
-        for (std::string cell; std::getline(l, cell, ',');) cells.push_back(cell);
-        rows.push_back(cells);
-    }
-    return rows;
-}
-
 class CompareCommand : public ::testing::Test {
   protected:
     void SetUp() override {
@@ -48,7 +36,7 @@ TEST_F(CompareCommand, ASceneAgainstItselfDoesNotDiverge) {
     const test::CommandResult r =
         compare("--steps 40 --a solver=pgs --b solver=pgs --csv " + dir_ + "/c.csv");
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    const auto rows = csv(test::readText(dir_ + "/c.csv"));
+    const auto rows = test::csvRows(test::readText(dir_ + "/c.csv"));
     ASSERT_EQ(rows.size(), 42u); // header, steps 0 to 40
     ASSERT_EQ(rows[0][2], "position_max");
     ASSERT_EQ(rows[0][4], "angle_max");
@@ -63,14 +51,13 @@ TEST_F(CompareCommand, ASceneAgainstItselfDoesNotDiverge) {
 }
 
 TEST_F(CompareCommand, TwoSolversDivergeAndBothStayFinite) {
-    const test::CommandResult r =
-        compare("--steps 60 --a solver=pgs --b solver=lcp-jacobi,iterations=20 --csv " + dir_ +
-                "/c.csv");
+    const test::CommandResult r = compare(
+        "--steps 60 --a solver=pgs --b solver=lcp-jacobi,iterations=20 --csv " + dir_ + "/c.csv");
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    const auto rows = csv(test::readText(dir_ + "/c.csv"));
+    const auto rows = test::csvRows(test::readText(dir_ + "/c.csv"));
     ASSERT_EQ(rows.size(), 62u);
     EXPECT_GT(std::stod(rows.back()[2]), 0.0);
-    EXPECT_LT(std::stod(rows.back()[2]), 0.5); // both stacks stand
+    EXPECT_LT(std::stod(rows.back()[2]), 0.5);  // both stacks stand
     EXPECT_GT(std::stod(rows.back()[16]), 0.0); // contacts on side a
 }
 
@@ -95,7 +82,7 @@ TEST_F(CompareCommand, DifferentTimeStepsCompareAtTheSameTimes) {
     const test::CommandResult r =
         compare("--steps 10 --a dt=0.02 --b dt=0.01 --csv " + dir_ + "/c.csv");
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    const auto rows = csv(test::readText(dir_ + "/c.csv"));
+    const auto rows = test::csvRows(test::readText(dir_ + "/c.csv"));
     ASSERT_EQ(rows.size(), 12u);
     EXPECT_NEAR(std::stod(rows.back()[1]), 0.2, 1e-6);
 }

@@ -163,15 +163,7 @@ TEST(HullContact, CachedFeatureIsReusedOnlyWhileThePoseStaysClose) {
 
 TEST(HullContact, FacesWithManyVerticesClipOnTheHeap) {
     // A 100-sided prism (disc) resting on a box and the box on it: faces of 100 vertices.
-    ShapeDesc d;
-    d.type = ShapeType::Convex;
-    d.where = "disc";
-    for (int i = 0; i < 100; ++i) {
-        const float a = 2.0f * 3.14159265f * float(i) / 100.0f;
-        d.points.emplace_back(0.8f * std::cos(a), -0.1f, 0.8f * std::sin(a));
-        d.points.emplace_back(0.8f * std::cos(a), 0.1f, 0.8f * std::sin(a));
-    }
-    Result<Shape> disc = buildShape(d);
+    Result<Shape> disc = test::discShape();
     ASSERT_TRUE(disc.ok()) << disc.error().describe();
     ASSERT_EQ(disc->halfEdge.faceCount(), 102u);
     const HalfEdgeMesh box = boxMesh(glm::vec3(0.5f));

@@ -56,15 +56,7 @@ TEST(PrimitiveContact, TiltedBoxOnPlaneGivesItsLowestCorner) {
 
 TEST(PrimitiveContact, ManyVerticesOnAPlaneKeepFour) {
     // A 100-sided disc lying on the plane: 100 candidates, four kept, spread over the disc.
-    ShapeDesc d;
-    d.type = ShapeType::Convex;
-    d.where = "disc";
-    for (int i = 0; i < 100; ++i) {
-        const float a = 2.0f * 3.14159265f * float(i) / 100.0f;
-        d.points.emplace_back(0.8f * std::cos(a), -0.1f, 0.8f * std::sin(a));
-        d.points.emplace_back(0.8f * std::cos(a), 0.1f, 0.8f * std::sin(a));
-    }
-    Result<Shape> disc = buildShape(d);
+    Result<Shape> disc = test::discShape();
     ASSERT_TRUE(disc.ok()) << disc.error().describe();
     const ContactSet c = collidePlaneHull({0, 1, 0}, -0.098f, disc->halfEdge);
     ASSERT_EQ(c.count, 4u);

@@ -1,6 +1,8 @@
-// tests/unit/random_hull.h: seeded random convex hulls and poses for the collision property tests.
+// tests/unit/random_hull.h: seeded random convex hulls and poses for the collision property tests,
+// and a hull with many-vertex faces.
 #pragma once
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -58,6 +60,20 @@ inline glm::vec3 randomDirection(std::mt19937& rng) {
 
 inline Transform makeTransform(glm::vec3 translation, glm::quat rotation) {
     return Transform{glm::mat3_cast(rotation), translation};
+}
+
+/// A 100-sided prism (a disc of radius 0.8 m, 0.2 m thick, centred at the origin): two faces of
+/// 100 vertices, for the paths that clip or reduce many points.
+inline Result<Shape> discShape() {
+    ShapeDesc d;
+    d.type = ShapeType::Convex;
+    d.where = "disc";
+    for (int i = 0; i < 100; ++i) {
+        const float a = 2.0f * 3.14159265f * float(i) / 100.0f;
+        d.points.emplace_back(0.8f * std::cos(a), -0.1f, 0.8f * std::sin(a));
+        d.points.emplace_back(0.8f * std::cos(a), 0.1f, 0.8f * std::sin(a));
+    }
+    return buildShape(d);
 }
 
 } // namespace rubble::test
