@@ -25,6 +25,19 @@ inline void applyRow(SolverVelocity& a, SolverVelocity& b, Lanes d, Lanes turnA,
 // The position pass stops when no push impulse changes by more than this, N s.
 constexpr float kPushTolerance = 1e-6f;
 
+// One projected Gauss-Seidel update of a normal row on the velocities a and b (the bodies'
+// velocities, or the split pass's push velocities) toward `target`: the accumulated impulse
+// stays >= 0, the change is applied to both bodies and returned.
+float solveNormalRow(const NormalRow& r, SolverVelocity& a, SolverVelocity& b, float target,
+                     float& accumulated, float relaxation) {
+    const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
+    const float total = std::max(accumulated + r.mass * (target - speed) * relaxation, 0.0f);
+    const float applied = total - accumulated;
+    accumulated = total;
+    applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB, applied);
+    return applied;
+}
+
 } // namespace
 
 void warmStartContacts(const ContactRows& contacts, SolverBodies& bodies) {
@@ -46,14 +59,8 @@ float solveContactSweep(ContactRows& contacts, SolverBodies& bodies, float relax
     float residual = 0.0f;
     // Every normal row first: the friction bounds then see this sweep's normal impulses.
     for (NormalRow& r : contacts.normals) {
-        SolverVelocity& a = bodies.velocity[r.a];
-        SolverVelocity& b = bodies.velocity[r.b];
-        const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
-        const float change = r.mass * (r.targetSpeed - speed) * relaxation;
-        const float total = std::max(r.impulse + change, 0.0f);
-        const float applied = total - r.impulse;
-        r.impulse = total;
-        applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB, applied);
+        const float applied = solveNormalRow(r, bodies.velocity[r.a], bodies.velocity[r.b],
+                                             r.targetSpeed, r.impulse, relaxation);
         residual = std::max(residual, std::abs(applied));
     }
     // Friction: a point's two tangent rows from the same velocities, each within the box
@@ -108,14 +115,8 @@ bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, fl
         float residual = 0.0f;
         for (const std::uint32_t i : active) {
             NormalRow& r = contacts.normals[i];
-            SolverVelocity& a = bodies.push[r.a];
-            SolverVelocity& b = bodies.push[r.b];
-            const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
-            const float change = r.mass * (r.pushSpeed - speed) * relaxation;
-            const float total = std::max(r.pushImpulse + change, 0.0f);
-            const float applied = total - r.pushImpulse;
-            applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB, applied);
-            r.pushImpulse = total;
+            const float applied = solveNormalRow(r, bodies.push[r.a], bodies.push[r.b], r.pushSpeed,
+                                                 r.pushImpulse, relaxation);
             residual = std::max(residual, std::abs(applied));
         }
         // Converged: a further sweep would move nothing by more than round-off.
