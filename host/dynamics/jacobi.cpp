@@ -21,16 +21,15 @@ std::vector<float4> bodySurfaces(const WorldState& s) {
     return out;
 }
 
-float jacobiRelaxation(const SolverOptions& o) { return o.relaxation * kJacobiOverRelaxation; }
-
-SolverParams solverParams(const SolverOptions& o, float dt, float particleSpacing) {
-    const float slop = particleSpacing > 0.0f ? particleSlopItem(o.slop, particleSpacing) : o.slop;
-    return SolverParams{o.baumgarte, slop, 1.0f / dt, o.relaxation};
+float jacobiRelaxation(const SolverOptions& o) {
+    return o.relaxation * kJacobiOverRelaxation;
 }
 
 SolverParams solverParams(const SimulationOptions& o) {
+    const SolverOptions& s = o.solver;
     const bool particles = o.collisionMethod() == CollisionMethod::Particles;
-    return solverParams(o.solver, o.dt, particles ? o.collision.particleSpacing : 0.0f);
+    const float slop = particles ? particleSlopItem(s.slop, o.collision.particleSpacing) : s.slop;
+    return SolverParams{s.baumgarte, slop, 1.0f / o.dt, s.relaxation};
 }
 
 void manifoldsToContacts(std::span<const Manifold> manifolds, std::vector<ParticleContact>& out) {
@@ -89,14 +88,11 @@ void buildJacobiRows(std::span<const ParticleContact> contacts, std::span<const 
     RUBBLE_ASSERT(warm.size() == contacts.size());
     j.rows.resize(contacts.size());
     for (std::size_t r = 0; r < contacts.size(); ++r)
-        j.rows[r] = contactRowFromContactItem(contacts[r], poses[contacts[r].a],
-                                              poses[contacts[r].b], velocities[contacts[r].a],
-                                              velocities[contacts[r].b],
-                                              rowMass(masses[contacts[r].a]),
-                                              rowMass(masses[contacts[r].b]),
-                                              surfaces[contacts[r].a], surfaces[contacts[r].b],
-                                              j.bodyCount[contacts[r].a],
-                                              j.bodyCount[contacts[r].b], params, warm[r]);
+        j.rows[r] = contactRowFromContactItem(
+            contacts[r], poses[contacts[r].a], poses[contacts[r].b], velocities[contacts[r].a],
+            velocities[contacts[r].b], rowMass(masses[contacts[r].a]),
+            rowMass(masses[contacts[r].b]), surfaces[contacts[r].a], surfaces[contacts[r].b],
+            j.bodyCount[contacts[r].a], j.bodyCount[contacts[r].b], params, warm[r]);
 }
 
 void matchWarmStart(std::span<const ParticleContact> contacts,
@@ -113,11 +109,12 @@ void matchWarmStart(std::span<const ParticleContact> contacts,
 }
 
 void rememberImpulses(std::span<const ParticleContact> contacts,
-                      std::span<const shared::ContactRow> rows, std::vector<WarmImpulse>& previous) {
+                      std::span<const shared::ContactRow> rows,
+                      std::vector<WarmImpulse>& previous) {
     previous.resize(contacts.size());
     for (std::size_t r = 0; r < contacts.size(); ++r)
-        previous[r] = WarmImpulse{contacts[r].particleA, contacts[r].featureB, contacts[r].b,
-                                  rows[r].lambda};
+        previous[r] =
+            WarmImpulse{contacts[r].particleA, contacts[r].featureB, contacts[r].b, rows[r].lambda};
     std::sort(previous.begin(), previous.end());
 }
 
@@ -145,9 +142,9 @@ void gatherJacobi(std::span<const shared::ContactRow> rows, const JacobiState& j
             linear = add4(linear, i.linear);
             angular = add4(angular, i.angular);
         }
-        velocities[b] = applyImpulseSumItem(before[b], linear, angular, masses[b].inverseMass,
-                                            inverseInertiaWorldItem(masses[b],
-                                                                    poses[b].orientation));
+        velocities[b] =
+            applyImpulseSumItem(before[b], linear, angular, masses[b].inverseMass,
+                                inverseInertiaWorldItem(masses[b], poses[b].orientation));
     }
 }
 
@@ -177,8 +174,10 @@ void runBuildJacobiRows(WorldState& s) {
     JacobiState& j = s.jacobi;
     const std::span<const ParticleContact> contacts = contactsOf(s);
     buildBodyLists(contacts, s.masses, j);
-    if (s.options.solver.warmStart) matchWarmStart(contacts, j.previous, j.warm);
-    else j.warm.assign(contacts.size(), vec4(0.0f, 0.0f, 0.0f));
+    if (s.options.solver.warmStart)
+        matchWarmStart(contacts, j.previous, j.warm);
+    else
+        j.warm.assign(contacts.size(), vec4(0.0f, 0.0f, 0.0f));
     buildJacobiRows(contacts, s.poses, s.velocities, s.masses, bodySurfaces(s),
                     solverParams(s.options), j.warm, j);
 }

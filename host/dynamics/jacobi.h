@@ -37,8 +37,8 @@ struct JacobiState {
     std::vector<std::uint32_t> bodyList;  ///< entries 2 row + side (0: body a, 1: body b)
     std::vector<float> residuals;         ///< largest |impulse change| of each iteration, N s
     std::vector<shared::ParticleContact> fromManifolds; ///< SAT contacts as rows' input
-    std::vector<shared::float4> warm;     ///< per contact: last step's impulses, or zero
-    std::vector<WarmImpulse> previous;    ///< last step's impulses, sorted by key
+    std::vector<shared::float4> warm;  ///< per contact: last step's impulses, or zero
+    std::vector<WarmImpulse> previous; ///< last step's impulses, sorted by key
 };
 
 /// Stage matchWarmStart: each contact's impulses of the last step when the same pair of
@@ -64,12 +64,8 @@ inline constexpr float kJacobiOverRelaxation = 1.5f;
 /// The relaxation the Jacobi solver uses: the scene's times kJacobiOverRelaxation.
 float jacobiRelaxation(const SolverOptions& o);
 
-/// The solver settings of a step. With a particle spacing (particle contacts), the slop is at
-/// least a tenth of it (shared::particleSlopItem).
-shared::SolverParams solverParams(const SolverOptions& o, float dt, float particleSpacing = 0.0f);
-
-/// The solver settings of a step of a world: its particle spacing counts when its collision
-/// method is particles.
+/// The solver settings of a step of a world. With particle contacts the slop is at least a
+/// tenth of the particle spacing (shared::particleSlopItem).
 shared::SolverParams solverParams(const SimulationOptions& o);
 
 /// SAT manifolds as contact points for the row builder (feature ids in featureB).
@@ -100,8 +96,7 @@ float solveJacobiRows(std::span<shared::ContactRow> rows,
 /// v = v0 + M^-1 sum J^T lambda. reads: rows, lists, before, masses, poses   writes: velocities
 void gatherJacobi(std::span<const shared::ContactRow> rows, const JacobiState& j,
                   std::span<const shared::BodyVelocity> before,
-                  std::span<const shared::BodyMass> masses,
-                  std::span<const shared::BodyPose> poses,
+                  std::span<const shared::BodyMass> masses, std::span<const shared::BodyPose> poses,
                   std::span<shared::BodyVelocity> velocities);
 
 /// Stage solveJacobi: `iterations` sweeps of solveJacobiRows then gatherJacobi, residuals kept.

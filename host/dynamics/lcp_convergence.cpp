@@ -19,7 +19,7 @@ Result<FrozenProblem> freezeProblem(FrozenContacts set) {
     buildBodyLists(s.contacts, s.masses, p.jacobi);
     p.jacobi.warm.assign(s.contacts.size(), vec4(0.0f, 0.0f, 0.0f));
     buildJacobiRows(s.contacts, s.poses, s.velocities, s.masses, s.surfaces,
-                    solverParams(s.solver, s.dt), p.jacobi.warm, p.jacobi);
+                    s.params, p.jacobi.warm, p.jacobi);
     const std::uint32_t stride = lcpStrideOfRows(p.jacobi.rows);
     const std::size_t rows = s.contacts.size() * stride;
     if (rows > kLcpMaxRows)

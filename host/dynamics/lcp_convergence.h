@@ -17,14 +17,14 @@ namespace rubble {
 
 /// One step's contact points and the bodies as that step's solve sees them.
 struct FrozenContacts {
-    std::int64_t step = 0;                          ///< the step (1-based) it was taken from
-    std::vector<shared::ParticleContact> contacts;  ///< points, normals (a to b), depths
+    std::int64_t step = 0;                         ///< the step (1-based) it was taken from
+    std::vector<shared::ParticleContact> contacts; ///< points, normals (a to b), depths
     std::vector<shared::BodyPose> poses;
-    std::vector<shared::BodyVelocity> velocities;   ///< before the solve
+    std::vector<shared::BodyVelocity> velocities; ///< before the solve
     std::vector<shared::BodyMass> masses;
-    std::vector<shared::float4> surfaces;           ///< per body: friction, restitution
-    SolverOptions solver;
-    float dt = 1.0f / 60.0f;                        ///< s
+    std::vector<shared::float4> surfaces; ///< per body: friction, restitution
+    SolverOptions solver;                 ///< the run's (iterations, relaxation)
+    shared::SolverParams params{};        ///< the rows' settings, as the run's (solverParams)
 };
 
 /// The problem every solver is measured on: the jacobi solver's rows of the set, started from

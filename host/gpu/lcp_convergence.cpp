@@ -31,7 +31,7 @@ Result<Iterates> jacobiIteratesOnDevice(std::shared_ptr<Context> c, const WorldS
     Pipeline& pipeline = **made;
     const FrozenContacts& set = p.set;
     RUBBLE_TRY(pipeline.uploadContacts(set.contacts));
-    RUBBLE_TRY(pipeline.buildJacobiRows(solverParams(set.solver, set.dt), false));
+    RUBBLE_TRY(pipeline.buildJacobiRows(set.params, false));
     Iterates out;
     std::vector<shared::ContactRow> rows(set.contacts.size());
     for (int k = 0; k < iterations; ++k) {

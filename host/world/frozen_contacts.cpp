@@ -50,9 +50,7 @@ Result<FrozenContacts> freezeContacts(World& world, std::int64_t step) {
     set.masses = s.masses;
     set.surfaces = bodySurfaces(s);
     set.solver = s.options.solver;
-    // The slop the run's rows use (particle contacts leave more of their depth uncorrected).
-    set.solver.slop = solverParams(s.options).slop;
-    set.dt = s.options.dt;
+    set.params = solverParams(s.options);
     return set;
 }
 

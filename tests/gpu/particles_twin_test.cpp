@@ -64,7 +64,8 @@ TEST_F(ParticlesTwin, BuildGridMatchesCpu) {
     transformParticles(ps.particles, s().poses, ps.world);
     // The same world positions on both sides, so that no particle changes cell by round-off.
     ASSERT_TRUE(gpu::upload(p().context(), const_cast<gpu::Buffer&>(p().particles().world),
-                            std::span<const float4>(ps.world)).ok());
+                            std::span<const float4>(ps.world))
+                    .ok());
     ASSERT_TRUE(p().buildGrid().ok());
     buildGrid(ps.world, ps.cellSize, ps.bits, ps.keys, ps.order, ps.cellStart, ps.cellEnd);
     const std::size_t n = ps.world.size();
@@ -114,7 +115,8 @@ TEST_F(ParticlesTwin, CollideParticlesGivesTheSameContactSet) {
     ParticleState& ps = s().particles;
     transformParticles(ps.particles, s().poses, ps.world);
     ASSERT_TRUE(gpu::upload(p().context(), const_cast<gpu::Buffer&>(p().particles().world),
-                            std::span<const float4>(ps.world)).ok());
+                            std::span<const float4>(ps.world))
+                    .ok());
     ASSERT_TRUE(p().buildGrid().ok());
     ASSERT_TRUE(p().resetStatus().ok());
     ASSERT_TRUE(p().collideParticles().ok());
@@ -124,8 +126,8 @@ TEST_F(ParticlesTwin, CollideParticlesGivesTheSameContactSet) {
     ASSERT_GT(ps.contacts.size(), 100u);
     ASSERT_EQ(p().contacts().count, ps.contacts.size());
     // Device order is the atomics'; compare as sets, keyed by the two features.
-    std::vector<ParticleContact> device = read<ParticleContact>(p().contacts().contacts,
-                                                                p().contacts().count);
+    std::vector<ParticleContact> device =
+        read<ParticleContact>(p().contacts().contacts, p().contacts().count);
     auto byKey = [](const ParticleContact& x, const ParticleContact& y) {
         return std::tie(x.particleA, x.featureB) < std::tie(y.particleA, y.featureB);
     };
@@ -153,7 +155,7 @@ TEST_F(ParticlesTwin, JacobiRowsAndOneSweepMatchCpu) {
     runParticleCollide(s());
     ASSERT_GT(ps.contacts.size(), 100u);
     ASSERT_TRUE(p().uploadContacts(ps.contacts).ok());
-    const SolverParams params = solverParams(s().options.solver, s().options.dt);
+    const SolverParams params = solverParams(s().options);
     ASSERT_TRUE(p().buildJacobiRows(params, false).ok());
     JacobiState& j = s().jacobi;
     buildBodyLists(ps.contacts, s().masses, j);
