@@ -96,8 +96,9 @@ struct ContactRowSettings {
     bool warmStart = true;
 };
 
-/// Approach speeds below this do not bounce (resting contacts stay at rest), m/s.
-inline constexpr float kRestitutionThreshold = 0.5f;
+/// Approach speeds below this do not bounce (resting contacts stay at rest), m/s: the kernels'
+/// value (rubble/shared/constants.h).
+inline constexpr float kRestitutionThreshold = RUBBLE_RESTITUTION_THRESHOLD;
 
 /// The Baumgarte push-out speed is at most this, m/s: a deep penetration (a fast body caught a
 /// step late) is undone over a few steps instead of throwing the bodies apart.

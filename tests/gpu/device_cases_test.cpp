@@ -20,5 +20,12 @@ TEST_F(DeviceCases, ExplicitSpinTurnsByOmegaTimesT) {
     test::expectSpinTurnsByOmegaTimesT(w);
 }
 
+// One restitution threshold for the CPU rows and the kernels' (rubble/shared/constants.h).
+TEST_F(DeviceCases, RestitutionThresholdIsHalfAMetrePerSecond) {
+    World above = deviceWorld(test::approachScene(0.75f, test::kDeviceSimulation));
+    World below = deviceWorld(test::approachScene(0.35f, test::kDeviceSimulation));
+    test::expectRestitutionThreshold(above, below);
+}
+
 } // namespace
 } // namespace rubble

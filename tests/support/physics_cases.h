@@ -50,4 +50,35 @@ inline void expectSpinTurnsByOmegaTimesT(World& world) {
     EXPECT_NEAR(glm::length(glm::dvec3(world.body(0).angularVelocity)), omega, 1e-4);
 }
 
+/// A ball (radius 0.2 m, restitution 1, as the floor's) whose bottom starts 0.3 m above a floor,
+/// moving down at `speed` m/s, without gravity, 60 Hz.
+inline std::string approachScene(float speed, const std::string& simulation = "") {
+    return R"({"format": "rubble-scene", "version": 1,
+      "simulation": {"dt": 0.016666667, "gravity": [0, 0, 0])" +
+           simulation + R"(},
+      "materials": {"elastic": {"friction": 0.5, "restitution": 1.0}},
+      "shapes": {"ground": {"type": "plane"}, "ball": {"type": "sphere", "radius": 0.2}},
+      "bodies": [{"name": "floor", "shape": "ground", "static": true, "material": "elastic"},
+                 {"name": "ball", "shape": "ball", "mass": 1.0, "position": [0, 0.5, 0],
+                  "linear_velocity": [0, )" +
+           std::to_string(-speed) + R"(, 0], "material": "elastic"}]})";
+}
+
+/// The ball's largest upward speed over 2 s of the approach scene, m/s.
+inline float reboundSpeed(World& world) {
+    float up = 0.0f;
+    for (int i = 0; i < 120; ++i) {
+        EXPECT_TRUE(world.step().ok());
+        up = std::max(up, world.body(1).linearVelocity.y);
+    }
+    return up;
+}
+
+/// Above the threshold (0.75 m/s) the ball leaves at e times its approach speed; below it (0.35
+/// m/s) it stops on the floor: RUBBLE_RESTITUTION_THRESHOLD = 0.5 m/s on every backend.
+inline void expectRestitutionThreshold(World& above, World& below) {
+    EXPECT_NEAR(reboundSpeed(above), 0.75f, 0.05f) << "an approach at 0.75 m/s bounces";
+    EXPECT_LT(reboundSpeed(below), 0.05f) << "an approach at 0.35 m/s does not";
+}
+
 } // namespace rubble::test

@@ -70,7 +70,7 @@ RUBBLE_FN float4 relativeVelocityItem(ContactRow r, BodyVelocity va, BodyVelocit
 
 // A row for a contact at `point` (world, m) with penetration `depth` (m) and normal from a to b.
 // Baumgarte bias corrects beta (depth - slop) / dt; restitution asks for -e vn when the bodies
-// approach faster than 1 m/s. `warm` holds impulses to start from (x, y, z as in lambda).
+// approach faster than RUBBLE_RESTITUTION_THRESHOLD. `warm` holds impulses to start from (x, y, z as in lambda).
 // xA, xB are the bodies' centres of mass (world, m), invMassA/B their inverse masses (1/kg) and
 // invIA/B their inverse inertia in the world frame.
 RUBBLE_FN ContactRow makeContactRowItem(float4 point, float4 normal, float depth, uint a, uint b,
@@ -96,7 +96,7 @@ RUBBLE_FN ContactRow makeContactRowItem(float4 point, float4 normal, float depth
     const float penetration = depth - p.slop;
     r.bias = penetration > 0.0f ? -p.baumgarte * p.inverseDt * penetration : 0.0f;
     const float vn = dot3(relativeVelocityItem(r, va, vb), r.normal);
-    if (vn < -1.0f && restitution * vn < r.bias) r.bias = restitution * vn;
+    if (vn < -RUBBLE_RESTITUTION_THRESHOLD && restitution * vn < r.bias) r.bias = restitution * vn;
     r.lambda = vec4(warm.x, warm.y, warm.z);
     return r;
 }
