@@ -84,6 +84,44 @@ void warmStart(ContactRows& rows, std::size_t first, std::size_t count,
     }
 }
 
+// Velocity of the point at offset r from a body's centre of mass, world.
+glm::vec3 pointVelocity(const shared::BodyVelocity& v, glm::vec3 r) {
+    return toVec3(v.linear) + glm::cross(toVec3(v.angular), r);
+}
+
+struct Bounce {
+    float speed = 0.0f; ///< normal velocity to leave with, m/s (0: no bounce)
+    float lift = 0.0f;  ///< the split pass's speed that lifts the bodies off the contact, m/s
+};
+
+// A bounce from the contact, for a point whose bodies approach at `before` m/s before this
+// step's forces and `after` after them (positive: closing) across `gap` m. The forces'
+// acceleration a = (after - before) / dt carries the approach over the gap, and only a meeting
+// faster than kRestitutionThreshold bounces (at rest before the forces, nothing does, whatever
+// dt). Symplectic Euler's positions are samples at the steps of the path whose velocity at the
+// step's start is the stored one plus half a step of a, u0 = before + a dt / 2: on it the bodies
+// meet at t_c = 2 gap / (u0 + u_c) with u_c = sqrt(u0^2 + 2 a gap), leave at e u_c, and at the
+// step's end are e u_c tau - a tau^2 / 2 apart (tau = dt - t_c) with the stored velocity
+// e u_c - a (dt / 2 - t_c). So the rebound keeps e^2 of the drop height to round-off.
+Bounce bounceOf(float restitution, float before, float after, float gap, float dt) {
+    if (restitution <= 0.0f) return {};
+    const float closing = std::max(before, 0.0f);
+    const float a = (after - before) / dt;
+    const float meeting = closing * closing + 2.0f * a * gap;
+    if (meeting <= kRestitutionThreshold * kRestitutionThreshold) return {};
+    const float u0 = closing + 0.5f * a * dt;
+    const float reach = u0 * u0 + 2.0f * a * gap;
+    if (u0 <= 0.0f || reach <= 0.0f) return {};
+    const float uc = std::sqrt(reach);
+    const float tc = 2.0f * gap / (u0 + uc);
+    const float tau = std::max(dt - tc, 0.0f);
+    Bounce b;
+    b.speed = restitution * uc - a * (0.5f * dt - tc);
+    if (b.speed <= 0.0f) return {};
+    b.lift = std::max(restitution * uc * tau - 0.5f * a * tau * tau, 0.0f) / dt;
+    return b;
+}
+
 } // namespace
 
 bool isJoinedPair(std::span<const BodyPair> joined, std::uint32_t a, std::uint32_t b) {
@@ -102,7 +140,9 @@ void tangentBasis(glm::vec3 n, glm::vec3& t1, glm::vec3& t2) {
 }
 
 void buildContactRows(std::span<const Manifold> manifolds, std::span<const shared::BodyPose> poses,
-                      const SolverBodies& bodies, std::span<const MaterialDesc> materials,
+                      const SolverBodies& bodies,
+                      std::span<const shared::BodyVelocity> beforeForces,
+                      std::span<const MaterialDesc> materials,
                       std::span<const std::uint32_t> materialOf, std::span<const BodyPair> joined,
                       std::span<const ContactImpulse> last, const ContactRowSettings& settings,
                       ContactRows& rows) {
@@ -135,6 +175,8 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                 (fromLanes(bodyB.linear) + glm::cross(fromLanes(bodyB.angular), rb)) -
                 (fromLanes(bodyA.linear) + glm::cross(fromLanes(bodyA.angular), ra));
             const float normalSpeed = glm::dot(relative, n);
+            const glm::vec3 relativeBefore =
+                pointVelocity(beforeForces[m.b], rb) - pointVelocity(beforeForces[m.a], ra);
 
             NormalRow nr;
             nr.a = m.a;
@@ -148,19 +190,21 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
             nr.inverseMassA = ima;
             nr.inverseMassB = imb;
             nr.mass = jn.mass;
-            // Target: bounce a fast approach, stop a touching one, or let a gap close and no
-            // more; the penetration beyond the slop is pushed out by the position pass.
-            const float approach = -normalSpeed;
-            const bool bounces = restitution > 0.0f && approach > kRestitutionThreshold;
+            // Target: stop a touching approach, or let a gap close and no more; the penetration
+            // beyond the slop is pushed out by the position pass.
             if (p.depth >= 0.0f) {
                 const float push =
                     settings.baumgarte / dt * std::max(p.depth - settings.slop, 0.0f);
                 nr.pushSpeed = std::min(push, kMaxPushSpeed);
-                nr.targetSpeed = bounces ? restitution * approach : 0.0f;
+                nr.targetSpeed = 0.0f;
             } else {
-                const bool closes = approach * dt > -p.depth;
-                nr.targetSpeed = bounces && closes ? restitution * approach : p.depth / dt;
+                nr.targetSpeed = p.depth / dt;
             }
+            // A bounce leaves the contact at e times the speed the bodies meet it with.
+            const Bounce bounce = bounceOf(restitution, -glm::dot(relativeBefore, n), -normalSpeed,
+                                           std::max(-p.depth, 0.0f), dt);
+            nr.bounceSpeed = bounce.speed;
+            nr.bounceLift = bounce.lift;
             rows.normals.push_back(nr);
 
             // Tangents: along the sliding velocity when there is one, else a fixed basis.

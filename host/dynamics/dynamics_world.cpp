@@ -20,8 +20,8 @@ void runBuildContactRows(WorldState& s) {
     gatherSolverVelocities(s.velocities, c.bodies);
     const SolverOptions& o = s.options.solver;
     const ContactRowSettings settings{s.options.dt, o.baumgarte, o.slop, o.warmStart};
-    buildContactRows(s.manifolds, s.poses, c.bodies, s.materials, s.materialOf, s.joined,
-                     c.impulses, settings, c.contacts);
+    buildContactRows(s.manifolds, s.poses, c.bodies, s.velocitiesAtStart, s.materials, s.materialOf,
+                     s.joined, c.impulses, settings, c.contacts);
     prepareJoints(c.joints, s.poses, c.bodies, o.warmStart);
 }
 
@@ -39,6 +39,14 @@ void runSolveVelocities(WorldState& s) {
 void runSolvePositions(WorldState& s) {
     SolverCache& c = s.solver;
     const float dt = s.options.dt;
+    // Bounces leave from the contact the bodies reached, with momenta to match.
+    if (solveRestitution(c.contacts, c.bodies, s.options.solver.iterations)) {
+        addBounceImpulses(c.contacts, s.momenta);
+        for (std::uint32_t i = 0; i < s.bodyCount(); ++i)
+            if (c.bodies.moves(i))
+                s.velocities[i] = shared::velocityFromMomentumItem(s.momenta[i], s.masses[i],
+                                                                   s.poses[i].orientation);
+    }
     // Contacts: the split position pass moves the bodies out of each other.
     if (c.pushed) {
         for (std::uint32_t i = 0; i < s.bodyCount(); ++i) {

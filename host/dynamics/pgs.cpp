@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "host/core/math.h"
+
 namespace rubble {
 namespace {
 
@@ -20,6 +22,12 @@ inline void applyRow(SolverVelocity& a, SolverVelocity& b, Lanes d, Lanes turnA,
     a.angular -= turnA * lambda;
     b.linear += d * (inverseMassB * lambda);
     b.angular += turnB * lambda;
+}
+
+// A row bounces when it has a bounce speed and stopped its bodies in this step's solve: they
+// reached the contact.
+bool isBouncing(const NormalRow& r) {
+    return r.bounceSpeed > 0.0f && r.impulse > 0.0f;
 }
 
 // The position pass stops when no push impulse changes by more than this, N s.
@@ -96,8 +104,10 @@ bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, fl
     std::vector<std::uint8_t>& moved = contacts.pushedBody;
     moved.assign(bodies.velocity.size(), 0);
     bool needed = false;
-    for (const NormalRow& r : contacts.normals) {
-        if (r.pushSpeed <= 0.0f) continue;
+    for (NormalRow& r : contacts.normals) {
+        // A bounce that stops its bodies at the contact in this solve lifts them off it again.
+        r.pushTarget = isBouncing(r) ? std::max(r.pushSpeed, r.bounceLift) : r.pushSpeed;
+        if (r.pushTarget <= 0.0f) continue;
         needed = true;
         moved[r.a] = bodies.moves(r.a) ? 1 : 0;
         moved[r.b] = bodies.moves(r.b) ? 1 : 0;
@@ -108,21 +118,67 @@ bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, fl
     for (std::size_t i = 0; i < contacts.size(); ++i) {
         NormalRow& r = contacts.normals[i];
         r.pushImpulse = 0.0f;
-        if (r.pushSpeed > 0.0f || moved[r.a] || moved[r.b]) active.push_back(std::uint32_t(i));
+        if (r.pushTarget > 0.0f || moved[r.a] || moved[r.b]) active.push_back(std::uint32_t(i));
     }
     bodies.push.assign(bodies.velocity.size(), SolverVelocity{});
     for (int it = 0; it < iterations; ++it) {
         float residual = 0.0f;
         for (const std::uint32_t i : active) {
             NormalRow& r = contacts.normals[i];
-            const float applied = solveNormalRow(r, bodies.push[r.a], bodies.push[r.b], r.pushSpeed,
-                                                 r.pushImpulse, relaxation);
+            const float applied = solveNormalRow(r, bodies.push[r.a], bodies.push[r.b],
+                                                 r.pushTarget, r.pushImpulse, relaxation);
             residual = std::max(residual, std::abs(applied));
         }
         // Converged: a further sweep would move nothing by more than round-off.
         if (residual <= kPushTolerance) break;
     }
     return true;
+}
+
+bool solveRestitution(ContactRows& contacts, SolverBodies& bodies, int iterations) {
+    std::vector<std::uint32_t>& rows = contacts.bounceRows;
+    rows.clear();
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+        NormalRow& r = contacts.normals[i];
+        r.bounceImpulse = 0.0f;
+        if (isBouncing(r)) rows.push_back(std::uint32_t(i));
+    }
+    if (rows.empty()) return false;
+    for (int it = 0; it < iterations; ++it) {
+        float residual = 0.0f;
+        for (const std::uint32_t i : rows) {
+            NormalRow& r = contacts.normals[i];
+            SolverVelocity& a = bodies.velocity[r.a];
+            SolverVelocity& b = bodies.velocity[r.b];
+            const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
+            const float total =
+                std::max(r.bounceImpulse + r.mass * (r.bounceSpeed - speed), -r.impulse);
+            const float applied = total - r.bounceImpulse;
+            r.bounceImpulse = total;
+            applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB, applied);
+            residual = std::max(residual, std::abs(applied));
+        }
+        if (residual <= kPushTolerance) break;
+    }
+    return true;
+}
+
+void addBounceImpulses(const ContactRows& contacts, std::span<shared::BodyMomentum> momenta) {
+    for (const std::uint32_t i : contacts.bounceRows) {
+        const NormalRow& r = contacts.normals[i];
+        const Lanes linear = r.normal * r.bounceImpulse;
+        // A body that does not move has zero crosses and takes nothing.
+        if (r.inverseMassA > 0.0f) {
+            shared::BodyMomentum& p = momenta[r.a];
+            p.linear = toFloat4(toVec3(p.linear) - fromLanes(linear));
+            p.angular = toFloat4(toVec3(p.angular) - fromLanes(r.crossA * r.bounceImpulse));
+        }
+        if (r.inverseMassB > 0.0f) {
+            shared::BodyMomentum& p = momenta[r.b];
+            p.linear = toFloat4(toVec3(p.linear) + fromLanes(linear));
+            p.angular = toFloat4(toVec3(p.angular) + fromLanes(r.crossB * r.bounceImpulse));
+        }
+    }
 }
 
 void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodies,

@@ -9,6 +9,7 @@
 #include "host/dynamics/joints.h"
 #include "host/dynamics/solver_bodies.h"
 #include "rubble/options.h"
+#include "rubble/shared/body.h"
 
 namespace rubble {
 
@@ -36,7 +37,24 @@ float solveContactSweep(ContactRows& contacts, SolverBodies& bodies, float relax
 void warmStartContacts(const ContactRows& contacts, SolverBodies& bodies);
 
 /// The split position pass; returns false (and leaves bodies.push untouched) when no contact
-/// needs it. writes: bodies.push, rows' push impulses
+/// needs it. A row that bounces (a bounce speed, and a normal impulse from the solve) aims at the
+/// larger of its Baumgarte speed and its bounce's lift, which carries the bodies from the
+/// contact to where the rebound has taken them by the step's end. writes: bodies.push, rows'
+/// push targets and impulses
 bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, float relaxation);
+
+/// The restitution pass, after the positions moved (as Box2D v3 applies restitution after its
+/// relax iterations): the rows that bounce (bounceSpeed > 0) and stopped their bodies in this
+/// step's solve (impulse > 0, so that the bodies reached the contact) give them back bounceSpeed
+/// along the normal, by up to `iterations` sweeps of lambda_b = max(lambda_b + m_eff
+/// (bounceSpeed - J v), -lambda) on the solved velocities (the solve's impulse and the bounce's
+/// stay >= 0 together). A bounce thus leaves from the contact, not from where the step began.
+/// Returns false when no row bounces. reads: rows   writes: rows' bounce impulses,
+/// bodies' velocities
+bool solveRestitution(ContactRows& contacts, SolverBodies& bodies, int iterations);
+
+/// The bounce impulses into the momenta: P += lambda_b n, L += lambda_b (r x n) on b, the
+/// opposite on a. reads: rows   writes: momenta
+void addBounceImpulses(const ContactRows& contacts, std::span<shared::BodyMomentum> momenta);
 
 } // namespace rubble

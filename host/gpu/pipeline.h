@@ -34,7 +34,7 @@ struct BodyBuffers {
     Buffer flags;    ///< RUBBLE_BODY_* per body: the device's own (sleep, kinematic)
     Buffer slowFor;  ///< per body: how long it has been slow, s (sleeping)
     Buffer restless; ///< per body: RUBBLE_RESTLESS_* bits of this step's contacts
-    Buffer atStart;  ///< velocities at the start of the step (explicit Euler)
+    Buffer atStart;  ///< velocities before the step's forces (restitution, explicit Euler)
     Buffer before;   ///< velocities before the solve
     Buffer jacobi;   ///< JacobiBody per body, this step's
 };

@@ -35,9 +35,10 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
     // Body list entries: one per side of a contact (an upper bound: the static side has none).
     const std::uint64_t entries = 2 * n.contacts;
     switch (id) {
-    case KernelId::IntegrateVelocities: // flags, forces, masses, momenta r/w, pose, velocity
+    case KernelId::IntegrateVelocities: // flags, forces, masses, momenta r/w, pose, velocity r/w,
+                                        // the velocity before the forces
         return n.bodies * (kWord + sizeof(BodyForce) + sizeof(BodyMass) + 2 * sizeof(BodyMomentum) +
-                           sizeof(BodyPose) + sizeof(BodyVelocity));
+                           sizeof(BodyPose) + 3 * sizeof(BodyVelocity));
     case KernelId::AbsorbVelocityChange: // momenta r/w, before, after, masses, pose
         return n.bodies * (2 * sizeof(BodyMomentum) + 2 * sizeof(BodyVelocity) + sizeof(BodyMass) +
                            sizeof(BodyPose));

@@ -55,10 +55,9 @@ void stepCpuReference(WorldState& s, StepStats& stats) {
     }
     {
         StageTimer t(stats.integrateVelocitiesMs);
-        // Explicit Euler moves positions with the velocities the step started with.
-        if (!symplectic) std::copy(s.velocities.begin(), s.velocities.end(), s.velocitiesAtStart.begin());
+        // The velocities before the forces: restitution's approach, explicit Euler's motion.
         integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities,
-                            toFloat4(s.options.gravity), dt);
+                            s.velocitiesAtStart, toFloat4(s.options.gravity), dt);
     }
     // The particle method and the solvers other than PGS are the OpenCL stages' CPU twins.
     const bool particles = s.options.collisionMethod() == CollisionMethod::Particles;

@@ -32,7 +32,7 @@ Result<FrozenContacts> freezeContacts(World& world, std::int64_t step) {
         applyExplosion(s.events[e], s.poses, s.masses, s.momenta);
         s.eventFired[e] = 1;
     }
-    integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities,
+    integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities, s.velocitiesAtStart,
                         toFloat4(s.options.gravity), s.options.dt);
     FrozenContacts set;
     if (s.options.collisionMethod() == CollisionMethod::Particles) {

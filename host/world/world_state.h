@@ -70,7 +70,7 @@ struct WorldState {
     std::optional<Error> stepFailure; ///< a CPU stage that could not run this step
 
     // Scratch reused every step: the velocities before the solve, and at the start of the step
-    // (explicit Euler moves positions with those).
+    // before the forces (restitution's approach speeds; explicit Euler moves positions with them).
     std::vector<BodyVelocity> velocitiesBeforeSolve;
     std::vector<BodyVelocity> velocitiesAtStart;
 

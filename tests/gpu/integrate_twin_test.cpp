@@ -53,13 +53,16 @@ TEST_F(IntegrateTwin, IntegrateVelocitiesMatchesCpu) {
     ASSERT_TRUE(p.uploadForces(s.forces).ok());
     const float4 g = toFloat4(s.options.gravity);
     ASSERT_TRUE(p.integrateVelocities(g, 0.01f).ok());
-    integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities, g, 0.01f);
+    integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities,
+                        s.velocitiesAtStart, g, 0.01f);
     std::vector<BodyMomentum> momenta(s.bodyCount());
-    std::vector<BodyVelocity> velocities(s.bodyCount());
+    std::vector<BodyVelocity> velocities(s.bodyCount()), atStart(s.bodyCount());
     ASSERT_TRUE(gpu::download(p.context(), p.bodies().momenta, std::span(momenta)).ok());
     ASSERT_TRUE(gpu::download(p.context(), p.bodies().velocities, std::span(velocities)).ok());
+    ASSERT_TRUE(gpu::download(p.context(), p.bodies().atStart, std::span(atStart)).ok());
     test::expectNearRel(momenta, s.momenta, 1e-5f);
     test::expectNearRel(velocities, s.velocities, 1e-5f);
+    test::expectNearRel(atStart, s.velocitiesAtStart, 1e-5f);
 }
 
 void checkPositions(test::GpuTest& t, World& w, bool symplectic) {

@@ -153,6 +153,17 @@ TEST(Contacts, FrictionAndRestitutionCombinePerContact) {
     EXPECT_NEAR(ballUp, 0.8f * std::sqrt(2.0f * 9.81f), 0.3f);
 }
 
+// A ball dropped from 5.987 m at 60 Hz rebounds to e^2 of that within 1 mm: the approach speed
+// before the step's gravity, carried to the contact, and the rebound leaving from it.
+TEST(Contacts, ElasticBallReboundsToItsDropHeight) {
+    World world = test::worldFromText(test::dropScene(1.0f));
+    test::expectReboundHeight(world, 1.0f, 0.001f, 0.001f);
+}
+TEST(Contacts, HalfElasticBallReboundsToAQuarterOfItsDropHeight) {
+    World world = test::worldFromText(test::dropScene(0.5f));
+    test::expectReboundHeight(world, 0.5f, 0.001f, 0.001f);
+}
+
 TEST(Contacts, RestitutionThresholdIsHalfAMetrePerSecond) {
     World above = test::worldFromText(test::approachScene(0.75f));
     World below = test::worldFromText(test::approachScene(0.35f));

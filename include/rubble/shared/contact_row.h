@@ -70,9 +70,10 @@ RUBBLE_FN float4 relativeVelocityItem(ContactRow r, BodyVelocity va, BodyVelocit
 
 // A row for a contact at `point` (world, m) with penetration `depth` (m) and normal from a to b.
 // Baumgarte bias corrects beta (depth - slop) / dt; restitution asks for -e vn when the bodies
-// approach faster than RUBBLE_RESTITUTION_THRESHOLD. `warm` holds impulses to start from (x, y, z as in lambda).
-// xA, xB are the bodies' centres of mass (world, m), invMassA/B their inverse masses (1/kg) and
-// invIA/B their inverse inertia in the world frame.
+// approach faster than RUBBLE_RESTITUTION_THRESHOLD, vn measured with va, vb: the bodies'
+// velocities before this step's forces. `warm` holds impulses to start from (x, y, z as in
+// lambda). xA, xB are the bodies' centres of mass (world, m), invMassA/B their inverse masses
+// (1/kg) and invIA/B their inverse inertia in the world frame.
 RUBBLE_FN ContactRow makeContactRowItem(float4 point, float4 normal, float depth, uint a, uint b,
                                         float4 xA, float4 xB, BodyVelocity va, BodyVelocity vb,
                                         float invMassA, float invMassB, Mat3 invIA, Mat3 invIB,
@@ -137,9 +138,9 @@ RUBBLE_FN JacobiBody jacobiBodyItem(BodyMass m, float4 orientation) {
     return j;
 }
 
-// A row for a contact point from the bodies' positions, velocities and JacobiBody records:
-// materials combine as sqrt(mu_a mu_b) and max(e_a, e_b) (surface x = friction, y =
-// restitution); each body's mass is split among its `count` rows.
+// A row for a contact point from the bodies' positions, velocities before the step's forces and
+// JacobiBody records: materials combine as sqrt(mu_a mu_b) and max(e_a, e_b) (surface x =
+// friction, y = restitution); each body's mass is split among its `count` rows.
 RUBBLE_FN ContactRow contactRowFromJacobiItem(ParticleContact c, float4 xA, float4 xB,
                                               BodyVelocity va, BodyVelocity vb, JacobiBody ja,
                                               JacobiBody jb, float4 surfaceA, float4 surfaceB,
