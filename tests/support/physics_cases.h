@@ -130,4 +130,111 @@ inline void expectReboundHeight(World& world, float e, float tolerance, float si
     EXPECT_GT(r.lowest, -sinking) << "e = " << e;
 }
 
+/// The sum of the dynamic bodies' linear momenta, kg m/s.
+inline glm::dvec3 totalMomentum(const World& world) {
+    glm::dvec3 p(0.0);
+    for (std::uint32_t i = 0; i < world.bodyCount(); ++i)
+        if (!world.body(i).isStatic) p += glm::dvec3(world.body(i).linearMomentum);
+    return p;
+}
+
+/// A row of five 1 kg unit boxes 1 cm apart (centres at x = 0, 1.01, ..., 4.04) on a frictionless
+/// floor, and a sixth, the striker, 2 m to their left sliding at 2 m/s toward them: the row
+/// sleeps after half a second, the striker reaches it after one, restitution 0.
+inline std::string sleepingRowScene(const std::string& simulation = "") {
+    std::string bodies = R"({"name": "floor", "shape": "ground", "static": true, "material": "ice"},
+        {"name": "striker", "shape": "crate", "mass": 1.0, "position": [-3.0, 0.5, 0],
+         "linear_velocity": [2, 0, 0], "material": "ice"})";
+    for (int i = 0; i < 5; ++i)
+        bodies += R"(, {"name": "row)" + std::to_string(i) +
+                  R"(", "shape": "crate", "mass": 1.0, "material": "ice", "position": [)" +
+                  std::to_string(1.01 * i) + ", 0.5, 0]}";
+    return R"({"format": "rubble-scene", "version": 1,
+      "simulation": {"dt": 0.016666667)" +
+           simulation + R"(},
+      "materials": {"ice": {"friction": 0.0, "restitution": 0.0}},
+      "shapes": {"ground": {"type": "plane"},
+                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
+      "bodies": [)" + bodies + "]}";
+}
+
+/// The striker's 2 kg m/s stays in the bodies through its hit on the sleeping row (nothing
+/// pushes sideways on a frictionless floor): within `tolerance` at every step for 3 s, and the
+/// row moves. Meeting the row as a wall, the striker stopped and the momentum was gone.
+inline void expectSleepingRowTakesTheHit(World& world, double tolerance) {
+    ASSERT_TRUE(world.step().ok());
+    for (int i = 0; i < 40; ++i) ASSERT_TRUE(world.step().ok());
+    for (std::uint32_t i = 2; i < world.bodyCount(); ++i)
+        ASSERT_TRUE(world.body(i).asleep) << world.bodyName(i) << " sleeps before the hit";
+    double worst = 0.0;
+    for (int i = 0; i < 180; ++i) {
+        ASSERT_TRUE(world.step().ok());
+        worst = std::max(worst, std::abs(totalMomentum(world).x - 2.0));
+    }
+    EXPECT_LT(worst, tolerance) << "kg m/s away from the striker's 2 kg m/s";
+    EXPECT_GT(world.body(2).position.x, 0.1f) << "the first box of the row moves";
+}
+
+/// Two 1 kg balls (radius 0.2 m, restitution 1, frictionless) without gravity: one at rest at
+/// the origin, asleep after half a second; the other 2.0125 m to its left at 1.5 m/s (2.5 cm a
+/// step), reaching it after 1.075 s. The gap is first within the contact margin 1.25 cm before
+/// they meet, inside the step that closes it: no step sees the contact coming before it bites.
+inline std::string cradleScene(const std::string& simulation = "") {
+    return R"({"format": "rubble-scene", "version": 1,
+      "simulation": {"dt": 0.016666667, "gravity": [0, 0, 0])" +
+           simulation + R"(},
+      "materials": {"steel": {"friction": 0.0, "restitution": 1.0}},
+      "shapes": {"ball": {"type": "sphere", "radius": 0.2}},
+      "bodies": [{"name": "moving", "shape": "ball", "mass": 1.0, "position": [-2.0125, 0, 0],
+                  "linear_velocity": [1.5, 0, 0], "material": "steel"},
+                 {"name": "resting", "shape": "ball", "mass": 1.0, "position": [0, 0, 0],
+                  "material": "steel"}]})";
+}
+
+/// Equal masses, e = 1, head on: the moving ball stops and the resting one leaves at 1.5 m/s
+/// (momentum m v and energy m v^2 / 2 both kept), within `tolerance` m/s. Meeting the sleeping
+/// ball as a wall, the moving one bounced back at -1.5 m/s and the other stayed.
+inline void expectCradleExchange(World& world, float tolerance) {
+    for (int i = 0; i < 40; ++i) ASSERT_TRUE(world.step().ok());
+    ASSERT_TRUE(world.body(1).asleep) << "the resting ball sleeps before the hit";
+    for (int i = 0; i < 80; ++i) ASSERT_TRUE(world.step().ok());
+    EXPECT_NEAR(world.body(0).linearVelocity.x, 0.0f, tolerance) << "the moving ball stops";
+    EXPECT_NEAR(world.body(1).linearVelocity.x, 1.5f, tolerance) << "the resting ball leaves";
+}
+
+/// The sleeping row of sleepingRowScene without the striker, and at t = 1 s an explosion 1.5 m
+/// left of the first box, at its height, of 20 N s and 3 m reach: it reaches the first two
+/// boxes (1.5 m and 2.51 m away) with 20 (1 - d / 3) N s straight along x.
+inline std::string explodedRowScene(const std::string& simulation = "") {
+    std::string scene = sleepingRowScene(simulation);
+    const std::string striker = R"(,
+        {"name": "striker", "shape": "crate", "mass": 1.0, "position": [-3.0, 0.5, 0],
+         "linear_velocity": [2, 0, 0], "material": "ice"})";
+    scene.replace(scene.find(striker), striker.size(), "");
+    scene.insert(scene.rfind('}'), R"(, "events": [{"type": "explosion", "time": 1.0,
+        "centre": [-1.5, 0.5, 0], "impulse": 20, "radius": 3}])");
+    return scene;
+}
+
+/// The explosion's impulses, sum of 20 (1 - d / 3) over the boxes it reaches, stay in the bodies
+/// (within `tolerance` kg m/s at every step for 2 s after it): a sleeping box the blown ones hit
+/// takes its share. Met as walls, the sleeping boxes kept it.
+inline void expectExplodedRowKeepsItsMomentum(World& world, double tolerance) {
+    double expected = 0.0;
+    for (int i = 0; i < 5; ++i) {
+        const double d = 1.5 + 1.01 * i;
+        if (d < 3.0) expected += 20.0 * (1.0 - d / 3.0);
+    }
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(world.step().ok()); // the explosion is the next step
+    for (std::uint32_t i = 1; i < world.bodyCount(); ++i)
+        ASSERT_TRUE(world.body(i).asleep) << world.bodyName(i) << " sleeps before the explosion";
+    double worst = 0.0;
+    for (int i = 0; i < 120; ++i) {
+        ASSERT_TRUE(world.step().ok());
+        worst = std::max(worst, std::abs(totalMomentum(world).x - expected));
+    }
+    EXPECT_LT(worst, tolerance) << "kg m/s away from the explosion's " << expected;
+    EXPECT_GT(world.body(5).position.x, 4.04f + 0.1f) << "the last box of the row moves";
+}
+
 } // namespace rubble::test
