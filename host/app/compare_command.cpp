@@ -14,7 +14,7 @@
 
 #include "host/app/commands.h"
 #include "host/app/gpu_commands.h"
-#include "host/world/world_state.h"
+#include "rubble/world.h"
 
 namespace rubble::app {
 namespace {

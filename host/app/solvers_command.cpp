@@ -9,9 +9,9 @@
 
 #include "host/app/commands.h"
 #include "host/app/gpu_commands.h"
-#include "host/gpu/lcp_convergence.h"
+#include "host/core/step_params.h"
+#include "host/gpu/context.h"
 #include "host/world/frozen_contacts.h"
-#include "host/world/world_state.h"
 
 namespace rubble::app {
 namespace {
@@ -167,8 +167,8 @@ int solversCommand(const SolversArgs& args) {
     Result<std::shared_ptr<gpu::Context>> context = gpu::Context::create(args.run);
     if (context) {
         histories.push_back(measured("jacobi", "opencl",
-                                     gpu::jacobiIteratesOnDevice(*context, world->state(), p, k,
-                                                                 jacobiRelaxation(opts)),
+                                     jacobiIteratesOnDevice(*context, p, k,
+                                                            jacobiRelaxation(opts)),
                                      dense, reference));
     } else {
         histories.push_back(History{"jacobi", "opencl", {}, context.error().describe()});
@@ -178,8 +178,8 @@ int solversCommand(const SolversArgs& args) {
                                  reference));
     if (context) {
         histories.push_back(measured("lcp-jacobi", "opencl",
-                                     gpu::lcpJacobiIteratesOnDevice(**context, dense, k,
-                                                                    lcpJacobiRelaxation(opts)),
+                                     lcpJacobiIteratesOnDevice(**context, dense, k,
+                                                               lcpJacobiRelaxation(opts)),
                                      dense, reference));
     } else {
         histories.push_back(History{"lcp-jacobi", "opencl", {}, context.error().describe()});

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -10,6 +11,10 @@
 #include <glm/vec3.hpp>
 
 namespace rubble {
+
+namespace gpu {
+class Context;
+}
 
 /// Time integration of the bodies' state.
 enum class Integrator {
@@ -77,6 +82,9 @@ struct RunOptions {
     std::string device;    ///< OpenCL device by name fragment or index; empty: the first one
     std::string kernelDir; ///< load kernels/*.cl from here instead of the embedded text
     bool deterministic = false; ///< device rows sorted by key so atomics cannot reorder sums
+    /// An OpenCL context with its program built (rubble::openDevice), shared by the worlds made
+    /// with it so that the kernels compile once; empty: the world opens the device itself.
+    std::shared_ptr<gpu::Context> context;
 };
 
 /// Scene-file spelling of each enum value, as in SCENE_FORMAT.md.

@@ -16,10 +16,14 @@
 #include "rubble/error.h"
 #include "rubble/options.h"
 #include "rubble/scene.h"
+#include "rubble/shape.h"
 
 namespace rubble {
 
 struct WorldState;
+namespace gpu {
+class Context;
+}
 
 /// One body's state as a host program sees it; world frame, SI units.
 struct BodyState {
@@ -30,8 +34,17 @@ struct BodyState {
     glm::vec3 linearMomentum{0.0f};    ///< kg m/s
     glm::vec3 angularMomentum{0.0f};   ///< about the centre of mass, kg m^2/s
     float mass = 0.0f;                 ///< kg; 0 for static bodies
+    glm::mat3 inertia{0.0f};           ///< body frame, about the centre of mass, kg m^2
     bool isStatic = false;
     bool asleep = false;
+};
+
+/// One contact point of the last step, world frame.
+struct ContactInfo {
+    std::uint32_t a = 0, b = 0;         ///< the bodies; the normal points from a to b
+    glm::vec3 position{0.0f};           ///< midway between the surfaces, m
+    glm::vec3 normal{0.0f, 1.0f, 0.0f}; ///< unit
+    float depth = 0.0f;                 ///< penetration, m (negative: a gap the step may close)
 };
 
 /// Device time of each stage of the last step on the OpenCL device (profiling events), ms.
@@ -56,6 +69,7 @@ struct StepStats {
     double totalMs = 0;             ///< wall time of World::step
     std::uint32_t pairCount = 0;    ///< broad-phase pairs
     std::uint32_t contactCount = 0; ///< contact points (both populations)
+    std::uint32_t asleep = 0;       ///< bodies asleep after the step (both populations)
     float largestPenetration = 0;   ///< m, before the solve
     float solverResidual = 0;       ///< largest |impulse change| in the last sweep, N s
 
@@ -97,6 +111,11 @@ struct DebrisPiece {
     glm::vec3 linearVelocity{0.0f};                ///< m/s
     glm::vec3 angularVelocity{0.0f};               ///< rad/s, world frame
 };
+
+/// Opens an OpenCL device (RunOptions::device) and builds the program, for worlds to share
+/// through RunOptions::context so that the kernels compile once. Errors: NotSupported when no
+/// OpenCL platform exists, Device for a failed build (with its log).
+Result<std::shared_ptr<gpu::Context>> openDevice(const RunOptions& run);
 
 /// A simulated world. Move-only.
 class World {
@@ -168,11 +187,31 @@ class World {
     /// Device time of each kernel and transfer over the steps so far (empty on the cpu backend).
     std::vector<DeviceCommandTime> deviceProfile() const;
 
-    /// Internal arrays, for rubble's own stages and tests.
-    WorldState& state();
-    const WorldState& state() const;
+    /// The shapes of the scene, by index, as built (centre of mass at the origin).
+    std::span<const ShapeGeometry> shapes() const;
+    const ShapeGeometry& shape(std::uint32_t shape) const;
+    /// The shape of a body, an index for shape().
+    std::uint32_t bodyShape(std::uint32_t body) const;
+    /// Whether a body belongs to the debris set (the scene's `debris` flag, or addDebris).
+    bool isDebris(std::uint32_t body) const;
+    /// Whether the OpenCL device steps the body (false on the cpu backend, for static bodies
+    /// and for the bodies an offloaded world steps on the CPU).
+    bool onDevice(std::uint32_t body) const;
+    /// The scene's joints, bodies by index.
+    std::span<const JointDesc> joints() const;
+    /// The contact points of the last step that the host computed: every contact on the cpu
+    /// backend, those of the CPU bodies of an offloaded world (the device keeps its own).
+    std::vector<ContactInfo> contacts() const;
+    /// The linear impulse (N s, world frame) that the debris on the OpenCL device put on the
+    /// CPU bodies of an offloaded world in the last step, which they take at the start of the
+    /// next (two-way coupling lags one step); zero otherwise. Momentum is conserved counting it.
+    glm::vec3 pendingCouplingImpulse() const;
+    /// The largest |impulse change| of each solver sweep of the last step on the CPU, N s
+    /// (empty for the lemke solver and for a world stepped wholly on the device).
+    std::span<const float> solverResiduals() const;
 
   private:
+    friend struct WorldAccess; // host/world's own reach into a world it holds (offloading)
     explicit World(std::unique_ptr<WorldState> s);
     std::unique_ptr<WorldState> s_;
 };

@@ -1,7 +1,8 @@
-// host/dynamics/body_sleep.h: sleeping as the device does it (stage sleepBodies), the CPU twin
-// of kernels/sleep.cl with the per-element math of rubble/shared/sleep.h: each contact row tells
-// its bodies whether a neighbour is restless or fast, then each dynamic body updates its sleep.
-// The reference pipeline's PGS sleeps by islands instead (host/dynamics/islands.h).
+// host/dynamics/sleep.h: sleeping as the device does it (stage sleepBodies), the CPU twin of
+// kernels/sleep.cl (dispatch in host/gpu/sleep.cpp) with the per-element math of
+// rubble/shared/sleep.h: each contact row tells its bodies whether a neighbour is restless or
+// fast, then each dynamic body updates its sleep. The reference pipeline's PGS sleeps by islands
+// instead (host/dynamics/islands.h).
 #pragma once
 
 #include <cstdint>
@@ -11,8 +12,6 @@
 #include "rubble/shared/contact_row.h"
 
 namespace rubble {
-
-struct WorldState;
 
 /// Per body: how long it has been slow (s) and this step's restless marks.
 struct BodySleepState {
@@ -35,8 +34,5 @@ BodySleepCounts sleepBodies(std::span<const shared::ContactRow> rows,
                             std::span<shared::BodyVelocity> velocities,
                             std::span<shared::BodyMomentum> momenta, float dt,
                             BodySleepState& state);
-
-/// The stage on a world stepped with the device's solvers on the CPU (its rows in s.jacobi).
-void runSleepBodies(WorldState& s);
 
 } // namespace rubble

@@ -1,7 +1,6 @@
-// host/dynamics/body_sleep.cpp: stage sleepBodies on the CPU; twin of kernels/sleep.cl.
-#include "host/dynamics/body_sleep.h"
+// host/dynamics/sleep.cpp: stage sleepBodies on the CPU; twin of kernels/sleep.cl.
+#include "host/dynamics/sleep.h"
 
-#include "host/world/world_state.h"
 #include "rubble/shared/sleep.h"
 
 namespace rubble {
@@ -36,12 +35,6 @@ BodySleepCounts sleepBodies(std::span<const ContactRow> rows, std::span<BodyMass
         state.restless[i] = 0u;
     }
     return counts;
-}
-
-void runSleepBodies(WorldState& s) {
-    const BodySleepCounts counts =
-        sleepBodies(s.jacobi.rows, s.masses, s.velocities, s.momenta, s.options.dt, s.bodySleep);
-    s.stats.deviceAsleep = counts.asleep;
 }
 
 } // namespace rubble

@@ -1,6 +1,6 @@
-// host/collision/particle_world.cpp: OpenCL stages 2 to 4 on the CPU; twins of
-// kernels/particles.cl and kernels/grid.cl.
-#include "host/collision/particle_world.h"
+// host/collision/particles.cpp: OpenCL stages transformParticles and collideParticles on the
+// CPU; twins of kernels/particles.cl.
+#include "host/collision/particles.h"
 
 #include <algorithm>
 #include <map>
@@ -8,37 +8,30 @@
 #include "host/core/assert.h"
 #include "host/core/math.h"
 #include "host/geometry/voxelise.h"
-#include "host/world/world_state.h"
 
 namespace rubble {
 
 using namespace shared;
 
-std::uint32_t gridBits(std::size_t particleCount) {
-    std::uint32_t bits = 10;
-    while (bits < 24 && (std::size_t(1) << bits) < 2 * particleCount) ++bits;
-    return bits;
-}
-
-Status buildParticles(WorldState& s) {
-    if (s.particles.built) return {};
-    ParticleState& p = s.particles;
-    const float spacing = s.options.collision.particleSpacing;
+Result<ParticleSet> buildParticleSet(std::span<const Shape> shapes,
+                                     std::span<const MaterialDesc> materials, BodiesView bodies,
+                                     float spacing) {
+    ParticleSet p;
     std::map<std::uint32_t, std::vector<glm::vec3>> byShape;
-    for (std::uint32_t b = 0; b < s.bodyCount(); ++b) {
-        const Shape& shape = s.shapes[s.shapeOf[b]];
-        const MaterialDesc& material = s.materials[s.materialOf[b]];
-        const bool fixed = s.isStatic(b);
+    for (std::uint32_t b = 0; b < bodies.count(); ++b) {
+        const Shape& shape = shapes[bodies.shapeOf[b]];
+        const MaterialDesc& material = materials[bodies.materialOf[b]];
+        const bool fixed = bodies.isStatic(b);
         if (shape.type == ShapeType::Plane || (fixed && shape.type == ShapeType::Box)) {
             StaticShape st{};
             st.kind = shape.type == ShapeType::Plane ? RUBBLE_STATIC_PLANE : RUBBLE_STATIC_BOX;
             // A static body's pose turns its shape: the plane's normal and offset follow it.
-            const glm::quat q = toQuat(s.poses[b].orientation);
-            const glm::vec3 x = toVec3(s.poses[b].position);
+            const glm::quat q = toQuat(bodies.poses[b].orientation);
+            const glm::vec3 x = toVec3(bodies.poses[b].position);
             const glm::vec3 n = glm::normalize(q * shape.normal);
             st.normal = toFloat4(n, shape.offset + glm::dot(n, x));
-            st.position = s.poses[b].position;
-            st.orientation = s.poses[b].orientation;
+            st.position = bodies.poses[b].position;
+            st.orientation = bodies.poses[b].orientation;
             st.halfExtents = toFloat4(shape.halfExtents);
             st.friction = material.friction;
             st.restitution = material.restitution;
@@ -46,9 +39,9 @@ Status buildParticles(WorldState& s) {
             p.statics.push_back(st);
             continue;
         }
-        auto it = byShape.find(s.shapeOf[b]);
+        auto it = byShape.find(bodies.shapeOf[b]);
         if (it == byShape.end())
-            it = byShape.emplace(s.shapeOf[b], voxeliseShape(shape, spacing, true)).first;
+            it = byShape.emplace(bodies.shapeOf[b], voxeliseShape(shape, spacing, true)).first;
         for (const glm::vec3& c : it->second) {
             Particle particle{};
             particle.offset = toFloat4(c, 0.5f * spacing);
@@ -68,9 +61,7 @@ Status buildParticles(WorldState& s) {
                              std::to_string(p.statics.size()));
     p.cellSize = spacing;
     p.bits = gridBits(p.particles.size());
-    p.world.resize(p.particles.size());
-    p.built = true;
-    return {};
+    return p;
 }
 
 void transformParticles(std::span<const Particle> particles, std::span<const BodyPose> poses,
@@ -78,32 +69,6 @@ void transformParticles(std::span<const Particle> particles, std::span<const Bod
     RUBBLE_ASSERT(world.size() == particles.size());
     for (std::size_t i = 0; i < particles.size(); ++i)
         world[i] = transformParticleItem(particles[i], poses[particles[i].body]);
-}
-
-void buildGrid(std::span<const float4> world, float cellSize, std::uint32_t bits,
-               std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& order,
-               std::vector<std::uint32_t>& cellStart, std::vector<std::uint32_t>& cellEnd) {
-    const std::size_t n = world.size(), cells = std::size_t(1) << bits;
-    const float inverse = 1.0f / cellSize;
-    std::vector<std::uint32_t> unsorted(n);
-    for (std::size_t i = 0; i < n; ++i) unsorted[i] = cellKeyItem(world[i], inverse, bits);
-    // A stable counting sort by key.
-    cellStart.assign(cells, RUBBLE_EMPTY_CELL);
-    cellEnd.assign(cells, RUBBLE_EMPTY_CELL);
-    std::vector<std::uint32_t> count(cells + 1, 0);
-    for (std::uint32_t k : unsorted) ++count[k + 1];
-    for (std::size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
-    keys.resize(n);
-    order.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::uint32_t slot = count[unsorted[i]]++;
-        keys[slot] = unsorted[i];
-        order[slot] = std::uint32_t(i);
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-        if (i == 0 || keys[i] != keys[i - 1]) cellStart[keys[i]] = std::uint32_t(i);
-        if (i + 1 == n || keys[i] != keys[i + 1]) cellEnd[keys[i]] = std::uint32_t(i + 1);
-    }
 }
 
 void transformParticles(std::span<const Particle> particles, std::span<const BodyPose> poses,
@@ -116,15 +81,16 @@ void transformParticles(std::span<const Particle> particles, std::span<const Bod
     }
 }
 
-void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
+void collideParticles(const ParticleSet& set, std::span<const float4> world,
+                      const ParticleGrid& grid, std::span<const BodyMass> masses,
                       std::vector<ParticleContact>& contacts) {
     contacts.clear();
-    const float inverse = 1.0f / p.cellSize;
-    const std::uint32_t count = std::uint32_t(p.particles.size());
+    const float inverse = 1.0f / set.cellSize;
+    const std::uint32_t count = std::uint32_t(set.particles.size());
     for (std::uint32_t slot = 0; slot < count; ++slot) {
-        const std::uint32_t i = p.order[slot];
-        const float4 xi = p.world[i];
-        const std::uint32_t bodyI = p.particles[i].body;
+        const std::uint32_t i = grid.order[slot];
+        const float4 xi = world[i];
+        const std::uint32_t bodyI = set.particles[i].body;
         const std::uint32_t flagsI = masses[bodyI].flags;
         if (!testsPairsItem(flagsI)) continue;
         const int cx = cellCoordinate(xi.x, inverse), cy = cellCoordinate(xi.y, inverse),
@@ -134,21 +100,21 @@ void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
         for (int dy = -1; dy <= 1; ++dy)
             for (int dz = -1; dz <= 1; ++dz)
                 for (int dx = -1; dx <= 1; ++dx) {
-                    const std::uint32_t key = cellHashItem(cx + dx, cy + dy, cz + dz, p.bits);
+                    const std::uint32_t key = cellHashItem(cx + dx, cy + dy, cz + dz, set.bits);
                     RUBBLE_ASSERT(neighbourCellIsNewItem(seen, seenCount, key));
                     seen[seenCount++] = key;
-                    const std::uint32_t start = p.cellStart[key];
+                    const std::uint32_t start = grid.cellStart[key];
                     if (start == RUBBLE_EMPTY_CELL) continue;
-                    for (std::uint32_t s = start; s < p.cellEnd[key]; ++s) {
-                        const std::uint32_t j = p.order[s];
-                        if (!particlesMayTouchItem(xi, p.world[j])) continue;
-                        const std::uint32_t bodyJ = p.particles[j].body;
+                    for (std::uint32_t s = start; s < grid.cellEnd[key]; ++s) {
+                        const std::uint32_t j = grid.order[s];
+                        if (!particlesMayTouchItem(xi, world[j])) continue;
+                        const std::uint32_t bodyJ = set.particles[j].body;
                         const std::uint32_t flagsJ = masses[bodyJ].flags;
                         if (!pairFromHereItem(bodyI, flagsI, bodyJ, flagsJ, s > slot)) continue;
                         // Two active bodies meet in the order of their indices.
                         const bool swap = activeBodyItem(flagsJ) && bodyJ < bodyI;
-                        ParticleContact c = swap ? particlePairItem(p.world[j], xi)
-                                                 : particlePairItem(xi, p.world[j]);
+                        ParticleContact c = swap ? particlePairItem(world[j], xi)
+                                                 : particlePairItem(xi, world[j]);
                         if (!(c.point.w > 0.0f)) continue;
                         c.a = swap ? bodyJ : bodyI;
                         c.b = swap ? bodyI : bodyJ;
@@ -158,8 +124,8 @@ void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
                     }
                 }
         if (!activeBodyItem(flagsI)) continue;
-        for (std::uint32_t k = 0; k < p.statics.size(); ++k) {
-            ParticleContact c = particleStaticItem(xi, p.statics[k]);
+        for (std::uint32_t k = 0; k < set.statics.size(); ++k) {
+            ParticleContact c = particleStaticItem(xi, set.statics[k]);
             if (!(c.point.w > 0.0f)) continue;
             c.a = bodyI;
             c.particleA = i;
@@ -199,22 +165,6 @@ void particleContactsToManifolds(std::span<const ParticleContact> contacts,
     std::stable_sort(manifolds.begin(), manifolds.end(), [](const Manifold& x, const Manifold& y) {
         return x.a != y.a ? x.a < y.a : x.b < y.b;
     });
-}
-
-void runParticleGrid(WorldState& s) {
-    ParticleState& p = s.particles;
-    transformParticles(p.particles, s.poses, s.masses, p.world);
-    buildGrid(p.world, p.cellSize, p.bits, p.keys, p.order, p.cellStart, p.cellEnd);
-}
-
-void runParticleCollide(WorldState& s) {
-    ParticleState& p = s.particles;
-    collideParticles(p, s.masses, p.contacts);
-    sortContactsByParticle(p.contacts);
-    float deepest = 0.0f;
-    for (const ParticleContact& c : p.contacts) deepest = std::max(deepest, c.point.w);
-    s.stats.contactCount = std::uint32_t(p.contacts.size());
-    s.stats.largestPenetration = deepest;
 }
 
 } // namespace rubble
