@@ -54,11 +54,10 @@ Result<ParticleSet> buildParticleSet(std::span<const Shape> shapes,
                          "gives " + std::to_string(p.particles.size()) +
                              " particles, more than the pipeline can index; use a larger spacing");
     if (p.statics.size() > RUBBLE_MAX_STATIC_SHAPES)
-        return makeError(ErrorKind::NotSupported, "bodies",
-                         "the particle method meets at most " +
-                             std::to_string(RUBBLE_MAX_STATIC_SHAPES) +
-                             " planes and static boxes; this scene has " +
-                             std::to_string(p.statics.size()));
+        return makeError(
+            ErrorKind::NotSupported, "bodies",
+            "the particle method meets at most " + std::to_string(RUBBLE_MAX_STATIC_SHAPES) +
+                " planes and static boxes; this scene has " + std::to_string(p.statics.size()));
     p.cellSize = spacing;
     p.bits = gridBits(p.particles.size());
     return p;
@@ -113,8 +112,8 @@ void collideParticles(const ParticleSet& set, std::span<const float4> world,
                         if (!pairFromHereItem(bodyI, flagsI, bodyJ, flagsJ, s > slot)) continue;
                         // Two active bodies meet in the order of their indices.
                         const bool swap = activeBodyItem(flagsJ) && bodyJ < bodyI;
-                        ParticleContact c = swap ? particlePairItem(world[j], xi)
-                                                 : particlePairItem(xi, world[j]);
+                        ParticleContact c =
+                            swap ? particlePairItem(world[j], xi) : particlePairItem(xi, world[j]);
                         if (!(c.point.w > 0.0f)) continue;
                         c.a = swap ? bodyJ : bodyI;
                         c.b = swap ? bodyI : bodyJ;
@@ -136,11 +135,10 @@ void collideParticles(const ParticleSet& set, std::span<const float4> world,
 }
 
 void sortContactsByParticle(std::vector<ParticleContact>& contacts) {
-    std::sort(contacts.begin(), contacts.end(),
-              [](const ParticleContact& x, const ParticleContact& y) {
-                  return x.particleA != y.particleA ? x.particleA < y.particleA
-                                                    : x.featureB < y.featureB;
-              });
+    std::sort(
+        contacts.begin(), contacts.end(), [](const ParticleContact& x, const ParticleContact& y) {
+            return x.particleA != y.particleA ? x.particleA < y.particleA : x.featureB < y.featureB;
+        });
 }
 
 void particleContactsToManifolds(std::span<const ParticleContact> contacts,

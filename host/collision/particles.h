@@ -19,8 +19,8 @@ namespace rubble {
 /// The particles of a world's bodies and the static shapes they meet, made once at load (and
 /// again when bodies are added or removed).
 struct ParticleSet {
-    float cellSize = 0;     ///< m: the largest particle diameter
-    std::uint32_t bits = 0; ///< the grid hash table has 2^bits cells
+    float cellSize = 0;                       ///< m: the largest particle diameter
+    std::uint32_t bits = 0;                   ///< the grid hash table has 2^bits cells
     std::vector<shared::Particle> particles;  ///< grouped by body, in body order
     std::vector<shared::StaticShape> statics; ///< planes and static boxes, met analytically
 };

@@ -34,8 +34,7 @@ Aabb worldBox(const Shape& shape, const Transform& t, float margin) {
 
 // How much closer two bodies can come this step: their relative translation plus what their
 // turning can add. Bodies falling side by side close nothing, so they get no speculative gap.
-float pairReach(BodiesView bodies, const BodyPair& pair, const std::vector<float>& spin,
-                float dt) {
+float pairReach(BodiesView bodies, const BodyPair& pair, const std::vector<float>& spin, float dt) {
     const glm::vec3 relative =
         toVec3(bodies.velocities[pair.b].linear) - toVec3(bodies.velocities[pair.a].linear);
     return glm::length(relative) * dt + spin[pair.a] + spin[pair.b];
@@ -99,10 +98,9 @@ void SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
                                   ? c.features[cached].cache
                                   : HullPairCache{};
         const float margin = kContactMargin + pairReach(bodies, pair, c.spin, params.dt);
-        const PairContact pc =
-            collideShapes(scene.shapes[bodies.shapeOf[pair.a]], c.transforms[pair.a],
-                          scene.shapes[bodies.shapeOf[pair.b]], c.transforms[pair.b], cache,
-                          margin);
+        const PairContact pc = collideShapes(
+            scene.shapes[bodies.shapeOf[pair.a]], c.transforms[pair.a],
+            scene.shapes[bodies.shapeOf[pair.b]], c.transforms[pair.b], cache, margin);
         if (cache.reusable) c.nextFeatures.push_back({pair, cache});
         if (pc.contacts.count == 0) continue;
         Manifold m;

@@ -26,8 +26,8 @@ struct CollisionCache {
     std::vector<CachedFeature> nextFeatures; ///< being filled; swapped with features
     std::vector<Transform> transforms;       ///< per body, this step
     std::vector<Aabb> boxes;                 ///< per body, this step, grown by margin and reach
-    std::vector<float> reach; ///< per body: how far any of its points can move this step, m
-    std::vector<float> spin;  ///< per body: the part of reach due to turning, m
+    std::vector<float> reach;        ///< per body: how far any of its points can move this step, m
+    std::vector<float> spin;         ///< per body: the part of reach due to turning, m
     std::vector<std::uint8_t> flags; ///< per body, BroadPhaseFlag
     std::vector<PlaneProxy> planes;
     BroadPhaseScratch broadPhase;

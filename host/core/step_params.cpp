@@ -25,7 +25,9 @@ StepParams makeStepParams(const SimulationOptions& o, std::int64_t stepsTaken) {
     return p;
 }
 
-float jacobiRelaxation(const SolverOptions& o) { return o.relaxation * kJacobiOverRelaxation; }
+float jacobiRelaxation(const SolverOptions& o) {
+    return o.relaxation * kJacobiOverRelaxation;
+}
 
 float lcpJacobiRelaxation(const SolverOptions& o) {
     return o.relaxation * kLcpJacobiOverRelaxation;

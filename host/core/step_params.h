@@ -21,9 +21,9 @@ struct StepParams {
     shared::float4 gravity{}; ///< m/s^2, world frame
     Integrator integrator = Integrator::Symplectic;
     CollisionMethod collision = CollisionMethod::Sat;
-    float particleSpacing = 0.1f; ///< m
-    SolverOptions solver;         ///< the scene's solver block as given
-    shared::SolverParams rows{};  ///< the contact rows of the jacobi family (solverParams)
+    float particleSpacing = 0.1f;     ///< m
+    SolverOptions solver;             ///< the scene's solver block as given
+    shared::SolverParams rows{};      ///< the contact rows of the jacobi family (solverParams)
     float jacobiRelaxation = 1.0f;    ///< jacobiRelaxation(solver)
     float lcpJacobiRelaxation = 1.0f; ///< lcpJacobiRelaxation(solver)
 

@@ -21,7 +21,7 @@ namespace rubble {
 /// What the solver stages read of the world besides the body arrays and the contacts. It
 /// changes only when bodies are added or removed (ContactSolver::bodiesChanged).
 struct SolverScene {
-    std::span<const Shape> shapes;            ///< bounding radii, for sleeping
+    std::span<const Shape> shapes; ///< bounding radii, for sleeping
     std::span<const MaterialDesc> materials;
     std::span<const shared::float4> surfaces; ///< per body: friction, restitution (bodySurfaces)
     std::span<const JointDesc> joints;        ///< the scene's, by body index
@@ -47,8 +47,7 @@ class ContactSolver {
     /// solution), naming the step. reads: rows, before   writes: velocities, impulses kept
     [[nodiscard]] virtual Status solve(const SolverScene& scene, Bodies bodies,
                                        std::span<const shared::BodyVelocity> before,
-                                       const StepContacts& contacts,
-                                       const StepParams& params) = 0;
+                                       const StepContacts& contacts, const StepParams& params) = 0;
     /// After integratePositions: position-level corrections. writes: poses, velocities
     virtual void solvePositions(const SolverScene& scene, Bodies bodies,
                                 const StepParams& params) = 0;

@@ -19,15 +19,15 @@ void JacobiSolver::buildRows(const SolverScene& scene, BodiesView bodies,
         matchWarmStart(contacts.points, j.previous, j.warm);
     else
         j.warm.assign(contacts.points.size(), vec4(0.0f, 0.0f, 0.0f));
-    buildJacobiRows(contacts.points, bodies.poses, bodies.velocities, bodies.masses,
-                    scene.surfaces, params.rows, j.warm, j);
+    buildJacobiRows(contacts.points, bodies.poses, bodies.velocities, bodies.masses, scene.surfaces,
+                    params.rows, j.warm, j);
 }
 
 Status JacobiSolver::solve(const SolverScene&, Bodies bodies, std::span<const BodyVelocity> before,
                            const StepContacts& contacts, const StepParams& params) {
     JacobiState& j = jacobi_;
-    solveJacobi(j, before, bodies.masses, bodies.poses, bodies.velocities,
-                params.solver.iterations, params.jacobiRelaxation);
+    solveJacobi(j, before, bodies.masses, bodies.poses, bodies.velocities, params.solver.iterations,
+                params.jacobiRelaxation);
     if (params.solver.warmStart) rememberImpulses(contacts.points, j.rows, j.previous);
     return {};
 }

@@ -8,8 +8,8 @@
 
 namespace rubble {
 
-void PgsSolver::buildRows(const SolverScene& scene, BodiesView bodies,
-                          const StepContacts& contacts, const StepParams& params) {
+void PgsSolver::buildRows(const SolverScene& scene, BodiesView bodies, const StepContacts& contacts,
+                          const StepParams& params) {
     SolverCache& c = cache_;
     // Joints are turned into body frames at the poses of the first step.
     if (!c.jointsBuilt) {
@@ -21,8 +21,8 @@ void PgsSolver::buildRows(const SolverScene& scene, BodiesView bodies,
     gatherSolverVelocities(bodies.velocities, c.bodies);
     const SolverOptions& o = params.solver;
     const ContactRowSettings settings{params.dt, o.baumgarte, o.slop, o.warmStart};
-    buildContactRows(contacts.manifolds, bodies.poses, c.bodies, scene.materials,
-                     bodies.materialOf, scene.joined, c.impulses, settings, c.contacts);
+    buildContactRows(contacts.manifolds, bodies.poses, c.bodies, scene.materials, bodies.materialOf,
+                     scene.joined, c.impulses, settings, c.contacts);
     prepareJoints(c.joints, bodies.poses, c.bodies, o.warmStart);
 }
 
@@ -30,8 +30,8 @@ Status PgsSolver::solve(const SolverScene&, Bodies bodies, std::span<const share
                         const StepContacts&, const StepParams& params) {
     SolverCache& c = cache_;
     solvePgs(c.contacts, c.joints, c.bodies, params.solver, c.residuals);
-    c.pushed = solvePushes(c.contacts, c.bodies, params.solver.iterations,
-                           params.solver.relaxation);
+    c.pushed =
+        solvePushes(c.contacts, c.bodies, params.solver.iterations, params.solver.relaxation);
     scatterSolverVelocities(c.bodies, bodies.velocities);
     storeContactImpulses(c.contacts, c.impulses, c.bodies, c.nextImpulses, c.impulseScratch);
     std::swap(c.impulses, c.nextImpulses);
@@ -56,9 +56,8 @@ void PgsSolver::solvePositions(const SolverScene&, Bodies bodies, const StepPara
     }
     if (c.joints.empty()) return;
     // Joints: projected onto their constraints.
-    c.jointPositions = correctJointPositions(c.joints, c.jointGroups, bodies.masses,
-                                             bodies.poses, kJointPositionIterations,
-                                             c.jointScratch);
+    c.jointPositions = correctJointPositions(c.joints, c.jointGroups, bodies.masses, bodies.poses,
+                                             kJointPositionIterations, c.jointScratch);
     // The turned bodies' angular velocities follow from their momenta at the new orientations.
     for (const Joint& j : c.joints)
         for (const std::uint32_t i : {j.a, j.b})

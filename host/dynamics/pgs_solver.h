@@ -22,8 +22,8 @@ inline constexpr int kJointPositionIterations = 20;
 /// the buffers it reuses. Ordered containers only: the reference path is deterministic.
 struct SolverCache {
     bool jointsBuilt = false;
-    std::vector<Joint> joints;    ///< the scene's joints in body frames, with impulses
-    JointGroups jointGroups;      ///< joints connected through moving bodies
+    std::vector<Joint> joints; ///< the scene's joints in body frames, with impulses
+    JointGroups jointGroups;   ///< joints connected through moving bodies
     JointPositionScratch jointScratch;
     std::vector<ContactImpulse> impulses; ///< last step's contact impulses, in pair order
     std::vector<ContactImpulse> nextImpulses, impulseScratch;

@@ -9,7 +9,7 @@
 #include "host/core/mass_properties.h"
 #include "host/geometry/convex_hull.h"
 #include "host/geometry/half_edge.h"
-#include "host/scene/obj_mesh.h"
+#include "host/geometry/obj_mesh.h"
 #include "rubble/error.h"
 #include "rubble/scene.h"
 #include "rubble/shape.h"

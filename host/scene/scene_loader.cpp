@@ -5,10 +5,10 @@
 #include <map>
 #include <sstream>
 
-#include "host/dynamics/ragdoll.h"
+#include "host/scene/ragdoll.h"
 #include "host/scene/generators.h"
 #include "host/scene/json_reader.h"
-#include "host/scene/obj_mesh.h"
+#include "host/geometry/obj_mesh.h"
 #include "rubble/scene.h"
 
 namespace rubble {
@@ -371,7 +371,7 @@ class SceneLoader {
         return {};
     }
 
-    // The ten parts and nine joints of host/dynamics/ragdoll, offset into the scene's arrays.
+    // The ten parts and nine joints of host/scene/ragdoll, offset into the scene's arrays.
     Status readRagdoll(const ObjectReader& r, std::size_t index) {
         RUBBLE_TRY(r.checkKeys({"type", "name_prefix", "position", "scale", "material", "debris"}));
         RagdollSpec spec;

@@ -1,4 +1,4 @@
-// host/scene/obj_mesh.h: OBJ meshes read with tinyobjloader, as vertices and triangles.
+// host/geometry/obj_mesh.h: OBJ meshes read with tinyobjloader, as vertices and triangles.
 #pragma once
 
 #include <string>

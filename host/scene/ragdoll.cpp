@@ -1,5 +1,5 @@
-// host/dynamics/ragdoll.cpp: the ragdoll generator's parts and joints.
-#include "host/dynamics/ragdoll.h"
+// host/scene/ragdoll.cpp: the ragdoll generator's parts and joints.
+#include "host/scene/ragdoll.h"
 
 namespace rubble {
 namespace {

@@ -1,5 +1,5 @@
-// host/scene/obj_mesh.cpp: tinyobjloader wrapped into TriangleMesh; its messages become Errors.
-#include "host/scene/obj_mesh.h"
+// host/geometry/obj_mesh.cpp: tinyobjloader wrapped into TriangleMesh; its messages become Errors.
+#include "host/geometry/obj_mesh.h"
 
 #include <filesystem>
 

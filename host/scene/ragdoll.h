@@ -1,4 +1,4 @@
-// host/dynamics/ragdoll.h: the ten-part ragdoll of the `ragdoll` scene generator (SCENE_FORMAT.md;
+// host/scene/ragdoll.h: the ten-part ragdoll of the `ragdoll` scene generator (SCENE_FORMAT.md;
 // physics report section 5.3): ten boxes joined by ball joints and hinges.
 #pragma once
 
