@@ -4,7 +4,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -33,60 +32,22 @@ Error badSetting(const char* option, const std::string& item, const std::string&
     return makeError(ErrorKind::BadInput, std::string(option) + " " + item, message);
 }
 
-template <class T> bool parseNumber(const std::string& text, T& out) {
-    const char* end = text.data() + text.size();
-    const auto [ptr, ec] = std::from_chars(text.data(), end, out);
-    return ec == std::errc() && ptr == end;
-}
-
-// One KEY=VALUE into the side; the value is checked here so that the error names the setting.
+// One KEY=VALUE into the side, read and checked by the option table so that the error names
+// the setting; a simulation option is kept as text for applyOverrides.
 Status parseSetting(const char* option, const std::string& item, Side& side) {
     const std::size_t eq = item.find('=');
     if (eq == std::string::npos || eq == 0)
         return badSetting(option, item, "expected KEY=VALUE");
     const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
-    Overrides& o = side.overrides;
-    if (key == "backend") {
-        if (!parseBackend(value)) return badSetting(option, item, "expected cpu or opencl");
-        o.backend = value;
-    } else if (key == "collision") {
-        if (!parseCollisionMethod(value))
-            return badSetting(option, item, "expected sat or particles");
-        o.collision = value;
-    } else if (key == "solver") {
-        if (!parseSolverType(value))
-            return badSetting(option, item, "expected pgs, jacobi, lcp-jacobi or lemke");
-        o.solver = value;
-    } else if (key == "integrator") {
-        if (!parseIntegrator(value))
-            return badSetting(option, item, "expected symplectic or explicit");
-        o.integrator = value;
-    } else if (key == "iterations") {
-        int n = 0;
-        if (!parseNumber(value, n) || n < 1)
-            return badSetting(option, item, "expected a whole number of 1 or more");
-        o.iterations = n;
-    } else if (key == "particle-spacing" || key == "particle_spacing") {
-        float v = 0;
-        if (!parseNumber(value, v) || !(v > 0.0f) || !std::isfinite(v))
-            return badSetting(option, item, "expected a length in m greater than 0");
-        o.particleSpacing = v;
-    } else if (key == "dt") {
-        float v = 0;
-        if (!parseNumber(value, v) || !(v > 0.0f) || !std::isfinite(v))
-            return badSetting(option, item, "expected a time step in s greater than 0");
-        o.dt = v;
-    } else if (key == "device") {
-        side.run.device = value;
-    } else if (key == "deterministic") {
-        if (value == "true" || value == "1" || value == "yes") side.run.deterministic = true;
-        else if (value == "false" || value == "0" || value == "no") side.run.deterministic = false;
-        else return badSetting(option, item, "expected true or false");
-    } else {
-        return badSetting(option, item,
-                          "unknown key (expected backend, collision, solver, iterations, "
-                          "integrator, particle-spacing, dt, device or deterministic)");
-    }
+    const Option* o = findOptionByName(key);
+    if (o == nullptr || !(o->uses & kUseCompare))
+        return badSetting(option, item, "unknown key (expected " + compareKeysText() + ")");
+    const std::string where = std::string(option) + " " + item;
+    if (o->scope == OptionScope::Run)
+        return assignOptionText(*o, value, where, OptionTarget{nullptr, &side.run});
+    SimulationOptions check; // refuses a bad value now, before the scene is loaded
+    RUBBLE_TRY(assignOptionText(*o, value, where, OptionTarget{&check, nullptr}));
+    side.overrides.items.push_back({o, where, value});
     return {};
 }
 

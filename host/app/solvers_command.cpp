@@ -114,9 +114,7 @@ int solversCommand(const SolversArgs& args) {
     Result<Scene> scene = loadScene(args.scene);
     if (!scene) return report(scene.error());
     // The reference pipeline finds the contacts: cpu backend, pgs.
-    Overrides o;
-    if (!args.collision.empty()) o.collision = args.collision;
-    if (Status s = applyOverrides(o, *scene); !s) return report(s.error());
+    if (Status s = applyOverrides(args.overrides, *scene); !s) return report(s.error());
     scene->simulation.backend = Backend::Cpu;
     scene->simulation.solver.type = SolverType::Pgs;
     if (args.frictionless)

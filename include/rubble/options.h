@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -100,5 +101,13 @@ std::optional<Backend> parseBackend(std::string_view s);
 std::optional<CollisionMethod> parseCollisionMethod(std::string_view s);
 std::optional<SolverType> parseSolverType(std::string_view s);
 std::optional<Coupling> parseCoupling(std::string_view s);
+
+/// Every scene-file spelling of an enum's values, indexed by the value (help texts, errors).
+template <class E> std::span<const std::string_view> spellings();
+template <> std::span<const std::string_view> spellings<Integrator>();
+template <> std::span<const std::string_view> spellings<Backend>();
+template <> std::span<const std::string_view> spellings<CollisionMethod>();
+template <> std::span<const std::string_view> spellings<SolverType>();
+template <> std::span<const std::string_view> spellings<Coupling>();
 
 } // namespace rubble
