@@ -299,8 +299,9 @@ def _run_on_dask(base: Dict[str, Any], tasks: List[Dict[str, Any]], client: Any,
             owned.append(cluster)
             client = Client(cluster)
             owned.insert(0, client)
-        # The scene goes to every worker once; each task carries its own fields.
-        shared = client.scatter(base, broadcast=True)
+        # The scene goes to every worker once; each task carries its own fields. (In a list: a
+        # dict would be scattered as one datum per key, under its keys' names.)
+        [shared] = client.scatter([base], broadcast=True)
         futures = client.map(run_one, [shared] * len(tasks), tasks, pure=False)
         return client.gather(futures)
     finally:
