@@ -61,7 +61,7 @@ def test_pendulum_period_matches_the_amplitude_corrected_formula():
     period = (crossings[-1] - crossings[0]) / (len(crossings) - 1)
     # T = 2 pi sqrt(L / g) (1 + theta^2 / 16 + 11 theta^4 / 3072): 2.0102 s at 10 degrees.
     expected = 2 * math.pi * math.sqrt(length / 9.81) * (1 + theta ** 2 / 16 + 11 * theta ** 4 / 3072)
-    assert period == pytest.approx(expected, rel=5e-3)
+    assert period == pytest.approx(expected, rel=1e-3)  # measured: 7e-5
     assert stretch < 1e-3  # the joint holds the rod's length
 
 
