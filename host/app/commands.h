@@ -68,4 +68,17 @@ struct ValidateArgs {
 };
 int validateCommand(const ValidateArgs& args);
 
+struct SweepArgs {
+    std::string file;               ///< SWEEP.json (docs/python.md)
+    std::optional<int> workers;     ///< local Dask workers
+    std::string scheduler;          ///< a Dask scheduler's address instead of a local cluster
+    std::string out;                ///< the table as CSV; stdout when empty
+    std::string python = "python3"; ///< the interpreter with the package (RUBBLE_PYTHON)
+};
+/// Fills SweepArgs::python from the RUBBLE_PYTHON environment variable when it is set.
+void sweepFromEnvironment(SweepArgs& args);
+/// Hands the arguments to the Python package's sweep (as `python3 -m rubble sweep` would);
+/// returns only when the interpreter could not be started.
+int sweepCommand(const SweepArgs& args);
+
 } // namespace rubble::app

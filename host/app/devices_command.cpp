@@ -11,6 +11,7 @@
 #include "host/gpu/device.h"
 #include "host/gpu/traffic.h"
 #include "rubble/scene.h"
+#include "rubble/tools.h"
 #include "rubble/world.h"
 
 namespace rubble::app {
@@ -151,9 +152,9 @@ int bandwidthCommand(const DevicesArgs& args) {
 
 int devicesCommand(const DevicesArgs& args) {
     if (args.bandwidth) return bandwidthCommand(args);
-    Result<std::vector<gpu::DeviceInfo>> devices = gpu::listDevices();
+    Result<std::vector<DeviceDesc>> devices = openClDevices();
     if (!devices) return report(devices.error());
-    for (const gpu::DeviceInfo& d : *devices)
+    for (const DeviceDesc& d : *devices)
         std::printf("%u: %s (platform %s; %s; driver %s; %u compute units, %.1f GiB)\n", d.index,
                     d.name.c_str(), d.platform.c_str(), d.version.c_str(), d.driver.c_str(),
                     d.computeUnits, double(d.globalMemory) / (1024.0 * 1024.0 * 1024.0));

@@ -48,6 +48,15 @@ int main(int argc, char** argv) {
     addRunFlags(renderCmd, render.common.run);
     addRenderOptions(renderCmd, render);
 
+    SweepArgs sweep;
+    CLI::App* sweepCmd = app.add_subcommand(
+        "sweep", "Run a parameter sweep on Dask (needs the Python package: docs/python.md)");
+    sweepCmd->add_option("sweep", sweep.file, "Sweep file (JSON, docs/python.md)")->required();
+    sweepCmd->add_option("--workers", sweep.workers, "Workers of the local Dask cluster");
+    sweepCmd->add_option("--scheduler", sweep.scheduler,
+                         "A Dask scheduler (tcp://host:port) instead of a local cluster");
+    sweepCmd->add_option("--out", sweep.out, "Write the table as CSV (default: stdout)");
+
     GpuCommands gpuCommands(app);
 
     try {
@@ -62,5 +71,9 @@ int main(int argc, char** argv) {
     if (validateCmd->parsed()) return validateCommand(validate);
     if (viewCmd->parsed()) return viewCommand(view);
     if (renderCmd->parsed()) return renderCommand(render);
+    if (sweepCmd->parsed()) {
+        sweepFromEnvironment(sweep);
+        return sweepCommand(sweep);
+    }
     return kExitBadInput;
 }
