@@ -18,6 +18,9 @@ packages=(
     libegl-mesa0 libgl1-mesa-dri
     # plots of the benchmarks and comparisons
     python3 python3-matplotlib
+    # the Python package (docs/python.md): a virtual environment (Debian's python3 is externally
+    # managed), the headers its module builds against, and the generator pip's CMake uses
+    python3-venv python3-dev ninja-build
 )
 
 missing=()

@@ -12,7 +12,6 @@
 #include "host/core/math.h"
 #include "host/io/metrics.h"
 #include "host/io/trajectory_writer.h"
-#include "host/world/world_state.h"
 #include "rubble/world.h"
 
 namespace rubble::app {
@@ -49,13 +48,14 @@ class Progress {
 };
 
 // The bodies as the end-state assessment sees them.
-std::vector<QualityBody> qualityBodies(const WorldState& s) {
-    std::vector<QualityBody> out(s.bodyCount());
-    for (std::uint32_t i = 0; i < s.bodyCount(); ++i) {
-        out[i].shape = &s.shapes[s.shapeOf[i]];
-        out[i].mass = s.masses[i].mass;
-        out[i].inertia = glm::dmat3(toMat3(s.masses[i].inertiaBody));
-        out[i].isStatic = s.isStatic(i);
+std::vector<QualityBody> qualityBodies(const World& w) {
+    std::vector<QualityBody> out(w.bodyCount());
+    for (std::uint32_t i = 0; i < w.bodyCount(); ++i) {
+        const BodyState b = w.body(i);
+        out[i].shape = &w.shape(w.bodyShape(i));
+        out[i].mass = b.mass;
+        out[i].inertia = glm::dmat3(b.inertia);
+        out[i].isStatic = b.isStatic;
     }
     return out;
 }
@@ -127,7 +127,7 @@ int runCommand(const RunArgs& args) {
     if (!args.metrics.empty()) {
         snapshot(*world, now);
         const double interval = double(world->stepIndex() - driftFrom) * scene->simulation.dt;
-        metrics.setQuality(assessQuality(qualityBodies(world->state()), now, before, interval));
+        metrics.setQuality(assessQuality(qualityBodies(*world), now, before, interval));
     }
     if (!args.metrics.empty())
         if (Status s = writeFileAtomically(args.metrics, metrics.toJson(*world)); !s)
