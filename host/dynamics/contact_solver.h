@@ -32,6 +32,12 @@ struct SolverScene {
 /// No body: the new index of a removed body in ContactSolver::bodiesChanged.
 inline constexpr std::uint32_t kRemovedBody = 0xffffffffu;
 
+/// What the stage wake did.
+struct WakeReport {
+    std::uint32_t woken = 0;   ///< sleeping bodies it woke
+    bool collideAgain = false; ///< the woken bodies' pairs were not collided: collide again
+};
+
 /// A contact solver's stages, with what they keep between steps.
 class ContactSolver {
   public:
@@ -39,6 +45,13 @@ class ContactSolver {
 
     /// The form of contacts buildRows reads.
     virtual ContactForm reads() const = 0;
+    /// Stage wake, after narrowPhase: the sleeping bodies that this step's contacts, joints or
+    /// impulses from outside touch wake before the rows, so that their mass takes part in the
+    /// solve. `approach` as in buildRows. reads: contacts, bodies, approach, scene
+    /// writes: masses (flags), the solver's sleep state
+    virtual WakeReport wake(const SolverScene& scene, Bodies bodies,
+                            std::span<const shared::BodyVelocity> approach,
+                            const StepContacts& contacts, const StepParams& params) = 0;
     /// Stage buildContactRows. `approach` holds the bodies' velocities before this step's
     /// forces, which restitution measures the approach with (the velocities in `bodies` are
     /// after them). reads: contacts, bodies, approach, scene, params   writes: the rows

@@ -11,6 +11,14 @@ namespace rubble {
 
 using namespace shared;
 
+WakeReport JacobiSolver::wake(const SolverScene&, Bodies bodies,
+                              std::span<const BodyVelocity> approach, const StepContacts& contacts,
+                              const StepParams&) {
+    WakeReport r;
+    r.woken = wakeTouched(contacts.points, approach, bodies.masses, sleep_);
+    return r;
+}
+
 void JacobiSolver::buildRows(const SolverScene& scene, BodiesView bodies,
                              std::span<const BodyVelocity> approach, const StepContacts& contacts,
                              const StepParams& params) {

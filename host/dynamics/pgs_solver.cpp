@@ -8,6 +8,25 @@
 
 namespace rubble {
 
+void PgsSolver::prepareRadii(const SolverScene& scene, BodiesView bodies) {
+    SolverCache& c = cache_;
+    if (c.radii.size() == bodies.count()) return;
+    c.radii.resize(bodies.count());
+    for (std::uint32_t i = 0; i < bodies.count(); ++i)
+        c.radii[i] = scene.shapes[bodies.shapeOf[i]].boundingRadius;
+}
+
+WakeReport PgsSolver::wake(const SolverScene& scene, Bodies bodies,
+                           std::span<const shared::BodyVelocity> approach,
+                           const StepContacts& contacts, const StepParams&) {
+    prepareRadii(scene, bodies);
+    WakeReport r;
+    r.woken = wakeIslands(contacts.manifolds, scene.joined, cache_.radii, bodies.masses, approach,
+                          cache_.sleep);
+    r.collideAgain = r.woken > 0;
+    return r;
+}
+
 void PgsSolver::buildRows(const SolverScene& scene, BodiesView bodies,
                           std::span<const shared::BodyVelocity> approach,
                           const StepContacts& contacts, const StepParams& params) {
@@ -78,11 +97,7 @@ void PgsSolver::solvePositions(const SolverScene&, Bodies bodies, const StepPara
 std::uint32_t PgsSolver::sleep(const SolverScene& scene, Bodies bodies,
                                const StepContacts& contacts, const StepParams& params) {
     SolverCache& c = cache_;
-    if (c.radii.size() != bodies.count()) {
-        c.radii.resize(bodies.count());
-        for (std::uint32_t i = 0; i < bodies.count(); ++i)
-            c.radii[i] = scene.shapes[bodies.shapeOf[i]].boundingRadius;
-    }
+    prepareRadii(scene, bodies);
     c.lastSleep = updateSleep(contacts.manifolds, c.joints, c.radii, bodies.masses,
                               bodies.velocities, bodies.momenta, params.dt, c.sleep);
     return c.lastSleep.asleepBodies;

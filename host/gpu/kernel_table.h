@@ -37,6 +37,7 @@ enum class KernelId : unsigned {
     ApplyExplosion,
     PlaceObstacles,
     GatherObstacleImpulses,
+    WakeTouched,
     MarkRestless,
     SleepBodies,
     PrepareJacobiBodies,

@@ -212,6 +212,9 @@ Status Pipeline::enqueueFromCollision(const StepParams& params) {
     RUBBLE_TRY(collideParticles());
     if (dense) RUBBLE_TRY(readContactCount());
     if (deterministic_) RUBBLE_TRY(sortContacts());
+    // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
+    profile_.setStage(DeviceStage::Sleep);
+    RUBBLE_TRY(wakeTouched());
     profile_.setStage(DeviceStage::BuildContactRows);
     RUBBLE_TRY(buildJacobiRows(params.rows, solver.warmStart));
     profile_.setStage(DeviceStage::Solve);

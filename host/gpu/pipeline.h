@@ -171,6 +171,9 @@ class Pipeline {
     Status applyExplosion(const EventDesc& e);
     /// The obstacles' states for this step (stage applyForces).
     Status placeObstacles(std::span<const shared::ObstacleState> obstacles);
+    /// Stage wakeTouched: the sleeping bodies that this step's contacts touch with a waking body
+    /// wake before the rows (kernels/sleep.cl).
+    Status wakeTouched();
     /// Stage sleepBodies: restless marks from the rows, then each body's sleep.
     Status sleepBodies(float dt);
     /// The summed impulse of the rows on each obstacle.

@@ -83,6 +83,8 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
     case KernelId::GatherJacobiRows: // entry, row, arm written; per body as GatherJacobi
         return entries * (kWord + sizeof(ContactRow) + kVec) +
                n.bodies * (2 * kWord + 2 * sizeof(BodyVelocity) + sizeof(JacobiBody) + kWord);
+    case KernelId::WakeTouched: // a and b of each contact; their flags and approach velocities
+        return n.contacts * (2 * kWord + 2 * kWord + 2 * sizeof(BodyVelocity));
     case KernelId::MarkRestless: // a and b of each row; flags, velocities, restless marks
         return n.contacts * 2 * kWord + n.bodies * (2 * kWord + sizeof(BodyVelocity));
     case KernelId::SleepBodies: // flags, timers, marks; velocities and momenta of sleepers

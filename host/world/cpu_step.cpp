@@ -56,6 +56,25 @@ Status stepCpu(WorldState& s, StepStats& stats) {
         StageTimer t(stats.narrowPhaseMs);
         s.collision->narrowPhase(collisionScene, bodies, p, contacts);
     }
+    // Sleeping bodies that this step's contacts, joints or impulses touch wake before the rows,
+    // so that their mass takes part in the solve; pairs not collided while they slept are
+    // collided now (each round wakes at least one body).
+    for (;;) {
+        WakeReport woke;
+        {
+            StageTimer t(stats.islandsMs);
+            woke = s.solver->wake(solverScene, bodies, s.velocitiesAtStart, contacts, p);
+        }
+        if (!woke.collideAgain) break;
+        {
+            StageTimer t(stats.broadPhaseMs);
+            s.collision->broadPhase(collisionScene, bodies, p, contacts);
+        }
+        {
+            StageTimer t(stats.narrowPhaseMs);
+            s.collision->narrowPhase(collisionScene, bodies, p, contacts);
+        }
+    }
     {
         StageTimer t(stats.buildContactRowsMs);
         s.solver->buildRows(solverScene, bodies, s.velocitiesAtStart, contacts, p);

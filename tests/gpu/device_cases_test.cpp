@@ -41,5 +41,41 @@ TEST_F(DeviceCases, RestitutionThresholdIsHalfAMetrePerSecond) {
     test::expectRestitutionThreshold(above, below);
 }
 
+// A sleeping body that a waking one touches wakes before the rows (kernels/sleep.cl,
+// wakeTouched), so that its mass takes part in the solve.
+TEST_F(DeviceCases, SleepingRowTakesTheHitWithItsMomentum) {
+    World w = deviceWorld(test::sleepingRowScene(test::kDeviceSimulation));
+    test::expectSleepingRowTakesTheHit(w, 1e-3);
+}
+TEST_F(DeviceCases, ElasticBallHittingASleepingOneStopsAndPassesItsVelocityOn) {
+    World w = deviceWorld(test::cradleScene(test::kDeviceSimulation));
+    test::expectCradleExchange(w, 1e-3f);
+}
+TEST_F(DeviceCases, ExplosionIntoASleepingRowKeepsItsMomentum) {
+    World w = deviceWorld(test::explodedRowScene(test::kDeviceSimulation));
+    test::expectExplodedRowKeepsItsMomentum(w, 1e-3);
+}
+
+// The CPU twin wakes the same bodies at the same step (host/dynamics/sleep.cpp, wakeTouched):
+// the deterministic device run of the exploded row equals it to 1e-5 m at every step.
+TEST_F(DeviceCases, SleepingRowWakesAsItsCpuTwinDoes) {
+    const std::string scene = test::explodedRowScene(test::kDeviceSimulation);
+    World gpuWorld = deviceWorld(scene, true);
+    World cpu = test::worldFromText(scene);
+    ASSERT_EQ(cpu.options().solver.type, SolverType::Jacobi);
+    bool woke = false;
+    for (int i = 0; i < 150; ++i) {
+        ASSERT_TRUE(cpu.step().ok());
+        ASSERT_TRUE(gpuWorld.step().ok());
+        for (std::uint32_t b = 1; b < cpu.bodyCount(); ++b) {
+            ASSERT_EQ(cpu.body(b).asleep, gpuWorld.body(b).asleep) << "step " << i << " body " << b;
+            ASSERT_LT(glm::length(cpu.body(b).position - gpuWorld.body(b).position), 1e-5f)
+                << "step " << i << " body " << b;
+        }
+        woke = woke || (i > 60 && !cpu.body(5).asleep);
+    }
+    EXPECT_TRUE(woke) << "the last box of the row woke";
+}
+
 } // namespace
 } // namespace rubble

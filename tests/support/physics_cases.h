@@ -177,8 +177,8 @@ inline void expectSleepingRowTakesTheHit(World& world, double tolerance) {
 
 /// Two 1 kg balls (radius 0.2 m, restitution 1, frictionless) without gravity: one at rest at
 /// the origin, asleep after half a second; the other 2.0125 m to its left at 1.5 m/s (2.5 cm a
-/// step), reaching it after 1.075 s. The gap is first within the contact margin 1.25 cm before
-/// they meet, inside the step that closes it: no step sees the contact coming before it bites.
+/// step), reaching it after 1.075 s. The gap, 1.25 cm, is first within the contact margin (4 mm
+/// and the step's 2.5 cm of approach) in the step that closes it: no earlier step sees it coming.
 inline std::string cradleScene(const std::string& simulation = "") {
     return R"({"format": "rubble-scene", "version": 1,
       "simulation": {"dt": 0.016666667, "gravity": [0, 0, 0])" +
