@@ -9,6 +9,7 @@
 #include "rubble/error.h"
 #include "rubble/options.h"
 #include "rubble/scene.h"
+#include "rubble/world.h"
 
 namespace CLI {
 class App;
@@ -51,6 +52,8 @@ void addRunFlag(CLI::App* cmd, std::string_view name, RunOptions& run);
 
 /// Prints an error to stderr as `rubble: where: message` and returns its exit status.
 int report(const Error& e);
+/// Prints the world's warnings to stderr, each as `rubble: warning: where: message`.
+void reportWarnings(const World& world);
 
 struct RunArgs {
     std::string scene;

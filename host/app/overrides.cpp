@@ -73,6 +73,11 @@ void addRunFlag(CLI::App* cmd, std::string_view name, RunOptions& run) {
     addFlag(cmd, optionNamed(name), run);
 }
 
+void reportWarnings(const World& world) {
+    for (const Warning& w : world.warnings())
+        std::fprintf(stderr, "rubble: warning: %s\n", w.describe().c_str());
+}
+
 int report(const Error& e) {
     std::fprintf(stderr, "rubble: %s\n", e.describe().c_str());
     switch (e.kind) {

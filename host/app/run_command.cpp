@@ -78,6 +78,7 @@ int runCommand(const RunArgs& args) {
     if (args.every < 1) return report(makeError(ErrorKind::BadInput, "--every", "must be 1 or more"));
     Result<World> world = World::create(*scene, args.run);
     if (!world) return report(world.error());
+    reportWarnings(*world);
 
     std::optional<TrajectoryWriter> out;
     if (!args.out.empty()) {

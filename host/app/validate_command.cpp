@@ -26,6 +26,7 @@ int validateCommand(const ValidateArgs& args) {
     if (!scene) return report(scene.error());
     Result<World> world = World::create(*scene);
     if (!world) return report(world.error());
+    reportWarnings(*world);
 
     std::size_t statics = 0;
     double totalMass = 0.0;

@@ -63,6 +63,9 @@ struct ContactRows {
     std::vector<std::uint32_t> pushRows;
     std::vector<std::uint8_t> pushedBody;
     std::vector<std::uint32_t> bounceRows; ///< the restitution pass's rows
+    // The layer pass: each body's layer above the bodies that do not move, its rows in order.
+    std::vector<std::uint32_t> layer, layerRows;
+    std::vector<std::uint8_t> loaded;
     // While building: each row's point index in its manifold; and reordering buffers.
     std::vector<std::uint8_t> slot;
     std::vector<NormalRow> scratchNormals;

@@ -46,7 +46,105 @@ float solveNormalRow(const NormalRow& r, SolverVelocity& a, SolverVelocity& b, f
     return applied;
 }
 
+constexpr std::uint32_t kNoLayer = 0xffffffffu;
+// What solveLayers marks on a body: it carries a heavy load, or it is in a joint.
+constexpr std::uint8_t kLoaded = 1, kJoined = 2;
+
+// Each body's layer: 0 for a body that does not move, else one more than the lowest layer it
+// touches through a row (kNoLayer when nothing links it to a body that does not move).
+void findLayers(const ContactRows& contacts, const SolverBodies& bodies,
+                std::vector<std::uint32_t>& layer) {
+    const std::size_t n = bodies.velocity.size();
+    layer.assign(n, kNoLayer);
+    for (std::size_t i = 0; i < n; ++i)
+        if (!bodies.moves(std::uint32_t(i))) layer[i] = 0;
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (const NormalRow& r : contacts.normals) {
+            if (layer[r.a] != kNoLayer && layer[r.a] + 1 < layer[r.b]) {
+                layer[r.b] = layer[r.a] + 1;
+                changed = true;
+            }
+            if (layer[r.b] != kNoLayer && layer[r.b] + 1 < layer[r.a]) {
+                layer[r.a] = layer[r.b] + 1;
+                changed = true;
+            }
+        }
+    }
+}
+
+// One update of a normal row that moves only the body on `upper`'s side (the other one held, as
+// if it did not move), from the accumulated impulse `total`, clamped >= 0.
+void solveNormalRowOnto(const NormalRow& r, SolverVelocity& a, SolverVelocity& b, bool upperIsB,
+                        float target, float& total) {
+    const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
+    const float k = upperIsB ? r.inverseMassB + sum3(r.crossB * r.turnB)
+                             : r.inverseMassA + sum3(r.crossA * r.turnA);
+    if (k <= 0.0f) return;
+    const float next = std::max(total + (target - speed) / k, 0.0f);
+    const float applied = next - total;
+    total = next;
+    if (upperIsB) {
+        b.linear += r.normal * (r.inverseMassB * applied);
+        b.angular += r.turnB * applied;
+    } else {
+        a.linear -= r.normal * (r.inverseMassA * applied);
+        a.angular -= r.turnA * applied;
+    }
+}
+
 } // namespace
+
+void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBodies& bodies) {
+    std::vector<std::uint32_t>& rows = contacts.layerRows;
+    rows.clear();
+    // Bodies in joints keep out: the pass would move one without its partner.
+    std::vector<std::uint8_t>& loaded = contacts.loaded;
+    loaded.assign(bodies.velocity.size(), 0);
+    for (const Joint& j : joints) loaded[j.a] = loaded[j.b] = kJoined;
+    auto heavyOver = [&](std::uint32_t up, std::uint32_t down) {
+        const float downInverse = bodies.inverseMass[down];
+        return downInverse > 0.0f && downInverse >= kLayerMassRatio * bodies.inverseMass[up];
+    };
+    // Most steps have no pair of moving bodies this far apart in mass: nothing to do.
+    bool any = false;
+    for (const NormalRow& r : contacts.normals)
+        any = any || (!loaded[r.a] && !loaded[r.b] && (heavyOver(r.a, r.b) || heavyOver(r.b, r.a)));
+    if (!any) return;
+    std::vector<std::uint32_t>& layer = contacts.layer;
+    findLayers(contacts, bodies, layer);
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+        const NormalRow& r = contacts.normals[i];
+        if (layer[r.a] != layer[r.b] && layer[r.a] != kNoLayer && layer[r.b] != kNoLayer &&
+            loaded[r.a] != kJoined && loaded[r.b] != kJoined)
+            rows.push_back(std::uint32_t(i));
+    }
+    auto lower = [&](std::uint32_t i) {
+        return std::min(layer[contacts.normals[i].a], layer[contacts.normals[i].b]);
+    };
+    // From the top down: a row takes part when its upper body is kLayerMassRatio times as heavy
+    // as its lower one, or carries such a load; its lower body then carries it.
+    std::stable_sort(rows.begin(), rows.end(),
+                     [&](std::uint32_t x, std::uint32_t y) { return lower(x) > lower(y); });
+    std::size_t kept = 0;
+    for (const std::uint32_t i : rows) {
+        const NormalRow& r = contacts.normals[i];
+        const bool upperIsB = layer[r.b] > layer[r.a];
+        const std::uint32_t up = upperIsB ? r.b : r.a, down = upperIsB ? r.a : r.b;
+        if (!heavyOver(up, down) && loaded[up] != kLoaded) continue;
+        loaded[down] = kLoaded;
+        rows[kept++] = i;
+    }
+    rows.resize(kept);
+    // Then from the bottom up, each row stopping its upper body against the lower one.
+    std::reverse(rows.begin(), rows.end());
+    for (const std::uint32_t i : rows) {
+        const NormalRow& r = contacts.normals[i];
+        float total = r.impulse;
+        solveNormalRowOnto(r, bodies.velocity[r.a], bodies.velocity[r.b],
+                           layer[r.b] > layer[r.a], r.targetSpeed, total);
+    }
+}
 
 void warmStartContacts(const ContactRows& contacts, SolverBodies& bodies) {
     for (std::size_t i = 0; i < contacts.size(); ++i) {
@@ -132,6 +230,14 @@ bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, fl
         // Converged: a further sweep would move nothing by more than round-off.
         if (residual <= kPushTolerance) break;
     }
+    // The layer pass's rows (solvePgs), bottom up, each moving its upper body only.
+    for (const std::uint32_t i : contacts.layerRows) {
+        const NormalRow& r = contacts.normals[i];
+        if (r.pushTarget <= 0.0f && !moved[r.a] && !moved[r.b]) continue;
+        float total = r.pushImpulse;
+        solveNormalRowOnto(r, bodies.push[r.a], bodies.push[r.b],
+                           contacts.layer[r.b] > contacts.layer[r.a], r.pushTarget, total);
+    }
     return true;
 }
 
@@ -193,6 +299,7 @@ void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodi
             residual = std::max(residual, solveJointVelocity(j, bodies, options.relaxation));
         residual = std::max(residual, solveContactSweep(contacts, bodies, options.relaxation));
     }
+    solveLayers(contacts, joints, bodies);
 }
 
 } // namespace rubble

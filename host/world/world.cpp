@@ -63,6 +63,7 @@ std::int64_t World::stepIndex() const { return s_->step; }
 double World::time() const { return s_->time(); }
 const SimulationOptions& World::options() const { return s_->options; }
 const std::string& World::sceneName() const { return s_->sceneName; }
+std::span<const Warning> World::warnings() const { return s_->warnings; }
 std::uint32_t World::bodyCount() const { return s_->bodyCount(); }
 const std::string& World::bodyName(std::uint32_t body) const { return s_->names.at(body); }
 

@@ -1,6 +1,8 @@
 // host/world/world_build.cpp: a Scene into a WorldState: shapes built, masses from mass or
 // density, momenta from the initial velocities. Combinations that cannot run are refused here.
 #include "host/world/world_build.h"
+
+#include <cstdio>
 #include "host/core/math.h"
 #include "host/core/step_params.h"
 #include "host/dynamics/joints.h"
@@ -55,6 +57,42 @@ BodyMass makeMass(const BodyDesc& b, const Shape& shape) {
     return m;
 }
 
+std::string massText(float kg) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g kg", double(kg));
+    return text;
+}
+
+// The lightest and the heaviest dynamic bodies, when they differ more than kStackMassRatio
+// times: stacks past that ratio may sink or tip (docs/dynamics.md, "Mass ratios").
+std::optional<Warning> massRatioWarning(const Scene& scene, const BodyArrays& bodies) {
+    std::optional<std::uint32_t> light, heavy;
+    for (std::uint32_t i = 0; i < bodies.count(); ++i) {
+        if (bodies.isStatic(i)) continue;
+        const float m = bodies.masses[i].mass;
+        if (!light || m < bodies.masses[*light].mass) light = i;
+        if (!heavy || m > bodies.masses[*heavy].mass) heavy = i;
+    }
+    if (!light) return std::nullopt;
+    const float lightKg = bodies.masses[*light].mass, heavyKg = bodies.masses[*heavy].mass;
+    if (double(heavyKg) <= double(kStackMassRatio) * double(lightKg)) return std::nullopt;
+    const BodyDesc& l = scene.bodies[*light];
+    const BodyDesc& h = scene.bodies[*heavy];
+    char ratio[32];
+    std::snprintf(ratio, sizeof ratio, "1:%.3g", double(heavyKg) / double(lightKg));
+    // A body's where is `file: bodies[3]` (or a generator's): the file once, then both fields.
+    auto field = [](const std::string& where) {
+        const std::size_t colon = where.find(": ");
+        return colon == std::string::npos ? where : where.substr(colon + 2);
+    };
+    return Warning{scene.file + ": " + field(l.where) + " and " + field(h.where),
+                   "the masses of dynamic bodies " + l.name + " (" + massText(lightKg) +
+                       ") and " + h.name + " (" + massText(heavyKg) + ") differ " + ratio +
+                       "; stacks stand up to 1:" + std::to_string(int(kStackMassRatio)) +
+                       ", past it a heavy body on a light one may sink or tip (docs/dynamics.md, "
+                       "mass ratios)"};
+}
+
 } // namespace
 
 void appendBodyArrays(BodyArrays& a, const BodyDesc& b, const Shape& shape) {
@@ -103,6 +141,7 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     s->bodies.momenta.reserve(n);
     s->bodies.masses.reserve(n);
     for (const BodyDesc& b : scene.bodies) appendBody(*s, b);
+    if (std::optional<Warning> w = massRatioWarning(scene, s->bodies)) s->warnings.push_back(*w);
     s->joints = scene.joints;
     s->joined = joinedPairs(s->joints);
     s->events = scene.events;

@@ -31,6 +31,7 @@ using shared::BodyVelocity;
 
 struct WorldState {
     std::string sceneName;
+    std::vector<Warning> warnings; ///< found when the world was built
     SimulationOptions options;
     RunOptions run;
 

@@ -39,6 +39,19 @@ struct BodyState {
     bool asleep = false;
 };
 
+/// Stacks stand with masses up to this ratio between their bodies (heavy on light), with the
+/// reference solver at its default settings; World::warnings names the bodies past it.
+inline constexpr float kStackMassRatio = 100.0f;
+
+/// Something a scene asks that rubble does not promise to handle well (World::warnings).
+struct Warning {
+    std::string where;   ///< the file, and the bodies or fields concerned
+    std::string message; ///< what may go wrong, and where the limit is documented
+
+    /// The warning as one line, `where: message`.
+    std::string describe() const { return where.empty() ? message : where + ": " + message; }
+};
+
 /// One contact point of the last step, world frame.
 struct ContactInfo {
     std::uint32_t a = 0, b = 0;         ///< the bodies; the normal points from a to b
@@ -160,6 +173,11 @@ class World {
 
     const SimulationOptions& options() const;
     const std::string& sceneName() const;
+    /// What the scene asks past rubble's promises, found when the world was built; the world
+    /// runs anyway. Each names the file and the bodies (`where`) and says what may go wrong:
+    /// dynamic bodies whose masses differ more than kStackMassRatio times (stacks past that may
+    /// sink or tip, docs/dynamics.md "Mass ratios"). The command prints them on stderr.
+    std::span<const Warning> warnings() const;
 
     /// Bodies are indexed 0..bodyCount()-1 in scene order.
     std::uint32_t bodyCount() const;
