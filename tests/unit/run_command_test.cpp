@@ -141,5 +141,28 @@ TEST(RunCommand, JointsWithASolverWithoutJointRowsAreRefused) {
     EXPECT_NEAR(std::stod(last[4]), 1.0, 0.005);                  // py
 }
 
+// Masses past the promised ratio: the run goes on (exit 0, the trajectory written) and says so
+// on stderr, naming the file, both bodies and the ratio; validate says the same.
+TEST(RunCommand, WarnsOfMassesPastTheStatedRatioAndRuns) {
+    const std::string dir = test::tempDir("run_mass_ratio");
+    test::writeText(dir + "/s.json", R"({"format": "rubble-scene", "version": 1,
+      "simulation": {"steps": 10},
+      "shapes": {"ground": {"type": "plane"}, "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
+      "bodies": [{"name": "floor", "shape": "ground", "static": true},
+                 {"name": "light", "shape": "crate", "mass": 1e-9, "position": [0, 0.5, 0]},
+                 {"name": "heavy", "shape": "crate", "mass": 1e9, "position": [0, 1.5, 0]}]})");
+    const std::string warning = "rubble: warning: " + dir +
+                                "/s.json: bodies[1] and bodies[2]: the masses of dynamic bodies "
+                                "light (1e-09 kg) and heavy (1e+09 kg) differ 1:1e+18";
+    const test::CommandResult run =
+        test::runRubble("run " + dir + "/s.json --quiet --out " + dir + "/t.csv");
+    EXPECT_EQ(run.exitCode, 0) << run.output;
+    EXPECT_NE(run.output.find(warning), std::string::npos) << run.output;
+    EXPECT_EQ(lines(test::readText(dir + "/t.csv")).size(), 1u + 3u * 11u);
+    const test::CommandResult validate = test::runRubble("validate " + dir + "/s.json");
+    EXPECT_EQ(validate.exitCode, 0) << validate.output;
+    EXPECT_NE(validate.output.find(warning), std::string::npos) << validate.output;
+}
+
 } // namespace
 } // namespace rubble
