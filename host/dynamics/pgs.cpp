@@ -102,9 +102,10 @@ void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBod
     std::vector<std::uint8_t>& loaded = contacts.loaded;
     loaded.assign(bodies.velocity.size(), 0);
     for (const Joint& j : joints) loaded[j.a] = loaded[j.b] = kJoined;
+    // Both bodies move, and the upper one is kLayerMassRatio times as heavy.
     auto heavyOver = [&](std::uint32_t up, std::uint32_t down) {
-        const float downInverse = bodies.inverseMass[down];
-        return downInverse > 0.0f && downInverse >= kLayerMassRatio * bodies.inverseMass[up];
+        const float upInverse = bodies.inverseMass[up];
+        return upInverse > 0.0f && bodies.inverseMass[down] >= kLayerMassRatio * upInverse;
     };
     // Most steps have no pair of moving bodies this far apart in mass: nothing to do.
     bool any = false;
