@@ -61,6 +61,10 @@ std::uint32_t wakeIslands(std::span<const Manifold> manifolds, std::span<const B
     const std::uint32_t n = std::uint32_t(masses.size());
     RUBBLE_ASSERT(approach.size() == n && radii.size() == n);
     prepareState(masses, st);
+    // Nothing asleep, nothing to wake.
+    if (std::none_of(masses.begin(), masses.end(),
+                     [](const shared::BodyMass& m) { return isAsleep(m); }))
+        return 0;
     // Restless: awake and moving, or woken from outside since the last step.
     st.restless.assign(n, 0);
     bool any = false;
