@@ -28,8 +28,8 @@ void JacobiSolver::buildRows(const SolverScene& scene, BodiesView bodies,
         matchWarmStart(contacts.points, j.previous, j.warm);
     else
         j.warm.assign(contacts.points.size(), vec4(0.0f, 0.0f, 0.0f));
-    buildJacobiRows(contacts.points, bodies.poses, approach, bodies.masses, scene.surfaces, params.rows,
-                    j.warm, j);
+    buildJacobiRows(contacts.points, bodies.poses, approach, bodies.masses, scene.surfaces,
+                    params.rows, j.warm, j);
 }
 
 Status JacobiSolver::solve(const SolverScene&, Bodies bodies, std::span<const BodyVelocity> before,

@@ -142,8 +142,8 @@ void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBod
     for (const std::uint32_t i : rows) {
         const NormalRow& r = contacts.normals[i];
         float total = r.impulse;
-        solveNormalRowOnto(r, bodies.velocity[r.a], bodies.velocity[r.b],
-                           layer[r.b] > layer[r.a], r.targetSpeed, total);
+        solveNormalRowOnto(r, bodies.velocity[r.a], bodies.velocity[r.b], layer[r.b] > layer[r.a],
+                           r.targetSpeed, total);
     }
 }
 

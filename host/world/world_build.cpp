@@ -2,7 +2,6 @@
 // density, momenta from the initial velocities. Combinations that cannot run are refused here.
 #include "host/world/world_build.h"
 
-#include <cstdio>
 #include "host/core/math.h"
 #include "host/core/step_params.h"
 #include "host/dynamics/joints.h"
@@ -10,6 +9,7 @@
 #include "host/world/backend_check.h"
 #include "host/world/device_step.h"
 #include "host/world/world_state.h"
+#include <cstdio>
 
 namespace rubble {
 namespace {
@@ -86,8 +86,8 @@ std::optional<Warning> massRatioWarning(const Scene& scene, const BodyArrays& bo
         return colon == std::string::npos ? where : where.substr(colon + 2);
     };
     return Warning{scene.file + ": " + field(l.where) + " and " + field(h.where),
-                   "the masses of dynamic bodies " + l.name + " (" + massText(lightKg) +
-                       ") and " + h.name + " (" + massText(heavyKg) + ") differ " + ratio +
+                   "the masses of dynamic bodies " + l.name + " (" + massText(lightKg) + ") and " +
+                       h.name + " (" + massText(heavyKg) + ") differ " + ratio +
                        "; stacks stand up to 1:" + std::to_string(int(kStackMassRatio)) +
                        ", past it a heavy body on a light one may sink or tip (docs/dynamics.md, "
                        "mass ratios)"};

@@ -17,14 +17,16 @@ std::string stack(const std::vector<double>& masses) {
     std::string bodies = R"({"name": "floor", "shape": "ground", "static": true})";
     for (std::size_t i = 0; i < masses.size(); ++i) {
         char body[160];
-        std::snprintf(body, sizeof body,
-                      R"(, {"name": "b%zu", "shape": "crate", "mass": %.9g, "position": [0, %g, 0]})",
-                      i, masses[i], double(i) + 0.5);
+        std::snprintf(
+            body, sizeof body,
+            R"(, {"name": "b%zu", "shape": "crate", "mass": %.9g, "position": [0, %g, 0]})", i,
+            masses[i], double(i) + 0.5);
         bodies += body;
     }
     return R"({"format": "rubble-scene", "version": 1,
       "shapes": {"ground": {"type": "plane"}, "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
-      "bodies": [)" + bodies + "]}";
+      "bodies": [)" +
+           bodies + "]}";
 }
 
 // For 10 s every box stays within `down` of its resting height (i + 0.5 m) and `sideways` of

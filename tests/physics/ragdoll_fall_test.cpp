@@ -53,8 +53,9 @@ TEST(RagdollFall, FallsLandsAndRestsWithJointsHeld) {
         ASSERT_TRUE(test::stepWorld(world, 1));
         if (freeSteps == step && world.lastStep().contactCount == 0) {
             const double n = step + 1, fallen = g * h * h * n * (n + 1.0) / 2.0;
-            worstFreeFall = std::max(
-                worstFreeFall, std::abs(double(chestStart - world.body(chest).position.y) - fallen));
+            worstFreeFall =
+                std::max(worstFreeFall,
+                         std::abs(double(chestStart - world.body(chest).position.y) - fallen));
             freeSteps = step + 1;
         }
         stretch = std::max(stretch, probe.worst(world));

@@ -155,7 +155,8 @@ inline std::string sleepingRowScene(const std::string& simulation = "") {
       "materials": {"ice": {"friction": 0.0, "restitution": 0.0}},
       "shapes": {"ground": {"type": "plane"},
                  "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
-      "bodies": [)" + bodies + "]}";
+      "bodies": [)" +
+           bodies + "]}";
 }
 
 /// The striker's 2 kg m/s stays in the bodies through its hit on the sleeping row (nothing

@@ -12,14 +12,25 @@ namespace rubble {
 namespace {
 
 // The shipped scenes, relative to scenes/: a scene added there must be added here too.
-const std::set<std::string> kShipped = {
-    "bench/debris_16k.json", "bench/debris_1k.json",   "bench/debris_4k.json",
-    "bench/debris_64k.json", "bounce.json",            "box_rest.json",
-    "chain.json",            "door.json",              "explosion.json",
-    "pendulum.json",         "pile_1000.json",         "pile_4096.json",
-    "pyramid_20.json",       "ragdoll.json",           "ragdoll_pile.json",
-    "rock_pile.json",        "slope_above_friction.json", "slope_below_friction.json",
-    "stack_10.json"};
+const std::set<std::string> kShipped = {"bench/debris_16k.json",
+                                        "bench/debris_1k.json",
+                                        "bench/debris_4k.json",
+                                        "bench/debris_64k.json",
+                                        "bounce.json",
+                                        "box_rest.json",
+                                        "chain.json",
+                                        "door.json",
+                                        "explosion.json",
+                                        "pendulum.json",
+                                        "pile_1000.json",
+                                        "pile_4096.json",
+                                        "pyramid_20.json",
+                                        "ragdoll.json",
+                                        "ragdoll_pile.json",
+                                        "rock_pile.json",
+                                        "slope_above_friction.json",
+                                        "slope_below_friction.json",
+                                        "stack_10.json"};
 
 TEST(ShippedScenes, EveryOneIsListedLoadsBuildsAndSteps) {
     const std::filesystem::path root = std::string(RUBBLE_SOURCE_DIR) + "/scenes";
