@@ -238,6 +238,16 @@ at a time may use it. Arrays are float32, one row per body in scene order.)");
     w.def_property_readonly("options", [](PyWorld& s) { return optionsDict(s.world->options()); },
                             "The simulation options in effect, as a dict.");
     w.def_property_readonly("scene_name", [](PyWorld& s) { return s.world->sceneName(); });
+    w.def_property_readonly(
+        "warnings",
+        [](PyWorld& s) {
+            std::vector<std::string> out;
+            for (const Warning& warning : s.world->warnings()) out.push_back(warning.describe());
+            return out;
+        },
+        "What the scene asks past rubble's promises, found at load (for now: dynamic bodies "
+        "whose masses differ more than 1:100), each as 'file: bodies: message'; the world runs "
+        "anyway.");
     w.def_property_readonly("device_name", [](PyWorld& s) { return s.world->deviceName(); },
                             "The OpenCL device's name, or \"cpu\".");
     w.def("__len__", [](PyWorld& s) { return s.world->bodyCount(); }, "The number of bodies.");

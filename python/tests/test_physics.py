@@ -113,3 +113,17 @@ def test_metrics_and_contacts_of_a_resting_box():
     assert m["dynamic_bodies"] == 1 and m["bodies"] == 2
     w.step(115)
     assert w.metrics()["asleep_bodies"] == 1
+
+
+def test_masses_past_the_stated_ratio_warn_and_run():
+    scene = falling_sphere(gravity=0.0, height=0.0)
+    scene["bodies"] = [
+        {"name": "light", "shape": "ball", "mass": 1e-9, "position": [0, 0, 0]},
+        {"name": "heavy", "shape": "ball", "mass": 1e9, "position": [1, 0, 0]},
+    ]
+    w = rubble.World.load(scene)
+    assert len(w.warnings) == 1
+    assert "bodies[0] and bodies[1]: the masses of dynamic bodies light (1e-09 kg) and heavy " \
+           "(1e+09 kg) differ 1:1e+18; stacks stand up to 1:100" in w.warnings[0]
+    w.step()
+    assert rubble.World.load(falling_sphere()).warnings == []
