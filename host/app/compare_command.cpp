@@ -68,12 +68,12 @@ Status parseSetting(const char* option, const std::string& item, Side& side) {
         o.iterations = n;
     } else if (key == "particle-spacing" || key == "particle_spacing") {
         float v = 0;
-        if (!parseNumber(value, v) || !(v > 0.0f) || !std::isfinite(v))
-            return badSetting(option, item, "expected a length in m greater than 0");
+        if (!parseNumber(value, v) || !(v >= float(kMinLength) && v <= float(kMaxLength)))
+            return badSetting(option, item, "expected a length from 0.0001 to 100000 m");
         o.particleSpacing = v;
     } else if (key == "dt") {
         float v = 0;
-        if (!parseNumber(value, v) || !(v > 0.0f) || !std::isfinite(v))
+        if (!parseNumber(value, v) || !std::isnormal(v) || !(v > 0.0f))
             return badSetting(option, item, "expected a time step in s greater than 0");
         o.dt = v;
     } else if (key == "device") {

@@ -29,6 +29,9 @@ Status applyOverrides(const Overrides& o, Scene& scene) {
     if (o.dt) {
         if (!(*o.dt > 0.0f) || !std::isfinite(*o.dt))
             return makeError(ErrorKind::BadInput, "--dt", "must be a finite number greater than 0");
+        if (!std::isnormal(*o.dt))
+            return makeError(ErrorKind::BadInput, "--dt",
+                             "is too small for single precision (below 1.2e-38 s)");
         sim.dt = *o.dt;
     }
     if (o.iterations) {
@@ -36,8 +39,9 @@ Status applyOverrides(const Overrides& o, Scene& scene) {
         sim.solver.iterations = *o.iterations;
     }
     if (o.particleSpacing) {
-        if (!(*o.particleSpacing > 0.0f))
-            return makeError(ErrorKind::BadInput, "--particle-spacing", "must be greater than 0");
+        if (!(*o.particleSpacing >= float(kMinLength) && *o.particleSpacing <= float(kMaxLength)))
+            return makeError(ErrorKind::BadInput, "--particle-spacing",
+                             "must be between 0.0001 and 100000 m");
         sim.collision.particleSpacing = *o.particleSpacing;
     }
     RUBBLE_TRY(overrideEnum(o.backend, "--backend", parseBackend, "cpu or opencl", sim.backend));

@@ -1,6 +1,7 @@
 // host/world/world_build.cpp: a Scene into a WorldState: shapes built, masses from mass or
 // density, momenta from the initial velocities. Combinations that cannot run are refused here.
 #include "host/world/world_build.h"
+#include "host/core/mass_properties.h"
 #include "host/core/math.h"
 #include "host/dynamics/joints.h"
 #include "host/gpu/context.h"
@@ -95,7 +96,10 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     s->poses.reserve(n);
     s->momenta.reserve(n);
     s->masses.reserve(n);
-    for (const BodyDesc& b : scene.bodies) appendBody(*s, b);
+    for (const BodyDesc& b : scene.bodies) {
+        appendBody(*s, b);
+        if (!b.isStatic) RUBBLE_TRY(checkMassRange(s->masses.back(), b.where, b.mass ? "mass" : "density"));
+    }
     s->joints = scene.joints;
     s->joined = joinedPairs(s->joints);
     s->events = scene.events;
