@@ -1,6 +1,7 @@
 // host/scene/obj_mesh.h: OBJ meshes read with tinyobjloader, as vertices and triangles.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -16,9 +17,19 @@ struct TriangleMesh {
     std::vector<glm::uvec3> triangles;
 };
 
-/// Reads an OBJ file (polygons are triangulated), scaling every vertex by `scale`. Errors are
-/// BadInput at `where` (the scene field that named the file): missing or unreadable file, no
-/// faces, non-finite coordinates.
+/// The largest OBJ mesh rubble reads: its file size, vertices and triangles (after polygons
+/// are split). Building a shape stays near-linear in these (host/geometry/half_edge.h).
+inline constexpr std::size_t kMaxObjBytes = std::size_t(256) << 20;
+inline constexpr std::size_t kMaxMeshVertices = 1'000'000;
+inline constexpr std::size_t kMaxMeshTriangles = 2'000'000;
+
+/// Reads an OBJ file (polygons are triangulated), scaling every vertex by `scale`. The text is
+/// checked first, line by line: numbers that do not parse (`nan`, `inf`, stray bytes) or do not
+/// fit a float, `v` lines with the wrong count of coordinates, face indices that are not whole
+/// numbers, are 0, overflow or name a vertex that does not exist, unknown statements, and
+/// meshes beyond the limits above. Errors are BadInput at `where` (the scene field that named the
+/// file) with the file and line: those, a missing or unreadable file, no faces, coordinates
+/// that are not finite once scaled.
 Result<TriangleMesh> loadObjMesh(const std::string& path, float scale, const std::string& where);
 
 } // namespace rubble

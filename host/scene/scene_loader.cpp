@@ -206,6 +206,10 @@ class SceneLoader {
         RUBBLE_TRY(s.require(key));
         const Json& v = s.at(key);
         if (!v.is_array()) return s.fail(key, "expected an array of [x, y, z] points, got " + brief(v));
+        if (v.size() > kMaxMeshVertices)
+            return s.fail(key, "has " + std::to_string(v.size()) + " points, more than the " +
+                                   std::to_string(kMaxMeshVertices) +
+                                   " rubble builds a shape from");
         for (std::size_t i = 0; i < v.size(); ++i) {
             Result<glm::vec3> p = vec3FromJson(v[i], s.where(key) + indexPath(i));
             RUBBLE_TRY(p);
