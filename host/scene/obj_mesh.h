@@ -20,8 +20,8 @@ struct TriangleMesh {
 /// The largest OBJ mesh rubble reads: its file size, vertices and triangles (after polygons
 /// are split). Building a shape stays near-linear in these (host/geometry/half_edge.h).
 inline constexpr std::size_t kMaxObjBytes = std::size_t(256) << 20;
-inline constexpr std::size_t kMaxMeshVertices = 1'000'000;
-inline constexpr std::size_t kMaxMeshTriangles = 2'000'000;
+inline constexpr std::size_t kMaxMeshVertices = 250'000;
+inline constexpr std::size_t kMaxMeshTriangles = 500'000;
 
 /// Reads an OBJ file (polygons are triangulated), scaling every vertex by `scale`. The text is
 /// checked first, line by line: numbers that do not parse (`nan`, `inf`, stray bytes) or do not
