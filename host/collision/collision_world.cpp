@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "host/collision/narrow_phase.h"
+#include "host/core/limits.h"
 #include "host/core/math.h"
 #include "host/world/world_state.h"
 
@@ -72,7 +73,12 @@ void runBroadPhase(WorldState& s) {
         }
         c.boxes[i] = worldBox(shape, c.transforms[i], kContactMargin + c.reach[i]);
     }
+    c.broadPhase.pairLimit = pairBudget(n);
     findPairs(c.boxes, c.flags, c.planes, s.pairs, c.broadPhase);
+    if (c.broadPhase.overflowed)
+        s.stepFailure = limitError("broadPhase", "broad-phase pairs", c.broadPhase.pairLimit + 1,
+                                   c.broadPhase.pairLimit, s.step + 1,
+                                   "bodies overlap each other in large numbers");
     // Bodies joined to each other do not collide: their pairs leave before the narrow phase, so
     // that no contact between them is computed, counted or drawn (the pairs keep their order).
     if (!s.joined.empty())
@@ -115,6 +121,12 @@ void runNarrowPhase(WorldState& s) {
         }
         contacts += m.count;
         s.manifolds.push_back(m);
+        if (contacts > contactBudget(s.bodyCount())) {
+            s.stepFailure = limitError("narrowPhase", "contact points", contacts,
+                                       contactBudget(s.bodyCount()), s.step + 1,
+                                       "bodies overlap each other in large numbers");
+            break;
+        }
     }
     std::swap(c.features, c.nextFeatures);
     s.stats.contactCount = contacts;

@@ -3,9 +3,11 @@
 #include "host/collision/particle_world.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <map>
 
 #include "host/core/assert.h"
+#include "host/core/limits.h"
 #include "host/core/math.h"
 #include "host/geometry/voxelise.h"
 #include "host/world/world_state.h"
@@ -19,6 +21,25 @@ std::uint32_t gridBits(std::size_t particleCount) {
     while (bits < 24 && (std::size_t(1) << bits) < 2 * particleCount) ++bits;
     return bits;
 }
+
+namespace {
+
+// Refuses a spacing that would voxelise a shape into more cells or ray tests than a world may
+// spend on it, before any is allocated.
+Status checkVoxelCost(const Shape& shape, float spacing) {
+    const VoxelCost cost = voxelCost(shape, spacing);
+    if (cost.cells <= kMaxVoxels && cost.rayTests <= kMaxVoxelWork) return {};
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "of %g m voxelises shape %s into %.3g cells (%.3g ray tests), more than the "
+                  "%.3g cells and %.3g tests a shape may take (docs/scene-format.md, Limits); "
+                  "use a larger spacing",
+                  double(spacing), shape.name.c_str(), cost.cells, cost.rayTests, kMaxVoxels,
+                  kMaxVoxelWork);
+    return makeError(ErrorKind::Limit, "simulation.collision.particle_spacing", text);
+}
+
+} // namespace
 
 Status buildParticles(WorldState& s) {
     if (s.particles.built) return {};
@@ -47,8 +68,16 @@ Status buildParticles(WorldState& s) {
             continue;
         }
         auto it = byShape.find(s.shapeOf[b]);
-        if (it == byShape.end())
+        if (it == byShape.end()) {
+            RUBBLE_TRY(checkVoxelCost(shape, spacing));
             it = byShape.emplace(s.shapeOf[b], voxeliseShape(shape, spacing, true)).first;
+        }
+        if (p.particles.size() + it->second.size() > kMaxParticles)
+            return makeError(ErrorKind::Limit, "simulation.collision.particle_spacing",
+                             "gives more than " + std::to_string(kMaxParticles) +
+                                 " particles by body " + s.names[b] +
+                                 ", the most a world may have (docs/scene-format.md, Limits); "
+                                 "use a larger spacing");
         for (const glm::vec3& c : it->second) {
             Particle particle{};
             particle.offset = toFloat4(c, 0.5f * spacing);
@@ -116,8 +145,8 @@ void transformParticles(std::span<const Particle> particles, std::span<const Bod
     }
 }
 
-void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
-                      std::vector<ParticleContact>& contacts) {
+bool collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
+                      std::vector<ParticleContact>& contacts, std::size_t maxContacts) {
     contacts.clear();
     const float inverse = 1.0f / p.cellSize;
     const std::uint32_t count = std::uint32_t(p.particles.size());
@@ -155,6 +184,7 @@ void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
                         c.particleA = swap ? j : i;
                         c.featureB = swap ? i : j;
                         contacts.push_back(c);
+                        if (contacts.size() > maxContacts) return false;
                     }
                 }
         if (!activeBodyItem(flagsI)) continue;
@@ -165,8 +195,10 @@ void collideParticles(const ParticleState& p, std::span<const BodyMass> masses,
             c.particleA = i;
             c.featureB = count + k;
             contacts.push_back(c);
+            if (contacts.size() > maxContacts) return false;
         }
     }
+    return true;
 }
 
 void sortContactsByParticle(std::vector<ParticleContact>& contacts) {
@@ -209,7 +241,12 @@ void runParticleGrid(WorldState& s) {
 
 void runParticleCollide(WorldState& s) {
     ParticleState& p = s.particles;
-    collideParticles(p, s.masses, p.contacts);
+    const std::size_t budget = particleContactBudget(p.particles.size());
+    if (!collideParticles(p, s.masses, p.contacts, budget)) {
+        s.stepFailure = limitError("collideParticles", "particle contacts", p.contacts.size(),
+                                   budget, s.step + 1, "bodies overlap each other in large numbers");
+        p.contacts.clear();
+    }
     sortContactsByParticle(p.contacts);
     float deepest = 0.0f;
     for (const ParticleContact& c : p.contacts) deepest = std::max(deepest, c.point.w);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -33,7 +34,9 @@ struct ParticleState {
 /// Voxelises each shape once (spacing from the options, surface particles only) and gives every
 /// body except planes and static boxes its shape's particles; planes and static boxes become
 /// static shapes. Errors: BadInput at simulation.collision.particle_spacing when the world
-/// would need more particles than a device buffer index can address.
+/// would need more particles than a device buffer index can address; Limit there when a shape
+/// would take more voxels or ray tests, or the world more particles, than host/core/limits.h
+/// allows (checked before they are made).
 Status buildParticles(WorldState& s);
 
 /// Grid hash table size for a particle count: 2^bits >= 2 count, 2^10 .. 2^24.
@@ -60,9 +63,11 @@ void buildGrid(std::span<const shared::float4> world, float cellSize, std::uint3
 /// the static shapes. Which side tests a pair: pairFromHereItem (two awake bodies' pair once,
 /// from the particle sorted first); body a of a contact is the awake body, or the lower index
 /// of two awake ones. Appends to `contacts` in sorted-slot order.
+/// Stops and returns false once it has found more than `maxContacts` (host/core/limits.h).
 /// reads: world, particles, grid, statics, masses   writes: contacts
-void collideParticles(const ParticleState& p, std::span<const shared::BodyMass> masses,
-                      std::vector<shared::ParticleContact>& contacts);
+bool collideParticles(const ParticleState& p, std::span<const shared::BodyMass> masses,
+                      std::vector<shared::ParticleContact>& contacts,
+                      std::size_t maxContacts = std::numeric_limits<std::size_t>::max());
 
 /// Orders contacts by their particle a, then by feature b (the pair names a contact): the
 /// device's deterministic mode gives the same order, and so the same sums.

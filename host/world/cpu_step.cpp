@@ -13,6 +13,7 @@
 #include "host/dynamics/forces.h"
 #include "host/dynamics/jacobi_solvers.h"
 #include "host/dynamics/lcp_jacobi.h"
+#include "host/world/step_stop.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -53,6 +54,7 @@ void stepCpuReference(WorldState& s, StepStats& stats) {
             s.eventFired[e] = 1;
         }
     }
+    if (stepMustStop(s)) return;
     {
         StageTimer t(stats.integrateVelocitiesMs);
         // Explicit Euler moves positions with the velocities the step started with.
@@ -60,6 +62,7 @@ void stepCpuReference(WorldState& s, StepStats& stats) {
         integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities,
                             toFloat4(s.options.gravity), dt);
     }
+    if (stepMustStop(s)) return;
     // The particle method and the solvers other than PGS are the OpenCL stages' CPU twins.
     const bool particles = s.options.collisionMethod() == CollisionMethod::Particles;
     const bool pgs = s.options.solver.type == SolverType::Pgs;
@@ -70,17 +73,20 @@ void stepCpuReference(WorldState& s, StepStats& stats) {
         if (particles) runParticleGrid(s);
         else runBroadPhase(s);
     }
+    if (stepMustStop(s)) return;
     {
         StageTimer t(stats.narrowPhaseMs);
         if (particles) runParticleCollide(s);
         else runNarrowPhase(s);
         if (particles && pgs) particleContactsToManifolds(s.particles.contacts, s.manifolds);
     }
+    if (stepMustStop(s)) return;
     {
         StageTimer t(stats.buildContactRowsMs);
         if (pgs) runBuildContactRows(s);
         else runBuildSolverRows(s);
     }
+    if (stepMustStop(s)) return;
     {
         StageTimer t(stats.solveMs);
         std::copy(s.velocities.begin(), s.velocities.end(), s.velocitiesBeforeSolve.begin());
@@ -91,15 +97,18 @@ void stepCpuReference(WorldState& s, StepStats& stats) {
         // The momenta are the state: they take up what the impulses did to the velocities.
         absorbVelocityChange(s.momenta, s.velocitiesBeforeSolve, s.velocities, s.masses, s.poses);
     }
+    if (stepMustStop(s)) return;
     {
         StageTimer t(stats.integratePositionsMs);
         integratePositions(s.poses, s.velocities, s.velocitiesAtStart, s.momenta, s.masses, dt,
                            symplectic);
     }
+    if (stepMustStop(s)) return;
     {
         StageTimer t(stats.solvePositionsMs);
         runSolvePositions(s);
     }
+    if (stepMustStop(s)) return;
     {
         StageTimer t(stats.islandsMs);
         // PGS sleeps by islands; the device's solvers sleep as the device does (its twin).

@@ -7,6 +7,7 @@
 
 #include "host/gpu/pipeline.h"
 #include "host/world/offload.h"
+#include "host/world/step_stop.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -81,6 +82,7 @@ Status beginHostChange(WorldState& s) {
 }
 
 Status stepDevice(WorldState& s, StepStats& stats) {
+    if (stepMustStop(s)) return *s.stepFailure;
     const auto start = std::chrono::steady_clock::now();
     gpu::Pipeline& p = *s.device;
     Offload* o = s.offload.get();

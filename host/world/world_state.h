@@ -10,6 +10,7 @@
 #include "host/collision/collision_world.h"
 #include "host/collision/contact.h"
 #include "host/collision/particle_world.h"
+#include "host/dynamics/blowup_watch.h"
 #include "host/dynamics/body_sleep.h"
 #include "host/dynamics/dynamics_world.h"
 #include "host/dynamics/jacobi.h"
@@ -68,6 +69,8 @@ struct WorldState {
     BodySleepState bodySleep; ///< sleeping as on the device, for the device's solvers on the CPU
     DenseLcp lcp;             ///< the dense problem of lcp-jacobi and lemke on the CPU
     std::optional<Error> stepFailure; ///< a CPU stage that could not run this step
+    BlowUpWatch blowUp;               ///< energy since the last reference (blow-up watch)
+    std::vector<float> bodyRadii;     ///< scratch: each body's bounding radius, m
 
     // Scratch reused every step: the velocities before the solve, and at the start of the step
     // (explicit Euler moves positions with those).

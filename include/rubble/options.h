@@ -2,6 +2,7 @@
 // overrides them. Nothing here is global: a World copies its Options at creation.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -77,6 +78,11 @@ struct RunOptions {
     std::string device;    ///< OpenCL device by name fragment or index; empty: the first one
     std::string kernelDir; ///< load kernels/*.cl from here instead of the embedded text
     bool deterministic = false; ///< device rows sorted by key so atomics cannot reorder sums
+    /// Options added to every OpenCL program build (`-cl-opt-disable` for Oclgrind).
+    std::string buildOptions;
+    /// Set to true (by a signal handler, another thread) to stop: World::step checks it between
+    /// its stages and returns ErrorKind::Interrupted. Must outlive the World.
+    const std::atomic<bool>* stop = nullptr;
 };
 
 /// Scene-file spelling of each enum value, as in SCENE_FORMAT.md.
