@@ -26,6 +26,8 @@ void addRunOptions(CLI::App* cmd, rubble::RunOptions& r) {
     cmd->add_option("--device", r.device, "OpenCL device: a name fragment or an index");
     cmd->add_option("--kernel-dir", r.kernelDir, "Load kernels/*.cl from this folder");
     cmd->add_flag("--deterministic", r.deterministic, "Sort device rows so runs repeat bit for bit");
+    cmd->add_option("--build-options", r.buildOptions,
+                    "Added to the OpenCL program's build options (-cl-opt-disable for Oclgrind)");
 }
 
 } // namespace

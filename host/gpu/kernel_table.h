@@ -41,6 +41,7 @@ enum class KernelId : unsigned {
     SleepBodies,
     PrepareJacobiBodies,
     GatherJacobiRows,
+    FillWords,
     Count
 };
 
