@@ -193,7 +193,16 @@ Result<TriangleMesh> loadObjMesh(const std::string& path, float scale, const std
     std::ostringstream text;
     text << in.rdbuf();
     if (!in) return makeError(ErrorKind::BadInput, where, "cannot read the OBJ mesh " + path);
-    const std::string obj = std::move(text).str();
+    return parseObjMesh(std::move(text).str(), path, scale, where);
+}
+
+Result<TriangleMesh> parseObjMesh(const std::string& obj, const std::string& path, float scale,
+                                  const std::string& where) {
+    if (obj.size() > kMaxObjBytes)
+        return makeError(ErrorKind::BadInput, where,
+                         path + ": the text holds " + std::to_string(obj.size()) +
+                             " bytes, more than the " + std::to_string(kMaxObjBytes) +
+                             " an OBJ mesh may have");
     RUBBLE_TRY(checkObjText(obj, path, where));
 
     tinyobj::ObjReaderConfig config;

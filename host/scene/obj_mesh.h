@@ -32,4 +32,8 @@ inline constexpr std::size_t kMaxMeshTriangles = 500'000;
 /// that are not finite once scaled.
 Result<TriangleMesh> loadObjMesh(const std::string& path, float scale, const std::string& where);
 
+/// The same from the text of an OBJ file; `path` names it in errors.
+Result<TriangleMesh> parseObjMesh(const std::string& text, const std::string& path, float scale,
+                                  const std::string& where);
+
 } // namespace rubble

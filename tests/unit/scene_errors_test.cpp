@@ -101,6 +101,8 @@ TEST_P(SceneErrors, ExitTwoAndNameTheField) {
     const std::string where = std::string(c.where).empty() ? file : file + ": " + c.where;
     EXPECT_NE(r.output.find(where), std::string::npos) << "expected \"" << where << "\" in: " << r.output;
     EXPECT_NE(r.output.find(c.message), std::string::npos) << "expected \"" << c.message << "\" in: " << r.output;
+    ASSERT_FALSE(r.output.empty());
+    EXPECT_EQ(r.output.back(), '\n') << "the message does not end its line: " << r.output;
 }
 
 INSTANTIATE_TEST_SUITE_P(BadInput, SceneErrors, ::testing::ValuesIn(kCases),
