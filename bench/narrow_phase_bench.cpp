@@ -9,12 +9,11 @@
 #include <benchmark/benchmark.h>
 #include <glm/gtc/quaternion.hpp>
 
-#include "host/collision/collision_world.h"
 #include "host/collision/hull_contact.h"
 #include "host/collision/sat.h"
+#include "host/collision/sat_collision.h"
 #include "host/geometry/shape.h"
-#include "host/world/world_state.h"
-#include "rubble/world.h"
+#include "support/stage_input.h"
 
 namespace rubble {
 namespace {
@@ -143,7 +142,7 @@ BENCHMARK(BM_ManifoldHull20Cached);
 
 // 16,384 unit boxes at rest: 32 x 16 x 32 columns on a floor plane, each box on the one below,
 // columns 1.2 m apart, turned by up to 0.05 rad.
-World restingBoxes() {
+test::StageInput restingBoxes() {
     const std::string scene = R"({"format": "rubble-scene", "version": 1, "name": "resting_16k",
       "shapes": {"floor": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
                  "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
@@ -151,34 +150,39 @@ World restingBoxes() {
       "generators": [{"type": "grid", "shape": "crate", "mass": 1.0, "count": [32, 16, 32],
                       "origin": [-18.6, 0.5, -18.6], "spacing": [1.2, 1.0, 1.2],
                       "rotation_jitter": 0.05, "seed": 1, "name_prefix": "d"}]})";
-    Result<Scene> parsed = parseScene(scene, "resting_16k.json", ".");
-    Result<World> world = World::create(parsed.value());
-    return std::move(world.value());
+    return test::stageInput(scene);
 }
 
 void BM_BroadPhaseResting16k(benchmark::State& state) {
-    World world = restingBoxes();
-    WorldState& s = world.state();
+    const test::StageInput in = restingBoxes();
+    SatCollision sat(ContactForm::Manifolds);
+    StepContacts contacts;
     for (auto _ : state) {
-        runBroadPhase(s);
-        benchmark::DoNotOptimize(s.pairs.data());
+        if (!sat.broadPhase(in.collisionScene(), in.bodies.view(), in.params(), contacts).ok())
+            return state.SkipWithError("the broad phase failed");
+        benchmark::DoNotOptimize(contacts.pairs.data());
     }
-    state.counters["pairs"] = double(s.pairs.size());
-    state.counters["bodies"] = double(s.bodyCount());
+    state.counters["pairs"] = double(contacts.pairs.size());
+    state.counters["bodies"] = double(in.bodies.count());
 }
 BENCHMARK(BM_BroadPhaseResting16k)->Unit(benchmark::kMillisecond);
 
 void BM_NarrowPhaseResting16k(benchmark::State& state) {
-    World world = restingBoxes();
-    WorldState& s = world.state();
-    runBroadPhase(s);
-    runNarrowPhase(s); // warm: every pair has its cached feature
+    const test::StageInput in = restingBoxes();
+    SatCollision sat(ContactForm::Manifolds);
+    StepContacts contacts;
+    const StepParams params = in.params();
+    // warm: every pair has its cached feature
+    if (!sat.broadPhase(in.collisionScene(), in.bodies.view(), params, contacts).ok() ||
+        !sat.narrowPhase(in.collisionScene(), in.bodies.view(), params, contacts).ok())
+        return state.SkipWithError("the collision stages failed");
     for (auto _ : state) {
-        runNarrowPhase(s);
-        benchmark::DoNotOptimize(s.manifolds.data());
+        if (!sat.narrowPhase(in.collisionScene(), in.bodies.view(), params, contacts).ok())
+            return state.SkipWithError("the narrow phase failed");
+        benchmark::DoNotOptimize(contacts.manifolds.data());
     }
-    state.SetItemsProcessed(state.iterations() * std::int64_t(s.pairs.size()));
-    state.counters["contacts"] = double(s.stats.contactCount);
+    state.SetItemsProcessed(state.iterations() * std::int64_t(contacts.pairs.size()));
+    state.counters["contacts"] = double(contacts.contactCount);
 }
 BENCHMARK(BM_NarrowPhaseResting16k)->Unit(benchmark::kMillisecond);
 

@@ -15,13 +15,12 @@
 #include <benchmark/benchmark.h>
 
 #include "host/core/math.h"
-#include "host/dynamics/jacobi.h"
-#include "host/dynamics/lcp_jacobi.h"
+#include "host/core/step_params.h"
 #include "host/gpu/pipeline.h"
 #include "host/gpu/traffic.h"
-#include "host/world/world_state.h"
 #include "rubble/scene.h"
 #include "rubble/world.h"
+#include "support/device_stage.h"
 
 namespace rubble {
 namespace {
@@ -32,35 +31,46 @@ struct BenchSettings {
     float spacing = 0.5f;
 };
 
-// The world every benchmark works on, stepped once before the first of them.
+// A scene on the device stepped `steps` times, then its state on a pipeline of its own whose
+// contacts are collided once: what every benchmark of that scene works on.
 struct BenchWorld {
-    std::optional<World> world;
+    std::optional<test::DeviceStage> stage;
     std::string error;
 };
+
+Status prepare(const std::string& path, float spacing, int steps, BenchWorld& b) {
+    Result<Scene> scene = loadScene(path);
+    RUBBLE_TRY(scene);
+    scene->simulation.backend = Backend::OpenCl;
+    scene->simulation.collision.method = CollisionMethod::Particles;
+    scene->simulation.collision.particleSpacing = spacing;
+    scene->simulation.solver.type = SolverType::Jacobi;
+    Result<std::shared_ptr<gpu::Context>> context = openDevice(RunOptions{});
+    RUBBLE_TRY(context);
+    RunOptions run;
+    run.context = *context;
+    Result<World> world = World::create(*scene, run);
+    RUBBLE_TRY(world);
+    for (int i = 0; i < steps; ++i) RUBBLE_TRY(world->step());
+    test::StageInput in = test::stageInput(*scene);
+    test::takeState(*world, in);
+    Result<test::DeviceStage> stage = test::deviceStage(*context, std::move(in));
+    RUBBLE_TRY(stage);
+    gpu::Pipeline& p = stage->device();
+    RUBBLE_TRY(p.transformParticles());
+    RUBBLE_TRY(p.buildGrid());
+    RUBBLE_TRY(p.resetStatus());
+    RUBBLE_TRY(p.collideParticles());
+    RUBBLE_TRY(p.readContactCount());
+    b.stage.emplace(std::move(*stage));
+    return {};
+}
 
 BenchWorld& benchWorld(const BenchSettings* settings = nullptr) {
     static BenchWorld w = [&] {
         BenchWorld b;
-        Result<Scene> scene = loadScene(settings->scene);
-        if (!scene) {
-            b.error = scene.error().describe();
-            return b;
-        }
-        scene->simulation.backend = Backend::OpenCl;
-        scene->simulation.collision.method = CollisionMethod::Particles;
-        scene->simulation.collision.particleSpacing = settings->spacing;
-        scene->simulation.solver.type = SolverType::Jacobi;
-        Result<World> world = World::create(*scene);
-        if (!world) {
-            b.error = world.error().describe();
-            return b;
-        }
-        for (int i = 0; i < settings->steps; ++i)
-            if (Status s = world->step(); !s) {
-                b.error = s.error().describe();
-                return b;
-            }
-        b.world.emplace(std::move(*world));
+        if (Status s = prepare(settings->scene, settings->spacing, settings->steps, b); !s)
+            b.error = s.error().describe();
         return b;
     }();
     return w;
@@ -68,11 +78,11 @@ BenchWorld& benchWorld(const BenchSettings* settings = nullptr) {
 
 gpu::Pipeline* pipelineOrSkip(benchmark::State& state) {
     BenchWorld& b = benchWorld();
-    if (!b.world) {
+    if (!b.stage) {
         state.SkipWithError(b.error.c_str());
         return nullptr;
     }
-    return b.world->state().device.get();
+    return &b.stage->device();
 }
 
 gpu::TrafficCounts countsOf(const gpu::Pipeline& p) {
@@ -169,8 +179,7 @@ void benchCollideParticles(benchmark::State& state) {
 void benchBuildJacobiRows(benchmark::State& state) {
     gpu::Pipeline* p = pipelineOrSkip(state);
     if (!p) return;
-    const WorldState& s = benchWorld().world->state();
-    const shared::SolverParams params = solverParams(s.options);
+    const shared::SolverParams params = benchWorld().stage->in.params().rows;
     using K = gpu::KernelId;
     const std::uint64_t bytes =
         bytesOf(*p, {K::PrepareJacobiBodies, K::CountBodyContacts, K::FillBodyLists,
@@ -208,34 +217,17 @@ void benchIntegratePositions(benchmark::State& state) {
 // lcp-jacobi on its own small world (the pyramid of 20, settled for 30 steps): the dense
 // solver takes at most 4096 rows.
 void benchSolveLcpJacobi(benchmark::State& state) {
-    static std::optional<World> small;
-    static std::string error;
-    if (!small && error.empty()) {
-        Result<Scene> scene = loadScene(RUBBLE_SOURCE_DIR "/scenes/pyramid_20.json");
-        if (!scene)
-            error = scene.error().describe();
-        else {
-            scene->simulation.backend = Backend::OpenCl;
-            scene->simulation.collision.method = CollisionMethod::Particles;
-            scene->simulation.collision.particleSpacing = 0.5f;
-            scene->simulation.solver.type = SolverType::Jacobi;
-            Result<World> w = World::create(*scene);
-            if (!w)
-                error = w.error().describe();
-            else {
-                for (int i = 0; i < 30 && error.empty(); ++i)
-                    if (Status s = w->step(); !s) error = s.error().describe();
-                small.emplace(std::move(*w));
-            }
-        }
-    }
-    if (!error.empty()) return state.SkipWithError(error.c_str());
-    WorldState& s = small->state();
-    gpu::Pipeline& p = *s.device;
-    const std::uint32_t stride = lcpStride(bodySurfaces(s), s.masses);
-    if (p.contacts().count * stride > 4096u)
+    static BenchWorld small;
+    if (!small.stage && small.error.empty())
+        if (Status s = prepare(RUBBLE_SOURCE_DIR "/scenes/pyramid_20.json", 0.5f, 30, small); !s)
+            small.error = s.error().describe();
+    if (!small.stage) return state.SkipWithError(small.error.c_str());
+    const test::StageInput& in = small.stage->in;
+    gpu::Pipeline& p = small.stage->device();
+    const std::uint32_t stride = lcpStride(in.surfaces, in.bodies.masses);
+    if (p.contacts().count * stride > kLcpMaxRows)
         return state.SkipWithError("more than 4096 rows: the dense solver does not take them");
-    const shared::SolverParams params = solverParams(s.options);
+    const shared::SolverParams params = in.params().rows;
     if (Status st = p.buildJacobiRows(params, false); !st)
         return state.SkipWithError(st.error().describe().c_str());
     const int sweeps = int(state.range(0));

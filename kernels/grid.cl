@@ -1,6 +1,6 @@
 // kernels/grid.cl: entry points of OpenCL stage 3 (buildGrid): cell keys, a stable LSD radix
 // sort of (key, value) pairs, cell ranges; and the exclusive scan the sort and the solver use.
-// The CPU twin is buildGrid in host/collision/particle_world.cpp (a stable counting sort).
+// The CPU twin is buildGrid in host/collision/grid.cpp (a stable counting sort).
 #include "rubble/shared/particle.h"
 
 __kernel void computeCellKeys(const uint count, const float inverseCellSize, const uint bits,

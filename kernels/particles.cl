@@ -1,6 +1,6 @@
 // kernels/particles.cl: entry points of OpenCL stages 2 and 4 (transformParticles,
 // collideParticles); the math is in rubble/shared/particle.h, the CPU twins in
-// host/collision/particle_world.cpp.
+// host/collision/particles.cpp.
 #include "rubble/shared/particle.h"
 
 // Particles of sleeping bodies keep their world positions: their bodies do not move.

@@ -1,7 +1,7 @@
 // kernels/sleep.cl: entry points of the device's sleeping (stage sleepBodies), after
 // integratePositions: each contact tells its bodies whether a neighbour is restless or fast,
 // then each dynamic body updates its sleep. The math is in rubble/shared/sleep.h; the CPU twin in
-// host/dynamics/body_sleep.cpp.
+// host/dynamics/sleep.cpp.
 #include "rubble/shared/contact_row.h"
 #include "rubble/shared/sleep.h"
 

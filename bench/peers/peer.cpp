@@ -61,11 +61,15 @@ int runPeer(int argc, char** argv, const std::string& engine, const std::string&
         if (Status s = writer->write(0, 0.0, rows); !s) return fail(s.error());
     }
     // End-state assessment, as `rubble run --metrics` does it: drift over the last second.
+    std::vector<ShapeGeometry> geometry;
+    for (const Shape& s : shapes) geometry.push_back(geometryOf(s));
     std::vector<QualityBody> quality(scene->bodies.size());
     for (std::size_t i = 0; i < quality.size(); ++i) {
         const BodyDesc& d = scene->bodies[i];
         const Shape& s = shapes[d.shape];
-        quality[i] = QualityBody{&s, bodyMass(d, s), s.unitMass.inertia * (bodyMass(d, s) / s.unitMass.volume), d.isStatic};
+        quality[i] = QualityBody{&geometry[d.shape], bodyMass(d, s),
+                                 s.unitMass.inertia * (bodyMass(d, s) / s.unitMass.volume),
+                                 d.isStatic};
         if (d.isStatic) quality[i].inertia = glm::dmat3(0.0);
     }
     const int total = scene->simulation.steps;

@@ -12,7 +12,6 @@
 #include "host/core/math.h"
 #include "host/io/metrics.h"
 #include "host/io/trajectory_writer.h"
-#include "host/world/world_state.h"
 #include "rubble/world.h"
 
 namespace rubble::app {
@@ -71,13 +70,14 @@ class Progress {
 int stoppedStatus() { return gSignal == SIGTERM ? kExitTerminated : kExitInterrupted; }
 
 // The bodies as the end-state assessment sees them.
-std::vector<QualityBody> qualityBodies(const WorldState& s) {
-    std::vector<QualityBody> out(s.bodyCount());
-    for (std::uint32_t i = 0; i < s.bodyCount(); ++i) {
-        out[i].shape = &s.shapes[s.shapeOf[i]];
-        out[i].mass = s.masses[i].mass;
-        out[i].inertia = glm::dmat3(toMat3(s.masses[i].inertiaBody));
-        out[i].isStatic = s.isStatic(i);
+std::vector<QualityBody> qualityBodies(const World& w) {
+    std::vector<QualityBody> out(w.bodyCount());
+    for (std::uint32_t i = 0; i < w.bodyCount(); ++i) {
+        const BodyState b = w.body(i);
+        out[i].shape = &w.shape(w.bodyShape(i));
+        out[i].mass = b.mass;
+        out[i].inertia = glm::dmat3(b.inertia);
+        out[i].isStatic = b.isStatic;
     }
     return out;
 }
@@ -163,8 +163,8 @@ int runCommand(const RunArgs& args) {
         if (Status s = out->finish(); !s) return report(s.error());
     if (metricsFile) {
         snapshot(*world, now);
-        const double interval = double(metrics.steps() - driftFrom) * scene->simulation.dt;
-        metrics.setQuality(assessQuality(qualityBodies(world->state()), now, before, interval));
+        const double interval = double(world->stepIndex() - driftFrom) * scene->simulation.dt;
+        metrics.setQuality(assessQuality(qualityBodies(*world), now, before, interval));
         if (Status s = metricsFile->commit(metrics.toJson(*world)); !s) return report(s.error());
     }
     if (failure) {

@@ -1,7 +1,7 @@
-// host/core/limits.h: what one step may allocate. Pairs and contacts grow with the square of the
-// bodies that overlap (1,000 boxes at one point: 1.9 million contacts, 1.9 GB); these budgets
-// stop such a step with ErrorKind::Limit, naming the limit, before it runs out of memory.
-// docs/scene-format.md, "Limits", states them.
+// host/core/limits.h: what one step may allocate, and the largest inputs rubble reads. Pairs
+// and contacts grow with the square of the bodies that overlap (1,000 boxes at one point: 1.9
+// million contacts, 1.9 GB); the step budgets stop such a step with ErrorKind::Limit, naming the
+// limit, before it runs out of memory. docs/scene-format.md, "Limits", states them.
 #pragma once
 
 #include <cstddef>
@@ -30,6 +30,15 @@ inline constexpr std::size_t kMaxParticles = std::size_t(1) << 25;
 inline constexpr double kMaxVoxels = double(std::size_t(1) << 24);
 /// Ray-triangle tests while voxelising one shape: its voxels times its triangles.
 inline constexpr double kMaxVoxelWork = 4e9;
+
+/// The largest inputs rubble reads. A scene file's arrays and objects nest at most this deep
+/// (deeper is refused while parsing, before anything walks the value recursively).
+inline constexpr std::size_t kMaxJsonDepth = 64;
+/// An OBJ mesh: its file size, vertices and triangles (after polygons are split). Building a
+/// shape stays near-linear in these (host/geometry/half_edge.h).
+inline constexpr std::size_t kMaxObjBytes = std::size_t(256) << 20;
+inline constexpr std::size_t kMaxMeshVertices = 250'000;
+inline constexpr std::size_t kMaxMeshTriangles = 500'000;
 
 /// The budgets of a world of `bodies` bodies and `particles` particles.
 std::size_t pairBudget(std::size_t bodies);

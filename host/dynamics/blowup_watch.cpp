@@ -14,10 +14,15 @@ bool isDynamic(const shared::BodyMass& m) { return m.inverseMass > 0.0f; }
 
 // Kinetic plus potential energy of one body, J.
 double bodyEnergy(const BlowUpInputs& in, std::size_t i) {
-    const glm::dvec3 v(toVec3(in.velocities[i].linear)), w(toVec3(in.velocities[i].angular));
-    const glm::dvec3 p(toVec3(in.momenta[i].linear)), l(toVec3(in.momenta[i].angular));
-    const glm::dvec3 x(toVec3(in.poses[i].position)), g(in.gravity);
-    return 0.5 * (glm::dot(v, p) + glm::dot(w, l)) - double(in.masses[i].mass) * glm::dot(g, x);
+    const BodiesView& b = in.bodies;
+    const glm::dvec3 v(toVec3(b.velocities[i].linear)), w(toVec3(b.velocities[i].angular));
+    const glm::dvec3 p(toVec3(b.momenta[i].linear)), l(toVec3(b.momenta[i].angular));
+    const glm::dvec3 x(toVec3(b.poses[i].position)), g(in.gravity);
+    return 0.5 * (glm::dot(v, p) + glm::dot(w, l)) - double(b.masses[i].mass) * glm::dot(g, x);
+}
+
+float radiusOf(BodiesView bodies, std::span<const Shape> shapes, std::uint32_t i) {
+    return shapes[bodies.shapeOf[i]].boundingRadius;
 }
 
 std::string joules(double j) {
@@ -28,7 +33,8 @@ std::string joules(double j) {
 
 // Starts the watch from the bodies as they are: their energies, and the allowance.
 void rebase(BlowUpWatch& w, const BlowUpInputs& in) {
-    const std::size_t n = in.poses.size();
+    const BodiesView& b = in.bodies;
+    const std::size_t n = b.count();
     w.started = true;
     w.rebase = false;
     w.eventsFired = in.eventsFired;
@@ -40,13 +46,14 @@ void rebase(BlowUpWatch& w, const BlowUpInputs& in) {
     double lo = 0.0, hi = 0.0, total = 0.0, kinetic = 0.0, weight = 0.0, own = 0.0, gain = 0.0;
     bool any = false;
     for (std::size_t i = 0; i < n; ++i) {
-        if (!isDynamic(in.masses[i])) continue;
+        if (!isDynamic(b.masses[i])) continue;
         const double energy = bodyEnergy(in, i);
+        const glm::dvec3 x(toVec3(b.poses[i].position));
         w.bodyAtLowest[i] = energy;
         total += energy;
-        kinetic += energy + double(in.masses[i].mass) * glm::dot(g, glm::dvec3(toVec3(in.poses[i].position)));
-        const double m = in.masses[i].mass, r = in.radii[i];
-        const double depth = glm::dot(down, glm::dvec3(toVec3(in.poses[i].position)));
+        kinetic += energy + double(b.masses[i].mass) * glm::dot(g, x);
+        const double m = b.masses[i].mass, r = radiusOf(b, in.shapes, std::uint32_t(i));
+        const double depth = glm::dot(down, x);
         lo = any ? std::min(lo, depth) : depth;
         hi = any ? std::max(hi, depth) : depth;
         any = true;
@@ -63,7 +70,7 @@ void rebase(BlowUpWatch& w, const BlowUpInputs& in) {
 } // namespace
 
 std::optional<BlowUp> watchEnergy(BlowUpWatch& w, const BlowUpInputs& in) {
-    const std::size_t n = in.poses.size();
+    const std::size_t n = in.bodies.count();
     if (!w.started || w.rebase || in.eventsFired != w.eventsFired || w.bodyAtLowest.size() != n) {
         rebase(w, in);
         return std::nullopt;
@@ -71,7 +78,7 @@ std::optional<BlowUp> watchEnergy(BlowUpWatch& w, const BlowUpInputs& in) {
     w.bodyNow.resize(n);
     double total = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
-        w.bodyNow[i] = isDynamic(in.masses[i]) ? bodyEnergy(in, i) : 0.0;
+        w.bodyNow[i] = isDynamic(in.bodies.masses[i]) ? bodyEnergy(in, i) : 0.0;
         total += w.bodyNow[i];
     }
     if (total < w.lowest) {
@@ -85,7 +92,7 @@ std::optional<BlowUp> watchEnergy(BlowUpWatch& w, const BlowUpInputs& in) {
     double most = -1.0;
     for (std::size_t i = 0; i < n; ++i) {
         const double gained = w.bodyNow[i] - w.bodyAtLowest[i];
-        if (isDynamic(in.masses[i]) && gained > most) {
+        if (isDynamic(in.bodies.masses[i]) && gained > most) {
             most = gained;
             worst = std::uint32_t(i);
         }
@@ -100,14 +107,14 @@ std::optional<BlowUp> watchEnergy(BlowUpWatch& w, const BlowUpInputs& in) {
     return b;
 }
 
-std::optional<BlowUp> watchJoints(std::span<const Joint> joints,
-                                  std::span<const shared::BodyPose> poses,
-                                  std::span<const float> radii, std::int64_t step) {
+std::optional<BlowUp> watchJoints(std::span<const Joint> joints, BodiesView bodies,
+                                  std::span<const Shape> shapes, std::int64_t step) {
     for (std::size_t k = 0; k < joints.size(); ++k) {
         const Joint& j = joints[k];
         float apart = 0.0f, turned = 0.0f;
-        jointError(j, poses, apart, turned);
-        const float span = kJointBreakRatio * (radii[j.a] + radii[j.b]);
+        jointError(j, bodies.poses, apart, turned);
+        const float span =
+            kJointBreakRatio * (radiusOf(bodies, shapes, j.a) + radiusOf(bodies, shapes, j.b));
         if (!(apart > span)) continue;
         char text[200];
         std::snprintf(text, sizeof text,

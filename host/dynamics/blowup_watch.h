@@ -13,8 +13,9 @@
 
 #include <glm/glm.hpp>
 
+#include "host/core/bodies.h"
 #include "host/dynamics/joints.h"
-#include "rubble/shared/body.h"
+#include "host/geometry/shape.h"
 
 namespace rubble {
 
@@ -39,19 +40,17 @@ struct BlowUpWatch {
     std::vector<double> bodyNow;      ///< J: scratch
 };
 
-/// One step's bodies as the watch reads them; static bodies (inverse mass 0) are skipped.
+/// One step's bodies as the watch reads them, after the step; static bodies (inverse mass 0)
+/// are skipped.
 struct BlowUpInputs {
-    std::span<const shared::BodyPose> poses;
-    std::span<const shared::BodyVelocity> velocities;
-    std::span<const shared::BodyMomentum> momenta;
-    std::span<const shared::BodyMass> masses;
-    std::span<const float> radii; ///< bounding radius of each body's shape, m
-    glm::vec3 gravity{0.0f};      ///< m/s^2
-    float dt = 0;                 ///< s
-    float baumgarte = 0;          ///< the solver's position correction per step, 0..1
+    BodiesView bodies;
+    std::span<const Shape> shapes; ///< by bodies.shapeOf: each body's bounding radius
+    glm::vec3 gravity{0.0f};       ///< m/s^2
+    float dt = 0;                  ///< s
+    float baumgarte = 0;           ///< the solver's position correction per step, 0..1
     bool explicitEuler = false;
-    std::size_t eventsFired = 0;  ///< explosions fired so far
-    std::int64_t step = 0;        ///< steps taken, this one included
+    std::size_t eventsFired = 0; ///< explosions fired so far
+    std::int64_t step = 0;       ///< steps taken, this one included
 };
 
 /// A blow-up: the body that gained the most (or the joint's body b) and what happened.
@@ -72,9 +71,8 @@ struct BlowUp {
 std::optional<BlowUp> watchEnergy(BlowUpWatch& watch, const BlowUpInputs& in);
 
 /// Joint watch: the first joint whose anchors are further apart than kJointBreakRatio times the
-/// sum of its bodies' bounding radii.
-std::optional<BlowUp> watchJoints(std::span<const Joint> joints,
-                                  std::span<const shared::BodyPose> poses,
-                                  std::span<const float> radii, std::int64_t step);
+/// sum of its bodies' bounding radii. O(joints).
+std::optional<BlowUp> watchJoints(std::span<const Joint> joints, BodiesView bodies,
+                                  std::span<const Shape> shapes, std::int64_t step);
 
 } // namespace rubble

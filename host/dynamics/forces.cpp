@@ -25,4 +25,13 @@ std::size_t applyExplosion(const EventDesc& e, std::span<const shared::BodyPose>
     return reached;
 }
 
+void applyDueExplosions(std::span<const EventDesc> events, std::span<std::uint8_t> fired,
+                        double time, Bodies bodies) {
+    for (std::size_t e = 0; e < events.size(); ++e) {
+        if (!eventDue(events[e], fired[e], time)) continue;
+        applyExplosion(events[e], bodies.poses, bodies.masses, bodies.momenta);
+        fired[e] = 1;
+    }
+}
+
 } // namespace rubble

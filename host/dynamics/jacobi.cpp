@@ -6,47 +6,10 @@
 
 #include "host/core/assert.h"
 #include "host/core/math.h"
-#include "host/world/world_state.h"
 
 namespace rubble {
 
 using namespace shared;
-
-std::vector<float4> bodySurfaces(const WorldState& s) {
-    std::vector<float4> out(s.bodyCount());
-    for (std::uint32_t b = 0; b < s.bodyCount(); ++b) {
-        const MaterialDesc& m = s.materials[s.materialOf[b]];
-        out[b] = vec4(m.friction, m.restitution, 0.0f);
-    }
-    return out;
-}
-
-float jacobiRelaxation(const SolverOptions& o) {
-    return o.relaxation * kJacobiOverRelaxation;
-}
-
-SolverParams solverParams(const SimulationOptions& o) {
-    const SolverOptions& s = o.solver;
-    const bool particles = o.collisionMethod() == CollisionMethod::Particles;
-    const float slop = particles ? particleSlopItem(s.slop, o.collision.particleSpacing) : s.slop;
-    return SolverParams{s.baumgarte, slop, 1.0f / o.dt, s.relaxation};
-}
-
-void manifoldsToContacts(std::span<const Manifold> manifolds, std::vector<ParticleContact>& out) {
-    out.clear();
-    for (const Manifold& m : manifolds)
-        for (std::uint32_t k = 0; k < m.count; ++k) {
-            const ContactPoint& p = m.points[k];
-            ParticleContact c{};
-            c.point = toFloat4(p.position, p.depth);
-            c.normal = toFloat4(p.normal);
-            c.a = m.a;
-            c.b = m.b;
-            c.particleA = m.a;
-            c.featureB = p.feature;
-            out.push_back(c);
-        }
-}
 
 namespace {
 
@@ -158,36 +121,6 @@ void solveJacobi(JacobiState& j, std::span<const BodyVelocity> before,
         j.residuals.push_back(solveJacobiRows(j.rows, velocities, relaxation));
         gatherJacobi(j.rows, j, before, masses, poses, velocities);
     }
-}
-
-namespace {
-
-std::span<const ParticleContact> contactsOf(WorldState& s) {
-    if (s.options.collisionMethod() == CollisionMethod::Particles) return s.particles.contacts;
-    manifoldsToContacts(s.manifolds, s.jacobi.fromManifolds);
-    return s.jacobi.fromManifolds;
-}
-
-} // namespace
-
-void runBuildJacobiRows(WorldState& s) {
-    JacobiState& j = s.jacobi;
-    const std::span<const ParticleContact> contacts = contactsOf(s);
-    buildBodyLists(contacts, s.masses, j);
-    if (s.options.solver.warmStart)
-        matchWarmStart(contacts, j.previous, j.warm);
-    else
-        j.warm.assign(contacts.size(), vec4(0.0f, 0.0f, 0.0f));
-    buildJacobiRows(contacts, s.poses, s.velocities, s.masses, bodySurfaces(s),
-                    solverParams(s.options), j.warm, j);
-}
-
-void runSolveJacobi(WorldState& s) {
-    JacobiState& j = s.jacobi;
-    solveJacobi(j, s.velocitiesBeforeSolve, s.masses, s.poses, s.velocities,
-                s.options.solver.iterations, jacobiRelaxation(s.options.solver));
-    if (s.options.solver.warmStart) rememberImpulses(contactsOf(s), j.rows, j.previous);
-    s.stats.solverResidual = j.residuals.empty() ? 0.0f : j.residuals.back();
 }
 
 } // namespace rubble

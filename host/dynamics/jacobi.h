@@ -9,14 +9,10 @@
 #include <span>
 #include <vector>
 
-#include "host/collision/contact.h"
-#include "rubble/options.h"
 #include "rubble/shared/contact_row.h"
 #include "rubble/shared/particle.h"
 
 namespace rubble {
-
-struct WorldState;
 
 /// A contact's accumulated impulses kept for the next step, by its key: the two particles (or
 /// SAT's body a and feature id) and body b.
@@ -36,7 +32,6 @@ struct JacobiState {
     std::vector<std::uint32_t> bodyStart; ///< first entry of each body in bodyList (n + 1)
     std::vector<std::uint32_t> bodyList;  ///< entries 2 row + side (0: body a, 1: body b)
     std::vector<float> residuals;         ///< largest |impulse change| of each iteration, N s
-    std::vector<shared::ParticleContact> fromManifolds; ///< SAT contacts as rows' input
     std::vector<shared::float4> warm;  ///< per contact: last step's impulses, or zero
     std::vector<WarmImpulse> previous; ///< last step's impulses, sorted by key
 };
@@ -49,28 +44,6 @@ void matchWarmStart(std::span<const shared::ParticleContact> contacts,
 /// Keeps this step's impulses for the next one. reads: contacts, rows   writes: previous
 void rememberImpulses(std::span<const shared::ParticleContact> contacts,
                       std::span<const shared::ContactRow> rows, std::vector<WarmImpulse>& previous);
-
-/// Per body: friction in x, restitution in y (the body's material).
-std::vector<shared::float4> bodySurfaces(const WorldState& s);
-
-/// Over-relaxation of every row update of the Jacobi solver, on top of the scene's relaxation.
-/// Mass splitting alone converges but slowly (each row moves 1/n of its way when its bodies
-/// have n rows); at 10 iterations a resting stack of five then jitters at 0.5 m/s, while 1.5
-/// leaves it at rest (1e-6 m/s) and 1.8 starts to overshoot in piles. Successive over-
-/// relaxation of a projected Jacobi sweep converges for 0 < omega < 2 on the split system
-/// (Tonge et al. 2012, section 4; measured in docs/opencl.md).
-inline constexpr float kJacobiOverRelaxation = 1.5f;
-
-/// The relaxation the Jacobi solver uses: the scene's times kJacobiOverRelaxation.
-float jacobiRelaxation(const SolverOptions& o);
-
-/// The solver settings of a step of a world. With particle contacts the slop is at least a
-/// tenth of the particle spacing (shared::particleSlopItem).
-shared::SolverParams solverParams(const SimulationOptions& o);
-
-/// SAT manifolds as contact points for the row builder (feature ids in featureB).
-void manifoldsToContacts(std::span<const Manifold> manifolds,
-                         std::vector<shared::ParticleContact>& contacts);
 
 /// Per-body lists of rows, in row order: counts, starts, entries 2 row + side. Static bodies
 /// get no list. reads: contacts, masses   writes: bodyCount, bodyStart, bodyList
@@ -104,10 +77,5 @@ void gatherJacobi(std::span<const shared::ContactRow> rows, const JacobiState& j
 void solveJacobi(JacobiState& j, std::span<const shared::BodyVelocity> before,
                  std::span<const shared::BodyMass> masses, std::span<const shared::BodyPose> poses,
                  std::span<shared::BodyVelocity> velocities, int iterations, float relaxation);
-
-/// The contact stages of a world for the jacobi solver on the CPU: rows from the particle
-/// contacts or the SAT manifolds, then the solve (velocities before it in velocitiesBeforeSolve).
-void runBuildJacobiRows(WorldState& s);
-void runSolveJacobi(WorldState& s);
 
 } // namespace rubble

@@ -9,25 +9,10 @@
 #include "host/core/assert.h"
 #include "host/dynamics/jacobi.h"
 #include "host/dynamics/lemke.h"
-#include "host/world/world_state.h"
 
 namespace rubble {
 
 using namespace shared;
-
-float lcpJacobiRelaxation(const SolverOptions& o) { return o.relaxation * kLcpJacobiOverRelaxation; }
-
-std::uint32_t lcpStride(std::span<const float4> surfaces, std::span<const BodyMass> masses) {
-    RUBBLE_ASSERT(surfaces.size() == masses.size());
-    std::size_t rough = 0;
-    bool dynamicRough = false;
-    for (std::size_t b = 0; b < surfaces.size(); ++b) {
-        if (surfaces[b].x <= 0.0f) continue;
-        ++rough;
-        dynamicRough = dynamicRough || masses[b].inverseMass != 0.0f;
-    }
-    return rough >= 2 && dynamicRough ? 3u : 1u;
-}
 
 std::uint32_t lcpStrideOfRows(std::span<const shared::ContactRow> rows) {
     for (const shared::ContactRow& r : rows)
@@ -139,75 +124,6 @@ void lcpNormalProblem(const DenseLcp& p, std::vector<double>& m, std::vector<dou
     m.assign(p.matrix.begin(), p.matrix.end());
     q.assign(p.rhs.begin(), p.rhs.end());
     RUBBLE_ASSERT(m.size() == n * n);
-}
-
-namespace {
-
-std::span<const ParticleContact> solverContacts(const WorldState& s) {
-    if (s.options.collisionMethod() == CollisionMethod::Particles) return s.particles.contacts;
-    return s.jacobi.fromManifolds;
-}
-
-Error tooLarge(const WorldState& s, const char* solver, std::size_t rows, std::size_t limit,
-               const char* instead) {
-    return makeError(ErrorKind::NotSupported, "step " + std::to_string(s.step + 1),
-                     std::string("the ") + solver + " solver takes at most " +
-                         std::to_string(limit) + " rows; this step has " + std::to_string(rows) +
-                         " (" + instead + ")");
-}
-
-// Velocities from the solved impulses, and the impulses kept for the next step's warm start.
-void finishDenseSolve(WorldState& s) {
-    JacobiState& j = s.jacobi;
-    storeLcpImpulses(s.lcp, j.rows);
-    gatherJacobi(j.rows, j, s.velocitiesBeforeSolve, s.masses, s.poses, s.velocities);
-    if (s.options.solver.warmStart) rememberImpulses(solverContacts(s), j.rows, j.previous);
-}
-
-} // namespace
-
-Status runSolveLcpJacobi(WorldState& s) {
-    DenseLcp& p = s.lcp;
-    const std::uint32_t stride = lcpStride(bodySurfaces(s), s.masses);
-    const std::size_t rows = s.jacobi.rows.size() * stride;
-    if (rows > kLcpMaxRows)
-        return tooLarge(s, "lcp-jacobi", rows, kLcpMaxRows, "jacobi and pgs take any number");
-    buildLcpRows(s.jacobi.rows, s.velocitiesBeforeSolve, s.masses, s.poses, stride, p);
-    assembleDelassus(p);
-    scaleLcpRows(p);
-    solveLcpJacobi(p, s.options.solver.iterations, lcpJacobiRelaxation(s.options.solver));
-    finishDenseSolve(s);
-    s.stats.solverResidual = p.residuals.empty() ? 0.0f : p.residuals.back();
-    return {};
-}
-
-Status runSolveLemke(WorldState& s) {
-    DenseLcp& p = s.lcp;
-    const std::span<const shared::ContactRow> rows = s.jacobi.rows;
-    for (const shared::ContactRow& r : rows)
-        if (r.friction > 0.0f)
-            return makeError(ErrorKind::NotSupported, "step " + std::to_string(s.step + 1),
-                             "the lemke solver takes frictionless contacts only; bodies " +
-                                 s.names[r.a] + " and " + s.names[r.b] + " touch with friction " +
-                                 std::to_string(r.friction));
-    if (rows.size() > kLemkeMaxRows)
-        return tooLarge(s, "lemke", rows.size(), kLemkeMaxRows, "lcp-jacobi, jacobi and pgs "
-                                                                "take more");
-    buildLcpRows(rows, s.velocitiesBeforeSolve, s.masses, s.poses, 1u, p);
-    assembleDelassus(p);
-    std::vector<double> m, q;
-    lcpNormalProblem(p, m, q);
-    Result<LemkeSolution> solved = solveLemke(m, q);
-    if (!solved) {
-        Error e = solved.error();
-        e.where = "step " + std::to_string(s.step + 1) + ": " + e.where;
-        return e;
-    }
-    for (std::size_t i = 0; i < p.lambda.size(); ++i) p.lambda[i] = float(solved->z[i]);
-    p.residuals.clear();
-    finishDenseSolve(s);
-    s.stats.solverResidual = 0.0f;
-    return {};
 }
 
 } // namespace rubble

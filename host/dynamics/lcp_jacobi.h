@@ -8,26 +8,10 @@
 #include <span>
 #include <vector>
 
-#include "rubble/error.h"
-#include "rubble/options.h"
+#include "host/core/step_params.h"
 #include "rubble/shared/lcp.h"
 
 namespace rubble {
-
-struct WorldState;
-
-/// The dense problem grows as rows^2: lcp-jacobi is for small systems (64 MiB of A at most).
-inline constexpr std::uint32_t kLcpMaxRows = 4096;
-
-/// Over-relaxation of lcp-jacobi on top of the scene's relaxation. D is the row sum of |A|, so
-/// D - A/2 is positive definite and any omega in (0, 2) converges (with D = diag(A) the
-/// iteration diverges on a resting stack); a larger omega converges faster on the frozen
-/// stacks of docs/solvers.md (residual after 200 sweeps 1.5e-3 m/s at 1.5, 6.9e-4 at 1.8),
-/// and 1.8 keeps a margin below 2.
-inline constexpr float kLcpJacobiOverRelaxation = 1.8f;
-
-/// The relaxation lcp-jacobi uses: the scene's times kLcpJacobiOverRelaxation.
-float lcpJacobiRelaxation(const SolverOptions& o);
 
 /// One step's dense problem w = A lambda + b over the contact rows: `stride` rows per contact
 /// (1: the normal only, when no contact can have friction; 3: normal and two tangents), row
@@ -46,11 +30,6 @@ struct DenseLcp {
 
     std::uint32_t size() const { return contacts * stride; }
 };
-
-/// 1 when no two bodies of which one is dynamic both have friction (every contact is then
-/// frictionless and the tangent rows would stay 0), else 3. reads: surfaces (x = friction)
-std::uint32_t lcpStride(std::span<const shared::float4> surfaces,
-                        std::span<const shared::BodyMass> masses);
 
 /// 1 when every row is frictionless, else 3.
 std::uint32_t lcpStrideOfRows(std::span<const shared::ContactRow> rows);
@@ -82,13 +61,5 @@ void storeLcpImpulses(const DenseLcp& p, std::span<shared::ContactRow> rows);
 /// The normal rows of the dense problem as an LCP for Lemke's method: M = A, q = b (stride 1
 /// only), in double precision.
 void lcpNormalProblem(const DenseLcp& p, std::vector<double>& m, std::vector<double>& q);
-
-/// Stage solve for lcp-jacobi and lemke on the CPU, after runBuildSolverRows: the dense problem,
-/// the solve, then each body's velocity from its rows (gatherJacobi) and the warm start kept.
-/// Errors: NotSupported when the rows exceed kLcpMaxRows (lcp-jacobi) or kLemkeMaxRows
-/// (lemke), or a contact has friction (lemke); Numerical when Lemke's method finds no solution.
-/// reads: s.jacobi, velocitiesBeforeSolve   writes: velocities, s.lcp, stats.solverResidual
-Status runSolveLcpJacobi(WorldState& s);
-Status runSolveLemke(WorldState& s);
 
 } // namespace rubble

@@ -23,8 +23,8 @@ namespace rubble {
 /// sweep k. Then, when a contact penetrates beyond the slop, the split position pass: up to the
 /// same number of sweeps over the normal rows that push and the rows touching the bodies they
 /// move, on separate pseudo-velocities that start at zero and aim at the rows' Baumgarte speeds
-/// (lambda_push >= 0), so that pushing bodies apart adds no energy; runSolvePositions moves the
-/// bodies by dt times them.
+/// (lambda_push >= 0), so that pushing bodies apart adds no energy; PgsSolver::solvePositions
+/// moves the bodies by dt times them.
 /// reads: rows, joints, bodies   writes: bodies' velocities and push, impulses, residuals
 void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodies,
               const SolverOptions& options, std::vector<float>& residuals);

@@ -109,4 +109,20 @@ Result<Shape> buildShape(const ShapeDesc& d) {
     return s;
 }
 
+ShapeGeometry geometryOf(const Shape& shape) {
+    ShapeGeometry g;
+    g.name = shape.name;
+    g.type = shape.type;
+    g.halfExtents = shape.halfExtents;
+    g.radius = shape.radius;
+    g.normal = shape.normal;
+    g.offset = shape.offset;
+    g.boundingRadius = shape.boundingRadius;
+    g.vertices = shape.hull.vertices;
+    g.faces = shape.hull.faces;
+    g.meshVertices = shape.mesh.vertices;
+    g.meshTriangles = shape.mesh.triangles;
+    return g;
+}
+
 } // namespace rubble

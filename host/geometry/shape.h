@@ -9,9 +9,10 @@
 #include "host/core/mass_properties.h"
 #include "host/geometry/convex_hull.h"
 #include "host/geometry/half_edge.h"
-#include "host/scene/obj_mesh.h"
+#include "host/geometry/obj_mesh.h"
 #include "rubble/error.h"
 #include "rubble/scene.h"
+#include "rubble/shape.h"
 
 namespace rubble {
 
@@ -40,6 +41,9 @@ struct Shape {
 /// half-edge mesh. Errors: BadInput at the shape's field for degenerate hulls or a half-edge mesh
 /// that breaks its invariants.
 Result<Shape> buildShape(const ShapeDesc& desc);
+
+/// The shape as a host program sees it (World::shape): its hull, its mesh, its sizes.
+ShapeGeometry geometryOf(const Shape& shape);
 
 /// The 8 corners and 6 faces of a box with the given half extents, centred on the origin.
 ConvexPolygons boxPolygons(glm::vec3 halfExtents);

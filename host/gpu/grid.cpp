@@ -1,6 +1,6 @@
 // host/gpu/grid.cpp: dispatch of OpenCL stage 3, buildGrid (kernels/grid.cl): cell keys, the
 // radix sort, cell ranges and the sorted copies of the particles; the CPU twin is buildGrid in
-// host/collision/particle_world.cpp.
+// host/collision/grid.cpp.
 #include <utility>
 
 #include "host/gpu/pipeline.h"

@@ -7,7 +7,8 @@
 
 #include <string>
 
-#include "host/dynamics/lcp_jacobi.h"
+#include "host/core/step_params.h"
+#include "rubble/shared/lcp.h"
 #include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
@@ -94,14 +95,14 @@ Status buildLcpOnDevice(const Context& c, const Buffer& rows, std::uint32_t coun
         .run(n, RUBBLE_GROUP_CONTACTS);
 }
 
-Status uploadLcp(const Context& c, const DenseLcp& p, LcpBuffers& lcp) {
+Status uploadLcp(const Context& c, const HostLcp& p, LcpBuffers& lcp) {
     RUBBLE_TRY(reserveLcp(c, p.contacts, p.stride, lcp));
     RUBBLE_TRY(fill(c, lcp.status, 0u, RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
-    RUBBLE_TRY(upload(c, lcp.matrix, std::span<const float>(p.matrix)));
-    RUBBLE_TRY(upload(c, lcp.rhs, std::span<const float>(p.rhs)));
-    RUBBLE_TRY(upload(c, lcp.inverseScale, std::span<const float>(p.inverseScale)));
-    RUBBLE_TRY(upload(c, lcp.friction, std::span<const float>(p.friction)));
-    return upload(c, lcp.lambda, std::span<const float>(p.lambda));
+    RUBBLE_TRY(upload(c, lcp.matrix, p.matrix));
+    RUBBLE_TRY(upload(c, lcp.rhs, p.rhs));
+    RUBBLE_TRY(upload(c, lcp.inverseScale, p.inverseScale));
+    RUBBLE_TRY(upload(c, lcp.friction, p.friction));
+    return upload(c, lcp.lambda, p.lambda);
 }
 
 Status iterateLcpJacobi(const Context& c, LcpBuffers& lcp, int iterations, float relaxation,

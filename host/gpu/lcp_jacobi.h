@@ -5,14 +5,11 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "host/gpu/buffer.h"
 #include "host/gpu/context.h"
-
-namespace rubble {
-struct DenseLcp;
-}
 
 namespace rubble::gpu {
 
@@ -33,9 +30,19 @@ Status buildLcpOnDevice(const Context& c, const Buffer& rows, std::uint32_t coun
                         std::uint32_t stride, const Buffer& velocities, const Buffer& masses,
                         const Buffer& flags, const Buffer& poses, LcpBuffers& lcp);
 
-/// A problem built on the host (its rows are not needed): matrix, rhs, inverseScale, friction
-/// and lambda uploaded. Errors: Device.
-Status uploadLcp(const Context& c, const DenseLcp& p, LcpBuffers& lcp);
+/// A dense problem built on the host, as the arrays of the same names of DenseLcp
+/// (host/dynamics/lcp_jacobi.h): size = contacts * stride.
+struct HostLcp {
+    std::uint32_t contacts = 0, stride = 1;
+    std::span<const float> matrix;       ///< size^2, row-major
+    std::span<const float> rhs;          ///< size
+    std::span<const float> inverseScale; ///< size
+    std::span<const float> friction;     ///< contacts
+    std::span<const float> lambda;       ///< size
+};
+
+/// A problem built on the host (its rows are not needed) uploaded. Errors: Device.
+Status uploadLcp(const Context& c, const HostLcp& p, LcpBuffers& lcp);
 
 /// `iterations` sweeps of projected Jacobi: product = A lambda by CLBlast's SGEMV, then
 /// projectLcp per contact. The last sweep's largest impulse change goes to `status`

@@ -1,23 +1,23 @@
 // host/gpu/particles.cpp: dispatch of OpenCL stages 2 and 4 (kernels/particles.cl):
 // transformParticles and collideParticles with its contact buffer. The CPU twins are in
-// host/collision/particle_world.cpp. Argument order is the kernel signature's.
+// host/collision/particles.cpp. Argument order is the kernel signature's.
 #include <algorithm>
 #include <cstdio>
 
-#include "host/collision/particle_world.h"
+#include "host/collision/particles.h"
 #include "host/core/limits.h"
-#include "host/dynamics/jacobi.h"
 #include "host/gpu/pipeline.h"
-#include "host/world/world_state.h"
 
 namespace rubble::gpu {
 namespace {
 template <class T> std::span<const T> view(const std::vector<T>& v) { return {v.data(), v.size()}; }
 } // namespace
 
-Status Pipeline::uploadParticles(const WorldState& s) {
+Status Pipeline::uploadParticles(const ParticleSet* set, BodiesView bodyArrays,
+                                 std::span<const shared::float4> surfaces) {
     const Context& c = *context_;
-    const ParticleState& p = s.particles;
+    const ParticleSet empty;
+    const ParticleSet& p = set ? *set : empty;
     particles_.count = std::uint32_t(p.particles.size());
     particles_.staticCount = std::uint32_t(p.statics.size());
     particles_.bits = p.bits;
@@ -37,16 +37,15 @@ Status Pipeline::uploadParticles(const WorldState& s) {
     RUBBLE_TRY(particles_.cellFirst.reserve(c.context(), (cells + 1) * sizeof(cl_uint)));
     // Particles of bodies asleep at upload keep these positions until they wake.
     std::vector<shared::float4> world(n);
-    rubble::transformParticles(p.particles, s.poses, world);
+    rubble::transformParticles(p.particles, bodyArrays.poses, world);
     RUBBLE_TRY(upload(c, particles_.world, view(world)));
 
     // Per-body lists and surfaces.
-    const std::size_t bodies = s.bodyCount();
+    const std::size_t bodies = bodyArrays.count();
     RUBBLE_TRY(contacts_.bodyCount.reserve(c.context(), bodies * sizeof(cl_uint)));
     RUBBLE_TRY(contacts_.bodyStart.reserve(c.context(), (bodies + 1) * sizeof(cl_uint)));
     RUBBLE_TRY(contacts_.cursor.reserve(c.context(), (bodies + 1) * sizeof(cl_uint)));
-    const std::vector<shared::float4> surfaces = bodySurfaces(s);
-    RUBBLE_TRY(upload(c, contacts_.surfaces, std::span(surfaces)));
+    RUBBLE_TRY(upload(c, contacts_.surfaces, surfaces));
     // Last step's contacts: none yet, but bound by every step.
     for (Buffer* b : {&contacts_.next, &contacts_.previous, &contacts_.previousRows})
         RUBBLE_TRY(b->reserve(c.context(), 16));

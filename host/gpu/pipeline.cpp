@@ -11,8 +11,6 @@
 #include "host/core/assert.h"
 #include "host/core/limits.h"
 #include "host/core/math.h"
-#include "host/dynamics/jacobi.h"
-#include "host/world/world_state.h"
 
 namespace rubble::gpu {
 
@@ -29,9 +27,11 @@ double msSince(std::chrono::steady_clock::time_point start) {
 
 } // namespace
 
-Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context, const WorldState& s,
-                                        std::span<const std::uint8_t> kinematic) {
-    const std::size_t n = s.bodyCount();
+Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
+                                        const PipelineInput& in) {
+    const BodiesView bodies = in.bodies;
+    const std::span<const std::uint8_t> kinematic = in.kinematic;
+    const std::size_t n = bodies.count();
     if (n >= RUBBLE_TAG_MAX_BODIES)
         return makeError(ErrorKind::NotSupported, "bodies",
                          "the OpenCL pipeline takes fewer than " +
@@ -40,6 +40,8 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context, const 
     PipelineHandle p(new Pipeline(std::move(context)));
     const Context& c = *p->context_;
     p->bodies_.count = std::uint32_t(n);
+    p->deterministic_ = in.deterministic;
+    p->lcpStride_ = lcpStride(in.surfaces, bodies.masses);
     p->kinematic_.assign(n, 0);
     std::copy(kinematic.begin(), kinematic.begin() + std::min(kinematic.size(), n),
               p->kinematic_.begin());
@@ -50,10 +52,10 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context, const 
     RUBBLE_TRY(p->bodies_.restless.reserve(c.context(), n * sizeof(cl_uint)));
     RUBBLE_TRY(fill(c, p->bodies_.slowFor, 0u, n * sizeof(cl_float)));
     RUBBLE_TRY(fill(c, p->bodies_.restless, 0u, n * sizeof(cl_uint)));
-    RUBBLE_TRY(upload(c, p->bodies_.forces, view(s.forces)));
+    RUBBLE_TRY(upload(c, p->bodies_.forces, bodies.forces));
     RUBBLE_TRY(p->status_.reserve(c.context(), RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
-    RUBBLE_TRY(p->uploadBodies(s));
-    RUBBLE_TRY(p->uploadParticles(s));
+    RUBBLE_TRY(p->uploadBodies(bodies));
+    RUBBLE_TRY(p->uploadParticles(in.particles, bodies, in.surfaces));
 
     // The host's bodies, in index order: the order of each step's obstacle states.
     std::vector<cl_uint> obstacles;
@@ -74,10 +76,10 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context, const 
     return p;
 }
 
-Status Pipeline::uploadMassesAndFlags(const WorldState& s) {
+Status Pipeline::uploadMassesAndFlags(std::span<const shared::BodyMass> hostMasses) {
     const Context& c = *context_;
     // Kinematic bodies are walls on the device; their flags are the host's to set each step.
-    std::vector<shared::BodyMass> masses(s.masses.begin(), s.masses.end());
+    std::vector<shared::BodyMass> masses(hostMasses.begin(), hostMasses.end());
     std::vector<cl_uint> flags(masses.size());
     for (std::size_t i = 0; i < masses.size(); ++i) {
         flags[i] = masses[i].flags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP);
@@ -89,25 +91,25 @@ Status Pipeline::uploadMassesAndFlags(const WorldState& s) {
     return upload(c, bodies_.flags, view(flags));
 }
 
-Status Pipeline::uploadBodies(const WorldState& s) {
+Status Pipeline::uploadBodies(BodiesView bodies) {
     const Context& c = *context_;
-    RUBBLE_TRY(upload(c, bodies_.poses, view(s.poses)));
-    RUBBLE_TRY(upload(c, bodies_.velocities, view(s.velocities)));
-    RUBBLE_TRY(upload(c, bodies_.momenta, view(s.momenta)));
-    return uploadMassesAndFlags(s);
+    RUBBLE_TRY(upload(c, bodies_.poses, bodies.poses));
+    RUBBLE_TRY(upload(c, bodies_.velocities, bodies.velocities));
+    RUBBLE_TRY(upload(c, bodies_.momenta, bodies.momenta));
+    return uploadMassesAndFlags(bodies.masses);
 }
 
-Status Pipeline::downloadBodies(WorldState& s) {
+Status Pipeline::downloadBodies(Bodies bodies) {
     const Context& c = *context_;
-    RUBBLE_TRY(download(c, bodies_.poses, std::span(s.poses)));
-    RUBBLE_TRY(download(c, bodies_.velocities, std::span(s.velocities)));
-    RUBBLE_TRY(download(c, bodies_.momenta, std::span(s.momenta)));
+    RUBBLE_TRY(download(c, bodies_.poses, bodies.poses));
+    RUBBLE_TRY(download(c, bodies_.velocities, bodies.velocities));
+    RUBBLE_TRY(download(c, bodies_.momenta, bodies.momenta));
     std::vector<cl_uint> flags(bodies_.count);
     RUBBLE_TRY(download(c, bodies_.flags, std::span(flags)));
     for (std::size_t i = 0; i < flags.size(); ++i) {
         if (kinematic_[i]) continue; // the host's own flags
-        s.masses[i].flags = (s.masses[i].flags & ~RUBBLE_BODY_ASLEEP) |
-                            (flags[i] & RUBBLE_BODY_ASLEEP);
+        bodies.masses[i].flags = (bodies.masses[i].flags & ~RUBBLE_BODY_ASLEEP) |
+                                 (flags[i] & RUBBLE_BODY_ASLEEP);
     }
     return {};
 }
@@ -179,10 +181,10 @@ Status Pipeline::finish() {
     return {};
 }
 
-Status Pipeline::beginStep(const WorldState& s, const StepInputs& in) {
+Status Pipeline::beginStep(const StepParams& params, const StepInputs& in) {
     RUBBLE_ASSERT(!stepPending_);
-    const float dt = s.options.dt;
-    const bool symplectic = s.options.integrator == Integrator::Symplectic;
+    const float dt = params.dt;
+    const bool symplectic = params.symplectic();
     profile_.discard();
     profile_.setStage(DeviceStage::ApplyForces);
     RUBBLE_TRY(resetStatus());
@@ -191,34 +193,33 @@ Status Pipeline::beginStep(const WorldState& s, const StepInputs& in) {
     profile_.setStage(DeviceStage::IntegrateVelocities);
     // Explicit Euler moves positions with the velocities the step started with.
     if (!symplectic) RUBBLE_TRY(copyVelocities(bodies_.atStart));
-    RUBBLE_TRY(integrateVelocities(toFloat4(s.options.gravity), dt));
+    RUBBLE_TRY(integrateVelocities(params.gravity, dt));
     profile_.setStage(DeviceStage::BroadPhase);
     RUBBLE_TRY(transformParticles());
     RUBBLE_TRY(buildGrid());
     gatherImpulses_ = in.gatherObstacleImpulses && obstacles_.count > 0;
-    RUBBLE_TRY(enqueueFromCollision(s));
+    RUBBLE_TRY(enqueueFromCollision(params));
     stepPending_ = true;
     return {};
 }
 
-Status Pipeline::enqueueFromCollision(const WorldState& s) {
-    const float dt = s.options.dt;
-    const bool symplectic = s.options.integrator == Integrator::Symplectic;
-    const SolverOptions& solver = s.options.solver;
+Status Pipeline::enqueueFromCollision(const StepParams& params) {
+    const float dt = params.dt;
+    const bool symplectic = params.symplectic();
+    const SolverOptions& solver = params.solver;
     // lcp-jacobi sizes its dense problem on the host: it waits here for the contact count.
     const bool dense = solver.type == SolverType::LcpJacobi;
     profile_.setStage(DeviceStage::NarrowPhase);
     RUBBLE_TRY(collideParticles());
     if (dense) RUBBLE_TRY(readContactCount());
-    if (s.run.deterministic) RUBBLE_TRY(sortContacts());
+    if (deterministic_) RUBBLE_TRY(sortContacts());
     profile_.setStage(DeviceStage::BuildContactRows);
-    RUBBLE_TRY(buildJacobiRows(solverParams(s.options), solver.warmStart));
+    RUBBLE_TRY(buildJacobiRows(params.rows, solver.warmStart));
     profile_.setStage(DeviceStage::Solve);
     // lcp-jacobi solves the dense problem; the Jacobi stage then only applies its impulses.
     if (dense)
-        RUBBLE_TRY(solveLcpJacobi(lcpStride(bodySurfaces(s), s.masses), solver.iterations,
-                                  lcpJacobiRelaxation(solver)));
-    RUBBLE_TRY(solveJacobi(dense ? 0 : solver.iterations, jacobiRelaxation(solver), false));
+        RUBBLE_TRY(solveLcpJacobi(lcpStride_, solver.iterations, params.lcpJacobiRelaxation));
+    RUBBLE_TRY(solveJacobi(dense ? 0 : solver.iterations, params.jacobiRelaxation, false));
     profile_.setStage(DeviceStage::IntegratePositions);
     RUBBLE_TRY(integratePositions(dt, symplectic));
     // Forces hold for one step.
@@ -253,7 +254,8 @@ void Pipeline::undoWarmStartSwap() {
     warmSwapped_ = false;
 }
 
-Status Pipeline::endStep(const WorldState& s, StepStats& stats) {
+Status Pipeline::endStep(const StepParams& params, std::span<const std::string> names,
+                         StepStats& stats) {
     RUBBLE_ASSERT(stepPending_);
     stepPending_ = false;
     const auto waitStart = std::chrono::steady_clock::now();
@@ -271,10 +273,12 @@ Status Pipeline::endStep(const WorldState& s, StepStats& stats) {
                                  " contacts do not fit the buffer of " +
                                  std::to_string(st.capacity));
         }
-        if (st.contacts > particleContactBudget(particles_.count))
+        if (st.contacts > particleContactBudget(particles_.count)) {
+            profile_.discard();
             return limitError("collideParticles", "particle contacts", st.contacts,
-                              particleContactBudget(particles_.count), s.step + 1,
+                              particleContactBudget(particles_.count), params.step + 1,
                               "bodies overlap each other in large numbers");
+        }
         const std::uint32_t grown = std::uint32_t(std::min<std::size_t>(
             st.contacts + st.contacts / 2, particleContactBudget(particles_.count)));
         std::fprintf(stderr, "rubble: contact overflow (%u contacts, room for %u): buffer grown "
@@ -289,7 +293,7 @@ Status Pipeline::endStep(const WorldState& s, StepStats& stats) {
         RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_TRUE,
                                              RUBBLE_STATUS_CAPACITY * sizeof(cl_uint),
                                              sizeof capacity, &capacity, 0, nullptr, nullptr));
-        RUBBLE_TRY(enqueueFromCollision(s));
+        RUBBLE_TRY(enqueueFromCollision(params));
         RUBBLE_TRY(finish());
     }
     const DeviceStatus st = statusFromSlots();
@@ -298,7 +302,7 @@ Status Pipeline::endStep(const WorldState& s, StepStats& stats) {
     traffic.particles = particles_.count;
     traffic.cells = std::uint64_t(1) << particles_.bits;
     traffic.contacts = st.contacts;
-    traffic.previous = s.options.solver.warmStart ? contacts_.previousCount : 0u;
+    traffic.previous = params.solver.warmStart ? contacts_.previousCount : 0u;
     contacts_.count = st.contacts;
     if (warmSwapped_) contacts_.previousCount = st.contacts;
     Result<DeviceTimes> times = profile_.collect(traffic);
@@ -307,19 +311,15 @@ Status Pipeline::endStep(const WorldState& s, StepStats& stats) {
     stats.deviceStages = times->stages;
     stats.deviceContactCount = st.contacts;
     stats.deviceAsleep = st.asleep;
+    stats.asleep = st.asleep;
     stats.largestPenetration = std::max(stats.largestPenetration, st.largestPenetration);
     stats.solverResidual = std::max(stats.solverResidual, st.solverResidual);
     if (st.firstNonFinite < bodies_.count)
-        return makeError(ErrorKind::Numerical, "body " + s.names[st.firstNonFinite],
-                         "its state is not finite after step " + std::to_string(s.step + 1) +
-                             " (t = " + std::to_string(double(s.step + 1) * double(s.options.dt)) +
-                             " s)");
+        return makeError(ErrorKind::Numerical, "body " + names[st.firstNonFinite],
+                         "its state is not finite after step " + std::to_string(params.step + 1) +
+                             " (t = " +
+                             std::to_string(double(params.step + 1) * double(params.dt)) + " s)");
     return {};
-}
-
-Status Pipeline::step(WorldState& s, StepStats& stats) {
-    RUBBLE_TRY(beginStep(s, StepInputs{}));
-    return endStep(s, stats);
 }
 
 } // namespace rubble::gpu

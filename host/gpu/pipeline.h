@@ -9,8 +9,12 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
+#include "host/collision/particles.h"
+#include "host/core/bodies.h"
+#include "host/core/step_params.h"
 #include "host/gpu/buffer.h"
 #include "host/gpu/context.h"
 #include "host/gpu/lcp_jacobi.h"
@@ -20,10 +24,6 @@
 #include "rubble/shared/contact_row.h"
 #include "rubble/shared/obstacle.h"
 #include "rubble/world.h"
-
-namespace rubble {
-struct WorldState;
-}
 
 namespace rubble::gpu {
 
@@ -86,7 +86,19 @@ struct DeviceStatus {
     std::uint32_t asleep = 0, woken = 0;
 };
 
-/// What a step takes from the host besides the world's options.
+/// What a pipeline is made from: the bodies (uploaded at creation, kept on the device), their
+/// particles and surfaces, and which of them the host steps.
+struct PipelineInput {
+    BodiesView bodies;                        ///< poses, velocities, momenta, forces, masses
+    const ParticleSet* particles = nullptr;   ///< null: none (contacts are uploaded by hand)
+    std::span<const shared::float4> surfaces; ///< per body: friction, restitution
+    /// Per body, or empty: the host steps it (debris offloading); it is an infinite mass on the
+    /// device, placed by each step's obstacles, whose list is these bodies' indices in order.
+    std::span<const std::uint8_t> kinematic;
+    bool deterministic = false; ///< contacts sorted by key so that atomics cannot reorder sums
+};
+
+/// What a step takes from the host besides its parameters.
 struct StepInputs {
     std::span<const EventDesc> explosions;           ///< due this step
     std::span<const shared::ObstacleState> obstacles; ///< one per obstacle, in obstacle order
@@ -95,11 +107,10 @@ struct StepInputs {
 
 class Pipeline {
   public:
-    /// Sizes the device arrays for a world and uploads its bodies. Bodies marked in `kinematic`
-    /// (the host steps them: debris offloading) are infinite masses on the device, placed by
-    /// each step's obstacles, whose list is their indices in order. Errors: Device.
-    static Result<PipelineHandle> create(std::shared_ptr<Context> context, const WorldState& s,
-                                         std::span<const std::uint8_t> kinematic = {});
+    /// Sizes the device arrays for a world and uploads its bodies and particles.
+    /// Errors: NotSupported past RUBBLE_TAG_MAX_BODIES bodies, Device.
+    static Result<PipelineHandle> create(std::shared_ptr<Context> context,
+                                         const PipelineInput& in);
 
     const Context& context() const { return *context_; }
     const std::shared_ptr<Context>& sharedContext() const { return context_; }
@@ -107,10 +118,10 @@ class Pipeline {
 
     /// Copies the host's poses, velocities, momenta, masses and flags to the device: at load,
     /// and when the host changed them (impulses). Errors: Device.
-    Status uploadBodies(const WorldState& s);
+    Status uploadBodies(BodiesView bodies);
     /// Reads poses, velocities, momenta and the sleep flags back into the host arrays, for
     /// whoever asked for the state (World::body, writers, metrics). Errors: Device.
-    Status downloadBodies(WorldState& s);
+    Status downloadBodies(Bodies bodies);
     /// Reads `count` BodyPose records from body `first` on into `out` (as many bytes), for
     /// drawing. Errors: Device.
     Status downloadPoses(std::uint32_t first, std::uint32_t count, void* out);
@@ -120,14 +131,14 @@ class Pipeline {
     /// Enqueues a whole step without waiting: the obstacles placed, the explosions, every
     /// stage, and the read of the status block (and of the obstacles' impulses). Only
     /// lcp-jacobi waits in the middle (its dense problem is sized on the host). Errors: Device.
-    Status beginStep(const WorldState& s, const StepInputs& in);
+    Status beginStep(const StepParams& params, const StepInputs& in);
     /// Waits for the step, reads its status and device times into `stats`. On a contact
     /// overflow the buffer grows and the stages from collision on run again (said on stderr),
     /// or, when it may not grow, an error. Errors: Device, Numerical (a contact overflow, a body
     /// that is not finite, named).
-    Status endStep(const WorldState& s, StepStats& stats);
-    /// beginStep then endStep.
-    Status step(WorldState& s, StepStats& stats);
+    /// `names` (per body) name a body that is not finite.
+    Status endStep(const StepParams& params, std::span<const std::string> names,
+                   StepStats& stats);
     /// The impulses the rows put on each obstacle in the step met last (two-way coupling).
     std::span<const shared::BodyImpulse> obstacleImpulses() const { return impulsesHost_; }
 
@@ -193,10 +204,11 @@ class Pipeline {
 
   private:
     explicit Pipeline(std::shared_ptr<Context> context) : context_(std::move(context)) {}
-    Status uploadParticles(const WorldState& s);
-    Status uploadMassesAndFlags(const WorldState& s);
+    Status uploadParticles(const ParticleSet* set, BodiesView bodies,
+                           std::span<const shared::float4> surfaces);
+    Status uploadMassesAndFlags(std::span<const shared::BodyMass> masses);
     /// The stages from collision to the end of the step, and the status read.
-    Status enqueueFromCollision(const WorldState& s);
+    Status enqueueFromCollision(const StepParams& params);
     /// Puts back last step's contacts as the warm start after a step whose contacts overflowed.
     void undoWarmStartSwap();
     DeviceStatus statusFromSlots() const;
@@ -212,6 +224,8 @@ class Pipeline {
     Profile profile_;
     LcpBuffers lcp_;
     std::vector<std::uint8_t> kinematic_; ///< per body, as created
+    bool deterministic_ = false;          ///< contacts sorted before the rows
+    std::uint32_t lcpStride_ = 1;         ///< rows per contact of lcp-jacobi (lcpStride)
     bool forcesOnDevice_ = false;         ///< the device force buffer holds non-zero forces
     bool stepPending_ = false;            ///< beginStep ran, endStep not yet
     bool warmSwapped_ = false;            ///< this step's solve kept its contacts for the next

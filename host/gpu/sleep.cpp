@@ -1,6 +1,6 @@
 // host/gpu/sleep.cpp: dispatch of the device's stage sleepBodies (kernels/sleep.cl): restless
 // marks from this step's rows, then each body's sleep. The CPU twin is sleepBodies in
-// host/dynamics/body_sleep.cpp. Argument order is the kernel signature's.
+// host/dynamics/sleep.cpp. Argument order is the kernel signature's.
 #include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {

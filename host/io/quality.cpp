@@ -7,7 +7,7 @@ namespace rubble {
 namespace {
 
 // The lowest signed distance of a body's surface to a plane (negative: below it).
-double lowestDistance(const Shape& s, const TrajectoryRow& r, glm::dvec3 n, double offset) {
+double lowestDistance(const ShapeGeometry& s, const TrajectoryRow& r, glm::dvec3 n, double offset) {
     const glm::dvec3 centre(r.position);
     switch (s.type) {
     case ShapeType::Sphere:
@@ -17,7 +17,7 @@ double lowestDistance(const Shape& s, const TrajectoryRow& r, glm::dvec3 n, doub
     default: {
         double lowest = 1e300;
         const glm::dquat q(r.orientation);
-        for (const glm::vec3& v : s.hull.vertices)
+        for (const glm::vec3& v : s.vertices)
             lowest = std::min(lowest, glm::dot(n, centre + q * glm::dvec3(v)) - offset);
         return lowest;
     }

@@ -6,14 +6,14 @@
 #include <span>
 #include <vector>
 
-#include "host/geometry/shape.h"
 #include "host/io/trajectory_writer.h"
+#include "rubble/shape.h"
 
 namespace rubble {
 
 /// What the assessment needs of one body.
 struct QualityBody {
-    const Shape* shape = nullptr;
+    const ShapeGeometry* shape = nullptr;
     double mass = 0.0;         ///< kg; 0 for static bodies
     glm::dmat3 inertia{0.0};   ///< body frame, about the centre of mass, kg m^2
     bool isStatic = false;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <set>
 #include <vector>
 
@@ -212,6 +213,10 @@ Status ObjectReader::checkIsObject() const {
 }
 
 Status ObjectReader::checkKeys(std::initializer_list<std::string_view> allowed) const {
+    return checkKeys(std::span<const std::string_view>(allowed.begin(), allowed.size()));
+}
+
+Status ObjectReader::checkKeys(std::span<const std::string_view> allowed) const {
     for (const auto& [key, value] : json_.items()) {
         bool known = false;
         for (std::string_view a : allowed) known = known || a == key;
@@ -251,27 +256,31 @@ Result<double> numberFromJson(const Json& v, const std::string& where, Range ran
     const double out = v.get<double>();
     if (!std::isfinite(out)) return fail("expected a finite number, got " + brief(v));
     if (!std::isfinite(float(out))) return fail("is too large for single precision: " + brief(v));
-    if (out != 0.0 && !std::isnormal(float(out)))
-        return fail("is too small for single precision (it would read as " +
-                    lengthText(double(float(out))) + "): " + brief(v));
+    // The range holds for the float the value becomes: 1e-300 is not greater than 0.
+    const double f = double(float(out));
+    const std::string got = ", got " + brief(v) + (f == 0.0 && out != 0.0 ? " (0 as a float)" : "");
     switch (range) {
     case Range::Finite:
         break;
     case Range::Positive:
-        if (!(out > 0.0)) return fail("must be greater than 0, got " + brief(v));
+        if (!(f > 0.0)) return fail("must be greater than 0" + got);
         break;
     case Range::NonNegative:
-        if (!(out >= 0.0)) return fail("must be 0 or more, got " + brief(v));
+        if (!(f >= 0.0)) return fail("must be 0 or more" + got);
         break;
     case Range::UnitInterval:
-        if (!(out >= 0.0 && out <= 1.0)) return fail("must be between 0 and 1, got " + brief(v));
+        if (!(f >= 0.0 && f <= 1.0)) return fail("must be between 0 and 1" + got);
         break;
     case Range::Length:
-        if (!(out >= kMinLength && out <= kMaxLength))
+        if (!(f >= kMinLength && f <= kMaxLength))
             return fail("must be between " + lengthText(kMinLength) + " and " +
-                        lengthText(kMaxLength) + " m, got " + brief(v));
+                        lengthText(kMaxLength) + " m" + got);
         break;
     }
+    // Within its range or not, a number that is not 0 must not become 0 or lose its digits.
+    if (out != 0.0 && !std::isnormal(float(out)))
+        return fail("is too small for single precision (it would read as " + lengthText(f) +
+                    "): " + brief(v));
     return out;
 }
 
@@ -364,6 +373,59 @@ Status ObjectReader::readDirection(std::string_view key, glm::vec3& out) const {
     if (!(len > 1e-6f)) return fail(key, "a direction must not have zero length, got " + brief(at(key)));
     out = d / len;
     return {};
+}
+
+namespace {
+
+// A JSON value as a value of the option's kind; its range is checked by the table.
+Result<OptionValue> optionValueFromJson(OptionKind kind, const Json& v, const std::string& where) {
+    auto fail = [&](std::string expected) {
+        return makeError(ErrorKind::BadInput, where,
+                         "expected " + expected + ", got " + typeName(v) + " " + brief(v));
+    };
+    switch (kind) {
+    case OptionKind::Number:
+        if (!v.is_number()) return fail("a number");
+        return OptionValue(v.get<double>());
+    case OptionKind::WholeNumber:
+        if (!v.is_number_integer()) return fail("an integer");
+        // Above the int64 range: as large as it gets, for the range check to refuse.
+        if (v.is_number_unsigned() &&
+            v.get<std::uint64_t>() > std::uint64_t(std::numeric_limits<std::int64_t>::max()))
+            return OptionValue(std::numeric_limits<std::int64_t>::max());
+        return OptionValue(v.get<std::int64_t>());
+    case OptionKind::Bool:
+        if (!v.is_boolean()) return fail("true or false");
+        return OptionValue(v.get<bool>());
+    case OptionKind::Choice:
+    case OptionKind::Text:
+        if (!v.is_string()) return fail("a string");
+        return OptionValue(v.get<std::string>());
+    case OptionKind::Vec3: {
+        if (!v.is_array() || v.size() != 3)
+            return makeError(ErrorKind::BadInput, where,
+                             "expected an array of 3 numbers, got " + brief(v));
+        glm::dvec3 r(0.0);
+        for (std::size_t i = 0; i < 3; ++i) {
+            if (!v[i].is_number())
+                return makeError(ErrorKind::BadInput, where + indexPath(i),
+                                 "expected a number, got " + typeName(v[i]) + " " + brief(v[i]));
+            r[int(i)] = v[i].get<double>();
+        }
+        return OptionValue(r);
+    }
+    }
+    return makeError(ErrorKind::Internal, where, "unknown option kind");
+}
+
+} // namespace
+
+Status ObjectReader::readOption(std::string_view key, const Option& option,
+                                OptionTarget target) const {
+    if (!has(key)) return {};
+    Result<OptionValue> v = optionValueFromJson(option.kind, at(key), where(key));
+    RUBBLE_TRY(v);
+    return assignOption(option, *v, where(key), target);
 }
 
 } // namespace rubble

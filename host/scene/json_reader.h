@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -11,15 +12,14 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
+#include "host/core/option_table.h"
+#include "host/core/limits.h"
 #include "rubble/error.h"
 #include "rubble/scene.h"
 
 namespace rubble {
 
 using Json = nlohmann::json;
-
-/// Arrays and objects may nest this deep in a scene file; deeper is refused while parsing.
-inline constexpr std::size_t kMaxJsonDepth = 64;
 
 /// Parses JSON text. Malformed text is BadInput at `file` with the line and column; a key that
 /// appears twice in one object is BadInput at its path (the JSON library would keep only one);
@@ -46,6 +46,7 @@ class ObjectReader {
     Status checkIsObject() const;
     /// BadInput for the first key not in `allowed` (unknown keys are usually typos).
     Status checkKeys(std::initializer_list<std::string_view> allowed) const;
+    Status checkKeys(std::span<const std::string_view> allowed) const;
 
     bool has(std::string_view key) const;
     const Json& at(std::string_view key) const;
@@ -72,6 +73,9 @@ class ObjectReader {
     Status readQuaternion(std::string_view key, glm::quat& out) const;
     /// A direction; normalised; BadInput when its length is near zero.
     Status readDirection(std::string_view key, glm::vec3& out) const;
+    /// An option of the table (host/core/option_table.h), checked and stored by it; BadInput
+    /// for a value of the wrong JSON type, or out of the option's range.
+    Status readOption(std::string_view key, const Option& option, OptionTarget target) const;
 
     /// BadInput at `key` with the given message.
     Error fail(std::string_view key, std::string message) const;

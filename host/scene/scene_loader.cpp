@@ -1,14 +1,15 @@
 // host/scene/scene_loader.cpp: scene files (SCENE_FORMAT.md, version 1) into a checked Scene.
 // Every error names the file and the JSON path of the field; nothing falls back silently.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 
-#include "host/dynamics/ragdoll.h"
+#include "host/scene/ragdoll.h"
 #include "host/scene/generators.h"
 #include "host/scene/json_reader.h"
-#include "host/scene/obj_mesh.h"
+#include "host/geometry/obj_mesh.h"
 #include "rubble/scene.h"
 
 namespace rubble {
@@ -21,26 +22,11 @@ std::optional<std::uint32_t> Scene::findBody(std::string_view bodyName) const {
 
 namespace {
 
-constexpr std::int64_t kMaxSteps = 1'000'000'000;
-constexpr std::int64_t kMaxIterations = 100'000;
 constexpr std::int64_t kMaxGridCount = 1'000'000;
 constexpr float kMinQuatNorm = 1e-6f;
 // A ragdoll from 18 cm to 180 m tall: its thinnest part stays within kMinLength..kMaxLength.
 constexpr double kMinRagdollScale = 0.1;
 constexpr double kMaxRagdollScale = 100.0;
-
-// Reads an enum field spelled as in the scene format.
-template <class E, class Parse>
-Status readEnum(const ObjectReader& r, std::string_view key, E& out, Parse parse,
-                std::string_view choices) {
-    if (!r.has(key)) return {};
-    std::string s;
-    RUBBLE_TRY(r.read(key, s));
-    const std::optional<E> v = parse(s);
-    if (!v) return r.fail(key, "unknown value \"" + s + "\" (expected " + std::string(choices) + ")");
-    out = *v;
-    return {};
-}
 
 class SceneLoader {
   public:
@@ -81,48 +67,26 @@ class SceneLoader {
         return top.read("name", scene_.name);
     }
 
-    Status readSimulation(const ObjectReader& r) {
-        SimulationOptions& sim = scene_.simulation;
+    // Every key of `simulation` is an option of the table (host/core/option_table.h); a group
+    // (`collision`, `solver`) is an object holding the options whose key starts with it.
+    Status readSimulation(const ObjectReader& r, const std::string& group = "") {
         RUBBLE_TRY(r.checkIsObject());
-        RUBBLE_TRY(r.checkKeys({"dt", "steps", "gravity", "integrator", "backend", "collision",
-                                "solver", "coupling"}));
-        RUBBLE_TRY(r.read("dt", sim.dt, Range::Positive));
-        std::int64_t steps = sim.steps;
-        RUBBLE_TRY(r.read("steps", steps, 0, kMaxSteps));
-        sim.steps = int(steps);
-        RUBBLE_TRY(r.read("gravity", sim.gravity));
-        RUBBLE_TRY(readEnum(r, "integrator", sim.integrator, parseIntegrator, "symplectic or explicit"));
-        RUBBLE_TRY(readEnum(r, "backend", sim.backend, parseBackend, "cpu or opencl"));
-        RUBBLE_TRY(readEnum(r, "coupling", sim.coupling, parseCoupling, "one-way or two-way"));
-        if (r.has("collision")) {
-            ObjectReader c(r.at("collision"), r.pathOf("collision"), file_);
-            RUBBLE_TRY(c.checkIsObject());
-            RUBBLE_TRY(c.checkKeys({"method", "particle_spacing"}));
-            CollisionMethod method = CollisionMethod::Sat;
-            if (c.has("method")) {
-                RUBBLE_TRY(readEnum(c, "method", method, parseCollisionMethod, "sat or particles"));
-                sim.collision.method = method;
-            }
-            RUBBLE_TRY(c.read("particle_spacing", sim.collision.particleSpacing, Range::Length));
+        std::vector<std::string_view> keys; // this object's keys, in the table's order
+        for (const Option& o : optionTable()) {
+            if (o.scope != OptionScope::Simulation || !o.key.starts_with(group)) continue;
+            const std::string_view rest = o.key.substr(group.size());
+            const std::string_view key = rest.substr(0, rest.find('.'));
+            if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
         }
-        if (r.has("solver")) {
-            ObjectReader s(r.at("solver"), r.pathOf("solver"), file_);
-            SolverOptions& so = sim.solver;
-            RUBBLE_TRY(s.checkIsObject());
-            RUBBLE_TRY(s.checkKeys({"type", "iterations", "baumgarte", "slop", "relaxation",
-                                    "warm_start"}));
-            RUBBLE_TRY(readEnum(s, "type", so.type, parseSolverType,
-                                "pgs, jacobi, lcp-jacobi or lemke"));
-            std::int64_t iterations = so.iterations;
-            RUBBLE_TRY(s.read("iterations", iterations, 1, kMaxIterations));
-            so.iterations = int(iterations);
-            RUBBLE_TRY(s.read("baumgarte", so.baumgarte, Range::UnitInterval));
-            RUBBLE_TRY(s.read("slop", so.slop, Range::NonNegative));
-            RUBBLE_TRY(s.read("relaxation", so.relaxation, Range::Positive));
-            if (so.relaxation >= 2.0f)
-                return s.fail("relaxation", "must be below 2 for the iteration to converge, got " +
-                                                brief(s.at("relaxation")));
-            RUBBLE_TRY(s.read("warm_start", so.warmStart));
+        RUBBLE_TRY(r.checkKeys(keys));
+        for (std::string_view key : keys) {
+            if (!r.has(key)) continue;
+            const std::string path = group + std::string(key);
+            if (const Option* o = findOptionByKey(path))
+                RUBBLE_TRY(r.readOption(key, *o, OptionTarget{&scene_.simulation, nullptr}));
+            else
+                RUBBLE_TRY(readSimulation(ObjectReader(r.at(key), r.pathOf(key), file_),
+                                          path + "."));
         }
         return {};
     }
@@ -401,7 +365,7 @@ class SceneLoader {
         return {};
     }
 
-    // The ten parts and nine joints of host/dynamics/ragdoll, offset into the scene's arrays.
+    // The ten parts and nine joints of host/scene/ragdoll, offset into the scene's arrays.
     Status readRagdoll(const ObjectReader& r, std::size_t index) {
         RUBBLE_TRY(r.checkKeys({"type", "name_prefix", "position", "scale", "material", "debris"}));
         RagdollSpec spec;

@@ -40,7 +40,7 @@ Status renderScene(const Scene& scene, const RunOptions& run, const RenderSettin
     if (!world) return world.error();
     std::optional<Replay> replay;
     if (!s.replay.empty()) {
-        Result<Replay> r = Replay::load(s.replay, world->state());
+        Result<Replay> r = Replay::load(s.replay, *world);
         if (!r) return r.error();
         replay.emplace(std::move(*r));
     }
@@ -49,7 +49,7 @@ Status renderScene(const Scene& scene, const RunOptions& run, const RenderSettin
 
     Result<OffscreenContext> context = OffscreenContext::create(s.context);
     if (!context) return context.error();
-    Result<Renderer> renderer = Renderer::create(world->state().shapes);
+    Result<Renderer> renderer = Renderer::create(world->shapes());
     if (!renderer) return renderer.error();
     renderer->setTextScale(s.height >= 600 ? 2.0f : 1.0f);
     Result<RenderTarget> target = RenderTarget::create(s.width, s.height, s.samples);
@@ -57,7 +57,7 @@ Status renderScene(const Scene& scene, const RunOptions& run, const RenderSettin
     if (!s.quiet)
         std::fprintf(stderr, "rubble: rendering with %s\n", context->description().c_str());
 
-    const SceneView view(world->state());
+    const SceneView view(*world);
     const Overlays overlays = toOverlays(s.overlays);
     const Camera camera = initialCamera(s.camera, view, float(s.width) / float(s.height));
     DrawList frame;
@@ -75,7 +75,7 @@ Status renderScene(const Scene& scene, const RunOptions& run, const RenderSettin
             const ReplayFrame& f = replay->atStep(wanted);
             view.build(f.poses, nullptr, overlays, frame);
             if (s.overlays.stats)
-                frame.text.push_back(replayLine(f.step, f.time, world->state(), replay->path()));
+                frame.text.push_back(replayLine(f.step, f.time, *world, replay->path()));
         } else {
             while (world->stepIndex() < wanted) {
                 if (Status st = world->step(); !st) {
@@ -85,10 +85,10 @@ Status renderScene(const Scene& scene, const RunOptions& run, const RenderSettin
             }
             if (failure) break;
             currentPoses(*world, poses);
-            view.build(poses, &world->state(), overlays, frame);
+            view.build(poses, &*world, overlays, frame);
             if (s.overlays.stats) {
                 const std::string backend(toString(world->options().backend));
-                frame.text.push_back(statusLine(world->stepIndex(), world->time(), world->state(),
+                frame.text.push_back(statusLine(world->stepIndex(), world->time(), *world,
                                                 backend, world->deviceName()));
                 frame.text.push_back(stageLine(world->lastStep()));
             }

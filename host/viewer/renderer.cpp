@@ -81,7 +81,7 @@ struct Renderer::Impl {
         }
     }
 
-    void createShape(const Shape& shape) {
+    void createShape(const ShapeGeometry& shape) {
         const RenderMesh mesh = buildRenderMesh(shape);
         ShapeBuffers s;
         s.indexCount = GLsizei(mesh.indices.size());
@@ -265,7 +265,7 @@ struct Renderer::Impl {
     }
 };
 
-Result<Renderer> Renderer::create(std::span<const Shape> shapes) {
+Result<Renderer> Renderer::create(std::span<const ShapeGeometry> shapes) {
     auto impl = std::make_unique<Impl>();
     Result<GlProgram> body =
         GlProgram::create("body", shaders::kBodyVertex, shaders::kBodyFragment);
@@ -288,7 +288,7 @@ Result<Renderer> Renderer::create(std::span<const Shape> shapes) {
     impl->points = std::move(*points);
     impl->overlay = std::move(*overlay);
     impl->createStreams();
-    for (const Shape& s : shapes) impl->createShape(s);
+    for (const ShapeGeometry& s : shapes) impl->createShape(s);
     RUBBLE_TRY(checkGl("creating the renderer's buffers"));
     return Renderer(std::move(impl));
 }

@@ -7,7 +7,7 @@
 
 #include <glm/glm.hpp>
 
-#include "host/geometry/shape.h"
+#include "rubble/shape.h"
 #include "host/viewer/camera.h"
 #include "host/viewer/draw_list.h"
 #include "rubble/error.h"
@@ -27,7 +27,7 @@ class Renderer {
   public:
     /// Compiles the programs and uploads one mesh per shape (index = shape index).
     /// Errors: Device naming the GL call, with the compiler's log.
-    static Result<Renderer> create(std::span<const Shape> shapes);
+    static Result<Renderer> create(std::span<const ShapeGeometry> shapes);
 
     Renderer(Renderer&&) noexcept;
     Renderer& operator=(Renderer&&) noexcept;

@@ -22,9 +22,15 @@ constexpr std::size_t kCsvFields = 16;
 // Builds the frames as rows arrive, one step at a time.
 class FrameBuilder {
   public:
-    FrameBuilder(const std::string& path, const WorldState& world) : path_(path), world_(world) {
-        for (std::uint32_t i = 0; i < world.bodyCount(); ++i) byName_.emplace(world.names[i], i);
-        current_ = world.poses;
+    FrameBuilder(const std::string& path, const World& world)
+        : path_(path), sceneName_(world.sceneName()) {
+        for (std::uint32_t i = 0; i < world.bodyCount(); ++i)
+            byName_.emplace(world.bodyName(i), i);
+        current_.resize(world.bodyCount());
+        for (std::uint32_t i = 0; i < world.bodyCount(); ++i) {
+            const BodyState b = world.body(i);
+            current_[i] = BodyPose{toFloat4(b.position), toFloat4(b.orientation)};
+        }
     }
 
     Error error(std::size_t line, const std::string& message) const {
@@ -47,7 +53,7 @@ class FrameBuilder {
         const auto it = byName_.find(std::string(name));
         if (it == byName_.end())
             return error(line, "body \"" + std::string(name) + "\" is not in the scene " +
-                                   world_.sceneName);
+                                   sceneName_);
         for (int k = 0; k < 7; ++k)
             if (!std::isfinite(pose[k]))
                 return error(line, std::string(kPoseKeys[k]) + " of body \"" + std::string(name) +
@@ -72,7 +78,7 @@ class FrameBuilder {
 
   private:
     const std::string& path_;
-    const WorldState& world_;
+    std::string sceneName_;
     std::unordered_map<std::string, std::uint32_t> byName_;
     std::vector<BodyPose> current_;
     std::vector<ReplayFrame> frames_;
@@ -174,7 +180,7 @@ Status readJsonLines(std::istream& in, FrameBuilder& b) {
 
 } // namespace
 
-Result<Replay> Replay::load(const std::string& path, const WorldState& world) {
+Result<Replay> Replay::load(const std::string& path, const World& world) {
     const bool csv = path.size() > 4 && path.ends_with(".csv");
     const bool jsonl = path.size() > 6 && path.ends_with(".jsonl");
     if (!csv && !jsonl)

@@ -6,10 +6,13 @@
 #include <string>
 #include <vector>
 
-#include "host/world/world_state.h"
 #include "rubble/error.h"
+#include "rubble/shared/body.h"
+#include "rubble/world.h"
 
 namespace rubble::viewer {
+
+using shared::BodyPose;
 
 /// One written step: every body's pose, by the scene's body index. A body the file leaves out
 /// of a step keeps its pose from the step before (from the scene at the start).
@@ -26,7 +29,7 @@ class Replay {
     /// (names and initial poses). Errors: BadInput at `path:line` for a malformed row, a body
     /// the scene does not have, a non-finite number or a step that goes backwards; at `path`
     /// for a missing, unreadable or empty file or another extension.
-    static Result<Replay> load(const std::string& path, const WorldState& world);
+    static Result<Replay> load(const std::string& path, const World& world);
 
     const std::vector<ReplayFrame>& frames() const { return frames_; }
     const std::string& path() const { return path_; }

@@ -69,16 +69,25 @@ glm::vec3 bodyColour(std::uint32_t index) {
     return hsvToRgb(hue, 0.62f, value);
 }
 
-SceneView::SceneView(const WorldState& world) : world_(&world) {
+SceneView::SceneView(const World& world)
+    : shapes_(world.shapes().begin(), world.shapes().end()) {
     const std::uint32_t n = world.bodyCount();
+    std::vector<BodyPose> poses;
+    currentPoses(world, poses);
     colours_.resize(n);
+    shapeOf_.resize(n);
+    isStatic_.resize(n);
+    isDebris_.resize(n);
     float sizeSum = 0.0f;
     std::uint32_t sized = 0;
     for (std::uint32_t i = 0; i < n; ++i) {
         colours_[i] = bodyColour(i);
-        const Shape& shape = world.shapes[world.shapeOf[i]];
+        shapeOf_[i] = world.bodyShape(i);
+        isStatic_[i] = world.body(i).isStatic ? 1 : 0;
+        isDebris_[i] = world.isDebris(i) ? 1 : 0;
+        const ShapeGeometry& shape = shapes_[shapeOf_[i]];
         if (shape.type == ShapeType::Plane) continue;
-        bounds_.addSphere(position(world.poses[i]), shape.boundingRadius);
+        bounds_.addSphere(position(poses[i]), shape.boundingRadius);
         sizeSum += shape.boundingRadius;
         ++sized;
     }
@@ -87,18 +96,18 @@ SceneView::SceneView(const WorldState& world) : world_(&world) {
     // bodies only; its reference grid is drawn all the same).
     const glm::vec3 centre = bounds_.empty() ? glm::vec3(0.0f) : bounds_.centre();
     for (std::uint32_t i = 0; i < n; ++i) {
-        const Shape& shape = world.shapes[world.shapeOf[i]];
+        const ShapeGeometry& shape = shapes_[shapeOf_[i]];
         if (shape.type != ShapeType::Plane) continue;
-        const glm::vec3 normal = orientation(world.poses[i]) * shape.normal;
+        const glm::vec3 normal = orientation(poses[i]) * shape.normal;
         const glm::vec3 onPlane =
-            position(world.poses[i]) + orientation(world.poses[i]) * (shape.normal * shape.offset);
+            position(poses[i]) + orientation(poses[i]) * (shape.normal * shape.offset);
         if (!bounds_.empty()) bounds_.add(centre - normal * glm::dot(centre - onPlane, normal));
     }
     if (bounds_.empty()) bounds_.addSphere(glm::vec3(0.0f), 1.0f);
 
-    for (const JointDesc& j : world.joints) {
-        const BodyPose& a = world.poses[j.a];
-        const BodyPose& b = world.poses[j.b];
+    for (const JointDesc& j : world.joints()) {
+        const BodyPose& a = poses[j.a];
+        const BodyPose& b = poses[j.b];
         JointView v;
         v.a = j.a;
         v.b = j.b;
@@ -114,32 +123,34 @@ void SceneView::setBodyColour(std::uint32_t index, glm::vec3 colour) {
     colours_.at(index) = colour;
 }
 
-void SceneView::build(std::span<const BodyPose> poses, const WorldState* live,
+void SceneView::build(std::span<const BodyPose> poses, const World* live,
                       const Overlays& overlays, DrawList& out) const {
-    const WorldState& w = *world_;
     out.clear();
-    out.instances.resize(w.shapes.size());
-    const std::uint32_t n = std::min<std::uint32_t>(w.bodyCount(), std::uint32_t(poses.size()));
+    out.instances.resize(shapes_.size());
+    const std::uint32_t n =
+        std::min<std::uint32_t>(std::uint32_t(shapeOf_.size()), std::uint32_t(poses.size()));
+    const bool wantContacts = overlays.colours == ColourMode::State || overlays.contacts ||
+                              overlays.normals;
+    const std::vector<ContactInfo> contacts =
+        live && wantContacts ? live->contacts() : std::vector<ContactInfo>{};
 
     if (overlays.colours == ColourMode::State) {
         inContact_.assign(n, 0);
-        if (live)
-            for (const Manifold& m : live->manifolds)
-                if (m.count > 0 && m.a < n && m.b < n) inContact_[m.a] = inContact_[m.b] = 1;
+        for (const ContactInfo& c : contacts)
+            if (c.a < n && c.b < n) inContact_[c.a] = inContact_[c.b] = 1;
     }
     for (std::uint32_t i = 0; i < n; ++i) {
-        const std::uint32_t shape = w.shapeOf[i];
-        if (w.shapes[shape].type == ShapeType::Plane) continue;
+        const std::uint32_t shape = shapeOf_[i];
+        if (shapes_[shape].type == ShapeType::Plane) continue;
         glm::vec3 colour = colours_[i];
         if (overlays.colours == ColourMode::State) {
-            const std::uint32_t flags = (live ? live : &w)->masses[i].flags;
-            if (w.isStatic(i))
+            if (isStatic_[i])
                 colour = stateColour::kStatic;
-            else if (live && (flags & RUBBLE_BODY_ASLEEP))
+            else if (live && live->body(i).asleep)
                 colour = stateColour::kAsleep;
             else if (inContact_[i])
                 colour = stateColour::kContact;
-            else if (w.debris[i])
+            else if (isDebris_[i])
                 colour = stateColour::kDebris;
             else
                 colour = stateColour::kFree;
@@ -151,20 +162,17 @@ void SceneView::build(std::span<const BodyPose> poses, const WorldState* live,
     }
     addGrounds(poses.first(n), out);
     if (overlays.aabbs) addAabbs(poses.first(n), out);
-    if (live && (overlays.contacts || overlays.normals)) addContacts(*live, overlays, out);
+    if (overlays.contacts || overlays.normals) addContacts(contacts, overlays, out);
     if (overlays.joints) addJoints(poses.first(n), out);
-    // Particles: WorldState has none yet; when particle collision keeps them there, they go
-    // into out.particles here, as world position and radius.
 }
 
 void SceneView::addGrounds(std::span<const BodyPose> poses, DrawList& out) const {
-    const WorldState& w = *world_;
     const float halfSize =
         std::max(kMinGroundHalfSize, 2.5f * glm::length(bounds_.hi - bounds_.lo));
     const glm::vec3 centre = bounds_.centre();
     bool any = false;
     for (std::uint32_t i = 0; i < poses.size(); ++i) {
-        const Shape& shape = w.shapes[w.shapeOf[i]];
+        const ShapeGeometry& shape = shapes_[shapeOf_[i]];
         if (shape.type != ShapeType::Plane) continue;
         any = true;
         const glm::vec3 normal = orientation(poses[i]) * shape.normal;
@@ -181,9 +189,8 @@ void SceneView::addGrounds(std::span<const BodyPose> poses, DrawList& out) const
 }
 
 void SceneView::addAabbs(std::span<const BodyPose> poses, DrawList& out) const {
-    const WorldState& w = *world_;
     for (std::uint32_t i = 0; i < poses.size(); ++i) {
-        const Shape& shape = w.shapes[w.shapeOf[i]];
+        const ShapeGeometry& shape = shapes_[shapeOf_[i]];
         if (shape.type == ShapeType::Plane) continue;
         const glm::vec3 p = position(poses[i]);
         Bounds box;
@@ -191,25 +198,24 @@ void SceneView::addAabbs(std::span<const BodyPose> poses, DrawList& out) const {
             box.addSphere(p, shape.radius);
         } else {
             const glm::mat3 r = glm::mat3_cast(orientation(poses[i]));
-            for (const glm::vec3& v : shape.hull.vertices) box.add(p + r * v);
+            for (const glm::vec3& v : shape.vertices) box.add(p + r * v);
         }
         if (!box.empty()) boxLines(box.lo, box.hi, kAabbColour, out);
     }
 }
 
-void SceneView::addContacts(const WorldState& live, const Overlays& overlays, DrawList& out) const {
+void SceneView::addContacts(const std::vector<ContactInfo>& contacts, const Overlays& overlays,
+                            DrawList& out) const {
     const float s = markSize_;
-    for (const Manifold& m : live.manifolds) {
-        for (std::uint32_t k = 0; k < m.count && k < m.points.size(); ++k) {
-            const glm::vec3 p = m.points[k].position;
-            if (overlays.contacts)
-                for (int axis = 0; axis < 3; ++axis) {
-                    glm::vec3 d(0.0f);
-                    d[axis] = s;
-                    out.line(p - d, p + d, kContactColour);
-                }
-            if (overlays.normals) out.line(p, p + 4.0f * s * m.normal, kNormalColour);
-        }
+    for (const ContactInfo& c : contacts) {
+        const glm::vec3 p = c.position;
+        if (overlays.contacts)
+            for (int axis = 0; axis < 3; ++axis) {
+                glm::vec3 d(0.0f);
+                d[axis] = s;
+                out.line(p - d, p + d, kContactColour);
+            }
+        if (overlays.normals) out.line(p, p + 4.0f * s * c.normal, kNormalColour);
     }
 }
 
@@ -261,22 +267,22 @@ Camera initialCamera(const std::optional<CameraSpec>& spec, const SceneView& vie
     return Camera::framing(view.bounds(), aspect);
 }
 
-std::string statusLine(std::int64_t step, double time, const WorldState& world,
+std::string statusLine(std::int64_t step, double time, const World& world,
                        const std::string& backend, const std::string& device) {
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "%s  step %lld  t %.3f s  bodies %u  contacts %u  residual %.3g  backend %s (%s)",
-                  world.sceneName.c_str(), static_cast<long long>(step), time, world.bodyCount(),
-                  world.stats.contactCount, double(world.stats.solverResidual), backend.c_str(),
-                  device.c_str());
+                  world.sceneName().c_str(), static_cast<long long>(step), time,
+                  world.bodyCount(), world.lastStep().contactCount,
+                  double(world.lastStep().solverResidual), backend.c_str(), device.c_str());
     return buf;
 }
 
-std::string replayLine(std::int64_t step, double time, const WorldState& world,
+std::string replayLine(std::int64_t step, double time, const World& world,
                        const std::string& path) {
     char buf[256];
     std::snprintf(buf, sizeof buf, "%s  step %lld  t %.3f s  bodies %u  replay of %s",
-                  world.sceneName.c_str(), static_cast<long long>(step), time, world.bodyCount(),
+                  world.sceneName().c_str(), static_cast<long long>(step), time, world.bodyCount(),
                   path.c_str());
     return buf;
 }

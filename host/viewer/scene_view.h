@@ -13,9 +13,12 @@
 #include "host/viewer/camera.h"
 #include "host/viewer/draw_list.h"
 #include "host/viewer/viewer.h"
-#include "host/world/world_state.h"
+#include "rubble/shared/body.h"
+#include "rubble/world.h"
 
 namespace rubble::viewer {
+
+using shared::BodyPose;
 
 enum class ColourMode {
     Body,  ///< each body its own colour
@@ -25,7 +28,7 @@ enum class ColourMode {
 /// What the viewer shows besides the bodies.
 struct Overlays {
     ColourMode colours = ColourMode::Body;
-    bool contacts = false;  ///< contact points (WorldState::manifolds)
+    bool contacts = false;  ///< contact points (World::contacts)
     bool normals = false;   ///< contact normals
     bool aabbs = false;     ///< each body's world-space bounding box
     bool joints = false;    ///< joint anchors, the lines to their bodies, hinge axes
@@ -49,7 +52,7 @@ class SceneView {
   public:
     /// Reads shapes, names, flags and joints of the world in its current (initial) state, and
     /// the bounds of its bodies, which place the ground and the automatic camera.
-    explicit SceneView(const WorldState& world);
+    explicit SceneView(const World& world);
 
     /// Where the bodies are at the start, with the ground under them.
     const Bounds& bounds() const { return bounds_; }
@@ -57,8 +60,8 @@ class SceneView {
     /// Fills `out` (cleared first) with the bodies at `poses` (one per body, by index).
     /// `live` is the world the poses come from, for contacts, sleep and particles; null for a
     /// recording, which has poses only.
-    void build(std::span<const BodyPose> poses, const WorldState* live, const Overlays& overlays,
-               DrawList& out) const;
+    void build(std::span<const shared::BodyPose> poses, const World* live,
+               const Overlays& overlays, DrawList& out) const;
 
     /// A body colour that replaces the by-body colour of body `index` (tests use pure colours).
     void setBodyColour(std::uint32_t index, glm::vec3 colour);
@@ -70,12 +73,15 @@ class SceneView {
         glm::vec3 anchorInA, anchorInB; ///< body frames, m
         glm::vec3 axisInA;              ///< hinge axis in a's frame; zero for ball joints
     };
-    void addGrounds(std::span<const BodyPose> poses, DrawList& out) const;
-    void addAabbs(std::span<const BodyPose> poses, DrawList& out) const;
-    void addContacts(const WorldState& live, const Overlays& overlays, DrawList& out) const;
-    void addJoints(std::span<const BodyPose> poses, DrawList& out) const;
+    void addGrounds(std::span<const shared::BodyPose> poses, DrawList& out) const;
+    void addAabbs(std::span<const shared::BodyPose> poses, DrawList& out) const;
+    void addContacts(const std::vector<ContactInfo>& contacts, const Overlays& overlays,
+                     DrawList& out) const;
+    void addJoints(std::span<const shared::BodyPose> poses, DrawList& out) const;
 
-    const WorldState* world_; // shapes, shapeOf, masses, debris: read only, never stepped here
+    std::vector<ShapeGeometry> shapes_;
+    std::vector<std::uint32_t> shapeOf_;
+    std::vector<std::uint8_t> isStatic_, isDebris_;
     std::vector<glm::vec3> colours_;
     std::vector<JointView> joints_;
     Bounds bounds_;
@@ -85,7 +91,7 @@ class SceneView {
 
 /// The world's current poses through its public queries, which bring them back from the
 /// device when the OpenCL backend holds them.
-void currentPoses(const World& world, std::vector<BodyPose>& out);
+void currentPoses(const World& world, std::vector<shared::BodyPose>& out);
 
 /// The overlays the command-line settings ask for.
 Overlays toOverlays(const OverlaySettings& settings);
@@ -95,10 +101,10 @@ Camera initialCamera(const std::optional<CameraSpec>& spec, const SceneView& vie
 
 /// The first line of the status overlay: step, time, bodies, contacts, residual, backend.
 /// `step` and `time` are shown as given (a world rebuilt on another backend counts on).
-std::string statusLine(std::int64_t step, double time, const WorldState& world,
+std::string statusLine(std::int64_t step, double time, const World& world,
                        const std::string& backend, const std::string& device);
 /// The status line of a recording: step, time, bodies and the file.
-std::string replayLine(std::int64_t step, double time, const WorldState& world,
+std::string replayLine(std::int64_t step, double time, const World& world,
                        const std::string& path);
 /// The second: the last step's milliseconds, in total and per stage.
 std::string stageLine(const StepStats& stats);

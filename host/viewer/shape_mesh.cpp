@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "host/geometry/shape.h"
+
 namespace rubble::viewer {
 namespace {
 
@@ -22,13 +24,14 @@ glm::vec3 polygonNormal(const std::vector<glm::vec3>& v, const std::vector<std::
     return len > 0.0f ? n / len : glm::vec3(0, 1, 0);
 }
 
-RenderMesh fromPolygons(const ConvexPolygons& hull) {
+RenderMesh fromPolygons(const std::vector<glm::vec3>& vertices,
+                        const std::vector<std::vector<std::uint32_t>>& faces) {
     RenderMesh m;
-    for (const std::vector<std::uint32_t>& face : hull.faces) {
+    for (const std::vector<std::uint32_t>& face : faces) {
         if (face.size() < 3) continue;
-        const glm::vec3 n = polygonNormal(hull.vertices, face);
+        const glm::vec3 n = polygonNormal(vertices, face);
         const auto base = std::uint32_t(m.vertices.size());
-        for (std::uint32_t i : face) m.vertices.push_back({hull.vertices[i], n});
+        for (std::uint32_t i : face) m.vertices.push_back({vertices[i], n});
         // A fan over the face's own copy of its corners keeps the normal flat.
         for (std::uint32_t k = 1; k + 1 < face.size(); ++k)
             m.indices.insert(m.indices.end(), {base, base + k, base + k + 1});
@@ -36,11 +39,12 @@ RenderMesh fromPolygons(const ConvexPolygons& hull) {
     return m;
 }
 
-RenderMesh fromTriangles(const TriangleMesh& mesh) {
+RenderMesh fromTriangles(const std::vector<glm::vec3>& vertices,
+                         const std::vector<glm::uvec3>& triangles) {
     RenderMesh m;
-    m.vertices.reserve(3 * mesh.triangles.size());
-    for (const glm::uvec3& t : mesh.triangles) {
-        const glm::vec3 a = mesh.vertices[t.x], b = mesh.vertices[t.y], c = mesh.vertices[t.z];
+    m.vertices.reserve(3 * triangles.size());
+    for (const glm::uvec3& t : triangles) {
+        const glm::vec3 a = vertices[t.x], b = vertices[t.y], c = vertices[t.z];
         const glm::vec3 cr = glm::cross(b - a, c - a);
         const float len = glm::length(cr);
         if (!(len > 0.0f)) continue; // degenerate: nothing to see
@@ -75,14 +79,18 @@ RenderMesh sphere(float radius) {
 
 } // namespace
 
-RenderMesh buildRenderMesh(const Shape& shape) {
+RenderMesh buildRenderMesh(const ShapeGeometry& shape) {
     switch (shape.type) {
-    case ShapeType::Box:
-        return fromPolygons(shape.hull.faces.empty() ? boxPolygons(shape.halfExtents) : shape.hull);
+    case ShapeType::Box: {
+        if (!shape.faces.empty()) return fromPolygons(shape.vertices, shape.faces);
+        const ConvexPolygons box = boxPolygons(shape.halfExtents);
+        return fromPolygons(box.vertices, box.faces);
+    }
     case ShapeType::Convex:
-        return fromPolygons(shape.hull);
+        return fromPolygons(shape.vertices, shape.faces);
     case ShapeType::Mesh:
-        return shape.mesh.triangles.empty() ? fromPolygons(shape.hull) : fromTriangles(shape.mesh);
+        return shape.meshTriangles.empty() ? fromPolygons(shape.vertices, shape.faces)
+                                           : fromTriangles(shape.meshVertices, shape.meshTriangles);
     case ShapeType::Sphere:
         return sphere(shape.radius);
     case ShapeType::Plane:

@@ -7,7 +7,7 @@
 
 #include <glm/glm.hpp>
 
-#include "host/geometry/shape.h"
+#include "rubble/shape.h"
 
 namespace rubble::viewer {
 
@@ -26,6 +26,6 @@ struct RenderMesh {
 /// The triangles of a shape: hull faces flat-shaded (box, convex), the mesh's own triangles
 /// flat-shaded (mesh), a smooth latitude-longitude sphere (sphere). Planes give no triangles:
 /// the renderer draws them as the ground.
-RenderMesh buildRenderMesh(const Shape& shape);
+RenderMesh buildRenderMesh(const ShapeGeometry& shape);
 
 } // namespace rubble::viewer

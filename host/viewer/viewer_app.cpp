@@ -78,15 +78,15 @@ class ViewerApp {
         world_.emplace(std::move(*world));
         backend_ = world_->options().backend;
         if (!settings_.replay.empty()) {
-            Result<Replay> r = Replay::load(settings_.replay, world_->state());
+            Result<Replay> r = Replay::load(settings_.replay, *world_);
             if (!r) return r.error();
             replay_.emplace(std::move(*r));
         }
         RUBBLE_TRY(openWindow());
-        Result<Renderer> renderer = Renderer::create(world_->state().shapes);
+        Result<Renderer> renderer = Renderer::create(world_->shapes());
         if (!renderer) return renderer.error();
         renderer_.emplace(std::move(*renderer));
-        view_.emplace(world_->state());
+        view_.emplace(*world_);
         int w = 0, h = 0;
         glfwGetFramebufferSize(window_, &w, &h);
         camera_ = initialCamera(settings_.camera, *view_, float(w) / float(std::max(h, 1)));
@@ -201,7 +201,7 @@ class ViewerApp {
             break;
         case GLFW_KEY_J:
             overlays_.joints = !overlays_.joints;
-            if (overlays_.joints && world_->state().joints.empty())
+            if (overlays_.joints && world_->joints().empty())
                 notify("this scene has no joints");
             break;
         case GLFW_KEY_P:
@@ -269,7 +269,7 @@ class ViewerApp {
             return;
         }
         world_.emplace(std::move(*world));
-        view_.emplace(world_->state());
+        view_.emplace(*world_);
         stepOffset_ = 0;
         timeOffset_ = 0.0;
     }
@@ -291,7 +291,7 @@ class ViewerApp {
         stepOffset_ += world_->stepIndex();
         timeOffset_ += world_->time();
         world_.emplace(std::move(*world));
-        view_.emplace(world_->state());
+        view_.emplace(*world_);
         backend_ = next;
         notify("backend " + std::string(toString(next)) + " (" + world_->deviceName() + ")");
     }
@@ -324,14 +324,14 @@ class ViewerApp {
             const ReplayFrame& f = replay_->frames()[replayIndex_];
             view_->build(f.poses, nullptr, overlays_, draw_);
             if (showStats_)
-                draw_.text.push_back(replayLine(f.step, f.time, world_->state(), replay_->path()));
+                draw_.text.push_back(replayLine(f.step, f.time, *world_, replay_->path()));
         } else {
             currentPoses(*world_, poses_);
-            view_->build(poses_, &world_->state(), overlays_, draw_);
+            view_->build(poses_, &*world_, overlays_, draw_);
             if (showStats_) {
                 draw_.text.push_back(statusLine(
                     stepOffset_ + world_->stepIndex(), timeOffset_ + world_->time(),
-                    world_->state(), std::string(toString(backend_)), world_->deviceName()));
+                    *world_, std::string(toString(backend_)), world_->deviceName()));
                 draw_.text.push_back(stageLine(world_->lastStep()));
             }
         }

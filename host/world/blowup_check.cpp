@@ -1,4 +1,4 @@
-// host/world/blowup_check.cpp: host/dynamics/blowup_watch over a world's arrays.
+// host/world/blowup_check.cpp: host/dynamics/blowup_watch over a world's bodies after a step.
 #include "host/world/blowup_check.h"
 
 #include <algorithm>
@@ -11,24 +11,18 @@ namespace rubble {
 
 Status checkBlowUp(WorldState& s) {
     RUBBLE_TRY(syncHost(s));
-    BlowUpWatch& w = s.blowUp;
-    s.bodyRadii.resize(s.bodyCount());
-    for (std::uint32_t i = 0; i < s.bodyCount(); ++i)
-        s.bodyRadii[i] = s.shapes[s.shapeOf[i]].boundingRadius;
     BlowUpInputs in;
-    in.poses = s.poses;
-    in.velocities = s.velocities;
-    in.momenta = s.momenta;
-    in.masses = s.masses;
-    in.radii = s.bodyRadii;
+    in.bodies = s.bodies.view();
+    in.shapes = s.shapes;
     in.gravity = s.options.gravity;
     in.dt = s.options.dt;
     in.baumgarte = s.options.solver.baumgarte;
     in.explicitEuler = s.options.integrator == Integrator::Explicit;
     in.eventsFired = std::size_t(std::count(s.eventFired.begin(), s.eventFired.end(), 1));
     in.step = s.step;
-    std::optional<BlowUp> b = watchEnergy(w, in);
-    if (!b && s.solver.jointsBuilt) b = watchJoints(s.solver.joints, s.poses, s.bodyRadii, s.step);
+    std::optional<BlowUp> b = watchEnergy(s.blowUp, in);
+    // A device world has no CPU solver; its jointed bodies step in its CPU world, watched there.
+    if (!b && s.solver) b = watchJoints(s.solver->joints(), in.bodies, s.shapes, s.step);
     if (!b) return {};
     return makeError(ErrorKind::Numerical, "body " + s.names[b->body], b->message);
 }

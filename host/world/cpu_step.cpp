@@ -1,18 +1,14 @@
-// host/world/cpu_step.cpp: the CPU reference step as a list of stages, each timed.
+// host/world/cpu_step.cpp: the CPU step as a list of stages, each timed. The collision and
+// solver stages are the objects the world was built with (SAT or particles; PGS or a twin of
+// the device's solvers): no stage is chosen here.
 #include "host/world/cpu_step.h"
 
 #include <algorithm>
 #include <chrono>
 
-#include "host/collision/collision_world.h"
-#include "host/collision/particle_world.h"
 #include "host/core/integrate.h"
-#include "host/core/math.h"
-#include "host/dynamics/body_sleep.h"
-#include "host/dynamics/dynamics_world.h"
+#include "host/core/step_params.h"
 #include "host/dynamics/forces.h"
-#include "host/dynamics/jacobi_solvers.h"
-#include "host/dynamics/lcp_jacobi.h"
 #include "host/world/step_stop.h"
 #include "host/world/world_state.h"
 
@@ -35,86 +31,75 @@ class StageTimer {
     Clock::time_point start_;
 };
 
-std::optional<Error> statusError(const Status& s) {
-    if (s.ok()) return std::nullopt;
-    return s.error();
-}
-
 } // namespace
 
-void stepCpuReference(WorldState& s, StepStats& stats) {
-    s.stepFailure.reset();
-    const float dt = s.options.dt;
-    const bool symplectic = s.options.integrator == Integrator::Symplectic;
+Status stepCpu(WorldState& s, StepStats& stats) {
+    const StepParams p = makeStepParams(s.options, s.step);
+    const Bodies bodies = s.bodies.view();
+    const CollisionScene collisionScene = s.collisionScene();
+    const SolverScene solverScene = s.solverScene();
+    StepContacts& contacts = s.contacts;
     {
         StageTimer t(stats.applyForcesMs);
-        for (std::size_t e = 0; e < s.events.size(); ++e) {
-            if (s.eventFired[e] || s.time() + 1e-9 < double(s.events[e].time)) continue;
-            applyExplosion(s.events[e], s.poses, s.masses, s.momenta);
-            s.eventFired[e] = 1;
-        }
+        applyDueExplosions(s.events, s.eventFired, p.time, bodies);
     }
-    if (stepMustStop(s)) return;
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.integrateVelocitiesMs);
         // Explicit Euler moves positions with the velocities the step started with.
-        if (!symplectic) std::copy(s.velocities.begin(), s.velocities.end(), s.velocitiesAtStart.begin());
-        integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities,
-                            toFloat4(s.options.gravity), dt);
+        if (!p.symplectic())
+            std::copy(bodies.velocities.begin(), bodies.velocities.end(),
+                      s.velocitiesAtStart.begin());
+        integrateVelocities(bodies.momenta, bodies.forces, bodies.masses, bodies.poses,
+                            bodies.velocities, p.gravity, p.dt);
     }
-    if (stepMustStop(s)) return;
-    // The particle method and the solvers other than PGS are the OpenCL stages' CPU twins.
-    const bool particles = s.options.collisionMethod() == CollisionMethod::Particles;
-    const bool pgs = s.options.solver.type == SolverType::Pgs;
-    const bool lcp = s.options.solver.type == SolverType::LcpJacobi;
-    const bool lemke = s.options.solver.type == SolverType::Lemke;
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.broadPhaseMs);
-        if (particles) runParticleGrid(s);
-        else runBroadPhase(s);
+        RUBBLE_TRY(s.collision->broadPhase(collisionScene, bodies, p, contacts));
     }
-    if (stepMustStop(s)) return;
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.narrowPhaseMs);
-        if (particles) runParticleCollide(s);
-        else runNarrowPhase(s);
-        if (particles && pgs) particleContactsToManifolds(s.particles.contacts, s.manifolds);
+        RUBBLE_TRY(s.collision->narrowPhase(collisionScene, bodies, p, contacts));
     }
-    if (stepMustStop(s)) return;
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.buildContactRowsMs);
-        if (pgs) runBuildContactRows(s);
-        else runBuildSolverRows(s);
+        s.solver->buildRows(solverScene, bodies, contacts, p);
     }
-    if (stepMustStop(s)) return;
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.solveMs);
-        std::copy(s.velocities.begin(), s.velocities.end(), s.velocitiesBeforeSolve.begin());
-        if (pgs) runSolveVelocities(s);
-        else if (lcp) s.stepFailure = statusError(runSolveLcpJacobi(s));
-        else if (lemke) s.stepFailure = statusError(runSolveLemke(s));
-        else runSolveRows(s);
+        std::copy(bodies.velocities.begin(), bodies.velocities.end(),
+                  s.velocitiesBeforeSolve.begin());
+        RUBBLE_TRY(s.solver->solve(solverScene, bodies, s.velocitiesBeforeSolve, contacts, p));
         // The momenta are the state: they take up what the impulses did to the velocities.
-        absorbVelocityChange(s.momenta, s.velocitiesBeforeSolve, s.velocities, s.masses, s.poses);
+        absorbVelocityChange(bodies.momenta, s.velocitiesBeforeSolve, bodies.velocities,
+                             bodies.masses, bodies.poses);
     }
-    if (stepMustStop(s)) return;
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.integratePositionsMs);
-        integratePositions(s.poses, s.velocities, s.velocitiesAtStart, s.momenta, s.masses, dt,
-                           symplectic);
+        integratePositions(bodies.poses, bodies.velocities, s.velocitiesAtStart, bodies.momenta,
+                           bodies.masses, p.dt, p.symplectic());
     }
-    if (stepMustStop(s)) return;
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.solvePositionsMs);
-        runSolvePositions(s);
+        s.solver->solvePositions(solverScene, bodies, p);
     }
-    if (stepMustStop(s)) return;
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.islandsMs);
-        // PGS sleeps by islands; the device's solvers sleep as the device does (its twin).
-        if (pgs) runUpdateSleep(s);
-        else if (!lemke) runSleepBodies(s);
+        stats.asleep = s.solver->sleep(solverScene, bodies, contacts, p);
     }
+    stats.pairCount = std::uint32_t(contacts.pairs.size());
+    stats.contactCount = contacts.contactCount;
+    stats.largestPenetration = contacts.largestPenetration;
+    const std::span<const float> sweeps = s.solver->residuals();
+    stats.solverResidual = sweeps.empty() ? 0.0f : sweeps.back();
+    return {};
 }
 
 } // namespace rubble

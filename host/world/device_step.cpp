@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <chrono>
 
+#include "host/collision/particles.h"
+#include "host/core/step_params.h"
+#include "host/dynamics/forces.h"
 #include "host/gpu/pipeline.h"
 #include "host/world/offload.h"
 #include "host/world/step_stop.h"
@@ -37,11 +40,16 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
                     const SimulationOptions& options) {
     s.options = options;
     s.options.backend = Backend::OpenCl;
-    RUBBLE_TRY(buildParticles(s));
-    const std::span<const std::uint8_t> kinematic =
-        s.offload ? std::span<const std::uint8_t>(s.offload->kinematic)
-                  : std::span<const std::uint8_t>();
-    Result<gpu::PipelineHandle> p = gpu::Pipeline::create(std::move(context), s, kinematic);
+    const Result<ParticleSet> particles = buildParticleSet(
+        s.shapes, s.materials, s.bodies.view(), s.options.collision.particleSpacing);
+    RUBBLE_TRY(particles);
+    gpu::PipelineInput in;
+    in.bodies = s.bodies.view();
+    in.particles = &*particles;
+    in.surfaces = s.surfaces;
+    if (s.offload) in.kinematic = s.offload->kinematic;
+    in.deterministic = s.run.deterministic;
+    Result<gpu::PipelineHandle> p = gpu::Pipeline::create(std::move(context), in);
     RUBBLE_TRY(p);
     s.device = std::move(*p);
     s.hostStale = false;
@@ -69,7 +77,7 @@ Status attachScene(WorldState& s, const Scene& scene, std::shared_ptr<gpu::Conte
 
 Status syncHost(WorldState& s) {
     if (!s.device || !s.hostStale) return {};
-    RUBBLE_TRY(s.device->downloadBodies(s));
+    RUBBLE_TRY(s.device->downloadBodies(s.bodies.view()));
     if (s.offload) copyCpuBodies(*s.offload, s);
     s.hostStale = false;
     return {};
@@ -82,22 +90,23 @@ Status beginHostChange(WorldState& s) {
 }
 
 Status stepDevice(WorldState& s, StepStats& stats) {
-    if (stepMustStop(s)) return *s.stepFailure;
+    RUBBLE_TRY(checkStop(s));
     const auto start = std::chrono::steady_clock::now();
     gpu::Pipeline& p = *s.device;
     Offload* o = s.offload.get();
+    const StepParams params = makeStepParams(s.options, s.step);
     if (s.hostDirty) {
-        RUBBLE_TRY(p.uploadBodies(s));
+        RUBBLE_TRY(p.uploadBodies(s.bodies.view()));
         s.hostDirty = false;
     }
     if (s.forcesDirty) {
-        RUBBLE_TRY(p.uploadForces(s.forces));
+        RUBBLE_TRY(p.uploadForces(s.bodies.forces));
         s.forcesDirty = false;
     }
     // Explosions due this step act on the device's bodies there (the CPU world has its own).
     s.dueEvents.clear();
     for (std::size_t e = 0; e < s.events.size(); ++e) {
-        if (s.eventFired[e] || s.time() + 1e-9 < double(s.events[e].time)) continue;
+        if (!eventDue(s.events[e], s.eventFired[e], params.time)) continue;
         s.dueEvents.push_back(s.events[e]);
         s.eventFired[e] = 1;
     }
@@ -109,11 +118,11 @@ Status stepDevice(WorldState& s, StepStats& stats) {
         in.gatherObstacleImpulses = o->coupling == Coupling::TwoWay;
     }
     // The device's step is enqueued first; the CPU world steps while it runs; they meet.
-    RUBBLE_TRY(p.beginStep(s, in));
+    RUBBLE_TRY(p.beginStep(params, in));
     s.hostStale = true;
     Status cpuStepped;
     if (o) cpuStepped = o->cpu->step();
-    const Status met = p.endStep(s, stats);
+    const Status met = p.endStep(params, s.names, stats);
     if (o && in.gatherObstacleImpulses) {
         const std::span<const shared::BodyImpulse> j = p.obstacleImpulses();
         std::copy(j.begin(), j.end(), o->pending.begin());
@@ -128,6 +137,7 @@ Status stepDevice(WorldState& s, StepStats& stats) {
         stats.deviceStages = device.deviceStages;
         stats.deviceContactCount = device.deviceContactCount;
         stats.deviceAsleep = device.deviceAsleep;
+        stats.asleep = c.asleep + device.deviceAsleep;
         stats.contactCount = c.contactCount + device.deviceContactCount;
         stats.largestPenetration = std::max(c.largestPenetration, device.largestPenetration);
         stats.solverResidual = std::max(c.solverResidual, device.solverResidual);

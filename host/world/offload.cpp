@@ -73,23 +73,23 @@ makeOffload(const Scene& scene, const std::vector<std::uint8_t>& onDevice, const
 }
 
 void prepareObstacles(Offload& o) {
-    WorldState& c = o.cpu->state();
+    WorldState& c = WorldAccess::state(*o.cpu);
     for (std::size_t k = 0; k < o.obstacles.size(); ++k) {
         const std::uint32_t i = o.obstacles[k];
         shared::BodyImpulse& j = o.pending[k];
         // Two-way: the debris' push of the last step, as an impulse about the centre of mass.
         if (j.linear.x != 0.0f || j.linear.y != 0.0f || j.linear.z != 0.0f || j.angular.x != 0.0f ||
             j.angular.y != 0.0f || j.angular.z != 0.0f) {
-            c.momenta[i].linear = shared::add4(c.momenta[i].linear, j.linear);
-            c.momenta[i].angular = shared::add4(c.momenta[i].angular, j.angular);
-            c.velocities[i] =
-                shared::velocityFromMomentumItem(c.momenta[i], c.masses[i], c.poses[i].orientation);
-            c.masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
+            c.bodies.momenta[i].linear = shared::add4(c.bodies.momenta[i].linear, j.linear);
+            c.bodies.momenta[i].angular = shared::add4(c.bodies.momenta[i].angular, j.angular);
+            c.bodies.velocities[i] =
+                shared::velocityFromMomentumItem(c.bodies.momenta[i], c.bodies.masses[i], c.bodies.poses[i].orientation);
+            c.bodies.masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
         }
         j = shared::BodyImpulse{};
         shared::ObstacleState& st = o.states[k];
-        st.pose = c.poses[i];
-        st.velocity = c.velocities[i];
+        st.pose = c.bodies.poses[i];
+        st.velocity = c.bodies.velocities[i];
         st.body = o.cpuToWorld[i];
         // A moving obstacle wakes the sleeping debris it touches.
         st.flags =
@@ -98,13 +98,13 @@ void prepareObstacles(Offload& o) {
 }
 
 void copyCpuBodies(const Offload& o, WorldState& s) {
-    const WorldState& c = o.cpu->state();
+    const WorldState& c = WorldAccess::state(*o.cpu);
     for (std::uint32_t i = 0; i < c.bodyCount(); ++i) {
         const std::uint32_t w = o.cpuToWorld[i];
-        s.poses[w] = c.poses[i];
-        s.velocities[w] = c.velocities[i];
-        s.momenta[w] = c.momenta[i];
-        s.masses[w].flags = c.masses[i].flags;
+        s.bodies.poses[w] = c.bodies.poses[i];
+        s.bodies.velocities[w] = c.bodies.velocities[i];
+        s.bodies.momenta[w] = c.bodies.momenta[i];
+        s.bodies.masses[w].flags = c.bodies.masses[i].flags;
     }
 }
 

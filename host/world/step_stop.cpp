@@ -5,21 +5,20 @@
 
 namespace rubble {
 
-bool stepMustStop(WorldState& s) {
-    if (s.stepFailure) return true;
-    if (!s.run.stop || !s.run.stop->load(std::memory_order_relaxed)) return false;
-    s.stepFailure = makeError(ErrorKind::Interrupted, "step " + std::to_string(s.step + 1),
-                              "stopped on request before its end; the state is that after step " +
-                                  std::to_string(s.step));
-    return true;
+Status checkStop(const WorldState& s) {
+    if (!s.run.stop || !s.run.stop->load(std::memory_order_relaxed)) return {};
+    return makeError(ErrorKind::Interrupted, "step " + std::to_string(s.step + 1),
+                     "stopped on request between two of its stages; the bodies are left "
+                     "part-way through it (the state after step " +
+                         std::to_string(s.step) + " is no longer held)");
 }
 
 Error outOfMemory(const WorldState& s) {
     return makeError(ErrorKind::Limit, "step " + std::to_string(s.step + 1),
                      "ran out of memory (" + std::to_string(s.bodyCount()) + " bodies, " +
-                         std::to_string(s.pairs.size()) + " pairs, " +
-                         std::to_string(s.manifolds.size()) +
-                         " manifolds); stepping further is meaningless");
+                         std::to_string(s.contacts.pairs.size()) + " pairs, " +
+                         std::to_string(s.contacts.contactCount) +
+                         " contact points); stepping further is meaningless");
 }
 
 } // namespace rubble

@@ -1,5 +1,5 @@
-// host/world/step_stop.h: where a step may end early: between its stages, when a stage could not
-// run (a budget of host/core/limits.h, a dense solver's size) or a stop was requested.
+// host/world/step_stop.h: where a step may end early: between its stages, when a stop was
+// requested (RunOptions::stop), and the error of a step that ran out of memory.
 #pragma once
 
 #include "rubble/error.h"
@@ -8,9 +8,9 @@ namespace rubble {
 
 struct WorldState;
 
-/// True when the step must end before its next stage: a stage set s.stepFailure, or
-/// RunOptions::stop is set (s.stepFailure then becomes ErrorKind::Interrupted, naming the step).
-bool stepMustStop(WorldState& s);
+/// ErrorKind::Interrupted naming the step when RunOptions::stop is set; else success. Checked
+/// between the stages of the CPU step and before the device step.
+Status checkStop(const WorldState& s);
 
 /// ErrorKind::Limit for a step that ran out of memory (std::bad_alloc) in its stages.
 Error outOfMemory(const WorldState& s);

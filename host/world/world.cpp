@@ -18,8 +18,8 @@ namespace {
 // The first body whose state is not finite, if any.
 std::optional<std::uint32_t> firstNonFinite(const WorldState& s) {
     for (std::uint32_t i = 0; i < s.bodyCount(); ++i) {
-        if (!isFinite(s.poses[i].position) || !isFinite(s.poses[i].orientation) ||
-            !isFinite(s.momenta[i].linear) || !isFinite(s.momenta[i].angular))
+        if (!isFinite(s.bodies.poses[i].position) || !isFinite(s.bodies.poses[i].orientation) ||
+            !isFinite(s.bodies.momenta[i].linear) || !isFinite(s.bodies.momenta[i].angular))
             return i;
     }
     return std::nullopt;
@@ -39,7 +39,6 @@ Status World::step() {
     stats = StepStats{};
     const auto start = std::chrono::steady_clock::now();
 
-    s.stepFailure.reset();
     if (s.device) {
         // The device checks its own state for non-finite values.
         Status stepped;
@@ -48,21 +47,23 @@ Status World::step() {
         } catch (const std::bad_alloc&) {
             stepped = outOfMemory(s);
         }
-        std::fill(s.forces.begin(), s.forces.end(), BodyForce{});
+        std::fill(s.bodies.forces.begin(), s.bodies.forces.end(), BodyForce{});
         ++s.step;
         stats.totalMs = std::chrono::duration<double, std::milli>(
                             std::chrono::steady_clock::now() - start).count();
         RUBBLE_TRY(stepped);
         return checkBlowUp(s);
     }
+    // A stage that could not run (a budget of host/core/limits.h, a contact set too large for a
+    // dense solver, a stop request) ends the step there and stops the run.
+    Status stepped;
     try {
-        stepCpuReference(s, stats);
+        stepped = stepCpu(s, stats);
     } catch (const std::bad_alloc&) {
-        s.stepFailure = outOfMemory(s);
+        stepped = outOfMemory(s);
     }
-    // A stage that could not run (a contact set too large for a dense solver) stops the run.
-    if (s.stepFailure) return *s.stepFailure;
-    std::fill(s.forces.begin(), s.forces.end(), BodyForce{});
+    RUBBLE_TRY(stepped);
+    std::fill(s.bodies.forces.begin(), s.bodies.forces.end(), BodyForce{});
     ++s.step;
     stats.totalMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -94,15 +95,16 @@ BodyState World::body(std::uint32_t i) const {
         std::fprintf(stderr, "rubble: reading bodies from the device: %s\n",
                      synced.error().describe().c_str());
     BodyState b;
-    b.position = toVec3(s.poses.at(i).position);
-    b.orientation = toQuat(s.poses[i].orientation);
-    b.linearVelocity = toVec3(s.velocities[i].linear);
-    b.angularVelocity = toVec3(s.velocities[i].angular);
-    b.linearMomentum = toVec3(s.momenta[i].linear);
-    b.angularMomentum = toVec3(s.momenta[i].angular);
-    b.mass = s.masses[i].mass;
+    b.position = toVec3(s.bodies.poses.at(i).position);
+    b.orientation = toQuat(s.bodies.poses[i].orientation);
+    b.linearVelocity = toVec3(s.bodies.velocities[i].linear);
+    b.angularVelocity = toVec3(s.bodies.velocities[i].angular);
+    b.linearMomentum = toVec3(s.bodies.momenta[i].linear);
+    b.angularMomentum = toVec3(s.bodies.momenta[i].angular);
+    b.mass = s.bodies.masses[i].mass;
+    b.inertia = toMat3(s.bodies.masses[i].inertiaBody);
     b.isStatic = s.isStatic(i);
-    b.asleep = (s.masses[i].flags & RUBBLE_BODY_ASLEEP) != 0;
+    b.asleep = (s.bodies.masses[i].flags & RUBBLE_BODY_ASLEEP) != 0;
     return b;
 }
 
@@ -121,18 +123,18 @@ void World::addForce(std::uint32_t i, glm::vec3 force) {
     if (const auto c = cpuBody(*s_, i)) return s_->offload->cpu->addForce(*c, force);
     // The device wakes a sleeping body that has a force (kernels/integrate.cl).
     s_->forcesDirty = s_->device != nullptr;
-    shared::BodyForce& f = s_->forces.at(i);
+    shared::BodyForce& f = s_->bodies.forces.at(i);
     f.force = toFloat4(toVec3(f.force) + force);
-    s_->masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
+    s_->bodies.masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
 }
 
 void World::addTorque(std::uint32_t i, glm::vec3 torque) {
     s_->blowUp.rebase = true; // the host puts energy in
     if (const auto c = cpuBody(*s_, i)) return s_->offload->cpu->addTorque(*c, torque);
     s_->forcesDirty = s_->device != nullptr;
-    shared::BodyForce& f = s_->forces.at(i);
+    shared::BodyForce& f = s_->bodies.forces.at(i);
     f.torque = toFloat4(toVec3(f.torque) + torque);
-    s_->masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
+    s_->bodies.masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
 }
 
 void World::addForceAtPoint(std::uint32_t i, glm::vec3 force, glm::vec3 point) {
@@ -152,12 +154,12 @@ void World::applyImpulse(std::uint32_t i, glm::vec3 impulse, glm::vec3 point) {
     if (const Status synced = beginHostChange(s); !synced)
         std::fprintf(stderr, "rubble: reading bodies from the device: %s\n",
                      synced.error().describe().c_str());
-    const glm::vec3 r = point - toVec3(s.poses.at(i).position);
-    s.momenta[i].linear = toFloat4(toVec3(s.momenta[i].linear) + impulse);
-    s.momenta[i].angular = toFloat4(toVec3(s.momenta[i].angular) + glm::cross(r, impulse));
-    s.velocities[i] =
-        shared::velocityFromMomentumItem(s.momenta[i], s.masses[i], s.poses[i].orientation);
-    s.masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
+    const glm::vec3 r = point - toVec3(s.bodies.poses.at(i).position);
+    s.bodies.momenta[i].linear = toFloat4(toVec3(s.bodies.momenta[i].linear) + impulse);
+    s.bodies.momenta[i].angular = toFloat4(toVec3(s.bodies.momenta[i].angular) + glm::cross(r, impulse));
+    s.bodies.velocities[i] =
+        shared::velocityFromMomentumItem(s.bodies.momenta[i], s.bodies.masses[i], s.bodies.poses[i].orientation);
+    s.bodies.masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
 }
 
 const StepStats& World::lastStep() const { return s_->stats; }
@@ -171,7 +173,51 @@ std::vector<DeviceCommandTime> World::deviceProfile() const {
         out.push_back(DeviceCommandTime{std::string(c.name), c.ms, c.launches, c.bytes});
     return out;
 }
-WorldState& World::state() { return *s_; }
-const WorldState& World::state() const { return *s_; }
+std::span<const ShapeGeometry> World::shapes() const { return s_->geometry; }
+const ShapeGeometry& World::shape(std::uint32_t shape) const { return s_->geometry.at(shape); }
+std::uint32_t World::bodyShape(std::uint32_t body) const { return s_->bodies.shapeOf.at(body); }
+bool World::isDebris(std::uint32_t body) const { return s_->debris.at(body) != 0; }
+std::span<const JointDesc> World::joints() const { return s_->joints; }
+
+bool World::onDevice(std::uint32_t body) const {
+    const WorldState& s = *s_;
+    if (!s.device || s.isStatic(body)) return false;
+    return !s.offload || s.offload->worldToCpu.at(body) == kNotOnCpu;
+}
+
+std::vector<ContactInfo> World::contacts() const {
+    std::vector<ContactInfo> out;
+    // An offloaded world's host contacts are its CPU world's, under the world's body indices.
+    if (s_->offload) {
+        const Offload& o = *s_->offload;
+        out = o.cpu->contacts();
+        for (ContactInfo& c : out) {
+            c.a = o.cpuToWorld[c.a];
+            c.b = o.cpuToWorld[c.b];
+        }
+        return out;
+    }
+    const StepContacts& c = s_->contacts;
+    for (const Manifold& m : c.manifolds)
+        for (std::uint32_t k = 0; k < m.count; ++k)
+            out.push_back({m.a, m.b, m.points[k].position, m.normal, m.points[k].depth});
+    if (!c.manifolds.empty()) return out;
+    for (const shared::ParticleContact& p : c.points)
+        out.push_back({p.a, p.b, toVec3(p.point), toVec3(p.normal), p.point.w});
+    return out;
+}
+
+glm::vec3 World::pendingCouplingImpulse() const {
+    glm::vec3 sum(0.0f);
+    if (s_->offload)
+        for (const shared::BodyImpulse& j : s_->offload->pending) sum += toVec3(j.linear);
+    return sum;
+}
+
+std::span<const float> World::solverResiduals() const {
+    if (s_->offload) return s_->offload->cpu->solverResiduals();
+    if (!s_->solver) return {};
+    return s_->solver->residuals();
+}
 
 } // namespace rubble

@@ -3,6 +3,7 @@
 #include "host/world/world_build.h"
 #include "host/core/mass_properties.h"
 #include "host/core/math.h"
+#include "host/core/step_params.h"
 #include "host/dynamics/joints.h"
 #include "host/gpu/context.h"
 #include "host/world/backend_check.h"
@@ -57,8 +58,7 @@ BodyMass makeMass(const BodyDesc& b, const Shape& shape) {
 
 } // namespace
 
-void appendBody(WorldState& s, const BodyDesc& b) {
-    const Shape& shape = s.shapes[b.shape];
+void appendBodyArrays(BodyArrays& a, const BodyDesc& b, const Shape& shape) {
     const BodyMass mass = makeMass(b, shape);
     const BodyPose pose{toFloat4(b.position), toFloat4(glm::normalize(b.orientation))};
     const Mat3 inertiaWorld =
@@ -66,14 +66,20 @@ void appendBody(WorldState& s, const BodyDesc& b) {
     BodyMomentum momentum{};
     momentum.linear = toFloat4(b.linearVelocity * mass.mass);
     momentum.angular = shared::mat3MulVec(inertiaWorld, toFloat4(b.angularVelocity));
+    a.poses.push_back(pose);
+    a.masses.push_back(mass);
+    a.momenta.push_back(momentum);
+    a.velocities.push_back(shared::velocityFromMomentumItem(momentum, mass, pose.orientation));
+    a.forces.push_back(BodyForce{});
+    a.shapeOf.push_back(b.shape);
+    a.materialOf.push_back(b.material);
+}
+
+void appendBody(WorldState& s, const BodyDesc& b) {
+    appendBodyArrays(s.bodies, b, s.shapes[b.shape]);
     s.names.push_back(b.name);
-    s.poses.push_back(pose);
-    s.masses.push_back(mass);
-    s.momenta.push_back(momentum);
-    s.velocities.push_back(shared::velocityFromMomentumItem(momentum, mass, pose.orientation));
-    s.forces.push_back(BodyForce{});
-    s.shapeOf.push_back(b.shape);
-    s.materialOf.push_back(b.material);
+    const MaterialDesc& m = s.materials[b.material];
+    s.surfaces.push_back(shared::vec4(m.friction, m.restitution, 0.0f));
     s.debris.push_back(b.debris ? 1 : 0);
     s.velocitiesBeforeSolve.emplace_back();
     s.velocitiesAtStart.emplace_back();
@@ -89,30 +95,46 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     for (const ShapeDesc& d : scene.shapes) {
         Result<Shape> shape = buildShape(d);
         RUBBLE_TRY(shape);
+        s->geometry.push_back(geometryOf(*shape));
         s->shapes.push_back(std::move(*shape));
     }
     const std::size_t n = scene.bodies.size();
     s->names.reserve(n);
-    s->poses.reserve(n);
-    s->momenta.reserve(n);
-    s->masses.reserve(n);
+    s->bodies.poses.reserve(n);
+    s->bodies.momenta.reserve(n);
+    s->bodies.masses.reserve(n);
     for (const BodyDesc& b : scene.bodies) {
         appendBody(*s, b);
-        if (!b.isStatic) RUBBLE_TRY(checkMassRange(s->masses.back(), b.where, b.mass ? "mass" : "density"));
+        if (!b.isStatic)
+            RUBBLE_TRY(checkMassRange(s->bodies.masses.back(), b.where,
+                                      b.mass ? "mass" : "density"));
     }
     s->joints = scene.joints;
     s->joined = joinedPairs(s->joints);
     s->events = scene.events;
     s->eventFired.assign(scene.events.size(), 0);
-    if (scene.simulation.collisionMethod() == CollisionMethod::Particles)
-        RUBBLE_TRY(buildParticles(*s));
     if (scene.simulation.backend == Backend::OpenCl) {
         // Bodies the device does not step (joints, outside the debris set) get a CPU world.
-        Result<std::shared_ptr<gpu::Context>> context = gpu::Context::create(run);
-        RUBBLE_TRY(context);
-        RUBBLE_TRY(attachScene(*s, scene, std::move(*context), run));
+        std::shared_ptr<gpu::Context> context = run.context;
+        if (!context) {
+            Result<std::shared_ptr<gpu::Context>> opened = gpu::Context::create(run);
+            RUBBLE_TRY(opened);
+            context = std::move(*opened);
+        }
+        RUBBLE_TRY(attachScene(*s, scene, std::move(context), run));
+        return World(std::move(s));
     }
+    // The CPU pipeline's stages, chosen here once: the solver, and the collision method that
+    // delivers the contacts in the form the solver reads.
+    s->solver = makeContactSolver(scene.simulation.solver.type);
+    s->collision = makeCollisionStage(scene.simulation.collisionMethod(), s->solver->reads());
+    RUBBLE_TRY(s->collision->rebuild(s->collisionScene(), s->bodies.view(),
+                                     scene.simulation.collision.particleSpacing));
     return World(std::move(s));
+}
+
+Result<std::shared_ptr<gpu::Context>> openDevice(const RunOptions& run) {
+    return gpu::Context::create(run);
 }
 
 } // namespace rubble

@@ -2,11 +2,18 @@
 // World::addDebris later on).
 #pragma once
 
+#include "host/core/bodies.h"
+#include "host/geometry/shape.h"
 #include "rubble/scene.h"
 
 namespace rubble {
 
 struct WorldState;
+
+/// Appends a body's entries to the body arrays: its mass from `mass` or `density` and `shape`
+/// (static bodies get none), momenta from its velocities, no force. The shape and material
+/// indices are taken as given.
+void appendBodyArrays(BodyArrays& bodies, const BodyDesc& b, const Shape& shape);
 
 /// Appends a body to every per-body array: its mass from `mass` or `density` and its shape
 /// (static bodies get none), momenta from its velocities, no force. The shape and material

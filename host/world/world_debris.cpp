@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "host/core/math.h"
+#include "host/dynamics/joints.h"
 #include "host/gpu/pipeline.h"
 #include "host/world/device_step.h"
 #include "host/world/world_build.h"
@@ -25,28 +26,16 @@ BodyTransform bodyTransformOf(const shared::BodyPose& p) {
     return t;
 }
 
-// After the bodies changed in number: the CPU pipeline's caches keyed by body index start
-// again (warm starts, cached features, sleep), and every body is awake.
-void forgetCpuCaches(WorldState& s) {
-    s.collision.features.clear();
-    s.collision.nextFeatures.clear();
-    s.solver.impulses.clear();
-    s.solver.sleep = SleepState{};
-    s.jacobi.previous.clear();
-    s.bodySleep = BodySleepState{};
-    for (BodyMass& m : s.masses) m.flags &= ~RUBBLE_BODY_ASLEEP;
-}
-
-// The particles and, on the opencl backend, the device arrays again for the new set of bodies.
-Status rebuildAfterChange(WorldState& s) {
-    const bool particles = s.options.collisionMethod() == CollisionMethod::Particles;
-    if (particles || s.device) {
-        s.particles = ParticleState{};
-        RUBBLE_TRY(buildParticles(s));
-    }
+// After the bodies changed in number or order (body i is now newIndex[i]): the CPU stages
+// derive from the bodies again and forget what they kept by index (warm starts, cached
+// features, sleep), and every body is awake; on the opencl backend the device arrays are built
+// again instead.
+Status rebuildAfterChange(WorldState& s, std::span<const std::uint32_t> newIndex) {
     if (!s.device) {
-        forgetCpuCaches(s);
-        return {};
+        for (BodyMass& m : s.bodies.masses) m.flags &= ~RUBBLE_BODY_ASLEEP;
+        s.solver->bodiesChanged(newIndex, s.bodies.view());
+        return s.collision->rebuild(s.collisionScene(), s.bodies.view(),
+                                    s.options.collision.particleSpacing);
     }
     const std::shared_ptr<gpu::Context> context = s.device->sharedContext();
     gpu::PipelineHandle old = std::move(s.device);
@@ -105,7 +94,9 @@ Result<std::uint32_t> World::addDebris(std::span<const DebrisPiece> pieces) {
         o.worldToCpu.resize(s.bodyCount(), kNotOnCpu);
         o.kinematic.resize(s.bodyCount(), 0);
     }
-    RUBBLE_TRY(rebuildAfterChange(s));
+    std::vector<std::uint32_t> sameIndex(first);
+    for (std::uint32_t i = 0; i < first; ++i) sameIndex[i] = i;
+    RUBBLE_TRY(rebuildAfterChange(s, sameIndex));
     return first;
 }
 
@@ -120,10 +111,10 @@ Result<std::uint32_t> World::removeDebrisOutside(glm::vec3 lo, glm::vec3 hi) {
     std::vector<std::uint8_t> jointed(n, 0);
     for (const JointDesc& j : s.joints) jointed[j.a] = jointed[j.b] = 1;
     // The new index of every body that stays.
-    std::vector<std::uint32_t> newIndex(n, kNotOnCpu);
+    std::vector<std::uint32_t> newIndex(n, kRemovedBody);
     std::uint32_t kept = 0;
     for (std::uint32_t i = 0; i < n; ++i) {
-        const glm::vec3 x = toVec3(s.poses[i].position);
+        const glm::vec3 x = toVec3(s.bodies.poses[i].position);
         const bool outside = glm::any(glm::lessThan(x, lo)) || glm::any(glm::greaterThan(x, hi));
         if (s.debris[i] && !s.isStatic(i) && !jointed[i] && outside) continue;
         newIndex[i] = kept++;
@@ -132,33 +123,26 @@ Result<std::uint32_t> World::removeDebrisOutside(glm::vec3 lo, glm::vec3 hi) {
     if (removed == 0) return 0u;
     auto compact = [&](auto& v) {
         for (std::uint32_t i = 0; i < n; ++i)
-            if (newIndex[i] != kNotOnCpu && newIndex[i] != i) v[newIndex[i]] = std::move(v[i]);
+            if (newIndex[i] != kRemovedBody && newIndex[i] != i) v[newIndex[i]] = std::move(v[i]);
         v.resize(kept);
     };
     compact(s.names);
-    compact(s.poses);
-    compact(s.velocities);
-    compact(s.momenta);
-    compact(s.forces);
-    compact(s.masses);
-    compact(s.shapeOf);
-    compact(s.materialOf);
+    compact(s.bodies.poses);
+    compact(s.bodies.velocities);
+    compact(s.bodies.momenta);
+    compact(s.bodies.forces);
+    compact(s.bodies.masses);
+    compact(s.bodies.shapeOf);
+    compact(s.bodies.materialOf);
     compact(s.debris);
+    compact(s.surfaces);
     compact(s.velocitiesBeforeSolve);
     compact(s.velocitiesAtStart);
     for (JointDesc& j : s.joints) {
         j.a = newIndex[j.a];
         j.b = newIndex[j.b];
     }
-    // The CPU pipeline's joints name bodies by index too.
-    for (Joint& j : s.solver.joints) {
-        j.a = newIndex[j.a];
-        j.b = newIndex[j.b];
-    }
     s.joined = joinedPairs(s.joints);
-    if (s.solver.jointsBuilt) {
-        s.solver.jointGroups = groupJoints(s.solver.joints, s.masses);
-    }
     if (s.offload) {
         Offload& o = *s.offload;
         for (std::uint32_t& w : o.cpuToWorld) w = newIndex[w];
@@ -166,7 +150,7 @@ Result<std::uint32_t> World::removeDebrisOutside(glm::vec3 lo, glm::vec3 hi) {
         o.worldToCpu.assign(kept, kNotOnCpu);
         for (std::uint32_t c = 0; c < o.cpuToWorld.size(); ++c) o.worldToCpu[o.cpuToWorld[c]] = c;
     }
-    RUBBLE_TRY(rebuildAfterChange(s));
+    RUBBLE_TRY(rebuildAfterChange(s, newIndex));
     return removed;
 }
 
@@ -178,7 +162,7 @@ Status World::readTransforms(std::uint32_t first, std::span<BodyTransform> out) 
                              std::to_string(std::size_t(first) + out.size()) +
                              " are past the last body (" + std::to_string(s.bodyCount()) + ")");
     if (!s.device || !s.hostStale) {
-        for (std::size_t k = 0; k < out.size(); ++k) out[k] = bodyTransformOf(s.poses[first + k]);
+        for (std::size_t k = 0; k < out.size(); ++k) out[k] = bodyTransformOf(s.bodies.poses[first + k]);
         return {};
     }
     // Straight from the device into the caller's buffer (same layout).
@@ -186,10 +170,10 @@ Status World::readTransforms(std::uint32_t first, std::span<BodyTransform> out) 
     if (!s.offload) return {};
     // The CPU bodies' poses on the device are this step's start: take the CPU world's.
     const Offload& o = *s.offload;
-    const WorldState& c = o.cpu->state();
+    const WorldState& c = WorldAccess::state(*o.cpu);
     for (std::uint32_t i = 0; i < o.cpuToWorld.size(); ++i) {
         const std::uint32_t w = o.cpuToWorld[i];
-        if (w >= first && w - first < out.size()) out[w - first] = bodyTransformOf(c.poses[i]);
+        if (w >= first && w - first < out.size()) out[w - first] = bodyTransformOf(c.bodies.poses[i]);
     }
     return {};
 }

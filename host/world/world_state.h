@@ -1,20 +1,19 @@
-// host/world/world_state.h: the arrays a World owns, split by access: hot (poses, velocities,
-// momenta, forces) and cold (mass, shape, material, names). Sized at load; stages take spans.
+// host/world/world_state.h: what a World owns: the body arrays (host/core/bodies.h), the scene's
+// shapes, materials, joints and events, the stage objects of the CPU pipeline chosen when the
+// world was built, the device pipeline of the OpenCL backend, and the step's statistics.
+// Private to host/world: every other folder gets a view of what it reads.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "host/collision/collision_world.h"
-#include "host/collision/contact.h"
-#include "host/collision/particle_world.h"
+#include "host/collision/collision_stage.h"
+#include "host/core/bodies.h"
 #include "host/dynamics/blowup_watch.h"
-#include "host/dynamics/body_sleep.h"
-#include "host/dynamics/dynamics_world.h"
-#include "host/dynamics/jacobi.h"
-#include "host/dynamics/lcp_jacobi.h"
+#include "host/dynamics/contact_solver.h"
 #include "host/geometry/shape.h"
 #include "host/gpu/pipeline_handle.h"
 #include "host/world/offload.h"
@@ -37,41 +36,28 @@ struct WorldState {
     RunOptions run;
 
     std::vector<Shape> shapes;
+    std::vector<ShapeGeometry> geometry; ///< the shapes as World::shape gives them
     std::vector<MaterialDesc> materials;
 
     // One entry per body, by index.
     std::vector<std::string> names;
-    std::vector<BodyPose> poses;
-    std::vector<BodyVelocity> velocities; ///< derived from momenta and pose
-    std::vector<BodyMomentum> momenta;    ///< the state: P and L
-    std::vector<BodyForce> forces;        ///< accumulated for the next step, then cleared
-    std::vector<BodyMass> masses;
-    std::vector<std::uint32_t> shapeOf;
-    std::vector<std::uint32_t> materialOf;
+    BodyArrays bodies;
     std::vector<std::uint8_t> debris;
+    std::vector<shared::float4> surfaces; ///< friction and restitution (bodySurfaces)
 
     std::vector<JointDesc> joints;
-    std::vector<BodyPair>
-        joined; ///< the joints' body pairs, (min, max), sorted: they do not collide
+    std::vector<BodyPair> joined; ///< the joints' body pairs, (min, max), sorted: no collision
     std::vector<EventDesc> events;
     std::vector<std::uint8_t> eventFired;
 
     std::int64_t step = 0;
     StepStats stats;
 
-    // Contacts of the current step, and what each stage keeps between steps.
-    std::vector<BodyPair> pairs;
-    std::vector<Manifold> manifolds;
-    CollisionCache collision;
-    SolverCache solver;
-    ParticleState particles;  ///< the particle collision method (CPU, and the device's source)
-    JacobiState jacobi;       ///< the jacobi, lcp-jacobi and lemke solvers on the CPU
-    BodySleepState bodySleep; ///< sleeping as on the device, for the device's solvers on the CPU
-    DenseLcp lcp;             ///< the dense problem of lcp-jacobi and lemke on the CPU
-    std::optional<Error> stepFailure; ///< a CPU stage that could not run this step
-    BlowUpWatch blowUp;               ///< energy since the last reference (blow-up watch)
-    std::vector<float> bodyRadii;     ///< scratch: each body's bounding radius, m
-
+    // The CPU pipeline: its stages, chosen when the world is built, and this step's contacts.
+    std::unique_ptr<CollisionStage> collision;
+    std::unique_ptr<ContactSolver> solver;
+    StepContacts contacts;
+    BlowUpWatch blowUp; ///< energy since the last reference (the blow-up watch after each step)
     // Scratch reused every step: the velocities before the solve, and at the start of the step
     // (explicit Euler moves positions with those).
     std::vector<BodyVelocity> velocitiesBeforeSolve;
@@ -90,9 +76,20 @@ struct WorldState {
     std::unique_ptr<Offload> offload;
     std::vector<EventDesc> dueEvents; ///< scratch: the events the device applies this step
 
-    std::uint32_t bodyCount() const { return std::uint32_t(poses.size()); }
-    bool isStatic(std::uint32_t i) const { return masses[i].inverseMass == 0.0f; }
+    std::uint32_t bodyCount() const { return bodies.count(); }
+    bool isStatic(std::uint32_t i) const { return bodies.isStatic(i); }
     double time() const { return double(step) * double(options.dt); }
+    CollisionScene collisionScene() const { return {shapes, materials, joined}; }
+    SolverScene solverScene() const {
+        return {shapes, materials, surfaces, joints, joined, names};
+    }
+};
+
+/// The state of a World, for host/world's own use (the CPU world of an offloaded world, the
+/// contact set of `rubble solvers`).
+struct WorldAccess {
+    static WorldState& state(World& w) { return *w.s_; }
+    static const WorldState& state(const World& w) { return *w.s_; }
 };
 
 } // namespace rubble

@@ -4,13 +4,19 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
 #include <glm/vec3.hpp>
 
 namespace rubble {
+
+namespace gpu {
+class Context;
+}
 
 /// Time integration of the bodies' state.
 enum class Integrator {
@@ -83,6 +89,9 @@ struct RunOptions {
     /// Set to true (by a signal handler, another thread) to stop: World::step checks it between
     /// its stages and returns ErrorKind::Interrupted. Must outlive the World.
     const std::atomic<bool>* stop = nullptr;
+    /// An OpenCL context with its program built (rubble::openDevice), shared by the worlds made
+    /// with it so that the kernels compile once; empty: the world opens the device itself.
+    std::shared_ptr<gpu::Context> context;
 };
 
 /// Scene-file spelling of each enum value, as in SCENE_FORMAT.md.
@@ -98,5 +107,13 @@ std::optional<Backend> parseBackend(std::string_view s);
 std::optional<CollisionMethod> parseCollisionMethod(std::string_view s);
 std::optional<SolverType> parseSolverType(std::string_view s);
 std::optional<Coupling> parseCoupling(std::string_view s);
+
+/// Every scene-file spelling of an enum's values, indexed by the value (help texts, errors).
+template <class E> std::span<const std::string_view> spellings();
+template <> std::span<const std::string_view> spellings<Integrator>();
+template <> std::span<const std::string_view> spellings<Backend>();
+template <> std::span<const std::string_view> spellings<CollisionMethod>();
+template <> std::span<const std::string_view> spellings<SolverType>();
+template <> std::span<const std::string_view> spellings<Coupling>();
 
 } // namespace rubble

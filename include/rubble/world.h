@@ -16,10 +16,14 @@
 #include "rubble/error.h"
 #include "rubble/options.h"
 #include "rubble/scene.h"
+#include "rubble/shape.h"
 
 namespace rubble {
 
 struct WorldState;
+namespace gpu {
+class Context;
+}
 
 /// One body's state as a host program sees it; world frame, SI units.
 struct BodyState {
@@ -30,8 +34,17 @@ struct BodyState {
     glm::vec3 linearMomentum{0.0f};    ///< kg m/s
     glm::vec3 angularMomentum{0.0f};   ///< about the centre of mass, kg m^2/s
     float mass = 0.0f;                 ///< kg; 0 for static bodies
+    glm::mat3 inertia{0.0f};           ///< body frame, about the centre of mass, kg m^2
     bool isStatic = false;
     bool asleep = false;
+};
+
+/// One contact point of the last step, world frame.
+struct ContactInfo {
+    std::uint32_t a = 0, b = 0;         ///< the bodies; the normal points from a to b
+    glm::vec3 position{0.0f};           ///< midway between the surfaces, m
+    glm::vec3 normal{0.0f, 1.0f, 0.0f}; ///< unit
+    float depth = 0.0f;                 ///< penetration, m (negative: a gap the step may close)
 };
 
 /// Device time of each stage of the last step on the OpenCL device (profiling events), ms.
@@ -56,6 +69,7 @@ struct StepStats {
     double totalMs = 0;             ///< wall time of World::step
     std::uint32_t pairCount = 0;    ///< broad-phase pairs
     std::uint32_t contactCount = 0; ///< contact points (both populations)
+    std::uint32_t asleep = 0;       ///< bodies asleep after the step (both populations)
     float largestPenetration = 0;   ///< m, before the solve
     float solverResidual = 0;       ///< largest |impulse change| in the last sweep, N s
 
@@ -96,6 +110,32 @@ struct DebrisPiece {
     glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f}; ///< body to world
     glm::vec3 linearVelocity{0.0f};                ///< m/s
     glm::vec3 angularVelocity{0.0f};               ///< rad/s, world frame
+};
+
+/// Opens an OpenCL device (RunOptions::device) and builds the program, for worlds to share
+/// through RunOptions::context so that the kernels compile once. Errors: NotSupported when no
+/// OpenCL platform exists, Device for a failed build (with its log).
+Result<std::shared_ptr<gpu::Context>> openDevice(const RunOptions& run);
+
+/// The world summed up now (World::metrics): over the dynamic bodies unless said otherwise,
+/// world frame, SI units; the last step's figures are those of World::lastStep.
+struct WorldMetrics {
+    double time = 0;                  ///< s
+    std::int64_t step = 0;            ///< steps taken
+    std::uint32_t bodies = 0;         ///< every body, static ones included
+    std::uint32_t dynamicBodies = 0;
+    std::uint32_t asleepBodies = 0;   ///< dynamic bodies asleep
+    double kineticEnergy = 0;         ///< J, translational plus rotational
+    double potentialEnergy = 0;       ///< J, -sum m g.x (zero at the world origin)
+    glm::dvec3 linearMomentum{0.0};   ///< kg m/s
+    glm::dvec3 angularMomentum{0.0};  ///< kg m^2/s, about the world origin
+    double maxSpeed = 0;              ///< m/s, the fastest centre of mass
+    glm::dvec3 centreOfMass{0.0};     ///< m; the origin when there is no dynamic body
+    glm::vec3 lo{0.0f}, hi{0.0f};     ///< box around the centres of mass, m
+    std::uint32_t contacts = 0;       ///< contact points of the last step (both populations)
+    float largestPenetration = 0;     ///< m, in the last step
+    float solverResidual = 0;         ///< N s, the last step's last sweep
+    double stepMs = 0;                ///< wall time of the last step
 };
 
 /// A simulated world. Move-only.
@@ -163,16 +203,72 @@ class World {
     /// body; Device.
     Status readTransforms(std::uint32_t first, std::span<BodyTransform> out) const;
 
+    /// Copies the centres of mass (world, m) of bodies first .. first + out.size() / 3 - 1 into
+    /// `out`, three floats (x, y, z) a body, so that a caller's array is filled in one pass.
+    /// Bodies on the OpenCL device are read back once for this and the other reads.
+    /// Errors: BadInput for a size that is not a multiple of 3 or a range past the last body;
+    /// Device.
+    Status readPositions(std::uint32_t first, std::span<float> out) const;
+    /// As readPositions, the orientations (body to world), four floats a body: w, x, y, z.
+    Status readOrientations(std::uint32_t first, std::span<float> out) const;
+    /// As readPositions, the linear velocities of the centres of mass (world, m/s).
+    Status readLinearVelocities(std::uint32_t first, std::span<float> out) const;
+    /// As readPositions, the angular velocities (world, rad/s).
+    Status readAngularVelocities(std::uint32_t first, std::span<float> out) const;
+
+    /// Sets a dynamic body's linear (m/s) and angular (rad/s) velocity, world frame, now, and
+    /// wakes it; its momenta follow (P = m v, L = I_w w). Errors: BadInput for a body index past
+    /// the last, a static body or a velocity that is not finite; Device.
+    Status setVelocity(std::uint32_t body, glm::vec3 linear, glm::vec3 angular);
+
+    /// Index of the scene material with that name, if any; 0 is "default".
+    std::optional<std::uint32_t> findMaterial(std::string_view name) const;
+
+    /// Adds an explosion now: at the start of the next step every dynamic body within `radius`
+    /// (m) of `centre` (world, m) receives impulse * (1 - d / radius) N s away from the centre,
+    /// as a scene's explosion event (SCENE_FORMAT.md, Events). Errors: BadInput naming the
+    /// argument for a negative or non-finite impulse, a radius that is not > 0, or a centre
+    /// that is not finite.
+    Status explode(glm::vec3 centre, float impulse, float radius);
+
+
+    /// The world summed up now (energies, momenta, speed, extent, sleep) with the last step's
+    /// contact figures. Bodies on the OpenCL device are read back first; a failed read is
+    /// reported on stderr and the last copy is used, as World::body does.
+    WorldMetrics metrics() const;
+
     /// The OpenCL device's name, or "cpu".
     std::string deviceName() const;
     /// Device time of each kernel and transfer over the steps so far (empty on the cpu backend).
     std::vector<DeviceCommandTime> deviceProfile() const;
 
-    /// Internal arrays, for rubble's own stages and tests.
-    WorldState& state();
-    const WorldState& state() const;
+    /// The shapes of the scene, by index, as built (centre of mass at the origin).
+    std::span<const ShapeGeometry> shapes() const;
+    const ShapeGeometry& shape(std::uint32_t shape) const;
+    /// The shape of a body, an index for shape().
+    std::uint32_t bodyShape(std::uint32_t body) const;
+    /// Whether a body belongs to the debris set (the scene's `debris` flag, or addDebris).
+    bool isDebris(std::uint32_t body) const;
+    /// Whether the OpenCL device steps the body (false on the cpu backend, for static bodies
+    /// and for the bodies an offloaded world steps on the CPU).
+    bool onDevice(std::uint32_t body) const;
+    /// The scene's joints, bodies by index.
+    std::span<const JointDesc> joints() const;
+    /// The contact points of the last step that the host found: every contact on the cpu
+    /// backend, and those of the CPU bodies of an offloaded scene on the opencl backend (the
+    /// device's own contacts stay on the device; their number is lastStep().deviceContactCount).
+    /// Empty before the first step.
+    std::vector<ContactInfo> contacts() const;
+    /// The linear impulse (N s, world frame) that the debris on the OpenCL device put on the
+    /// CPU bodies of an offloaded world in the last step, which they take at the start of the
+    /// next (two-way coupling lags one step); zero otherwise. Momentum is conserved counting it.
+    glm::vec3 pendingCouplingImpulse() const;
+    /// The largest |impulse change| of each solver sweep of the last step on the CPU, N s
+    /// (empty for the lemke solver and for a world stepped wholly on the device).
+    std::span<const float> solverResiduals() const;
 
   private:
+    friend struct WorldAccess; // host/world's own reach into a world it holds (offloading)
     explicit World(std::unique_ptr<WorldState> s);
     std::unique_ptr<WorldState> s_;
 };

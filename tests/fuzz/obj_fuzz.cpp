@@ -6,7 +6,7 @@
 #include <string>
 
 #include "host/geometry/shape.h"
-#include "host/scene/obj_mesh.h"
+#include "host/geometry/obj_mesh.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);

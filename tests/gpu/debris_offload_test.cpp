@@ -10,6 +10,7 @@
 #include "host/dynamics/forces.h"
 #include "host/world/backend_check.h"
 #include "host/world/offload.h"
+#include "rubble/world.h"
 
 namespace rubble {
 namespace {
@@ -55,8 +56,9 @@ TEST_F(DebrisOffload, OneWayLeavesTheCpuBodiesAsTheyWouldBeWithoutDebris) {
     const std::string rain = std::string(kRagdoll) + R"(, {"type": "grid", "shape": "crate",
         "mass": 1, "count": [4, 3, 4], "origin": [-0.9, 2.5, -0.9], "spacing": [0.6, 0.6, 0.6],
         "rotation_jitter": 0.2, "seed": 4, "name_prefix": "d", "debris": true})";
-    World offloaded = offloadedWorld(scene("", std::string(kFloor) + box, rain));
-    ASSERT_TRUE(offloaded.state().offload != nullptr);
+    World offloaded = deviceWorld(scene("", std::string(kFloor) + box, rain));
+    ASSERT_FALSE(offloaded.onDevice(*offloaded.findBody("box")));
+    ASSERT_TRUE(offloaded.onDevice(*offloaded.findBody("lid")));
     // The same CPU bodies in the same order, without the debris, on the reference pipeline.
     std::string alone = scene("", std::string(kFloor) + R"(, {"name": "box", "shape": "block",
         "mass": 4, "position": [3, 0.5, 0]})",
@@ -80,7 +82,7 @@ TEST_F(DebrisOffload, OneWayLeavesTheCpuBodiesAsTheyWouldBeWithoutDebris) {
 // A crate resting on a slab that the host carries sideways at 1 m/s (its weight held by a
 // force): friction takes the crate along, and after 2 s it is still on top, moving with it.
 TEST_F(DebrisOffload, DebrisOnAMovingCpuPlatformMovesWithIt) {
-    World w = offloadedWorld(scene("", R"({"name": "slab", "shape": "slab", "mass": 100,
+    World w = deviceWorld(scene("", R"({"name": "slab", "shape": "slab", "mass": 100,
         "position": [0, 0, 0]}, {"name": "crate", "shape": "crate", "mass": 1, "debris": true,
         "position": [0, 0.5, 0]})",
                                    ""));
@@ -104,8 +106,7 @@ TEST_F(DebrisOffload, DebrisOnAMovingCpuPlatformMovesWithIt) {
 glm::dvec3 horizontalMomentum(const World& w) {
     glm::dvec3 p(0.0);
     for (std::uint32_t i = 0; i < w.bodyCount(); ++i) p += glm::dvec3(w.body(i).linearMomentum);
-    if (const Offload* o = w.state().offload.get())
-        for (const shared::BodyImpulse& j : o->pending) p += glm::dvec3(toVec3(j.linear));
+    p += glm::dvec3(w.pendingCouplingImpulse());
     return glm::dvec3(p.x, 0.0, p.z);
 }
 
@@ -123,7 +124,7 @@ std::string stream(const std::string& coupling) {
 // horizontal momentum of all bodies, counting the impulses not yet applied, stays 54 kg m/s to
 // 1e-3 of it (float sums over 60 steps); one-way, the box never moves.
 TEST_F(DebrisOffload, TwoWayStreamPushesABoxAndKeepsMomentum) {
-    World w = offloadedWorld(stream("two-way"));
+    World w = deviceWorld(stream("two-way"));
     const std::uint32_t box = *w.findBody("box");
     const glm::dvec3 p0 = horizontalMomentum(w);
     ASSERT_NEAR(p0.x, 54.0, 1e-4);
@@ -136,7 +137,7 @@ TEST_F(DebrisOffload, TwoWayStreamPushesABoxAndKeepsMomentum) {
     EXPECT_GT(w.body(box).linearVelocity.x, 0.5f);
     EXPECT_GT(w.body(box).position.x, 0.2f);
 
-    World oneWay = offloadedWorld(stream("one-way"));
+    World oneWay = deviceWorld(stream("one-way"));
     for (int i = 0; i < 60; ++i) ASSERT_TRUE(oneWay.step().ok());
     EXPECT_NEAR(oneWay.body(box).position.x, 0.0f, 1e-6f);
 }
@@ -196,8 +197,8 @@ TEST_F(DebrisOffload, ExplosionReachesBothPopulationsOnce) {
                              "", R"(, "events": [{"type": "explosion", "time": 0.0,
         "centre": [0, 5, 0], "impulse": 4, "radius": 2}])");
     text.replace(text.find("\"jacobi\""), 8, "\"pgs\"");
-    World w = offloadedWorld(text);
-    ASSERT_TRUE(w.state().offload != nullptr);
+    World w = deviceWorld(text);
+    ASSERT_FALSE(w.onDevice(*w.findBody("cpu")));
     EXPECT_EQ(w.options().solver.type, SolverType::Jacobi);
     const std::uint32_t cpu = *w.findBody("cpu"), far = *w.findBody("far"),
                         debris = *w.findBody("debris");
@@ -244,21 +245,22 @@ TEST(DebrisSolver, PgsNamesTheCpuHalfOnlyWithADebrisSet) {
 // The explosion kernel against forces.cpp on the same bodies: the same momenta, bit for bit
 // (both call explosionImpulseItem); the body at the centre goes straight up.
 TEST_F(DebrisOffload, ExplosionKernelMatchesTheCpu) {
-    World w = deviceWorld(scene("", kFloor, R"({"type": "grid", "shape": "crate", "mass": 2,
+    test::DeviceStage d =
+        deviceStage(scene("", kFloor, R"({"type": "grid", "shape": "crate", "mass": 2,
         "count": [5, 4, 5], "origin": [-1.2, 0.25, -1.2], "spacing": [0.6, 0.6, 0.6],
         "rotation_jitter": 0.3, "seed": 9, "name_prefix": "d"})"));
-    WorldState& s = w.state();
+    BodyArrays& s = d.in.bodies;
     const EventDesc e{"test", 0.0f, glm::vec3(0.0f, 0.25f, 0.0f), 7.0f, 2.0f};
-    gpu::Pipeline& p = pipeline(w);
+    gpu::Pipeline& p = d.device();
     ASSERT_TRUE(p.applyExplosion(e).ok());
     const std::size_t reached = applyExplosion(e, s.poses, s.masses, s.momenta);
     EXPECT_GT(reached, 10u);
     EXPECT_LT(reached, 99u);
-    std::vector<shared::BodyMomentum> device(s.bodyCount());
+    std::vector<shared::BodyMomentum> device(s.count());
     ASSERT_TRUE(gpu::download(p.context(), p.bodies().momenta, std::span(device)).ok());
-    for (std::uint32_t i = 0; i < s.bodyCount(); ++i)
+    for (std::uint32_t i = 0; i < s.count(); ++i)
         EXPECT_EQ(std::memcmp(&device[i], &s.momenta[i], sizeof device[i]), 0) << i;
-    const std::uint32_t centre = *w.findBody("d42"); // (0, 0.25, 0): x 2, y 0, z 2
+    const std::uint32_t centre = *d.in.scene.findBody("d42"); // (0, 0.25, 0): x 2, y 0, z 2
     EXPECT_FLOAT_EQ(s.momenta[centre].linear.y, 7.0f);
 }
 
@@ -272,8 +274,7 @@ TEST_F(DebrisOffload, SleepingMatchesTheCpuTwin) {
     ASSERT_TRUE(parsed.ok());
     Result<World> cpu = World::create(*parsed);
     ASSERT_TRUE(cpu.ok()) << cpu.error().describe();
-    World device = deviceWorld(text);
-    device.state().run.deterministic = true;
+    World device = deviceWorld(text, true);
     std::uint32_t sawAsleep = 0;
     for (int i = 0; i < 150; ++i) {
         ASSERT_TRUE(cpu->step().ok());
@@ -281,7 +282,7 @@ TEST_F(DebrisOffload, SleepingMatchesTheCpuTwin) {
         sawAsleep = std::max(sawAsleep, device.lastStep().deviceAsleep);
     }
     EXPECT_GT(sawAsleep, 32u);
-    EXPECT_EQ(device.lastStep().deviceAsleep, cpu->lastStep().deviceAsleep);
+    EXPECT_EQ(device.lastStep().asleep, cpu->lastStep().asleep);
     for (std::uint32_t i = 0; i < cpu->bodyCount(); ++i) {
         EXPECT_EQ(device.body(i).asleep, cpu->body(i).asleep) << i;
         EXPECT_LT(glm::length(device.body(i).position - cpu->body(i).position), 1e-5f) << i;

@@ -124,12 +124,12 @@ TEST_F(DevicePhysics, DebrisOnTheDeviceMatchesTheCpuTwin) {
     Scene scene = debrisScene();
     Result<World> cpu = World::create(scene);
     ASSERT_TRUE(cpu.ok()) << cpu.error().describe();
-    SimulationOptions device = scene.simulation;
-    device.backend = Backend::OpenCl;
-    Result<World> gpuWorld = World::create(scene);
-    ASSERT_TRUE(gpuWorld.ok());
-    gpuWorld->state().run.deterministic = true;
-    ASSERT_TRUE(attachDevice(gpuWorld->state(), context(), device).ok());
+    scene.simulation.backend = Backend::OpenCl;
+    RunOptions run;
+    run.context = context();
+    run.deterministic = true;
+    Result<World> gpuWorld = World::create(scene, run);
+    ASSERT_TRUE(gpuWorld.ok()) << gpuWorld.error().describe();
     for (int i = 0; i < 60; ++i) {
         ASSERT_TRUE(cpu->step().ok());
         ASSERT_TRUE(gpuWorld->step().ok());
@@ -147,12 +147,12 @@ TEST_F(DevicePhysics, DeterministicRunsRepeatBitForBit) {
     std::vector<std::vector<BodyState>> runs;
     for (int r = 0; r < 2; ++r) {
         Scene scene = debrisScene();
-        SimulationOptions device = scene.simulation;
-        device.backend = Backend::OpenCl;
-        Result<World> w = World::create(scene);
-        ASSERT_TRUE(w.ok());
-        w->state().run.deterministic = true;
-        ASSERT_TRUE(attachDevice(w->state(), context(), device).ok());
+        scene.simulation.backend = Backend::OpenCl;
+        RunOptions run;
+        run.context = context();
+        run.deterministic = true;
+        Result<World> w = World::create(scene, run);
+        ASSERT_TRUE(w.ok()) << w.error().describe();
         for (int i = 0; i < 60; ++i) ASSERT_TRUE(w->step().ok());
         runs.emplace_back();
         for (std::uint32_t i = 0; i < w->bodyCount(); ++i) runs.back().push_back(w->body(i));

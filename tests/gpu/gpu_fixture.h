@@ -10,8 +10,7 @@
 
 #include "host/gpu/context.h"
 #include "host/gpu/pipeline.h"
-#include "host/world/device_step.h"
-#include "host/world/world_state.h"
+#include "support/device_stage.h"
 #include "support/test_util.h"
 
 namespace rubble::test {
@@ -25,7 +24,7 @@ struct SharedGpu {
 inline SharedGpu& sharedGpu() {
     static SharedGpu gpu = [] {
         SharedGpu g;
-        Result<std::shared_ptr<gpu::Context>> c = gpu::Context::create(RunOptions{});
+        Result<std::shared_ptr<gpu::Context>> c = openDevice(RunOptions{});
         if (c) g.context = *c;
         else g.error = c.error();
         return g;
@@ -46,44 +45,33 @@ class GpuTest : public ::testing::Test {
     }
     const std::shared_ptr<gpu::Context>& context() { return sharedGpu().context; }
 
-    /// A world from scene text on the shared device, with the scene's collision method and
-    /// solver (built as a cpu world first, then attached).
-    World deviceWorld(const std::string& json) {
-        Result<Scene> scene = parseScene(json, "inline.json", ".");
-        EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().describe());
-        if (!scene.ok()) std::abort();
-        SimulationOptions options = scene->simulation;
-        options.backend = Backend::OpenCl;
-        scene->simulation.backend = Backend::Cpu;
-        scene->simulation.collision.method = CollisionMethod::Sat;
-        scene->simulation.solver.type = SolverType::Pgs;
-        Result<World> w = World::create(*scene);
-        EXPECT_TRUE(w.ok()) << (w.ok() ? "" : w.error().describe());
-        if (!w.ok()) std::abort();
-        const Status attached = attachDevice(w->state(), context(), options);
-        EXPECT_TRUE(attached.ok()) << attached.error().describe();
-        return std::move(*w);
-    }
-    gpu::Pipeline& pipeline(World& w) { return *w.state().device; }
-
-    /// A world from scene text on the shared device as World::create would put it there: the
-    /// debris set (or the bodies without joints) on the device, the other bodies in a CPU world
-    /// of their own (built as a cpu world first, then attached).
-    World offloadedWorld(const std::string& json) {
+    /// A world from scene text on the shared device (the scene's backend set to opencl), as
+    /// World::create puts it there: the debris set (or the bodies without joints) on the
+    /// device, the other bodies in a CPU world of their own.
+    World deviceWorld(const std::string& json, bool deterministic = false) {
         Result<Scene> scene = parseScene(json, "inline.json", ".");
         EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().describe());
         if (!scene.ok()) std::abort();
         scene->simulation.backend = Backend::OpenCl;
-        Scene cpu = *scene;
-        cpu.simulation.backend = Backend::Cpu;
-        cpu.simulation.collision.method = CollisionMethod::Sat;
-        cpu.simulation.solver.type = SolverType::Pgs;
-        Result<World> w = World::create(cpu);
+        RunOptions run;
+        run.context = context();
+        run.deterministic = deterministic;
+        Result<World> w = World::create(*scene, run);
         EXPECT_TRUE(w.ok()) << (w.ok() ? "" : w.error().describe());
         if (!w.ok()) std::abort();
-        const Status attached = attachScene(w->state(), *scene, context(), RunOptions{});
-        EXPECT_TRUE(attached.ok()) << attached.error().describe();
         return std::move(*w);
+    }
+
+    /// A stage input from scene text, taken from `world` (built from the same text) when given,
+    /// on a pipeline of its own on the shared device.
+    DeviceStage deviceStage(const std::string& json, const World* world = nullptr,
+                            bool deterministic = false) {
+        StageInput in = stageInput(json);
+        if (world) takeState(*world, in);
+        Result<DeviceStage> d = test::deviceStage(context(), std::move(in), deterministic);
+        EXPECT_TRUE(d.ok()) << (d.ok() ? "" : d.error().describe());
+        if (!d.ok()) std::abort();
+        return std::move(*d);
     }
 };
 

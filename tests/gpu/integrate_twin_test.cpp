@@ -42,58 +42,56 @@ std::string tumblers(const std::string& integrator) {
 class IntegrateTwin : public test::GpuTest {};
 
 TEST_F(IntegrateTwin, IntegrateVelocitiesMatchesCpu) {
-    World w = deviceWorld(tumblers("symplectic"));
-    WorldState& s = w.state();
+    test::DeviceStage d = deviceStage(tumblers("symplectic"));
+    BodyArrays& s = d.in.bodies;
     // Forces and torques on some bodies, on both paths.
-    for (std::uint32_t i = 0; i < s.bodyCount(); i += 3) {
+    for (std::uint32_t i = 0; i < s.count(); i += 3) {
         s.forces[i].force = shared::vec4(1.0f + float(i), -2.0f, 0.5f);
         s.forces[i].torque = shared::vec4(0.1f, 0.2f * float(i % 5), -0.3f);
     }
-    gpu::Pipeline& p = pipeline(w);
+    gpu::Pipeline& p = d.device();
     ASSERT_TRUE(p.uploadForces(s.forces).ok());
-    const float4 g = toFloat4(s.options.gravity);
+    const float4 g = toFloat4(d.in.scene.simulation.gravity);
     ASSERT_TRUE(p.integrateVelocities(g, 0.01f).ok());
     integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities, g, 0.01f);
-    std::vector<BodyMomentum> momenta(s.bodyCount());
-    std::vector<BodyVelocity> velocities(s.bodyCount());
+    std::vector<BodyMomentum> momenta(s.count());
+    std::vector<BodyVelocity> velocities(s.count());
     ASSERT_TRUE(gpu::download(p.context(), p.bodies().momenta, std::span(momenta)).ok());
     ASSERT_TRUE(gpu::download(p.context(), p.bodies().velocities, std::span(velocities)).ok());
     test::expectNearRel(momenta, s.momenta, 1e-5f);
     test::expectNearRel(velocities, s.velocities, 1e-5f);
 }
 
-void checkPositions(test::GpuTest& t, World& w, bool symplectic) {
-    WorldState& s = w.state();
-    gpu::Pipeline& p = *s.device;
+void checkPositions(test::DeviceStage& d, bool symplectic) {
+    BodyArrays& s = d.in.bodies;
+    gpu::Pipeline& p = d.device();
     // Velocities at the start for explicit Euler: the current ones, on both paths.
-    s.velocitiesAtStart = s.velocities;
+    const std::vector<BodyVelocity> atStart = s.velocities;
     ASSERT_TRUE(p.copyVelocities(const_cast<gpu::Buffer&>(p.bodies().atStart)).ok());
     ASSERT_TRUE(p.integratePositions(0.01f, symplectic).ok());
-    integratePositions(s.poses, s.velocities, s.velocitiesAtStart, s.momenta, s.masses, 0.01f,
-                       symplectic);
-    std::vector<BodyPose> poses(s.bodyCount());
-    std::vector<BodyVelocity> velocities(s.bodyCount());
+    integratePositions(s.poses, s.velocities, atStart, s.momenta, s.masses, 0.01f, symplectic);
+    std::vector<BodyPose> poses(s.count());
+    std::vector<BodyVelocity> velocities(s.count());
     ASSERT_TRUE(gpu::download(p.context(), p.bodies().poses, std::span(poses)).ok());
     ASSERT_TRUE(gpu::download(p.context(), p.bodies().velocities, std::span(velocities)).ok());
     test::expectNearRel(poses, s.poses, 1e-5f);
     test::expectNearRel(velocities, s.velocities, 1e-5f);
-    (void)t;
 }
 
 TEST_F(IntegrateTwin, IntegratePositionsSymplecticMatchesCpu) {
-    World w = deviceWorld(tumblers("symplectic"));
-    checkPositions(*this, w, true);
+    test::DeviceStage d = deviceStage(tumblers("symplectic"));
+    checkPositions(d, true);
 }
 
 TEST_F(IntegrateTwin, IntegratePositionsExplicitMatchesCpu) {
-    World w = deviceWorld(tumblers("explicit"));
-    checkPositions(*this, w, false);
+    test::DeviceStage d = deviceStage(tumblers("explicit"));
+    checkPositions(d, false);
 }
 
 TEST_F(IntegrateTwin, AbsorbVelocityChangeMatchesCpu) {
-    World w = deviceWorld(tumblers("symplectic"));
-    WorldState& s = w.state();
-    gpu::Pipeline& p = pipeline(w);
+    test::DeviceStage d = deviceStage(tumblers("symplectic"));
+    BodyArrays& s = d.in.bodies;
+    gpu::Pipeline& p = d.device();
     // "before" is the current velocities; "after" a changed copy, uploaded as the velocities.
     std::vector<BodyVelocity> before = s.velocities, after = s.velocities;
     for (std::size_t i = 0; i < after.size(); ++i) {
@@ -106,7 +104,7 @@ TEST_F(IntegrateTwin, AbsorbVelocityChangeMatchesCpu) {
                             std::span<const BodyVelocity>(after)).ok());
     ASSERT_TRUE(p.absorbVelocityChange().ok());
     absorbVelocityChange(s.momenta, before, after, s.masses, s.poses);
-    std::vector<BodyMomentum> momenta(s.bodyCount());
+    std::vector<BodyMomentum> momenta(s.count());
     ASSERT_TRUE(gpu::download(p.context(), p.bodies().momenta, std::span(momenta)).ok());
     test::expectNearRel(momenta, s.momenta, 1e-5f);
 }

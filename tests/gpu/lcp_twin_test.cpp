@@ -2,9 +2,7 @@
 // scaleLcpRows, CLBlast's SGEMV and projectLcp) against its CPU twin on one input, and the
 // lcp-jacobi solver on the opencl backend against the cpu backend.
 #include "gpu_fixture.h"
-#include "host/dynamics/lcp_convergence.h"
 #include "host/dynamics/lcp_jacobi.h"
-#include "host/gpu/lcp_convergence.h"
 #include "host/gpu/lcp_jacobi.h"
 
 namespace rubble {
@@ -30,33 +28,47 @@ std::string heap(bool frictionless) {
                       "rotation_jitter": 0.2, "seed": 4, "name_prefix": "c"}]})";
 }
 
+// A problem built on the host, for the device.
+gpu::HostLcp hostLcp(const DenseLcp& p) {
+    return {p.contacts, p.stride, p.matrix, p.rhs, p.inverseScale, p.friction, p.lambda};
+}
+
 class LcpTwin : public test::GpuTest {
   protected:
-    // The device world after 30 steps, with this step's contacts collided and their rows built
-    // on the device; the same rows and bodies on the host.
+    // The device world's state after 30 steps on a pipeline of its own, which steps once (so
+    // that its rows have last step's impulses to start from), then collides this step's
+    // contacts and builds their rows; the same rows and bodies on the host.
     void prepare(bool frictionless) {
-        world_.emplace(deviceWorld(heap(frictionless)));
-        for (int i = 0; i < 30; ++i) ASSERT_TRUE(world_->step().ok());
-        ASSERT_TRUE(syncHost(s()).ok());
-        gpu::Pipeline& p = *s().device;
+        const std::string scene = heap(frictionless);
+        World world = deviceWorld(scene);
+        for (int i = 0; i < 30; ++i) ASSERT_TRUE(world.step().ok());
+        stage_.emplace(deviceStage(scene, &world));
+        gpu::Pipeline& p = stage_->device();
+        const StepParams params = stage_->in.params(30);
+        StepStats stats;
+        ASSERT_TRUE(p.beginStep(params, gpu::StepInputs{}).ok());
+        ASSERT_TRUE(p.endStep(params, stage_->in.names, stats).ok());
+        ASSERT_TRUE(p.downloadBodies(s().view()).ok());
         ASSERT_TRUE(p.transformParticles().ok());
         ASSERT_TRUE(p.buildGrid().ok());
         ASSERT_TRUE(p.resetStatus().ok());
         ASSERT_TRUE(p.collideParticles().ok());
-        ASSERT_TRUE(p.buildJacobiRows(solverParams(s().options), true).ok());
+        ASSERT_TRUE(p.readContactCount().ok());
+        ASSERT_TRUE(p.buildJacobiRows(params.rows, true).ok());
         rows_.resize(p.contacts().count);
         ASSERT_TRUE(gpu::download(p.context(), p.contacts().rows, std::span(rows_)).ok());
         ASSERT_GT(rows_.size(), 60u);
     }
-    WorldState& s() { return world_->state(); }
-    std::optional<World> world_;
+    BodyArrays& s() { return stage_->in.bodies; }
+    gpu::Pipeline& device() { return stage_->device(); }
+    std::optional<test::DeviceStage> stage_;
     std::vector<ContactRow> rows_;
 };
 
 TEST_F(LcpTwin, TheDenseProblemMatchesCpu) {
     prepare(false);
-    gpu::Pipeline& p = *s().device;
-    const std::uint32_t stride = lcpStride(bodySurfaces(s()), s().masses);
+    gpu::Pipeline& p = device();
+    const std::uint32_t stride = lcpStride(stage_->in.surfaces, s().masses);
     ASSERT_EQ(stride, 3u);
     gpu::LcpBuffers device;
     ASSERT_TRUE(gpu::buildLcpOnDevice(p.context(), p.contacts().rows, p.contacts().count, stride,
@@ -93,7 +105,7 @@ void expectLambdaNear(const std::vector<float>& a, const std::vector<float>& b) 
 void iterateTwins(gpu::Pipeline& p, DenseLcp cpu, int iterations) {
     const float relaxation = 1.8f;
     gpu::LcpBuffers device;
-    ASSERT_TRUE(gpu::uploadLcp(p.context(), cpu, device).ok());
+    ASSERT_TRUE(gpu::uploadLcp(p.context(), hostLcp(cpu), device).ok());
     ASSERT_TRUE(
         gpu::iterateLcpJacobi(p.context(), device, iterations, relaxation, device.status).ok());
     solveLcpJacobi(cpu, iterations, relaxation);
@@ -109,34 +121,34 @@ TEST_F(LcpTwin, SolveLcpJacobiMatchesCpuWithFriction) {
     assembleDelassus(cpu);
     scaleLcpRows(cpu);
     ASSERT_GT(cpu.size(), 180u);
-    iterateTwins(*s().device, cpu, 20);
+    iterateTwins(device(), cpu, 20);
 }
 
 TEST_F(LcpTwin, SolveLcpJacobiMatchesCpuFrictionless) {
     prepare(true);
-    const std::uint32_t stride = lcpStride(bodySurfaces(s()), s().masses);
+    const std::uint32_t stride = lcpStride(stage_->in.surfaces, s().masses);
     ASSERT_EQ(stride, 1u);
     DenseLcp cpu;
     buildLcpRows(rows_, s().velocities, s().masses, s().poses, stride, cpu);
     assembleDelassus(cpu);
     scaleLcpRows(cpu);
-    iterateTwins(*s().device, cpu, 20);
+    iterateTwins(device(), cpu, 20);
 }
 
 // SGEMV forms beta y with beta = 0: the product buffer is zeroed when the problem is uploaded,
 // so that a NaN left in it cannot reach lambda (fmax(NaN, 0) would quietly make it 0).
 TEST_F(LcpTwin, ANaNLeftInTheProductBufferDoesNotReachLambda) {
     prepare(true);
-    gpu::Pipeline& p = *s().device;
+    gpu::Pipeline& p = device();
     DenseLcp cpu;
     buildLcpRows(rows_, s().velocities, s().masses, s().poses, 1u, cpu);
     assembleDelassus(cpu);
     scaleLcpRows(cpu);
     gpu::LcpBuffers device;
-    ASSERT_TRUE(gpu::uploadLcp(p.context(), cpu, device).ok());
+    ASSERT_TRUE(gpu::uploadLcp(p.context(), hostLcp(cpu), device).ok());
     ASSERT_TRUE(
         gpu::fill(p.context(), device.product, 0x7fc00000u, cpu.size() * sizeof(float)).ok());
-    ASSERT_TRUE(gpu::uploadLcp(p.context(), cpu, device).ok());
+    ASSERT_TRUE(gpu::uploadLcp(p.context(), hostLcp(cpu), device).ok());
     ASSERT_TRUE(gpu::iterateLcpJacobi(p.context(), device, 5, 1.8f, device.status).ok());
     solveLcpJacobi(cpu, 5, 1.8f);
     std::vector<float> lambda;

@@ -5,7 +5,8 @@
 #include <tuple>
 
 #include "gpu_fixture.h"
-#include "host/collision/particle_world.h"
+#include "host/collision/grid.h"
+#include "host/collision/particles.h"
 #include "host/dynamics/jacobi.h"
 
 namespace rubble {
@@ -36,53 +37,56 @@ class ParticlesTwin : public test::GpuTest {
     void SetUp() override {
         test::GpuTest::SetUp();
         if (IsSkipped() || HasFatalFailure()) return;
-        world_.emplace(deviceWorld(heap()));
-        for (int i = 0; i < 40; ++i) ASSERT_TRUE(world_->step().ok());
-        // The host's arrays hold the device's state after 40 steps: the shared input.
-        ASSERT_TRUE(syncHost(world_->state()).ok());
+        World world = deviceWorld(heap());
+        for (int i = 0; i < 40; ++i) ASSERT_TRUE(world.step().ok());
+        // The device's state after 40 steps, on a pipeline of its own: the shared input.
+        stage_.emplace(deviceStage(heap(), &world));
+        world_.assign(set().particles.size(), float4{});
     }
-    WorldState& s() { return world_->state(); }
-    gpu::Pipeline& p() { return *s().device; }
+    test::StageInput& in() { return stage_->in; }
+    BodyArrays& s() { return stage_->in.bodies; }
+    const ParticleSet& set() { return stage_->particles; }
+    gpu::Pipeline& p() { return stage_->device(); }
     template <class T> std::vector<T> read(const gpu::Buffer& b, std::size_t n) {
         std::vector<T> v(n);
         EXPECT_TRUE(gpu::download(p().context(), b, std::span(v)).ok());
         return v;
     }
-    std::optional<World> world_;
+    std::optional<test::DeviceStage> stage_;
+    std::vector<float4> world_; ///< the CPU twin's particle positions
+    ParticleGrid grid_;         ///< the CPU twin's grid
 };
 
 TEST_F(ParticlesTwin, TransformParticlesMatchesCpu) {
-    ParticleState& ps = s().particles;
-    ASSERT_NE(ps.particles.size() % RUBBLE_GROUP_PARTICLES, 0u);
+    ASSERT_NE(set().particles.size() % RUBBLE_GROUP_PARTICLES, 0u);
     ASSERT_TRUE(p().transformParticles().ok());
-    transformParticles(ps.particles, s().poses, ps.world);
-    test::expectNearRel(read<float4>(p().particles().world, ps.world.size()), ps.world, 1e-5f);
+    transformParticles(set().particles, s().poses, world_);
+    test::expectNearRel(read<float4>(p().particles().world, world_.size()), world_, 1e-5f);
 }
 
 TEST_F(ParticlesTwin, BuildGridMatchesCpu) {
-    ParticleState& ps = s().particles;
-    transformParticles(ps.particles, s().poses, ps.world);
+    transformParticles(set().particles, s().poses, world_);
     // The same world positions on both sides, so that no particle changes cell by round-off.
     ASSERT_TRUE(gpu::upload(p().context(), const_cast<gpu::Buffer&>(p().particles().world),
-                            std::span<const float4>(ps.world))
+                            std::span<const float4>(world_))
                     .ok());
     ASSERT_TRUE(p().buildGrid().ok());
-    buildGrid(ps.world, ps.cellSize, ps.bits, ps.keys, ps.order, ps.cellStart, ps.cellEnd);
-    const std::size_t n = ps.world.size();
-    EXPECT_EQ(read<std::uint32_t>(p().particles().keys, n), ps.keys);
-    EXPECT_EQ(read<std::uint32_t>(p().particles().values, n), ps.order);
+    buildGrid(world_, set().cellSize, set().bits, grid_);
+    const std::size_t n = world_.size();
+    EXPECT_EQ(read<std::uint32_t>(p().particles().keys, n), grid_.keys);
+    EXPECT_EQ(read<std::uint32_t>(p().particles().values, n), grid_.order);
     // The device keeps, per cell, the first slot of a key at least the cell's; an empty cell
     // starts where the next one does.
     const std::vector<std::uint32_t> first =
-        read<std::uint32_t>(p().particles().cellFirst, ps.cellStart.size() + 1);
-    std::vector<std::uint32_t> start(ps.cellStart.size()), end(ps.cellEnd.size());
+        read<std::uint32_t>(p().particles().cellFirst, grid_.cellStart.size() + 1);
+    std::vector<std::uint32_t> start(grid_.cellStart.size()), end(grid_.cellEnd.size());
     for (std::size_t k = 0; k < start.size(); ++k) {
         const bool empty = first[k] == first[k + 1];
         start[k] = empty ? RUBBLE_EMPTY_CELL : first[k];
         end[k] = empty ? RUBBLE_EMPTY_CELL : first[k + 1];
     }
-    EXPECT_EQ(start, ps.cellStart);
-    EXPECT_EQ(end, ps.cellEnd);
+    EXPECT_EQ(start, grid_.cellStart);
+    EXPECT_EQ(end, grid_.cellEnd);
 }
 
 TEST_F(ParticlesTwin, RadixSortSortsStablyAnyCount) {
@@ -112,19 +116,19 @@ TEST_F(ParticlesTwin, RadixSortSortsStablyAnyCount) {
 }
 
 TEST_F(ParticlesTwin, CollideParticlesGivesTheSameContactSet) {
-    ParticleState& ps = s().particles;
-    transformParticles(ps.particles, s().poses, ps.world);
+    transformParticles(set().particles, s().poses, world_);
     ASSERT_TRUE(gpu::upload(p().context(), const_cast<gpu::Buffer&>(p().particles().world),
-                            std::span<const float4>(ps.world))
+                            std::span<const float4>(world_))
                     .ok());
     ASSERT_TRUE(p().buildGrid().ok());
     ASSERT_TRUE(p().resetStatus().ok());
     ASSERT_TRUE(p().collideParticles().ok());
     ASSERT_TRUE(p().readContactCount().ok());
-    buildGrid(ps.world, ps.cellSize, ps.bits, ps.keys, ps.order, ps.cellStart, ps.cellEnd);
-    collideParticles(ps, s().masses, ps.contacts);
-    ASSERT_GT(ps.contacts.size(), 100u);
-    ASSERT_EQ(p().contacts().count, ps.contacts.size());
+    buildGrid(world_, set().cellSize, set().bits, grid_);
+    std::vector<ParticleContact> contacts;
+    collideParticles(set(), world_, grid_, s().masses, contacts);
+    ASSERT_GT(contacts.size(), 100u);
+    ASSERT_EQ(p().contacts().count, contacts.size());
     // Device order is the atomics'; compare as sets, keyed by the two features.
     std::vector<ParticleContact> device =
         read<ParticleContact>(p().contacts().contacts, p().contacts().count);
@@ -132,7 +136,7 @@ TEST_F(ParticlesTwin, CollideParticlesGivesTheSameContactSet) {
         return std::tie(x.particleA, x.featureB) < std::tie(y.particleA, y.featureB);
     };
     std::sort(device.begin(), device.end(), byKey);
-    std::vector<ParticleContact> cpu = ps.contacts;
+    std::vector<ParticleContact> cpu = contacts;
     std::sort(cpu.begin(), cpu.end(), byKey);
     for (std::size_t i = 0; i < cpu.size(); ++i) {
         ASSERT_EQ(device[i].particleA, cpu[i].particleA) << i;
@@ -150,20 +154,22 @@ TEST_F(ParticlesTwin, CollideParticlesGivesTheSameContactSet) {
 }
 
 TEST_F(ParticlesTwin, JacobiRowsAndOneSweepMatchCpu) {
-    ParticleState& ps = s().particles;
-    runParticleGrid(s());
-    runParticleCollide(s());
-    ASSERT_GT(ps.contacts.size(), 100u);
-    ASSERT_TRUE(p().uploadContacts(ps.contacts).ok());
-    const SolverParams params = solverParams(s().options);
+    transformParticles(set().particles, s().poses, s().masses, world_);
+    buildGrid(world_, set().cellSize, set().bits, grid_);
+    std::vector<ParticleContact> contacts;
+    collideParticles(set(), world_, grid_, s().masses, contacts);
+    sortContactsByParticle(contacts);
+    ASSERT_GT(contacts.size(), 100u);
+    ASSERT_TRUE(p().uploadContacts(contacts).ok());
+    const SolverParams params = in().params().rows;
     ASSERT_TRUE(p().buildJacobiRows(params, false).ok());
-    JacobiState& j = s().jacobi;
-    buildBodyLists(ps.contacts, s().masses, j);
-    std::vector<float4> warm(ps.contacts.size(), vec4(0, 0, 0));
-    buildJacobiRows(ps.contacts, s().poses, s().velocities, s().masses, bodySurfaces(s()), params,
-                    warm, j);
-    const std::size_t n = ps.contacts.size();
-    EXPECT_EQ(read<std::uint32_t>(p().contacts().bodyStart, s().bodyCount() + 1), j.bodyStart);
+    JacobiState j;
+    buildBodyLists(contacts, s().masses, j);
+    std::vector<float4> warm(contacts.size(), vec4(0, 0, 0));
+    buildJacobiRows(contacts, s().poses, s().velocities, s().masses, in().surfaces, params, warm,
+                    j);
+    const std::size_t n = contacts.size();
+    EXPECT_EQ(read<std::uint32_t>(p().contacts().bodyStart, s().count() + 1), j.bodyStart);
     EXPECT_EQ(read<std::uint32_t>(p().contacts().bodyList, j.bodyList.size()), j.bodyList);
     test::expectNearRel(read<shared::ContactRow>(p().contacts().rows, n), j.rows, 1e-5f);
 
@@ -172,19 +178,25 @@ TEST_F(ParticlesTwin, JacobiRowsAndOneSweepMatchCpu) {
     ASSERT_TRUE(p().solveJacobi(1, 1.0f, false).ok());
     std::vector<BodyVelocity> before = s().velocities;
     solveJacobi(j, before, s().masses, s().poses, s().velocities, 1, 1.0f);
-    test::expectNearRel(read<BodyVelocity>(p().bodies().velocities, s().bodyCount()),
+    test::expectNearRel(read<BodyVelocity>(p().bodies().velocities, s().count()),
                         s().velocities, 1e-5f);
     test::expectNearRel(read<shared::ContactRow>(p().contacts().rows, n), j.rows, 1e-5f);
 }
 
 TEST_F(ParticlesTwin, ContactOverflowIsAnErrorOrGrowsTheBuffer) {
+    const StepParams params = in().params(40);
+    const auto step = [&]() -> Status {
+        StepStats stats;
+        RUBBLE_TRY(p().beginStep(params, gpu::StepInputs{}));
+        return p().endStep(params, in().names, stats);
+    };
     ASSERT_TRUE(p().setContactCapacity(10, false).ok());
-    const Status failed = world_->step();
+    const Status failed = step();
     ASSERT_FALSE(failed.ok());
     EXPECT_NE(failed.error().message.find("contact overflow"), std::string::npos)
         << failed.error().describe();
     ASSERT_TRUE(p().setContactCapacity(10, true).ok());
-    const Status grown = world_->step();
+    const Status grown = step();
     ASSERT_TRUE(grown.ok()) << grown.error().describe();
     EXPECT_GT(p().contacts().capacity, p().contacts().count);
     EXPECT_GT(p().contacts().count, 10u);

@@ -1,11 +1,11 @@
 // tests/physics/solver_test.cpp: the solver options do what they say, warm starting lowers the
 // residual, and the same scene gives the same bytes.
 #include <cstring>
+#include <span>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "host/world/world_state.h"
 #include "physics/physics_util.h"
 #include "support/test_util.h"
 
@@ -22,7 +22,7 @@ double stackResidual(bool warmStart, int iterations) {
     for (int step = 0; step < 60; ++step) {
         EXPECT_TRUE(test::stepWorld(world, 1));
         // Every sweep's residual is kept; the step reports the last.
-        const std::vector<float>& sweeps = world.state().solver.residuals;
+        const std::span<const float> sweeps = world.solverResiduals();
         EXPECT_EQ(sweeps.size(), std::size_t(iterations));
         EXPECT_EQ(sweeps.back(), world.lastStep().solverResidual);
         if (step >= 10) sum += world.lastStep().solverResidual;
@@ -83,18 +83,23 @@ TEST(Solver, RelaxationScalesTheFirstSweep) {
     EXPECT_LT(half, full);
 }
 
-// Every body's pose, velocities and momenta, as bytes.
+// Every body's pose, velocities, momenta and sleep, as bytes.
 std::vector<unsigned char> stateBytes(const World& world) {
-    const WorldState& s = world.state();
     std::vector<unsigned char> bytes;
-    auto append = [&](const void* p, std::size_t n) {
-        const auto* c = static_cast<const unsigned char*>(p);
-        bytes.insert(bytes.end(), c, c + n);
+    auto append = [&](const auto& v) {
+        const auto* c = reinterpret_cast<const unsigned char*>(&v);
+        bytes.insert(bytes.end(), c, c + sizeof v);
     };
-    append(s.poses.data(), s.poses.size() * sizeof(s.poses[0]));
-    append(s.velocities.data(), s.velocities.size() * sizeof(s.velocities[0]));
-    append(s.momenta.data(), s.momenta.size() * sizeof(s.momenta[0]));
-    for (const BodyMass& m : s.masses) append(&m.flags, sizeof m.flags);
+    for (std::uint32_t i = 0; i < world.bodyCount(); ++i) {
+        const BodyState b = world.body(i);
+        append(b.position);
+        append(b.orientation);
+        append(b.linearVelocity);
+        append(b.angularVelocity);
+        append(b.linearMomentum);
+        append(b.angularMomentum);
+        append(b.asleep);
+    }
     return bytes;
 }
 

@@ -1,5 +1,5 @@
 // tests/physics/tunnelling_test.cpp: fast bodies against thin walls do not pass through them
-// (speculative contacts: host/collision/collision_world.cpp grows each pair's margin by how much
+// (speculative contacts: host/collision/sat_collision.cpp grows each pair's margin by how much
 // closer the bodies can come in a step).
 #include <gtest/gtest.h>
 

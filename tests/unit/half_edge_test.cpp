@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "host/geometry/shape.h"
-#include "host/scene/obj_mesh.h"
+#include "host/geometry/obj_mesh.h"
 #include "random_hull.h"
 
 namespace rubble {

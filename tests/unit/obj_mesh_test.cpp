@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "host/scene/obj_mesh.h"
+#include "host/geometry/obj_mesh.h"
 #include "support/test_util.h"
 
 namespace rubble {

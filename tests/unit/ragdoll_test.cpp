@@ -1,6 +1,6 @@
-// tests/unit/ragdoll_test.cpp: host/dynamics/ragdoll through the scene loader's `ragdoll`
+// tests/unit/ragdoll_test.cpp: host/scene/ragdoll through the scene loader's `ragdoll`
 // generator: parts, names, proportions, joints, scale and bad input.
-#include "host/dynamics/ragdoll.h"
+#include "host/scene/ragdoll.h"
 
 #include <gtest/gtest.h>
 

@@ -48,11 +48,11 @@ class Render : public ::testing::Test {
             GTEST_SKIP() << "no OpenGL context: " << failure_;
         }
         world_.emplace(test::worldFromText(kScene));
-        view_.emplace(world_->state());
+        view_.emplace(*world_);
         view_->setBodyColour(1, kRed);
         view_->setBodyColour(2, kGreen);
         view_->setBodyColour(3, kBlue);
-        Result<viewer::Renderer> r = viewer::Renderer::create(world_->state().shapes);
+        Result<viewer::Renderer> r = viewer::Renderer::create(world_->shapes());
         ASSERT_TRUE(r.ok()) << r.error().describe();
         renderer_.emplace(std::move(*r));
         Result<viewer::RenderTarget> t = viewer::RenderTarget::create(kWidth, kHeight, 1);
@@ -67,7 +67,9 @@ class Render : public ::testing::Test {
 
     viewer::Image render() {
         viewer::DrawList frame;
-        view_->build(world_->state().poses, &world_->state(), viewer::Overlays{}, frame);
+        std::vector<shared::BodyPose> poses;
+        viewer::currentPoses(*world_, poses);
+        view_->build(poses, &*world_, viewer::Overlays{}, frame);
         target_->bind();
         renderer_->draw(frame, camera_, kWidth, kHeight);
         return target_->read();
@@ -176,9 +178,11 @@ TEST_F(Render, OverlaysDrawLinesAndText) {
     viewer::Overlays overlays;
     overlays.aabbs = true;
     viewer::DrawList frame;
-    view_->build(world_->state().poses, &world_->state(), overlays, frame);
+    std::vector<shared::BodyPose> poses;
+    viewer::currentPoses(*world_, poses);
+    view_->build(poses, &*world_, overlays, frame);
     EXPECT_EQ(frame.lines.size(), 3u * 24u); // 12 edges of each of the three bodies
-    frame.text.push_back(viewer::statusLine(0, 0.0, world_->state(), "cpu", "cpu"));
+    frame.text.push_back(viewer::statusLine(0, 0.0, *world_, "cpu", "cpu"));
     target_->bind();
     renderer_->draw(frame, camera_, kWidth, kHeight);
     const viewer::Image image = target_->read();

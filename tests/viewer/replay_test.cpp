@@ -20,7 +20,7 @@ Result<viewer::Replay> load(const std::string& name, const std::string& text) {
     const std::string dir = test::tempDir("replay");
     const std::string path = dir + "/" + name;
     test::writeText(path, text);
-    return viewer::Replay::load(path, world.state());
+    return viewer::Replay::load(path, world);
 }
 
 std::string errorOf(const Result<viewer::Replay>& r) {
@@ -97,7 +97,7 @@ TEST(Replay, MalformedFilesNameTheFileAndLine) {
 
 TEST(Replay, MissingFileIsNamed) {
     static World world = test::worldFromText(kScene);
-    const Result<viewer::Replay> r = viewer::Replay::load("/nonexistent/t.csv", world.state());
+    const Result<viewer::Replay> r = viewer::Replay::load("/nonexistent/t.csv", world);
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().describe().find("/nonexistent/t.csv"), std::string::npos);
 }

@@ -1,5 +1,5 @@
 // include/rubble/shared/sleep.h: sleeping on the device, per element (stage sleepBodies,
-// kernels/sleep.cl; CPU twin in host/dynamics/body_sleep.cpp). A body at rest long enough
+// kernels/sleep.cl; CPU twin in host/dynamics/sleep.cpp). A body at rest long enough
 // sleeps: it is not integrated, its particles start no collision tests and its contacts make
 // no rows. A fast body touching it, an explosion or the host wakes it.
 #pragma once

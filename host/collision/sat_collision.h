@@ -1,0 +1,74 @@
+// host/collision/sat_collision.h: CPU stages broadPhase and narrowPhase of the reference
+// pipeline (SAT method): body boxes and planes into the broad phase, pairs through the narrow
+// phase (host/collision/narrow_phase.h) into manifolds, with frame coherence between steps.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "host/collision/broad_phase.h"
+#include "host/collision/collision_stage.h"
+#include "host/collision/hull_contact.h"
+#include "host/collision/transform.h"
+
+namespace rubble {
+
+/// A hull pair's axis or contact feature, kept for the next step.
+struct CachedFeature {
+    BodyPair pair;
+    HullPairCache cache;
+};
+
+/// What the SAT stages keep between steps (frame coherence), and their reused arrays.
+struct CollisionCache {
+    /// Last step's features, sorted by pair: the next narrow phase tests them first.
+    std::vector<CachedFeature> features;
+    std::vector<CachedFeature> nextFeatures; ///< being filled; swapped with features
+    std::vector<Transform> transforms;       ///< per body, this step
+    std::vector<Aabb> boxes;                 ///< per body, this step, grown by margin and reach
+    std::vector<float> reach;        ///< per body: how far any of its points can move this step, m
+    std::vector<float> spin;         ///< per body: the part of reach due to turning, m
+    std::vector<std::uint8_t> flags; ///< per body, BroadPhaseFlag
+    std::vector<PlaneProxy> planes;
+    BroadPhaseScratch broadPhase;
+};
+
+/// The SAT collision method.
+class SatCollision final : public CollisionStage {
+  public:
+    explicit SatCollision(ContactForm form) : form_(form) {}
+
+    /// reads: poses, velocities, masses (static and asleep flags), shapes, joined
+    /// writes: pairs (sorted, a < b, no pair of two static or sleeping bodies, none of two joined
+    /// bodies). Boxes are grown by kContactMargin plus the body's reach this step,
+    /// (|v| + |omega| r) dt, so that the narrow phase sees every pair that could touch before the
+    /// next step (speculative contacts: a fast body meets what lies in its path instead of
+    /// tunnelling through it).
+    Status broadPhase(const CollisionScene& scene, BodiesView bodies, const StepParams& params,
+                      StepContacts& out) override;
+    /// reads: pairs, poses, shapes, the cache, reach   writes: manifolds (in pair order, pairs
+    /// without contacts left out; as points when the solver reads points), the cache. A pair's
+    /// margin is kContactMargin plus how much closer the bodies can come this step (relative
+    /// translation plus turning): contacts up to that gap come out with negative depth, and the
+    /// solver lets them close only that far.
+    Status narrowPhase(const CollisionScene& scene, BodiesView bodies,
+                       const StepParams& params, StepContacts& out) override;
+    /// The manifolds' points (manifoldsToContacts).
+    void contactPoints(const StepContacts& contacts,
+                       std::vector<shared::ParticleContact>& points) const override;
+    /// Forgets the cached features (they name bodies by index).
+    Status rebuild(const CollisionScene& scene, BodiesView bodies, float particleSpacing) override;
+
+    const CollisionCache& cache() const { return cache_; }
+
+  private:
+    ContactForm form_;
+    CollisionCache cache_;
+};
+
+/// SAT manifolds as contact points for the row builder of the jacobi family (the feature id in
+/// featureB, body a in particleA).
+void manifoldsToContacts(std::span<const Manifold> manifolds,
+                         std::vector<shared::ParticleContact>& contacts);
+
+} // namespace rubble
