@@ -521,6 +521,14 @@ std::string simulationOptionsMarkdown() {
     return md;
 }
 
+Status setOptionText(std::string_view name, std::string_view text, const std::string& where,
+                     SimulationOptions& simulation, RunOptions& run) {
+    const Option* o = findOptionByName(name);
+    if (o == nullptr || !(o->uses & kUseFlag))
+        return makeError(ErrorKind::NotSupported, where, "not an option of the command line");
+    return assignOptionText(*o, text, where, OptionTarget{&simulation, &run});
+}
+
 std::string compareKeysText() {
     std::vector<std::string_view> keys;
     for (const Option& o : table())

@@ -12,6 +12,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "rubble/error.h"
+
 namespace rubble {
 
 namespace gpu {
@@ -107,6 +109,14 @@ std::optional<Backend> parseBackend(std::string_view s);
 std::optional<CollisionMethod> parseCollisionMethod(std::string_view s);
 std::optional<SolverType> parseSolverType(std::string_view s);
 std::optional<Coupling> parseCoupling(std::string_view s);
+
+/// Sets the option with this command-line name (`dt`, `particle-spacing`, `device`) from text, as
+/// `--name TEXT` would: the one parser and range check that scene files, the command line and
+/// `rubble compare` share (docs/scene-format.md's table of simulation options). Errors: BadInput
+/// at `where` for a value that does not read or is out of range; NotSupported at `where` for a
+/// name that is not an option of the command line.
+Status setOptionText(std::string_view name, std::string_view text, const std::string& where,
+                     SimulationOptions& simulation, RunOptions& run);
 
 /// Every scene-file spelling of an enum's values, indexed by the value (help texts, errors).
 template <class E> std::span<const std::string_view> spellings();
