@@ -21,8 +21,10 @@ namespace rubble::app {
 constexpr int kExitOk = 0;
 constexpr int kExitFailure = 1;   ///< I/O or device failure
 constexpr int kExitBadInput = 2;  ///< bad scene, mesh or option; a feature not built yet
-constexpr int kExitNumerical = 3; ///< the simulation blew up (a non-finite state)
-constexpr int kExitInterrupted = 130;
+constexpr int kExitNumerical = 3; ///< the simulation blew up (a non-finite state, energy, a joint)
+constexpr int kExitLimit = 4;     ///< a step needed more than a limit allows (pairs, contacts, memory)
+constexpr int kExitInterrupted = 130; ///< SIGINT (128 + 2)
+constexpr int kExitTerminated = 143;  ///< SIGTERM (128 + 15)
 
 /// Command-line overrides of a scene's `simulation` options, as given and in order; unset ones
 /// leave the file's value. The option table reads and checks them when they are applied.

@@ -17,7 +17,9 @@ int main(int argc, char** argv) {
                "  rubble run scenes/pyramid_20.json --out pyramid.csv --metrics pyramid.json\n"
                "  rubble run scenes/bench/debris_1k.json --steps 120 --every 10 --out debris.jsonl\n"
                "  rubble validate scenes/ragdoll.json\n"
-               "Exit status: 0 done, 1 I/O or device failure, 2 bad input, 3 non-finite state.");
+               "Exit status: 0 done, 1 I/O or device failure, 2 bad input, 3 the simulation blew "
+               "up\n(non-finite state, energy growth, a joint apart), 4 a limit reached (pairs, "
+               "contacts,\nparticles, memory), 130 interrupted (SIGINT), 143 terminated (SIGTERM).");
     app.set_version_flag("--version", std::string("rubble ") + rubble::kVersion);
     app.require_subcommand(1);
 

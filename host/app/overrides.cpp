@@ -86,6 +86,10 @@ int report(const Error& e) {
         return kExitBadInput;
     case ErrorKind::Numerical:
         return kExitNumerical;
+    case ErrorKind::Limit:
+        return kExitLimit;
+    case ErrorKind::Interrupted:
+        return kExitInterrupted;
     default:
         return kExitFailure;
     }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "host/core/assert.h"
+#include "rubble/scene.h"
 
 namespace rubble {
 namespace {
@@ -153,7 +154,7 @@ const std::vector<Option>& table() {
              .name = "particle-spacing",
              .alias = "particle_spacing",
              .uses = kEverywhere,
-             .range = {.min = 0, .minOpen = true},
+             .range = {.min = kMinLength, .max = kMaxLength},
              .unit = "m",
              .help = "Voxel size of the particle shapes"}),
         simulationOption<&S::solver, &SolverOptions::type>({.key = "solver.type",
@@ -201,16 +202,26 @@ const std::vector<Option>& table() {
             {.name = "deterministic",
              .uses = kEverywhere,
              .help = "Sort device rows so runs repeat bit for bit"}),
+        runOption<&RunOptions::buildOptions>(
+            {.name = "build-options",
+             .uses = kUseFlag,
+             .help = "Added to the OpenCL program's build options (-cl-opt-disable for "
+                     "Oclgrind)"}),
     };
     return options;
 }
 
 // ---- Text of numbers and values.
 
-// A bound or a component: whole numbers in full (1000000000, not 1e+09), others shortest.
+// A bound or a component: whole numbers in full (1000000000, not 1e+09), short fractions in
+// fixed notation (0.0001, not 1e-04), others shortest.
 std::string shortest(double v) {
     if (v == std::trunc(v) && std::abs(v) < 1e15) return std::to_string(std::int64_t(v));
     char buf[64];
+    constexpr std::ptrdiff_t kLongestFixed = 8;
+    const auto fixed = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed);
+    if (fixed.ec == std::errc() && fixed.ptr - buf <= kLongestFixed)
+        return std::string(buf, fixed.ptr);
     const auto r = std::to_chars(buf, buf + sizeof buf, v);
     return std::string(buf, r.ptr);
 }
@@ -292,6 +303,11 @@ Status checkNumber(const OptionRange& range, double v, const std::string& where)
     if (!inRange(range, double(f)))
         return bad(where, "must be " + rangeWords(range) + ", got " + written +
                               (f == 0.0f && v != 0.0 ? " (0 as a float)" : ""));
+    // In range or not, a number that is not 0 must not become 0 or a subnormal float, which
+    // keeps fewer digits.
+    if (v != 0.0 && !std::isnormal(f))
+        return bad(where, "is too small for single precision (other than 0, at least 1.2e-38 "
+                          "in size), got " + written);
     return {};
 }
 
@@ -503,6 +519,14 @@ std::string simulationOptionsMarkdown() {
               std::string(o.help) + " | " + cli + " |\n";
     }
     return md;
+}
+
+Status setOptionText(std::string_view name, std::string_view text, const std::string& where,
+                     SimulationOptions& simulation, RunOptions& run) {
+    const Option* o = findOptionByName(name);
+    if (o == nullptr || !(o->uses & kUseFlag))
+        return makeError(ErrorKind::NotSupported, where, "not an option of the command line");
+    return assignOptionText(*o, text, where, OptionTarget{&simulation, &run});
 }
 
 std::string compareKeysText() {

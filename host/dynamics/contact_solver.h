@@ -13,6 +13,7 @@
 #include "host/collision/collision_stage.h"
 #include "host/core/bodies.h"
 #include "host/core/step_params.h"
+#include "host/dynamics/joints.h"
 #include "rubble/error.h"
 #include "rubble/scene.h"
 
@@ -74,6 +75,10 @@ class ContactSolver {
     /// The largest |impulse change| of each sweep of the last solve, N s (empty for a direct
     /// solver).
     virtual std::span<const float> residuals() const = 0;
+    /// The scene's joints in the bodies' frames as the solver holds them (renumbered with the
+    /// bodies), for the joint watch after the step; empty for a solver without joint rows and
+    /// before the first step.
+    virtual std::span<const Joint> joints() const { return {}; }
     /// Bodies were added or removed: body i is now newIndex[i] (kRemovedBody when it went).
     /// What is kept by body index (warm starts, sleep timers) is forgotten, joints renumbered.
     virtual void bodiesChanged(std::span<const std::uint32_t> newIndex, BodiesView bodies) = 0;

@@ -62,6 +62,10 @@ class PgsSolver final : public ContactSolver {
     std::uint32_t sleep(const SolverScene& scene, Bodies bodies, const StepContacts& contacts,
                         const StepParams& params) override;
     std::span<const float> residuals() const override { return cache_.residuals; }
+    std::span<const Joint> joints() const override {
+        if (!cache_.jointsBuilt) return {};
+        return cache_.joints;
+    }
     void bodiesChanged(std::span<const std::uint32_t> newIndex, BodiesView bodies) override;
 
     const SolverCache& cache() const { return cache_; }

@@ -37,8 +37,17 @@ Status fill(const Context& c, const Buffer& b, cl_uint value, std::size_t bytes,
     if (bytes == 0) return {};
     RUBBLE_ASSERT(bytes % sizeof value == 0 && bytes <= b.bytes());
     cl_event* event = profile ? profile->transfer(Transfer::Fill, bytes) : nullptr;
-    RUBBLE_CL_CHECK(clEnqueueFillBuffer(c.queue(), b.mem(), &value, sizeof value, 0, bytes, 0,
-                                        nullptr, event));
+    // kernels/grid.cl fillWords, whose writes every checker sees (clEnqueueFillBuffer's are
+    // invisible to Oclgrind).
+    cl_kernel k = c.kernel(KernelId::FillWords);
+    const cl_uint count = cl_uint(bytes / sizeof value);
+    const cl_mem out = b.mem();
+    RUBBLE_CL_CHECK(clSetKernelArg(k, 0, sizeof count, &count));
+    RUBBLE_CL_CHECK(clSetKernelArg(k, 1, sizeof value, &value));
+    RUBBLE_CL_CHECK(clSetKernelArg(k, 2, sizeof out, &out));
+    const std::size_t local = 64, global = (std::size_t(count) + local - 1) / local * local;
+    RUBBLE_CL_CHECK(
+        clEnqueueNDRangeKernel(c.queue(), k, 1, nullptr, &global, &local, 0, nullptr, event));
     return {};
 }
 

@@ -1,6 +1,8 @@
 // host/gpu/context.cpp: creating the context, queue, program and kernels of one device.
 #include "host/gpu/context.h"
 
+#include <clblast.h>
+
 #include <chrono>
 #include <filesystem>
 
@@ -29,6 +31,9 @@ Result<std::string> programSource(const RunOptions& run) {
 }
 
 Context::~Context() {
+    // CLBlast keeps the programs it built (lcp-jacobi) in a cache of its own, released at exit
+    // after this context otherwise: Oclgrind then frees them twice and aborts.
+    if (queue_) clblast::ClearCache();
     for (cl_kernel k : kernels_)
         if (k) clReleaseKernel(k);
     if (program_) clReleaseProgram(program_);
@@ -59,7 +64,10 @@ Result<std::shared_ptr<Context>> Context::create(const RunOptions& run) {
     RUBBLE_CL_CHECK(
         (c->program_ = clCreateProgramWithSource(c->context_, 1, &text, &length, &err), err));
     const auto start = std::chrono::steady_clock::now();
-    const cl_int built = clBuildProgram(c->program_, 1, &c->device_.id, kBuildOptions, nullptr,
+    const std::string options = run.buildOptions.empty()
+                                    ? std::string(kBuildOptions)
+                                    : std::string(kBuildOptions) + " " + run.buildOptions;
+    const cl_int built = clBuildProgram(c->program_, 1, &c->device_.id, options.c_str(), nullptr,
                                         nullptr);
     c->buildMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
                                                             start).count();

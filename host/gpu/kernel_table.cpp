@@ -98,6 +98,7 @@ const std::vector<KernelSignature>& kernelSignatures() {
          "gatherJacobiRows",
          {"bodies", "rows", "bodyStart", "bodyList", "before", "jacobiBodies", "flags",
           "velocities", "arms"}},
+        {KernelId::FillWords, "fillWords", {"count", "value", "out"}},
     };
     return table;
 }

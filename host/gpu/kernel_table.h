@@ -42,6 +42,7 @@ enum class KernelId : unsigned {
     SleepBodies,
     PrepareJacobiBodies,
     GatherJacobiRows,
+    FillWords,
     Count
 };
 

@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "host/core/assert.h"
+#include "host/core/limits.h"
 #include "host/core/math.h"
 
 namespace rubble::gpu {
@@ -275,7 +276,14 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
                                  " contacts do not fit the buffer of " +
                                  std::to_string(st.capacity));
         }
-        const std::uint32_t grown = st.contacts + st.contacts / 2;
+        if (st.contacts > particleContactBudget(particles_.count)) {
+            profile_.discard();
+            return limitError("collideParticles", "particle contacts", st.contacts,
+                              particleContactBudget(particles_.count), params.step + 1,
+                              "bodies overlap each other in large numbers");
+        }
+        const std::uint32_t grown = std::uint32_t(std::min<std::size_t>(
+            st.contacts + st.contacts / 2, particleContactBudget(particles_.count)));
         std::fprintf(stderr, "rubble: contact overflow (%u contacts, room for %u): buffer grown "
                              "to %u and the step's contact stages run again\n",
                      st.contacts, st.capacity, grown);

@@ -81,14 +81,25 @@ void MetricsRecorder::afterStep(const World& world) {
     last_ = measureInvariants(world);
 }
 
-double percentile(std::vector<double> v, double q) {
+double percentile(std::vector<double>& v, double q) {
     if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
     const double pos = q * double(v.size() - 1);
     const std::size_t lo = std::size_t(pos);
     const std::size_t hi = std::min(lo + 1, v.size() - 1);
-    return v[lo] + (v[hi] - v[lo]) * (pos - double(lo));
+    // The lo-th smallest, then the smallest of those above it: the hi-th.
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(lo), v.end());
+    const double low = v[lo];
+    const double high = hi == lo ? low : *std::min_element(v.begin() + std::ptrdiff_t(hi), v.end());
+    return low + (high - low) * (pos - double(lo));
 }
+
+namespace {
+// A copy to select in, so that the recorded order stays as it was.
+double percentileOf(const std::vector<double>& samples, double q) {
+    std::vector<double> copy = samples;
+    return percentile(copy, q);
+}
+} // namespace
 
 namespace {
 nlohmann::json vec(glm::dvec3 v) {
@@ -106,12 +117,8 @@ nlohmann::ordered_json qualityJson(const QualityReport& q) {
     return j;
 }
 
-double MetricsRecorder::medianMs() const {
-    return percentile(stepMs_, 0.5);
-}
-double MetricsRecorder::p90Ms() const {
-    return percentile(stepMs_, 0.9);
-}
+double MetricsRecorder::medianMs() const { return percentileOf(stepMs_, 0.5); }
+double MetricsRecorder::p90Ms() const { return percentileOf(stepMs_, 0.9); }
 
 std::string MetricsRecorder::toJson(const World& world) const {
     nlohmann::ordered_json j;
@@ -137,12 +144,12 @@ std::string MetricsRecorder::toJson(const World& world) const {
         double busy = 0, hidden = 0;
         for (double v : deviceMs_) busy += v;
         for (double v : deviceHiddenMs_) hidden += v;
-        j["host_ms_per_step"] = {{"median", percentile(hostMs_, 0.5)},
-                                 {"p90", percentile(hostMs_, 0.9)}};
-        j["device_ms_per_step"] = {{"median", percentile(deviceMs_, 0.5)},
-                                   {"p90", percentile(deviceMs_, 0.9)}};
-        j["device_wait_ms_per_step"] = {{"median", percentile(deviceWaitMs_, 0.5)}};
-        j["device_hidden_ms_per_step"] = {{"median", percentile(deviceHiddenMs_, 0.5)}};
+        j["host_ms_per_step"] = {{"median", percentileOf(hostMs_, 0.5)},
+                                 {"p90", percentileOf(hostMs_, 0.9)}};
+        j["device_ms_per_step"] = {{"median", percentileOf(deviceMs_, 0.5)},
+                                   {"p90", percentileOf(deviceMs_, 0.9)}};
+        j["device_wait_ms_per_step"] = {{"median", percentileOf(deviceWaitMs_, 0.5)}};
+        j["device_hidden_ms_per_step"] = {{"median", percentileOf(deviceHiddenMs_, 0.5)}};
         j["device_hidden_share"] = busy > 0 ? hidden / busy : 0.0;
         j["device_stages_ms"] = stagesJson(deviceStages_, kDeviceStages);
         nlohmann::ordered_json kernels = nlohmann::ordered_json::array();

@@ -23,7 +23,8 @@ struct Invariants {
 };
 
 /// The q-quantile (0..1) of samples, interpolated linearly between neighbours; 0 when empty.
-double percentile(std::vector<double> samples, double q);
+/// O(n) (selection, not a sort); reorders `samples`.
+double percentile(std::vector<double>& samples, double q);
 
 /// The world's kinetic energy and momenta now.
 Invariants measureInvariants(const World& world);
@@ -36,8 +37,12 @@ class MetricsRecorder {
     /// Records the step that just ran.
     void afterStep(const World& world);
 
+    /// Median and 90th percentile of the step times so far: O(steps) each, so call them once
+    /// at the end, not every step.
     double medianMs() const;
     double p90Ms() const;
+    /// Steps recorded.
+    std::int64_t steps() const { return std::int64_t(stepMs_.size()); }
     double wallSeconds() const { return wallS_; }
     std::uint32_t lastContacts() const { return lastContacts_; }
 

@@ -24,6 +24,9 @@ namespace {
 
 constexpr std::int64_t kMaxGridCount = 1'000'000;
 constexpr float kMinQuatNorm = 1e-6f;
+// A ragdoll from 18 cm to 180 m tall: its thinnest part stays within kMinLength..kMaxLength.
+constexpr double kMinRagdollScale = 0.1;
+constexpr double kMaxRagdollScale = 100.0;
 
 class SceneLoader {
   public:
@@ -125,16 +128,17 @@ class SceneLoader {
                 d.type = ShapeType::Box;
                 RUBBLE_TRY(s.checkKeys({"type", "half_extents"}));
                 RUBBLE_TRY(s.require("half_extents"));
-                RUBBLE_TRY(s.read("half_extents", d.halfExtents, Range::Positive));
+                RUBBLE_TRY(s.read("half_extents", d.halfExtents, Range::Length));
             } else if (type == "sphere") {
                 d.type = ShapeType::Sphere;
                 RUBBLE_TRY(s.checkKeys({"type", "radius"}));
                 RUBBLE_TRY(s.require("radius"));
-                RUBBLE_TRY(s.read("radius", d.radius, Range::Positive));
+                RUBBLE_TRY(s.read("radius", d.radius, Range::Length));
             } else if (type == "convex") {
                 d.type = ShapeType::Convex;
                 RUBBLE_TRY(s.checkKeys({"type", "vertices"}));
                 RUBBLE_TRY(readPoints(s, "vertices", d.points));
+                RUBBLE_TRY(checkExtent(d.points, s.where("vertices"), "vertices"));
             } else if (type == "mesh") {
                 d.type = ShapeType::Mesh;
                 RUBBLE_TRY(s.checkKeys({"type", "file", "scale"}));
@@ -144,6 +148,7 @@ class SceneLoader {
                 d.file = (std::filesystem::path(baseDir_) / d.file).lexically_normal().string();
                 Result<TriangleMesh> mesh = loadObjMesh(d.file, d.scale, s.where("file"));
                 RUBBLE_TRY(mesh);
+                RUBBLE_TRY(checkExtent(mesh->vertices, s.where("scale"), d.file));
                 d.points = std::move(mesh->vertices);
                 d.triangles = std::move(mesh->triangles);
             } else if (type == "plane") {
@@ -165,11 +170,36 @@ class SceneLoader {
         RUBBLE_TRY(s.require(key));
         const Json& v = s.at(key);
         if (!v.is_array()) return s.fail(key, "expected an array of [x, y, z] points, got " + brief(v));
+        if (v.size() > kMaxMeshVertices)
+            return s.fail(key, "has " + std::to_string(v.size()) + " points, more than the " +
+                                   std::to_string(kMaxMeshVertices) +
+                                   " rubble builds a shape from");
         for (std::size_t i = 0; i < v.size(); ++i) {
             Result<glm::vec3> p = vec3FromJson(v[i], s.where(key) + indexPath(i));
             RUBBLE_TRY(p);
             out.push_back(*p);
         }
+        return {};
+    }
+
+    // The points of a convex or mesh shape (after its scale) lie within kMaxLength of the
+    // shape's origin and span at least kMinLength: the range of a box's sizes.
+    static Status checkExtent(const std::vector<glm::vec3>& points, const std::string& where,
+                              const std::string& what) {
+        glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+        for (const glm::vec3& p : points) {
+            if (!(glm::all(glm::lessThanEqual(glm::abs(p), glm::vec3(float(kMaxLength))))))
+                return makeError(ErrorKind::BadInput, where,
+                                 "a point of " + what + " lies farther than " +
+                                     lengthText(kMaxLength) + " m from the shape's origin");
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+        const glm::vec3 extent = hi - lo;
+        if (!points.empty() && std::max({extent.x, extent.y, extent.z}) < float(kMinLength))
+            return makeError(ErrorKind::BadInput, where,
+                             "the points of " + what + " span less than " +
+                                 lengthText(kMinLength) + " m");
         return {};
     }
 
@@ -344,6 +374,10 @@ class SceneLoader {
         RUBBLE_TRY(r.read("name_prefix", spec.prefix));
         RUBBLE_TRY(r.read("position", spec.position));
         RUBBLE_TRY(r.read("scale", spec.scale, Range::Positive));
+        if (!(spec.scale >= kMinRagdollScale && spec.scale <= kMaxRagdollScale))
+            return r.fail("scale", "must be between " + lengthText(kMinRagdollScale) + " and " +
+                                       lengthText(kMaxRagdollScale) + " (the ragdoll's parts are " +
+                                       "sized from it), got " + brief(r.at("scale")));
         RUBBLE_TRY(lookupMaterial(r, spec.material));
         RUBBLE_TRY(r.read("debris", spec.debris));
         RagdollParts parts = buildRagdoll(spec);

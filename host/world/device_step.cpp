@@ -10,6 +10,7 @@
 #include "host/dynamics/forces.h"
 #include "host/gpu/pipeline.h"
 #include "host/world/offload.h"
+#include "host/world/step_stop.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -89,6 +90,7 @@ Status beginHostChange(WorldState& s) {
 }
 
 Status stepDevice(WorldState& s, StepStats& stats) {
+    RUBBLE_TRY(checkStop(s));
     const auto start = std::chrono::steady_clock::now();
     gpu::Pipeline& p = *s.device;
     Offload* o = s.offload.get();

@@ -31,8 +31,8 @@ Result<FrozenContacts> freezeContacts(World& world, std::int64_t step) {
     applyDueExplosions(s.events, s.eventFired, p.time, bodies);
     integrateVelocities(bodies.momenta, bodies.forces, bodies.masses, bodies.poses,
                         bodies.velocities, s.velocitiesAtStart, p.gravity, p.dt);
-    s.collision->broadPhase(s.collisionScene(), bodies, p, s.contacts);
-    s.collision->narrowPhase(s.collisionScene(), bodies, p, s.contacts);
+    RUBBLE_TRY(s.collision->broadPhase(s.collisionScene(), bodies, p, s.contacts));
+    RUBBLE_TRY(s.collision->narrowPhase(s.collisionScene(), bodies, p, s.contacts));
     FrozenContacts set;
     s.collision->contactPoints(s.contacts, set.contacts);
     set.step = step;

@@ -2,6 +2,7 @@
 // density, momenta from the initial velocities. Combinations that cannot run are refused here.
 #include "host/world/world_build.h"
 
+#include "host/core/mass_properties.h"
 #include "host/core/math.h"
 #include "host/core/step_params.h"
 #include "host/dynamics/joints.h"
@@ -140,7 +141,12 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     s->bodies.poses.reserve(n);
     s->bodies.momenta.reserve(n);
     s->bodies.masses.reserve(n);
-    for (const BodyDesc& b : scene.bodies) appendBody(*s, b);
+    for (const BodyDesc& b : scene.bodies) {
+        appendBody(*s, b);
+        if (!b.isStatic)
+            RUBBLE_TRY(checkMassRange(s->bodies.masses.back(), b.where,
+                                      b.mass ? "mass" : "density"));
+    }
     if (std::optional<Warning> w = massRatioWarning(scene, s->bodies)) s->warnings.push_back(*w);
     s->joints = scene.joints;
     s->joined = joinedPairs(s->joints);

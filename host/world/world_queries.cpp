@@ -99,6 +99,7 @@ Status World::setVelocity(std::uint32_t i, glm::vec3 linear, glm::vec3 angular) 
         return makeError(ErrorKind::BadInput, where, s.names[i] + " is static");
     if (!isFinite(linear) || !isFinite(angular))
         return makeError(ErrorKind::BadInput, where, "the velocity must be finite");
+    s.blowUp.rebase = true; // the host sets the energy: the blow-up watch starts again
     // A CPU body of an offloaded scene lives in the CPU world.
     if (s.offload && s.offload->worldToCpu.at(i) != kNotOnCpu) {
         RUBBLE_TRY(s.offload->cpu->setVelocity(s.offload->worldToCpu[i], linear, angular));

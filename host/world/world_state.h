@@ -12,6 +12,7 @@
 
 #include "host/collision/collision_stage.h"
 #include "host/core/bodies.h"
+#include "host/dynamics/blowup_watch.h"
 #include "host/dynamics/contact_solver.h"
 #include "host/geometry/shape.h"
 #include "host/gpu/pipeline_handle.h"
@@ -57,6 +58,7 @@ struct WorldState {
     std::unique_ptr<CollisionStage> collision;
     std::unique_ptr<ContactSolver> solver;
     StepContacts contacts;
+    BlowUpWatch blowUp; ///< energy since the last reference (the blow-up watch after each step)
     // Scratch reused every step: the velocities before the solve, and at the start of the step
     // before the forces (restitution's approach speeds; explicit Euler moves positions with them).
     std::vector<BodyVelocity> velocitiesBeforeSolve;

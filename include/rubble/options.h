@@ -2,6 +2,7 @@
 // overrides them. Nothing here is global: a World copies its Options at creation.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -10,6 +11,8 @@
 #include <string_view>
 
 #include <glm/vec3.hpp>
+
+#include "rubble/error.h"
 
 namespace rubble {
 
@@ -83,6 +86,11 @@ struct RunOptions {
     std::string device;    ///< OpenCL device by name fragment or index; empty: the first one
     std::string kernelDir; ///< load kernels/*.cl from here instead of the embedded text
     bool deterministic = false; ///< device rows sorted by key so atomics cannot reorder sums
+    /// Options added to every OpenCL program build (`-cl-opt-disable` for Oclgrind).
+    std::string buildOptions;
+    /// Set to true (by a signal handler, another thread) to stop: World::step checks it between
+    /// its stages and returns ErrorKind::Interrupted. Must outlive the World.
+    const std::atomic<bool>* stop = nullptr;
     /// An OpenCL context with its program built (rubble::openDevice), shared by the worlds made
     /// with it so that the kernels compile once; empty: the world opens the device itself.
     std::shared_ptr<gpu::Context> context;
@@ -101,6 +109,14 @@ std::optional<Backend> parseBackend(std::string_view s);
 std::optional<CollisionMethod> parseCollisionMethod(std::string_view s);
 std::optional<SolverType> parseSolverType(std::string_view s);
 std::optional<Coupling> parseCoupling(std::string_view s);
+
+/// Sets the option with this command-line name (`dt`, `particle-spacing`, `device`) from text, as
+/// `--name TEXT` would: the one parser and range check that scene files, the command line and
+/// `rubble compare` share (docs/scene-format.md's table of simulation options). Errors: BadInput
+/// at `where` for a value that does not read or is out of range; NotSupported at `where` for a
+/// name that is not an option of the command line.
+Status setOptionText(std::string_view name, std::string_view text, const std::string& where,
+                     SimulationOptions& simulation, RunOptions& run);
 
 /// Every scene-file spelling of an enum's values, indexed by the value (help texts, errors).
 template <class E> std::span<const std::string_view> spellings();

@@ -14,8 +14,8 @@ import os
 from pathlib import Path
 from typing import Any, Dict, List, Mapping, Optional, Union
 
-from rubble._errors import (DeviceError, Error, IoError, NotSupportedError, NumericalError,
-                            SceneError)
+from rubble._errors import (DeviceError, Error, IoError, LimitError, NotSupportedError,
+                            NumericalError, SceneError, StepInterrupted)
 from rubble._core import World, __version__
 from rubble import _core
 from rubble._tables import Table, make_table
@@ -25,7 +25,7 @@ SceneSource = Union[str, "os.PathLike[str]", Mapping[str, Any]]
 __all__ = [
     "World", "compare", "solvers", "devices", "example_scene", "example_scenes", "sweep",
     "Table", "Error", "SceneError", "NotSupportedError", "DeviceError", "NumericalError",
-    "IoError", "__version__",
+    "LimitError", "StepInterrupted", "IoError", "__version__",
 ]
 
 _SCENES = Path(__file__).resolve().parent / "scenes"

@@ -48,7 +48,22 @@ class DeviceError(Error, RuntimeError):
 
 
 class NumericalError(Error, ArithmeticError):
-    """The simulation produced a non-finite state; the message names the body and the step."""
+    """The simulation blew up: a state turned non-finite, the bodies' energy grew by more than
+    the scene can account for, or a joint came apart (the command's exit status 3). The message
+    names the body and the step; the world is then past use."""
+
+
+class LimitError(Error, RuntimeError):
+    """A step needed more than rubble allows it (broad-phase pairs, contact points, particle
+    contacts, memory), or the particle spacing would make more particles or voxels than a world
+    may have (docs/scene-format.md, "Limits"; the command's exit status 4). The message names the
+    stage and the limit."""
+
+
+class StepInterrupted(Error, KeyboardInterrupt):
+    """A step stopped on request between two of its stages (the command's SIGINT and SIGTERM,
+    exit status 130 and 143); like Ctrl-C it is a KeyboardInterrupt. The bodies are left
+    part-way through the step."""
 
 
 class IoError(Error, OSError):
@@ -60,6 +75,8 @@ _CLASSES = {
     "NotSupported": NotSupportedError,
     "Device": DeviceError,
     "Numerical": NumericalError,
+    "Limit": LimitError,
+    "Interrupted": StepInterrupted,
     "Io": IoError,
 }
 

@@ -1,9 +1,8 @@
 // python/src/module.cpp: the extension module rubble._core: error translation, scene sources and
 // keyword options shared by the World and the tools (world_bindings.cpp, tools_bindings.cpp).
-#include <cmath>
-#include <filesystem>
-#include <limits>
-#include <optional>
+#include <algorithm>
+#include <iterator>
+#include <string_view>
 
 #include "python/src/bindings.h"
 #include "rubble/version.h"
@@ -18,6 +17,8 @@ const char* kindName(ErrorKind k) {
     case ErrorKind::Io: return "Io";
     case ErrorKind::Device: return "Device";
     case ErrorKind::Numerical: return "Numerical";
+    case ErrorKind::Limit: return "Limit";
+    case ErrorKind::Interrupted: return "Interrupted";
     case ErrorKind::Internal: return "Internal";
     }
     return "Internal";
@@ -31,32 +32,28 @@ void translate(const ErrorException& e) {
     PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(exc.ptr())), exc.ptr());
 }
 
-template <class T>
-std::optional<T> numberOf(const py::handle& v) {
-    if (py::isinstance<py::bool_>(v)) return std::nullopt;
-    if constexpr (std::is_integral_v<T>) {
-        if (!py::isinstance<py::int_>(v)) return std::nullopt;
-        const long long n = v.cast<long long>();
-        if (n < std::numeric_limits<T>::min() || n > std::numeric_limits<T>::max())
-            return std::nullopt;
-        return T(n);
-    } else {
-        if (!py::isinstance<py::int_>(v) && !py::isinstance<py::float_>(v)) return std::nullopt;
-        return v.cast<T>();
-    }
-}
+// The keywords that World.load, compare and solvers take: the command line's options, spelt
+// with underscores.
+constexpr std::string_view kKeywords[] = {"steps",      "dt",         "backend",
+                                          "integrator", "solver",     "iterations",
+                                          "collision",  "device",     "particle_spacing",
+                                          "kernel_dir", "deterministic"};
 
-std::string textOf(const py::handle& v, const std::string& where) {
-    if (!py::isinstance<py::str>(v)) badInput(where, "expected a string, got " + std::string(py::str(py::repr(v))));
-    return v.cast<std::string>();
-}
-
-template <class E, class Parse>
-E enumOf(const py::handle& v, const std::string& where, Parse parse, const char* choices) {
-    const std::string text = textOf(v, where);
-    const std::optional<E> e = parse(text);
-    if (!e) badInput(where, "unknown value \"" + text + "\" (expected " + choices + ")");
-    return *e;
+// A keyword's value as the command line would write it, for the option table to read and check
+// (so that a keyword is refused exactly where a flag would be): True/False as true/false, an int
+// in full, a float as its shortest repr, a path as its text.
+std::string optionTextOf(const py::handle& v, const std::string& where) {
+    if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
+    if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+    // Python's and NumPy's integers, then anything that is a float.
+    const auto object = py::reinterpret_borrow<py::object>(v);
+    if (py::hasattr(v, "__index__")) return py::str(py::int_(object)).cast<std::string>();
+    if (py::hasattr(v, "__float__"))
+        return py::str(py::repr(py::float_(object))).cast<std::string>();
+    if (py::hasattr(v, "__fspath__"))
+        return py::str(py::module_::import("os").attr("fspath")(v)).cast<std::string>();
+    badInput(where, "expected a number, a string or True/False, got " +
+                        std::string(py::str(py::repr(v))));
 }
 
 } // namespace
@@ -86,53 +83,18 @@ Scene sceneFrom(const py::object& source, const std::string& baseDir, const std:
 
 void applyKeywords(const py::dict& keywords, const std::string& context, Scene& scene,
                    RunOptions& run) {
-    SimulationOptions& sim = scene.simulation;
     for (const auto& [k, v] : keywords) {
-        const std::string key = py::str(k).cast<std::string>();
+        std::string key = py::str(k).cast<std::string>();
         const std::string where = context + ": " + key;
-        if (key == "steps") {
-            const auto n = numberOf<int>(v);
-            if (!n || *n < 0) badInput(where, "expected a whole number of 0 or more");
-            sim.steps = *n;
-        } else if (key == "dt") {
-            const auto x = numberOf<float>(v);
-            if (!x || !(*x > 0.0f) || !std::isfinite(*x))
-                badInput(where, "expected a time step in s greater than 0");
-            sim.dt = *x;
-        } else if (key == "iterations") {
-            const auto n = numberOf<int>(v);
-            if (!n || *n < 1) badInput(where, "expected a whole number of 1 or more");
-            sim.solver.iterations = *n;
-        } else if (key == "particle_spacing" || key == "particle-spacing") {
-            const auto x = numberOf<float>(v);
-            if (!x || !(*x > 0.0f) || !std::isfinite(*x))
-                badInput(where, "expected a length in m greater than 0");
-            sim.collision.particleSpacing = *x;
-        } else if (key == "backend") {
-            sim.backend = enumOf<Backend>(v, where, parseBackend, "cpu or opencl");
-        } else if (key == "integrator") {
-            sim.integrator =
-                enumOf<Integrator>(v, where, parseIntegrator, "symplectic or explicit");
-        } else if (key == "solver") {
-            sim.solver.type = enumOf<SolverType>(v, where, parseSolverType,
-                                                 "pgs, jacobi, lcp-jacobi or lemke");
-        } else if (key == "collision") {
-            sim.collision.method =
-                enumOf<CollisionMethod>(v, where, parseCollisionMethod, "sat or particles");
-        } else if (key == "device") {
-            run.device = py::isinstance<py::int_>(v) ? std::to_string(v.cast<long long>())
-                                                      : textOf(v, where);
-        } else if (key == "kernel_dir") {
-            run.kernelDir = py::str(py::module_::import("os").attr("fspath")(v));
-        } else if (key == "deterministic") {
-            if (!py::isinstance<py::bool_>(v)) badInput(where, "expected True or False");
-            run.deterministic = v.cast<bool>();
-        } else {
-            throw py::type_error(context + ": unknown option '" + key +
+        std::replace(key.begin(), key.end(), '-', '_'); // particle-spacing as before
+        if (std::find(std::begin(kKeywords), std::end(kKeywords), key) == std::end(kKeywords))
+            throw py::type_error(context + ": unknown option '" + py::str(k).cast<std::string>() +
                                  "' (expected steps, dt, backend, integrator, solver, iterations, "
                                  "collision, particle_spacing, device, kernel_dir or "
                                  "deterministic)");
-        }
+        std::string name = key;
+        std::replace(name.begin(), name.end(), '_', '-');
+        check(setOptionText(name, optionTextOf(v, where), where, scene.simulation, run));
     }
 }
 

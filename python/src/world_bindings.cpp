@@ -227,7 +227,9 @@ at a time may use it. Arrays are float32, one row per body in scene order.)");
         kLoadDoc);
     w.def("step", &stepWorld, py::arg("n") = 1,
           "Advances n steps of dt with the GIL released. Raises rubble.NumericalError naming "
-          "the body and the step when a state turns non-finite (the world is then past use), "
+          "the body and the step when the simulation blows up (a non-finite state, energy "
+          "growth, a joint apart; the world is then past use), rubble.LimitError when a step "
+          "needs more pairs or contacts than rubble allows, "
           "rubble.DeviceError for OpenCL failures.");
     w.def_property_readonly("time", [](PyWorld& s) { return s.world->time(); },
                             "Simulated time, s.");

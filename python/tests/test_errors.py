@@ -71,6 +71,66 @@ def test_a_state_that_blows_up_is_a_numerical_error():
     assert isinstance(e.value, ArithmeticError)
 
 
+def test_energy_growth_is_a_numerical_error():
+    # A box spun at 10^6 rad/s: its energy grows step by step with finite numbers; the blow-up
+    # watch stops it, as the command does with exit status 3.
+    spinner = {
+        "format": "rubble-scene", "version": 1,
+        "simulation": {"gravity": [0, 0, 0]},
+        "shapes": {"c": {"type": "box", "half_extents": [1, 0.2, 0.5]}},
+        "bodies": [{"name": "spinner", "shape": "c", "mass": 1,
+                    "angular_velocity": [1e6, 3e5, 0]}],
+    }
+    w = rubble.World.load(spinner)
+    with pytest.raises(rubble.NumericalError, match="blew up in step 2") as e:
+        w.step(10)
+    assert e.value.where == "body spinner" and e.value.kind == "Numerical"
+
+
+def test_a_pile_at_one_point_is_a_limit_error():
+    # 600 boxes at one point make 179,700 pairs, past the budget of 65,536 + 64 per body.
+    scene = {
+        "format": "rubble-scene", "version": 1,
+        "shapes": {"box": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
+        "bodies": [{"name": f"b{i}", "shape": "box", "mass": 1, "position": [0, 1, 0]}
+                   for i in range(600)],
+    }
+    w = rubble.World.load(scene)
+    with pytest.raises(rubble.LimitError, match="step 1 has more than 103936 broad-phase pairs") \
+            as e:
+        w.step()
+    assert e.value.where == "broadPhase" and isinstance(e.value, RuntimeError)
+    assert w.step_count == 0
+    back = pickle.loads(pickle.dumps(e.value))
+    assert type(back) is rubble.LimitError and back.where == "broadPhase"
+
+
+def test_an_interrupted_step_is_a_keyboard_interrupt():
+    # What the library reports when a stop request ends a step between its stages.
+    e = rubble._errors.make_error("Interrupted", "step 4", "stopped on request")
+    assert type(e) is rubble.StepInterrupted
+    assert isinstance(e, KeyboardInterrupt) and e.where == "step 4"
+    assert str(e) == "step 4: stopped on request"
+
+
+def test_keywords_are_checked_as_the_command_line_checks_them(tmp_path, rubble_binary):
+    # The option table reads keywords as it reads flags: the same ranges, the same words.
+    from conftest import run_command
+    path = tmp_path / "fall.json"
+    path.write_text(json.dumps(falling_sphere()))
+    for key, value, flag, text in [
+            ("dt", 1e-40, "--dt", "1e-40"),
+            ("particle_spacing", 1e-9, "--particle-spacing", "1e-09"),
+            ("iterations", 0, "--iterations", "0")]:
+        with pytest.raises(rubble.SceneError) as e:
+            rubble.World.load(path, **{key: value})
+        assert e.value.where == f"World.load: {key}"
+        done = run_command(rubble_binary, "run", path, flag, text, check=False)
+        assert done.returncode == 2
+        message = str(e.value)[len(e.value.where) + 2:]
+        assert done.stderr.strip() == f"rubble: {flag}: {message}"
+
+
 def test_a_kernel_that_does_not_build_is_a_device_error(tmp_path, repo):
     # A copy of the kernels with one of them broken: the device's compiler refuses it.
     kernels = tmp_path / "kernels"

@@ -37,6 +37,7 @@ RunOptions otherRun() {
     r.device = "1";
     r.kernelDir = "kernels";
     r.deterministic = true;
+    r.buildOptions = "-cl-opt-disable";
     return r;
 }
 
@@ -150,8 +151,13 @@ const OutOfRange kOutOfRange[] = {
     {"integrator", "rk4", "unknown value \"rk4\" (expected symplectic or explicit)"},
     {"backend", "cuda", "unknown value \"cuda\" (expected cpu or opencl)"},
     {"collision.method", "voxels", "unknown value \"voxels\" (expected sat or particles)"},
-    {"collision.particle_spacing", "0", "must be greater than 0, got 0"},
-    {"collision.particle_spacing", "1e-50", "must be greater than 0, got 1e-50 (0 as a float)"},
+    // A subnormal float keeps fewer digits.
+    {"dt", "1e-40", "is too small for single precision (other than 0, at least 1.2e-38 in size), "
+                    "got 1e-40"},
+    {"collision.particle_spacing", "0", "must be between 0.0001 and 100000, got 0"},
+    {"collision.particle_spacing", "1e-50",
+     "must be between 0.0001 and 100000, got 1e-50 (0 as a float)"},
+    {"collision.particle_spacing", "1e+06", "must be between 0.0001 and 100000, got 1000000"},
     {"solver.type", "sor", "unknown value \"sor\" (expected pgs, jacobi, lcp-jacobi or lemke)"},
     {"solver.iterations", "0", "must be between 1 and 100000, got 0"},
     {"solver.iterations", "100001", "must be between 1 and 100000, got 100001"},
