@@ -82,7 +82,7 @@ def test_energy_growth_is_a_numerical_error():
                     "angular_velocity": [1e6, 3e5, 0]}],
     }
     w = rubble.World.load(spinner)
-    with pytest.raises(rubble.NumericalError, match="blew up in step 2") as e:
+    with pytest.raises(rubble.NumericalError, match="blew up in step 3") as e:
         w.step(10)
     assert e.value.where == "body spinner" and e.value.kind == "Numerical"
 
