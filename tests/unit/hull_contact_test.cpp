@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "host/geometry/shape.h"
+#include "brute_force_sat.h"
 #include "random_hull.h"
 
 namespace rubble {
@@ -245,36 +246,6 @@ TEST(HullContact, RandomHullManifoldsLieInBothShapes) {
     EXPECT_GT(edgeContacts, 200);
 }
 
-// The largest separation of the two hulls over every candidate axis (each face normal, each
-// cross product of an edge of a with an edge of b not closer to parallel than kParallelSine),
-// from all vertices' projections: the SAT's answer by brute force. Negative: the depth.
-float bruteSeparation(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA) {
-    auto along = [&](glm::vec3 u) {
-        float aMax = -1e30f, bMin = 1e30f;
-        for (const glm::vec3& v : a.vertices) aMax = std::max(aMax, glm::dot(u, v));
-        for (const glm::vec3& v : b.vertices) bMin = std::min(bMin, glm::dot(u, bInA.apply(v)));
-        return bMin - aMax;
-    };
-    auto both = [&](glm::vec3 u) { return std::max(along(u), along(-u)); };
-    float best = -1e30f;
-    for (const HalfEdgeFace& f : a.faces) best = std::max(best, both(f.normal));
-    for (const HalfEdgeFace& f : b.faces) best = std::max(best, both(bInA.rotate(f.normal)));
-    for (std::uint32_t i = 0; i < a.edgeCount(); ++i) {
-        const glm::vec3 ea =
-            a.vertices[a.edges[2 * i + 1].origin] - a.vertices[a.edges[2 * i].origin];
-        for (std::uint32_t j = 0; j < b.edgeCount(); ++j) {
-            const glm::vec3 eb = bInA.rotate(b.vertices[b.edges[2 * j + 1].origin] -
-                                             b.vertices[b.edges[2 * j].origin]);
-            const glm::vec3 c = glm::cross(ea, eb);
-            if (glm::dot(c, c) <=
-                kParallelSine * kParallelSine * glm::dot(ea, ea) * glm::dot(eb, eb))
-                continue;
-            best = std::max(best, both(glm::normalize(c)));
-        }
-    }
-    return best;
-}
-
 // Crates of a grid thrown apart (scenes/explosion.json): two boxes turned by at most 3 degrees
 // against each other, neighbours along one, two or three axes (touching to 3 cm apart along
 // those, anywhere along the others), with a margin grown by the speed of the pair (up to
@@ -295,7 +266,7 @@ TEST(HullContact, ManifoldsOfFastSlightlyTurnedBoxesAgreeWithTheSat) {
                      const Transform& bInA, const HullContact& c) {
         if (c.separated || c.contacts.count == 0) return;
         ++checked;
-        const float best = bruteSeparation(a, b, bInA);
+        const float best = test::bruteForceSeparation(a, b, bInA).all();
         const float tolerance = 0.16f * std::fabs(best) + 0.0051f;
         float deepest = -1e30f;
         for (std::uint32_t k = 0; k < c.contacts.count; ++k)
