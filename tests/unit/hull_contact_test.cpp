@@ -4,8 +4,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
-#include "host/geometry/shape.h"
 #include "brute_force_sat.h"
+#include "host/geometry/shape.h"
 #include "random_hull.h"
 
 namespace rubble {

@@ -13,8 +13,8 @@
 namespace rubble {
 namespace {
 
-using test::bruteForceSeparation;
 using test::BruteForce;
+using test::bruteForceSeparation;
 using test::makeTransform;
 using test::randomDirection;
 using test::randomHull;
