@@ -41,6 +41,16 @@ enum class KernelId : unsigned {
     SleepBodies,
     PrepareJacobiBodies,
     GatherJacobiRows,
+    ComputeAabbs,
+    GridBounds,
+    GridSetup,
+    GridEntries,
+    FindCellPairs,
+    FindLargePairs,
+    CountPairs,
+    PlacePairs,
+    SortPairLists,
+    CollideShapes,
     Count
 };
 

@@ -55,6 +55,7 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
     RUBBLE_TRY(p->status_.reserve(c.context(), RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
     RUBBLE_TRY(p->uploadBodies(bodies));
     RUBBLE_TRY(p->uploadParticles(in.particles, bodies, in.surfaces));
+    if (in.collision == CollisionMethod::Sat) RUBBLE_TRY(p->createSat(in));
 
     // The host's bodies, in index order: the order of each step's obstacle states.
     std::vector<cl_uint> obstacles;
@@ -165,6 +166,7 @@ DeviceStatus Pipeline::statusFromSlots() const {
     d.capacity = slots[RUBBLE_STATUS_CAPACITY];
     d.asleep = slots[RUBBLE_STATUS_ASLEEP];
     d.woken = slots[RUBBLE_STATUS_WOKEN];
+    d.pairs = slots[RUBBLE_STATUS_PAIRS];
     return d;
 }
 
@@ -295,6 +297,7 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
     traffic.cells = std::uint64_t(1) << particles_.bits;
     traffic.contacts = st.contacts;
     traffic.previous = params.solver.warmStart ? contacts_.previousCount : 0u;
+    traffic.sortItems = context_->workSizes().sortItems;
     contacts_.count = st.contacts;
     if (warmSwapped_) contacts_.previousCount = st.contacts;
     Result<DeviceTimes> times = profile_.collect(traffic);

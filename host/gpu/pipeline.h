@@ -12,8 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "host/collision/contact.h"
 #include "host/collision/particles.h"
 #include "host/core/bodies.h"
+#include "host/geometry/shape.h"
 #include "host/core/step_params.h"
 #include "host/gpu/buffer.h"
 #include "host/gpu/context.h"
@@ -21,7 +23,9 @@
 #include "host/gpu/pipeline_handle.h"
 #include "host/gpu/profile.h"
 #include "rubble/scene.h"
+#include "rubble/shared/broad_phase.h"
 #include "rubble/shared/contact_row.h"
+#include "rubble/shared/hull_contact.h"
 #include "rubble/shared/obstacle.h"
 #include "rubble/world.h"
 
@@ -76,6 +80,41 @@ struct ObstacleBuffers {
     Buffer impulses; ///< BodyImpulse per obstacle, gathered after the solve
 };
 
+/// One step's body pairs of the SAT method with what each keeps for the next step: this step's
+/// set and last step's swap at the end of a step (Pipeline::keepPairFeatures).
+struct PairSet {
+    std::uint32_t capacity = 0; ///< pairs the buffers hold
+    Buffer pairs;               ///< BodyPairRecord, sorted by (a, b)
+    Buffer count;               ///< one uint: the pairs found (may exceed capacity)
+    Buffer features;            ///< PairCache per pair, in pair order
+};
+
+/// The SAT collision method on the device, made only for a world that collides with SAT: the
+/// shapes' hulls (host/gpu/hull_data.h), per-body boxes and flags, the broad phase's grid, the
+/// pairs, and the manifolds (ContactManifold, one per pair in pair order; count 0: no contact).
+struct SatBuffers {
+    bool enabled = false;
+    std::uint32_t planeCount = 0, joinedCount = 0;
+    std::uint32_t gridBits = 0; ///< the grid's cell keys are below 2^gridBits
+    // Hulls, once per world.
+    Buffer shapes, shapeOf, vertices, vertexEdges, neighbourStart, neighbours, halfEdges, faces,
+        faceEdges, edges;
+    Buffer planes; ///< indices of the plane bodies
+    Buffer joined; ///< joined body pairs (min, max), sorted: they do not collide
+    // Per body, each step.
+    Buffer boxes;      ///< BodyBox (a plane body: its world plane in min)
+    Buffer spin;       ///< the part of the reach due to turning, m
+    Buffer broadFlags; ///< RUBBLE_BROAD_*
+    // The grid.
+    Buffer partials, grid;
+    Buffer keys, values, keysAlt, valuesAlt; ///< (cell, body) entries, 8 per body at most
+    Buffer large;                            ///< bodies too large for the grid
+    // Pairs: found in any order, then sorted into current.pairs.
+    Buffer found, bodyCount, bodyStart, cursor;
+    PairSet current, previous;
+    Buffer manifolds; ///< ContactManifold per pair of `current`, in pair order
+};
+
 /// What the host reads at the end of a step (RUBBLE_STATUS_* slots).
 struct DeviceStatus {
     std::uint32_t contacts = 0;
@@ -84,6 +123,7 @@ struct DeviceStatus {
     float solverResidual = 0;                   ///< N s
     std::uint32_t capacity = 0;
     std::uint32_t asleep = 0, woken = 0;
+    std::uint32_t pairs = 0; ///< SAT: body pairs the broad phase found (may exceed the room)
 };
 
 /// What a pipeline is made from: the bodies (uploaded at creation, kept on the device), their
@@ -96,6 +136,11 @@ struct PipelineInput {
     /// device, placed by each step's obstacles, whose list is these bodies' indices in order.
     std::span<const std::uint8_t> kinematic;
     bool deterministic = false; ///< contacts sorted by key so that atomics cannot reorder sums
+    /// The world's collision method: with Sat the SAT buffers are made (and `shapes` must hold
+    /// every shape the bodies use); with Particles nothing of SAT is.
+    CollisionMethod collision = CollisionMethod::Particles;
+    std::span<const Shape> shapes;  ///< indexed by bodies.shapeOf
+    std::span<const BodyPair> joined; ///< joined bodies (min, max), sorted: they do not collide
 };
 
 /// What a step takes from the host besides its parameters.
@@ -184,6 +229,36 @@ class Pipeline {
     /// out[i] = sum of in[0..i-1] for i <= count.
     Status exclusiveScan(const Buffer& in, Buffer& out, std::uint32_t count);
 
+    // The SAT method (host/gpu/broad_phase.cpp, host/gpu/sat.cpp), for a world made with
+    // CollisionMethod::Sat; each the twin of SatCollision's stage of the same name. They only
+    // enqueue; the pair count and the manifolds' contact count and largest depth are in the
+    // status block (RUBBLE_STATUS_PAIRS, _CONTACTS, _PENETRATION).
+    /// Stage broadPhase: computeAabbs, then findPairs.
+    Status broadPhase(float dt);
+    /// Each body's box grown by the margin and its reach this step, its spin and flags.
+    Status computeAabbs(float dt);
+    /// The grid, the candidate pairs (no two inactive bodies, none joined), sorted by (a, b).
+    Status findPairs();
+    /// Waits and reads the pair count; past the capacity the pair buffers grow and findPairs
+    /// runs again. Returns the count. Errors: Device.
+    Result<std::uint32_t> readPairCount();
+    /// Stage narrowPhase: one manifold per pair, with last step's features (collideShapes).
+    Status narrowPhase(float dt);
+    /// This step's pairs and features become last step's (at the end of a step, after the
+    /// manifolds were used; a step run again after an overflow calls it once). Errors: Device.
+    Status keepPairFeatures();
+    /// Replaces this step's pairs (twin tests feed both paths the same pairs); sorted, a < b.
+    Status uploadPairs(std::span<const BodyPair> pairs);
+    /// Reads this step's pairs (readPairCount's count of them). Errors: Device.
+    Result<std::vector<BodyPair>> downloadPairs();
+    /// Reads this step's manifolds, one per pair. Errors: Device.
+    Result<std::vector<shared::ContactManifold>> downloadManifolds();
+    /// Reads the features of this step's pairs. Errors: Device.
+    Result<std::vector<shared::PairCache>> downloadPairFeatures();
+    /// Reads the bodies' boxes. Errors: Device.
+    Result<std::vector<shared::BodyBox>> downloadBoxes();
+    const SatBuffers& sat() const { return sat_; }
+
     const ParticleBuffers& particles() const { return particles_; }
     const ContactBuffers& contacts() const { return contacts_; }
     const ObstacleBuffers& obstacles() const { return obstacles_; }
@@ -207,6 +282,11 @@ class Pipeline {
     Status uploadParticles(const ParticleSet* set, BodiesView bodies,
                            std::span<const shared::float4> surfaces);
     Status uploadMassesAndFlags(std::span<const shared::BodyMass> masses);
+    /// The SAT buffers: hulls, planes, joined pairs, per-body and pair arrays. Errors:
+    /// NotSupported for a hull the device cannot clip (flattenShapes), Device.
+    Status createSat(const PipelineInput& in);
+    /// Sizes this step's pair buffers (and the manifolds) for `capacity` pairs.
+    Status setPairCapacity(std::uint32_t capacity);
     /// The stages from collision to the end of the step, and the status read.
     Status enqueueFromCollision(const StepParams& params);
     /// Puts back last step's contacts as the warm start after a step whose contacts overflowed.
@@ -220,6 +300,7 @@ class Pipeline {
     ParticleBuffers particles_;
     ContactBuffers contacts_;
     ObstacleBuffers obstacles_;
+    SatBuffers sat_;
     Buffer status_;
     Profile profile_;
     LcpBuffers lcp_;

@@ -3,6 +3,8 @@
 #pragma once
 
 #include "rubble/shared/body.h"
+#include "rubble/shared/broad_phase.h"
+#include "rubble/shared/hull_contact.h"
 #include "rubble/shared/contact_row.h"
 #include "rubble/shared/obstacle.h"
 #include "rubble/shared/lcp.h"
@@ -33,4 +35,26 @@
     X(BodyImpulse) F(BodyImpulse, linear) F(BodyImpulse, angular)                                  \
     X(JacobiBody) F(JacobiBody, inverseInertiaWorld)                                               \
     X(LcpRow) F(LcpRow, direction) F(LcpRow, armA) F(LcpRow, armB) F(LcpRow, turnA)                \
-    F(LcpRow, turnB) F(LcpRow, a) F(LcpRow, b) F(LcpRow, pad1)
+    F(LcpRow, turnB) F(LcpRow, a) F(LcpRow, b) F(LcpRow, pad1)                                     \
+    X(HullShape) F(HullShape, boundsMin) F(HullShape, boundsMax) F(HullShape, centroid)            \
+    F(HullShape, plane) F(HullShape, kind) F(HullShape, radius) F(HullShape, boundingRadius)       \
+    F(HullShape, vertexStart) F(HullShape, vertexCount) F(HullShape, halfEdgeStart)                \
+    F(HullShape, edgeStart) F(HullShape, edgeCount) F(HullShape, faceStart)                        \
+    F(HullShape, faceCount) F(HullShape, pad1)                                                     \
+    X(HullHalfEdge) F(HullHalfEdge, origin) F(HullHalfEdge, face) F(HullHalfEdge, next)            \
+    F(HullHalfEdge, twin)                                                                          \
+    X(HullEdge) F(HullEdge, origin) F(HullEdge, direction) F(HullEdge, normalLeft)                 \
+    F(HullEdge, normalRight) F(HullEdge, arc)                                                      \
+    X(RigidTransform) F(RigidTransform, rotation) F(RigidTransform, translation)                   \
+    X(SatHint) F(SatHint, feature) F(SatHint, indexA) F(SatHint, indexB) F(SatHint, vertex)        \
+    X(PairCache) F(PairCache, reference) F(PairCache, feature) F(PairCache, reusable)              \
+    F(PairCache, pad2)                                                                             \
+    X(ContactManifold) F(ContactManifold, normal) F(ContactManifold, points)                       \
+    F(ContactManifold, features) F(ContactManifold, a) F(ContactManifold, b)                       \
+    F(ContactManifold, count) F(ContactManifold, pad0)                                             \
+    X(BodyBox) F(BodyBox, min) F(BodyBox, max)                                                     \
+    X(BodyPairRecord) F(BodyPairRecord, a) F(BodyPairRecord, b)                                    \
+    X(GridParams) F(GridParams, origin) F(GridParams, inverseCell) F(GridParams, cells)            \
+    F(GridParams, largeAbove) F(GridParams, pad2)                                                  \
+    X(GridPartial) F(GridPartial, lo) F(GridPartial, hi) F(GridPartial, widthSum)                  \
+    F(GridPartial, count) F(GridPartial, pad2)
