@@ -16,6 +16,7 @@
 
 #include "host/collision/narrow_phase.h"
 #include "host/core/math.h"
+#include "host/geometry/obj_mesh.h"
 #include "host/world/world_build.h"
 #include "support/stage_input.h"
 #include "unit/random_hull.h"
@@ -72,7 +73,8 @@ inline float touchingDistance(const Shape& sa, const BodyDesc& a, const Shape& s
 } // namespace detail
 
 /// `count` random pairs from `seed`. Shapes: boxes (a cube, a slab, a bar), 12 random hulls,
-/// spheres of three radii, a plane. Kinds: two fifths touching (found by bisection, then up to
+/// two OBJ meshes (scenes/meshes/rock.obj and l_block.obj, as their hulls), spheres of three
+/// radii, a plane. Kinds: two fifths touching (found by bisection, then up to
 /// 1 mm in or out), a fifth with a gap of 0 to 4 mm, a fifth deep (up to 30% of the smaller
 /// shape's radius in), the rest crossed box edges or apart. Body b moves with up to 1.2 m/s
 /// relative to a at dt = 1/60, so that the pair margins differ (up to 2 cm more).
@@ -99,6 +101,20 @@ inline PairCases makePairCases(std::uint32_t seed, int count) {
                                         box({0.15f, 0.15f, 0.9f})};
     std::vector<std::uint32_t> hulls = boxes;
     for (int i = 0; i < 12; ++i) hulls.push_back(addShape(randomHull(rng)));
+    // Meshes collide as their hulls.
+    for (const char* file : {"rock.obj", "l_block.obj"}) {
+        const std::string path = std::string(RUBBLE_SOURCE_DIR) + "/scenes/meshes/" + file;
+        Result<TriangleMesh> mesh = loadObjMesh(path, 0.8f, file);
+        if (!mesh) abortOn(mesh.error());
+        ShapeDesc d;
+        d.type = ShapeType::Mesh;
+        d.where = file;
+        d.points = mesh->vertices;
+        d.triangles = mesh->triangles;
+        Result<Shape> s = buildShape(d);
+        if (!s) abortOn(s.error());
+        hulls.push_back(addShape(std::move(*s)));
+    }
     std::vector<std::uint32_t> spheres;
     for (float r : {0.2f, 0.5f, 0.9f}) {
         ShapeDesc d;
