@@ -31,9 +31,9 @@ static void appendPair(const uint i, const uint j, const uint joinedCount,
     if (at < capacity) pairs[at] = p;
 }
 
-// One work-item per body: its world box grown by the margin and its reach this step, its spin
-// (the narrow phase's pair margin), its broad-phase flags. A plane's box holds its world plane
-// instead (min: unit normal, offset grown by the margin).
+// One work-item per body: its world box grown by the margin and its reach this step (min.w: 1
+// when inactive), its spin (the narrow phase's pair margin), its broad-phase flags. A plane's
+// box holds its world plane instead (min: unit normal, offset grown by the margin).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
 computeAabbs(const uint count, const float dt, __global const HullShape* shapes,
              __global const uint* shapeOf, __global const BodyPose* poses,
@@ -56,6 +56,7 @@ computeAabbs(const uint count, const float dt, __global const HullShape* shapes,
     } else {
         box = worldBoxItem(shape, t, RUBBLE_CONTACT_MARGIN + reachItem(v, turning, dt));
         if (!finiteBoxItem(box) || (f & RUBBLE_BODY_ABSENT)) bf |= RUBBLE_BROAD_NO_BOX;
+        box.min.w = (bf & RUBBLE_BROAD_INACTIVE) ? 1.0f : 0.0f;
     }
     boxes[i] = box;
     spin[i] = turning;
@@ -140,34 +141,40 @@ gridEntries(const uint count, __global const BodyBox* boxes, __global uint* broa
             }
 }
 
-// The entries sorted by cell: each entry is tested against the later entries of its cell. A
-// pair that shares several cells is reported by the cell holding the lower corner of the
-// overlap of its boxes only; two inactive bodies are never paired.
+// The entries sorted by cell: each entry's box in the same order, so that a cell's boxes are
+// read from consecutive memory.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
+gatherCellBoxes(__global const uint* status, __global const uint* values,
+                __global const BodyBox* boxes, __global BodyBox* cellBoxes) {
+    const uint n = status[RUBBLE_STATUS_GRID_ENTRIES];
+    const uint e = get_global_id(0);
+    if (e >= n) return;
+    cellBoxes[e] = boxes[values[e]];
+}
+
+// Each entry is tested against the later entries of its cell. A pair that shares several cells
+// is reported by the cell holding the lower corner of the overlap of its boxes only; two
+// inactive bodies are never paired.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
 findCellPairs(__global const uint* keys, __global const uint* values,
-              __global const BodyBox* boxes, __global const uint* broadFlags,
-              __global const GridParams* grid, const uint joinedCount,
-              __global const BodyPairRecord* joined, const uint capacity,
+              __global const BodyBox* cellBoxes, __global const GridParams* grid,
+              const uint joinedCount, __global const BodyPairRecord* joined, const uint capacity,
               __global BodyPairRecord* pairs, __global uint* status) {
     const uint n = status[RUBBLE_STATUS_GRID_ENTRIES];
     const GridParams g = grid[0];
     for (uint e = get_global_id(0); e < n; e += get_global_size(0)) {
         const uint cell = keys[e];
-        const uint i = values[e];
-        const BodyBox bi = boxes[i];
-        const uint inactiveI = broadFlags[i] & RUBBLE_BROAD_INACTIVE;
+        const BodyBox bi = cellBoxes[e];
         for (uint f = e + 1u; f < n && keys[f] == cell; ++f) {
-            const uint j = values[f];
-            if (inactiveI && (broadFlags[j] & RUBBLE_BROAD_INACTIVE)) continue;
-            const BodyBox bj = boxes[j];
-            if (!boxesOverlapItem(bi, bj)) continue;
+            const BodyBox bj = cellBoxes[f];
+            if (bi.min.w + bj.min.w == 2.0f || !boxesOverlapItem(bi, bj)) continue;
             const uint corner = gridKeyItem(
                 gridCellItem(fmax(bi.min.x, bj.min.x), g.origin.x, g.inverseCell.x, g.cells[0]),
                 gridCellItem(fmax(bi.min.y, bj.min.y), g.origin.y, g.inverseCell.y, g.cells[1]),
                 gridCellItem(fmax(bi.min.z, bj.min.z), g.origin.z, g.inverseCell.z, g.cells[2]),
                 g);
             if (corner != cell) continue;
-            appendPair(i, j, joinedCount, joined, capacity, pairs, status);
+            appendPair(values[e], values[f], joinedCount, joined, capacity, pairs, status);
         }
     }
 }

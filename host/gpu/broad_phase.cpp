@@ -83,19 +83,25 @@ Status Pipeline::findPairs() {
                          sat_.gridBits, RUBBLE_STATUS_GRID_ENTRIES));
 
     // Candidate pairs from the cells, then from the planes and the large bodies.
+    const std::size_t entryItems = strideFor(c, entries, sizes.broadGroup);
+    RUBBLE_TRY(Dispatch(c, KernelId::GatherCellBoxes, &profile_)
+                   .arg(status_)
+                   .arg(sat_.values)
+                   .arg(sat_.boxes)
+                   .arg(sat_.cellBoxes)
+                   .run(entries, sizes.broadGroup));
     const cl_uint joinedCount = sat_.joinedCount, planeCount = sat_.planeCount;
     RUBBLE_TRY(Dispatch(c, KernelId::FindCellPairs, &profile_)
                    .arg(sat_.keys)
                    .arg(sat_.values)
-                   .arg(sat_.boxes)
-                   .arg(sat_.broadFlags)
+                   .arg(sat_.cellBoxes)
                    .arg(sat_.grid)
                    .arg(joinedCount)
                    .arg(sat_.joined)
                    .arg(capacity)
                    .arg(sat_.found)
                    .arg(status_)
-                   .run(strideFor(c, entries, sizes.broadGroup), sizes.broadGroup));
+                   .run(entryItems, sizes.broadGroup));
     RUBBLE_TRY(Dispatch(c, KernelId::FindLargePairs, &profile_)
                    .arg(count)
                    .arg(sat_.boxes)

@@ -45,6 +45,7 @@ enum class KernelId : unsigned {
     GridBounds,
     GridSetup,
     GridEntries,
+    GatherCellBoxes,
     FindCellPairs,
     FindLargePairs,
     CountPairs,

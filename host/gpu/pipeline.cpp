@@ -167,6 +167,8 @@ DeviceStatus Pipeline::statusFromSlots() const {
     d.asleep = slots[RUBBLE_STATUS_ASLEEP];
     d.woken = slots[RUBBLE_STATUS_WOKEN];
     d.pairs = slots[RUBBLE_STATUS_PAIRS];
+    d.gridEntries = slots[RUBBLE_STATUS_GRID_ENTRIES];
+    d.largeBodies = slots[RUBBLE_STATUS_LARGE];
     return d;
 }
 

@@ -108,6 +108,7 @@ struct SatBuffers {
     // The grid.
     Buffer partials, grid;
     Buffer keys, values, keysAlt, valuesAlt; ///< (cell, body) entries, 8 per body at most
+    Buffer cellBoxes;                        ///< each sorted entry's box
     Buffer large;                            ///< bodies too large for the grid
     // Pairs: found in any order, then sorted into current.pairs.
     Buffer found, bodyCount, bodyStart, cursor;
@@ -124,6 +125,7 @@ struct DeviceStatus {
     std::uint32_t capacity = 0;
     std::uint32_t asleep = 0, woken = 0;
     std::uint32_t pairs = 0; ///< SAT: body pairs the broad phase found (may exceed the room)
+    std::uint32_t gridEntries = 0, largeBodies = 0; ///< SAT: the broad phase's grid
 };
 
 /// What a pipeline is made from: the bodies (uploaded at creation, kept on the device), their
@@ -274,6 +276,12 @@ class Pipeline {
     Status finish();
     /// Device time of each kernel and transfer over the steps so far.
     std::vector<CommandTotals> profileTotals() const { return profile_.totals(); }
+    /// Adds the device times of the commands enqueued since the last step was met (or the last
+    /// call; all must have completed) to the totals, kernels' bytes from `counts`: for
+    /// benchmarks of single stages. Errors: Device.
+    Result<DeviceTimes> collectProfile(const TrafficCounts& counts) {
+        return profile_.collect(counts);
+    }
     /// Carries another pipeline's totals on (a world's device arrays built again).
     void keepProfileOf(const Pipeline& old) { profile_.addTotals(old.profile_); }
 

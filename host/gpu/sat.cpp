@@ -71,6 +71,7 @@ Status Pipeline::createSat(const PipelineInput& in) {
     RUBBLE_TRY(s.grid.reserve(c.context(), sizeof(shared::GridParams)));
     for (Buffer* b : {&s.keys, &s.values, &s.keysAlt, &s.valuesAlt})
         RUBBLE_TRY(b->reserve(c.context(), 8 * std::size_t(n) * sizeof(cl_uint)));
+    RUBBLE_TRY(s.cellBoxes.reserve(c.context(), 8 * std::size_t(n) * sizeof(shared::BodyBox)));
 
     // Pairs: a first guess of four per body; last step's set is empty.
     for (PairSet* set : {&s.current, &s.previous}) {

@@ -99,8 +99,10 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
     case KernelId::GridEntries: // flags and box of each body; entries (key, value), large list
         return n.bodies * (kWord + kBox) + n.gridEntries * 2 * kWord +
                n.largeBodies * 2 * kWord + sizeof(shared::GridParams);
-    case KernelId::FindCellPairs: // key, value, the body's box and flags per entry; pairs
-        return n.gridEntries * (2 * kWord + kBox + kWord) + n.pairs * kPair;
+    case KernelId::GatherCellBoxes: // value, the body's box; the box written
+        return n.gridEntries * (kWord + 2 * kBox);
+    case KernelId::FindCellPairs: // key, value and box per entry; pairs
+        return n.gridEntries * (2 * kWord + kBox) + n.pairs * kPair;
     case KernelId::FindLargePairs: // flags and box of each body, the planes and large lists
         return (n.bodies + n.planes + n.largeBodies) * (kWord + kBox) +
                (n.planes + n.largeBodies) * kWord + n.pairs * kPair;

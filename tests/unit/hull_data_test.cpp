@@ -71,6 +71,28 @@ TEST(HullData, AFaceWithTooManyVerticesIsNotSupported) {
         << data.error().message;
 }
 
+// The OBJ meshes of scenes/meshes collide as their hulls on the device too.
+TEST(HullData, TheShippedMeshesFit) {
+    std::vector<Shape> shapes;
+    for (const char* file : {"rock.obj", "l_block.obj", "bowl.obj"}) {
+        const std::string path = std::string(RUBBLE_SOURCE_DIR) + "/scenes/meshes/" + file;
+        Result<TriangleMesh> mesh = loadObjMesh(path, 1.0f, file);
+        ASSERT_TRUE(mesh.ok()) << file;
+        ShapeDesc d;
+        d.type = ShapeType::Mesh;
+        d.where = file;
+        d.points = mesh->vertices;
+        d.triangles = mesh->triangles;
+        Result<Shape> s = buildShape(d);
+        ASSERT_TRUE(s.ok()) << file;
+        shapes.push_back(std::move(*s));
+    }
+    Result<gpu::HullData> data = gpu::flattenShapes(shapes);
+    ASSERT_TRUE(data.ok()) << data.error().describe();
+    std::printf("largest face of the shipped meshes' hulls: %u vertices\n", data->largestFace);
+    EXPECT_LE(data->largestFace, RUBBLE_HULL_MAX_FACE_VERTICES);
+}
+
 // Compares one pair's result from both, bit for bit.
 ::testing::AssertionResult sameContacts(const ContactSet& cpu, const shared::ContactManifold& d) {
     if (cpu.count != d.count)

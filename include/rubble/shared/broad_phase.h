@@ -14,8 +14,8 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_BROAD_NO_BOX 2u   // not in the grid: a plane, a non-finite box, an absent body
 #define RUBBLE_BROAD_LARGE 4u    // spans more than two cells on an axis: tested against all
 
-// 32 bytes: an axis-aligned box, world frame, m (Aabb). w of min holds the body's spin this
-// step (the part of its reach due to turning, m), which the narrow phase reads.
+// 32 bytes: an axis-aligned box, world frame, m (Aabb). w of min is 1 for an inactive body (the
+// broad phase's flags, where the pair test reads them), else 0.
 typedef struct BodyBox {
     float4 min;
     float4 max;
