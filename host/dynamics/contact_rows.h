@@ -13,6 +13,7 @@
 #include "host/dynamics/solver_bodies.h"
 #include "rubble/scene.h"
 #include "rubble/shared/body.h"
+#include "rubble/shared/pgs_row.h"
 
 namespace rubble {
 
@@ -96,23 +97,25 @@ struct ContactRowSettings {
     bool warmStart = true;
 };
 
-/// Approach speeds below this do not bounce (resting contacts stay at rest), m/s.
-inline constexpr float kRestitutionThreshold = 0.5f;
+/// Approach speeds at or below this do not bounce (resting contacts stay at rest), m/s; the
+/// rows' rule lives in rubble/shared/contact_row.h (pgsNormalTargetItem), shared with the device.
+inline constexpr float kRestitutionThreshold = RUBBLE_RESTITUTION_THRESHOLD;
 
 /// The Baumgarte push-out speed is at most this, m/s: a deep penetration (a fast body caught a
 /// step late) is undone over a few steps instead of throwing the bodies apart.
-inline constexpr float kMaxPushSpeed = 2.0f;
+inline constexpr float kMaxPushSpeed = RUBBLE_MAX_PUSH_SPEED;
 
 /// A point whose feature id is new takes over the impulses of last step's unmatched point of
 /// the same pair nearest to it in a's frame, if within this distance, m: clipping can renumber
 /// the features of a resting box whose corners sit exactly on another's edges.
-inline constexpr float kWarmStartMatchDistance = 0.02f;
+inline constexpr float kWarmStartMatchDistance = RUBBLE_WARM_START_MATCH_DISTANCE;
 
 /// True when the (unordered) pair of bodies is in `joined`, which is sorted with a < b.
 bool isJoinedPair(std::span<const BodyPair> joined, std::uint32_t a, std::uint32_t b);
 
 /// Stage buildContactRows for contacts (Catto, "Iterative Dynamics with Temporal Coherence",
-/// GDC 2005; "Modeling and Solving Constraints", GDC 2009). Manifolds between two bodies that do
+/// GDC 2005; "Modeling and Solving Constraints", GDC 2009). Each point's rows come from
+/// shared::pgsContactRowItem, the function the device's buildPgsRows calls. Manifolds between two bodies that do
 /// not move in the solve, or between joined bodies, are skipped. The normal row's velocity
 /// target is the restitution speed e v_approach when v_approach exceeds kRestitutionThreshold,
 /// else 0; a gap (depth < 0) may close within the step and no further. Its Baumgarte speed

@@ -45,6 +45,43 @@ RUBBLE_FN float particleSlopItem(float slop, float particleSpacing) {
     return fmax(slop, RUBBLE_PARTICLE_SLOP_FRACTION * particleSpacing);
 }
 
+// Projected Gauss-Seidel's normal row (host/dynamics/contact_rows.cpp on the CPU, buildPgsRows
+// on the device; both call pgsNormalTargetItem, so that a change of the rule lands in both).
+// Approach speeds at or below this do not bounce (resting contacts stay at rest), m/s.
+#define RUBBLE_RESTITUTION_THRESHOLD 0.5f
+// The split position pass pushes at most this fast, m/s: a deep penetration (a fast body caught
+// a step late) is undone over a few steps instead of throwing the bodies apart.
+#define RUBBLE_MAX_PUSH_SPEED 2.0f
+
+// 8 bytes, not stored: what a PGS normal row aims at.
+typedef struct NormalTarget {
+    float target; // normal velocity the velocity solve aims at, m/s
+    float push;   // Baumgarte speed of the split position pass, m/s (>= 0)
+} NormalTarget;
+
+// The target of a contact point's normal row from its normal speed (J v, m/s; negative when
+// the bodies approach) and depth (m; negative: a gap): bounce a fast approach (e v_approach
+// above RUBBLE_RESTITUTION_THRESHOLD), stop a touching one, or let a gap close within the step
+// and no further; the penetration beyond the slop goes to the split position pass, at
+// min(beta/dt (depth - slop), RUBBLE_MAX_PUSH_SPEED) (Catto, "Fast and Simple Physics using
+// Sequential Impulses", GDC 2006).
+RUBBLE_FN NormalTarget pgsNormalTargetItem(float normalSpeed, float depth, float restitution,
+                                           float baumgarte, float slop, float dt) {
+    NormalTarget t;
+    const float approach = -normalSpeed;
+    const int bounces = restitution > 0.0f && approach > RUBBLE_RESTITUTION_THRESHOLD;
+    if (depth >= 0.0f) {
+        const float push = baumgarte / dt * fmax(depth - slop, 0.0f);
+        t.push = fmin(push, RUBBLE_MAX_PUSH_SPEED);
+        t.target = bounces ? restitution * approach : 0.0f;
+    } else {
+        const int closes = approach * dt > -depth;
+        t.push = 0.0f;
+        t.target = bounces && closes ? restitution * approach : depth / dt;
+    }
+    return t;
+}
+
 // A unit vector perpendicular to n (Catto's basis: the larger of two candidate axes).
 RUBBLE_FN float4 perpendicularItem(float4 n) {
     if (fabs(n.x) >= 0.57735f) return normalize3(vec4(n.y, -n.x, 0.0f));
