@@ -123,21 +123,23 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                 ima, imb, inertiaA, inertiaB, friction, restitution, settings.baumgarte,
                 settings.slop, dt, fixedTangent);
 
+            const shared::PgsNormalRow& rn = row.normal;
             NormalRow nr;
             nr.a = m.a;
             nr.b = m.b;
-            nr.normal = toLanes(row.normal);
-            nr.crossA = toLanes(row.crossA);
-            nr.crossB = toLanes(row.crossB);
-            nr.turnA = toLanes(row.turnA);
-            nr.turnB = toLanes(row.turnB);
+            nr.normal = toLanes(rn.normal);
+            nr.crossA = toLanes(rn.crossA);
+            nr.crossB = toLanes(rn.crossB);
+            nr.turnA = toLanes(rn.turnA);
+            nr.turnB = toLanes(rn.turnB);
             nr.inverseMassA = ima;
             nr.inverseMassB = imb;
-            nr.mass = row.mass.x;
-            nr.targetSpeed = row.speeds.x;
-            nr.pushSpeed = row.speeds.y;
+            nr.mass = rn.mass.x;
+            nr.targetSpeed = rn.speeds.x;
+            nr.pushSpeed = rn.speeds.y;
             rows.normals.push_back(nr);
 
+            const shared::PgsFrictionRows& rf = row.friction;
             FrictionRows fr;
             fr.a = m.a;
             fr.b = m.b;
@@ -145,14 +147,13 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
             fr.inverseMassB = imb;
             fr.friction = friction;
             for (int d = 0; d < 2; ++d) {
-                fr.tangent[d] = toLanes(row.tangent[d]);
-                fr.crossA[d] = toLanes(row.tangentCrossA[d]);
-                fr.crossB[d] = toLanes(row.tangentCrossB[d]);
-                fr.turnA[d] = toLanes(row.tangentTurnA[d]);
-                fr.turnB[d] = toLanes(row.tangentTurnB[d]);
+                fr.tangent[d] = toLanes(rf.tangent[d]);
+                fr.crossA[d] = toLanes(rf.crossA[d]);
+                fr.crossB[d] = toLanes(rf.crossB[d]);
+                fr.turnA[d] = toLanes(rf.turnA[d]);
+                fr.turnB[d] = toLanes(rf.turnB[d]);
+                fr.mass[d] = d == 0 ? rf.mass.x : rf.mass.y;
             }
-            fr.mass[0] = row.mass.y;
-            fr.mass[1] = row.mass.z;
             rows.frictions.push_back(fr);
 
             ContactKey key;

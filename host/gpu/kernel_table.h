@@ -52,6 +52,12 @@ enum class KernelId : unsigned {
     PlacePairs,
     SortPairLists,
     CollideShapes,
+    BuildPgsRows,
+    WarmStartPgs,
+    SolvePgs,
+    PushPgs,
+    ApplyPushes,
+    MarkRestlessPairs,
     Count
 };
 

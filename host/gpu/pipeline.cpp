@@ -148,7 +148,8 @@ std::size_t Pipeline::strideItems() const {
 Status Pipeline::resetStatus() {
     statusInit_ = {};
     statusInit_[RUBBLE_STATUS_NONFINITE] = 0xffffffffu;
-    statusInit_[RUBBLE_STATUS_CAPACITY] = contacts_.capacity;
+    // The SAT method's manifolds live per pair: its contacts never overflow.
+    statusInit_[RUBBLE_STATUS_CAPACITY] = sat_.enabled ? 0xffffffffu : contacts_.capacity;
     // Non-blocking: statusInit_ stays put until the step is met.
     RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_FALSE, 0,
                                          sizeof statusInit_, statusInit_.data(), 0, nullptr,
@@ -197,12 +198,64 @@ Status Pipeline::beginStep(const StepParams& params, const StepInputs& in) {
     // Explicit Euler moves positions with the velocities the step started with.
     if (!symplectic) RUBBLE_TRY(copyVelocities(bodies_.atStart));
     RUBBLE_TRY(integrateVelocities(params.gravity, dt));
-    profile_.setStage(DeviceStage::BroadPhase);
-    RUBBLE_TRY(transformParticles());
-    RUBBLE_TRY(buildGrid());
     gatherImpulses_ = in.gatherObstacleImpulses && obstacles_.count > 0;
-    RUBBLE_TRY(enqueueFromCollision(params));
+    if (sat_.enabled) {
+        // SAT and PGS: the host waits once, after the rows, to color them.
+        RUBBLE_TRY(enqueueSatCollision(params));
+        RUBBLE_TRY(enqueueSatSolve(params));
+    } else {
+        profile_.setStage(DeviceStage::BroadPhase);
+        RUBBLE_TRY(transformParticles());
+        RUBBLE_TRY(buildGrid());
+        RUBBLE_TRY(enqueueFromCollision(params));
+    }
     stepPending_ = true;
+    return {};
+}
+
+Status Pipeline::enqueueSatCollision(const StepParams& params) {
+    for (;;) {
+        profile_.setStage(DeviceStage::BroadPhase);
+        RUBBLE_TRY(broadPhase(params.dt));
+        profile_.setStage(DeviceStage::NarrowPhase);
+        RUBBLE_TRY(narrowPhase(params.dt));
+        profile_.setStage(DeviceStage::BuildContactRows);
+        RUBBLE_TRY(buildPgsRows(params));
+        Result<DeviceStatus> st = readStatus();
+        RUBBLE_TRY(st);
+        if (st->pairs <= sat_.current.capacity) break;
+        // Nothing after the broad phase has touched the bodies: grow and find them again.
+        const std::uint32_t grown = st->pairs + st->pairs / 2;
+        std::fprintf(stderr, "rubble: pair overflow (%u pairs, room for %u): buffers grown to %u "
+                             "and the step's collision run again\n",
+                     st->pairs, sat_.current.capacity, grown);
+        RUBBLE_TRY(setPairCapacity(grown));
+    }
+    return colorPgs();
+}
+
+Status Pipeline::enqueueSatSolve(const StepParams& params) {
+    const float dt = params.dt;
+    profile_.setStage(DeviceStage::Solve);
+    RUBBLE_TRY(solvePgs(params));
+    profile_.setStage(DeviceStage::IntegratePositions);
+    RUBBLE_TRY(integratePositions(dt, params.symplectic()));
+    RUBBLE_TRY(applyPushes(dt));
+    // Forces hold for one step.
+    if (forcesOnDevice_) {
+        RUBBLE_TRY(fill(*context_, bodies_.forces, 0u,
+                        std::size_t(bodies_.count) * sizeof(shared::BodyForce), &profile_));
+        forcesOnDevice_ = false;
+    }
+    profile_.setStage(DeviceStage::Sleep);
+    RUBBLE_TRY(sleepBodies(dt));
+    // This step's pairs, features and impulses are the next step's.
+    RUBBLE_TRY(keepPairFeatures());
+    warmSwapped_ = false;
+    RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), status_.mem(), CL_FALSE, 0,
+                                        sizeof statusHost_, statusHost_.data(), 0, nullptr,
+                                        profile_.transfer(Transfer::Read, sizeof statusHost_)));
+    RUBBLE_CL_CHECK(clFlush(context_->queue()));
     return {};
 }
 
@@ -300,6 +353,14 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
     traffic.contacts = st.contacts;
     traffic.previous = params.solver.warmStart ? contacts_.previousCount : 0u;
     traffic.sortItems = context_->workSizes().sortItems;
+    if (sat_.enabled) {
+        traffic.pairs = st.pairs;
+        traffic.previousPairs = sat_.previousPairCount;
+        traffic.gridEntries = st.gridEntries;
+        traffic.largeBodies = st.largeBodies;
+        traffic.planes = sat_.planeCount;
+        sat_.previousPairCount = st.pairs;
+    }
     contacts_.count = st.contacts;
     if (warmSwapped_) contacts_.previousCount = st.contacts;
     Result<DeviceTimes> times = profile_.collect(traffic);

@@ -18,6 +18,7 @@
 #include "host/geometry/shape.h"
 #include "host/core/step_params.h"
 #include "host/gpu/buffer.h"
+#include "host/gpu/coloring.h"
 #include "host/gpu/context.h"
 #include "host/gpu/lcp_jacobi.h"
 #include "host/gpu/pipeline_handle.h"
@@ -27,6 +28,7 @@
 #include "rubble/shared/contact_row.h"
 #include "rubble/shared/hull_contact.h"
 #include "rubble/shared/obstacle.h"
+#include "rubble/shared/pgs_row.h"
 #include "rubble/world.h"
 
 namespace rubble::gpu {
@@ -87,6 +89,9 @@ struct PairSet {
     Buffer pairs;               ///< BodyPairRecord, sorted by (a, b)
     Buffer count;               ///< one uint: the pairs found (may exceed capacity)
     Buffer features;            ///< PairCache per pair, in pair order
+    /// PGS: each pair's contact impulses at the end of its step (4 PgsImpulse slots per pair),
+    /// and how many of its slots hold one; the next step's rows warm-start from them.
+    Buffer impulses, impulseCount;
 };
 
 /// The SAT collision method on the device, made only for a world that collides with SAT: the
@@ -96,6 +101,7 @@ struct SatBuffers {
     bool enabled = false;
     std::uint32_t planeCount = 0, joinedCount = 0;
     std::uint32_t gridBits = 0; ///< the grid's cell keys are below 2^gridBits
+    std::uint32_t previousPairCount = 0; ///< pairs of the last step met (byte counts)
     // Hulls, once per world.
     Buffer shapes, shapeOf, vertices, vertexEdges, neighbourStart, neighbours, halfEdges, faces,
         faceEdges, edges;
@@ -114,6 +120,24 @@ struct SatBuffers {
     Buffer found, bodyCount, bodyStart, cursor;
     PairSet current, previous;
     Buffer manifolds; ///< ContactManifold per pair of `current`, in pair order
+};
+
+/// Projected Gauss-Seidel on the device (host/gpu/pgs.cpp, kernels/pgs.cl), for a world that
+/// collides with SAT: the rows of this step's pairs (4 slots per pair), the coloring's order,
+/// and the split position pass's per-body state.
+struct PgsBuffers {
+    Buffer normalRows;    ///< PgsNormalRow per slot
+    Buffer frictionRows;  ///< PgsFrictionRows per slot
+    Buffer impulses;      ///< per slot: normal, two friction and push impulses, N s
+    Buffer pairRows;      ///< per pair: its point count and RUBBLE_PGS_MOVES_* (the coloring's)
+    Buffer order;         ///< this step's elements, color by color
+    Buffer pushed;        ///< per body: a pushing row moves it
+    Buffer push;          ///< per body: the push velocities (BodyVelocity)
+    Buffer sweepResidual; ///< per push sweep: the largest change, float bits
+    Coloring coloring;
+    std::vector<cl_uint> pairRowsHost;
+    std::vector<shared::BodyPairRecord> pairsHost;
+    std::vector<std::uint32_t> colorPoints; ///< rows (points) of each color, for the byte counts
 };
 
 /// What the host reads at the end of a step (RUBBLE_STATUS_* slots).
@@ -261,6 +285,26 @@ class Pipeline {
     Result<std::vector<shared::BodyBox>> downloadBoxes();
     const SatBuffers& sat() const { return sat_; }
 
+    // Projected Gauss-Seidel (host/gpu/pgs.cpp) for a world made with CollisionMethod::Sat; the
+    // twin of PgsSolver's stages.
+    /// Stage buildContactRows: each body's inverse mass and world inverse inertia (0 when it
+    /// does not move), then the rows of every pair's manifold, warm-started.
+    Status buildPgsRows(const StepParams& params);
+    /// Reads each pair's summary and colors the step's elements; the status block must have
+    /// been read after the rows (readStatus), and the pairs must fit their buffers. Errors:
+    /// Device.
+    Status colorPgs();
+    /// Stage solve: warm start, `iterations` velocity sweeps and the split position pass, one
+    /// launch per color each; the momenta take up the velocity change.
+    Status solvePgs(const StepParams& params);
+    /// After integratePositions: the split position pass moves the bodies.
+    Status applyPushes(float dt);
+    /// Reads this step's rows and their impulses (4 slots per pair; pairRows says how many are
+    /// used). Errors: Device.
+    Result<std::vector<shared::PgsNormalRow>> downloadPgsNormalRows();
+    Result<std::vector<shared::float4>> downloadPgsImpulses();
+    const PgsBuffers& pgs() const { return pgs_; }
+
     const ParticleBuffers& particles() const { return particles_; }
     const ContactBuffers& contacts() const { return contacts_; }
     const ObstacleBuffers& obstacles() const { return obstacles_; }
@@ -293,6 +337,11 @@ class Pipeline {
     /// The SAT buffers: hulls, planes, joined pairs, per-body and pair arrays. Errors:
     /// NotSupported for a hull the device cannot clip (flattenShapes), Device.
     Status createSat(const PipelineInput& in);
+    /// The SAT step's collision and rows: broad phase, narrow phase, PGS rows; then waits for
+    /// the pair count, and when the pairs overflowed grows the buffers and runs them again.
+    Status enqueueSatCollision(const StepParams& params);
+    /// The SAT step from the solve to the end.
+    Status enqueueSatSolve(const StepParams& params);
     /// Sizes this step's pair buffers (and the manifolds) for `capacity` pairs.
     Status setPairCapacity(std::uint32_t capacity);
     /// The stages from collision to the end of the step, and the status read.
@@ -309,6 +358,7 @@ class Pipeline {
     ContactBuffers contacts_;
     ObstacleBuffers obstacles_;
     SatBuffers sat_;
+    PgsBuffers pgs_;
     Buffer status_;
     Profile profile_;
     LcpBuffers lcp_;

@@ -79,7 +79,12 @@ Status Pipeline::createSat(const PipelineInput& in) {
         RUBBLE_TRY(fill(c, set->count, 0u, sizeof(cl_uint)));
         RUBBLE_TRY(set->pairs.reserve(c.context(), sizeof(shared::BodyPairRecord)));
         RUBBLE_TRY(set->features.reserve(c.context(), sizeof(shared::PairCache)));
+        RUBBLE_TRY(set->impulseCount.reserve(c.context(), sizeof(cl_uint)));
+        RUBBLE_TRY(set->impulses.reserve(c.context(), 4 * sizeof(shared::PgsImpulse)));
     }
+    // PGS, per body.
+    RUBBLE_TRY(pgs_.pushed.reserve(c.context(), n * sizeof(cl_uint)));
+    RUBBLE_TRY(pgs_.push.reserve(c.context(), n * sizeof(shared::BodyVelocity)));
     s.enabled = true;
     return setPairCapacity(std::max<std::uint32_t>(1024, 4 * n));
 }
@@ -93,6 +98,14 @@ Status Pipeline::setPairCapacity(std::uint32_t capacity) {
     RUBBLE_TRY(s.current.features.reserve(c.context(), n * sizeof(shared::PairCache)));
     RUBBLE_TRY(s.found.reserve(c.context(), n * sizeof(shared::BodyPairRecord)));
     RUBBLE_TRY(s.manifolds.reserve(c.context(), n * sizeof(shared::ContactManifold)));
+    RUBBLE_TRY(s.current.impulseCount.reserve(c.context(), n * sizeof(cl_uint)));
+    RUBBLE_TRY(s.current.impulses.reserve(c.context(), 4 * n * sizeof(shared::PgsImpulse)));
+    // PGS: four row slots per pair.
+    RUBBLE_TRY(pgs_.normalRows.reserve(c.context(), 4 * n * sizeof(shared::PgsNormalRow)));
+    RUBBLE_TRY(pgs_.frictionRows.reserve(c.context(), 4 * n * sizeof(shared::PgsFrictionRows)));
+    RUBBLE_TRY(pgs_.impulses.reserve(c.context(), 4 * n * sizeof(shared::float4)));
+    RUBBLE_TRY(pgs_.pairRows.reserve(c.context(), n * sizeof(cl_uint)));
+    RUBBLE_TRY(pgs_.order.reserve(c.context(), n * sizeof(cl_uint)));
     // Last step's set keeps its size: the next narrow phase reads it before it changes.
     return {};
 }

@@ -26,10 +26,15 @@ Status checkBackendCombination(const Scene& scene) {
                              "jointed bodies step on the CPU with pgs");
     }
     if (sim.backend != Backend::OpenCl) return {};
-    if (sim.collisionMethod() == CollisionMethod::Sat)
-        return makeError(ErrorKind::NotSupported, field + "collision.method",
-                         "sat collision runs on the cpu backend only; the opencl backend finds "
-                         "contacts with particles (--collision particles)");
+    // SAT on the device feeds projected Gauss-Seidel, with every body on the device.
+    if (sim.collisionMethod() == CollisionMethod::Sat) {
+        if (sim.solver.type == SolverType::Pgs) return {};
+        return makeError(ErrorKind::NotSupported, field + "solver.type",
+                         "sat collision on the opencl backend solves with pgs (--solver pgs); "
+                         "the " +
+                             std::string(toString(sim.solver.type)) +
+                             " solver takes particle contacts there (--collision particles)");
+    }
     // With a debris set, pgs is the CPU bodies' solver and the set takes jacobi (offload.h).
     const SolverType device = deviceSolver(scene);
     if (device == SolverType::Pgs || device == SolverType::Lemke)

@@ -39,13 +39,21 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
                     const SimulationOptions& options) {
     s.options = options;
     s.options.backend = Backend::OpenCl;
-    const Result<ParticleSet> particles = buildParticleSet(
-        s.shapes, s.materials, s.bodies.view(), s.options.collision.particleSpacing);
-    RUBBLE_TRY(particles);
     gpu::PipelineInput in;
     in.bodies = s.bodies.view();
-    in.particles = &*particles;
     in.surfaces = s.surfaces;
+    // SAT collides the shapes' hulls on the device; only particles need the voxelised shapes.
+    Result<ParticleSet> particles = ParticleSet{};
+    if (s.options.collisionMethod() == CollisionMethod::Sat) {
+        in.collision = CollisionMethod::Sat;
+        in.shapes = s.shapes;
+        in.joined = s.joined;
+    } else {
+        particles = buildParticleSet(s.shapes, s.materials, s.bodies.view(),
+                                     s.options.collision.particleSpacing);
+        RUBBLE_TRY(particles);
+        in.particles = &*particles;
+    }
     if (s.offload) in.kinematic = s.offload->kinematic;
     in.deterministic = s.run.deterministic;
     Result<gpu::PipelineHandle> p = gpu::Pipeline::create(std::move(context), in);
@@ -60,8 +68,11 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
 Status attachScene(WorldState& s, const Scene& scene, std::shared_ptr<gpu::Context> context,
                    const RunOptions& run) {
     s.offload.reset();
+    // With SAT every body steps on the device (PGS has joint rows there); with particles the
+    // bodies the device does not step get a CPU world.
+    const bool sat = scene.simulation.collisionMethod() == CollisionMethod::Sat;
     const std::vector<std::uint8_t> onDevice = deviceBodies(scene);
-    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    for (std::size_t i = 0; i < scene.bodies.size() && !sat; ++i) {
         if (scene.bodies[i].isStatic || onDevice[i]) continue;
         Result<std::unique_ptr<Offload>> offload = makeOffload(scene, onDevice, run);
         RUBBLE_TRY(offload);

@@ -47,7 +47,7 @@
 #define RUBBLE_STATUS_CAPACITY 4u    // room in the contact buffer, written with the reset
 #define RUBBLE_STATUS_ASLEEP 5u      // bodies asleep after the step
 #define RUBBLE_STATUS_WOKEN 6u       // bodies woken in the step
-#define RUBBLE_STATUS_SPARE 7u       // unused
+#define RUBBLE_STATUS_PUSHED 7u      // PGS: some row pushes (the split position pass runs)
 #define RUBBLE_STATUS_PAIRS 8u        // SAT: body pairs found by the broad phase (may exceed room)
 #define RUBBLE_STATUS_GRID_ENTRIES 9u // SAT: (cell, body) entries of the broad phase's grid
 #define RUBBLE_STATUS_LARGE 10u       // SAT: bodies too large for the grid, tested against all

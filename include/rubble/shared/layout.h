@@ -9,6 +9,7 @@
 #include "rubble/shared/obstacle.h"
 #include "rubble/shared/lcp.h"
 #include "rubble/shared/particle.h"
+#include "rubble/shared/pgs_row.h"
 
 // X(struct) names a struct's size; F(struct, field) a field's byte offset. In this order.
 #define RUBBLE_SHARED_LAYOUT(X, F)                                                                 \
@@ -57,4 +58,10 @@
     X(GridParams) F(GridParams, origin) F(GridParams, inverseCell) F(GridParams, cells)            \
     F(GridParams, largeAbove) F(GridParams, pad2)                                                  \
     X(GridPartial) F(GridPartial, lo) F(GridPartial, hi) F(GridPartial, widthSum)                  \
-    F(GridPartial, count) F(GridPartial, pad2)
+    F(GridPartial, count) F(GridPartial, pad2)                                                     \
+    X(PgsNormalRow) F(PgsNormalRow, normal) F(PgsNormalRow, crossA) F(PgsNormalRow, turnB)         \
+    F(PgsNormalRow, speeds) F(PgsNormalRow, mass)                                                  \
+    X(PgsFrictionRows) F(PgsFrictionRows, tangent) F(PgsFrictionRows, crossA)                      \
+    F(PgsFrictionRows, turnB) F(PgsFrictionRows, mass) F(PgsFrictionRows, inverseMass)             \
+    X(PgsImpulse) F(PgsImpulse, pointInA) F(PgsImpulse, friction) F(PgsImpulse, normal)            \
+    F(PgsImpulse, feature) F(PgsImpulse, pad1)

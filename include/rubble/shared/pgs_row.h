@@ -19,6 +19,12 @@ RUBBLE_SHARED_BEGIN
 // The split position pass stops when no push impulse changed by more than this in a sweep, N s.
 #define RUBBLE_PUSH_TOLERANCE 1e-6f
 
+// A pair's summary word on the device (kernels/pgs.cl), for the coloring: its rows' point count
+// in the low bits, and which of its bodies move in the solve.
+#define RUBBLE_PGS_POINTS 7u
+#define RUBBLE_PGS_MOVES_A 256u
+#define RUBBLE_PGS_MOVES_B 512u
+
 // 80 bytes, not stored: one row's Jacobian along a unit direction d at the arms rA, rB.
 typedef struct RowJacobian {
     float4 crossA, crossB; // r_a x d, r_b x d; zero for a body that does not move, m
@@ -49,19 +55,33 @@ RUBBLE_FN float4 pointRelativeVelocityItem(BodyVelocity va, BodyVelocity vb, flo
     return sub4(add4(vb.linear, cross3(vb.angular, rB)), add4(va.linear, cross3(va.angular, rA)));
 }
 
-// 272 bytes: one contact point's rows (the CPU's NormalRow and FrictionRows): the normal row,
-// then the two friction rows. A row acts on body b with +J and on body a with -J.
-typedef struct PgsContactRow {
+// 112 bytes: a contact point's normal row (the CPU's NormalRow). It acts on body b with +J and
+// on body a with -J.
+typedef struct PgsNormalRow {
     float4 normal;         // unit, world, from a to b
-    float4 crossA, crossB; // the normal row's r x n, m
-    float4 turnA, turnB;   // its I^-1 (r x n), 1/(kg m)
+    float4 crossA, crossB; // r_a x n, r_b x n (zero for a body that does not move), m
+    float4 turnA, turnB;   // I_a^-1 (r_a x n), I_b^-1 (r_b x n), 1/(kg m)
     float4 speeds;         // x: target speed, y: push speed (m/s); z, w: 1/m_a, 1/m_b (1/kg)
-    float4 mass;           // x: normal row's effective mass, y, z: the tangents', kg; w: friction
-    float4 tangent[2];     // unit, world; tangent[1] = n x tangent[0]
-    float4 tangentCrossA[2], tangentCrossB[2];
-    float4 tangentTurnA[2], tangentTurnB[2];
+    float4 mass;           // x: effective mass, kg; y, z, w: 0
+} PgsNormalRow;
+RUBBLE_STATIC_ASSERT_SIZE(PgsNormalRow, 112);
+
+// 192 bytes: the same point's two friction rows (the CPU's FrictionRows).
+typedef struct PgsFrictionRows {
+    float4 tangent[2]; // unit, world; tangent[1] = n x tangent[0]
+    float4 crossA[2], crossB[2];
+    float4 turnA[2], turnB[2];
+    float4 mass; // x, y: effective masses, kg; z: friction coefficient; w: 0
+    float4 inverseMass; // x, y: 1/m_a, 1/m_b (1/kg); z, w: 0
+} PgsFrictionRows;
+RUBBLE_STATIC_ASSERT_SIZE(PgsFrictionRows, 192);
+
+// 304 bytes, not stored as one: a point's rows as the builder returns them.
+typedef struct PgsContactRow {
+    PgsNormalRow normal;
+    PgsFrictionRows friction;
 } PgsContactRow;
-RUBBLE_STATIC_ASSERT_SIZE(PgsContactRow, 272);
+RUBBLE_STATIC_ASSERT_SIZE(PgsContactRow, 304);
 
 // The rows of a manifold point at `point` (world, m) with penetration `depth` (m) along the
 // manifold's unit normal n (from a to b), for bodies at xA, xB (centres of mass) with velocities
@@ -83,14 +103,15 @@ RUBBLE_FN PgsContactRow pgsContactRowItem(float4 point, float depth, float4 n, f
     const float normalSpeed = dot3(relative, n);
 
     const RowJacobian jn = rowJacobianItem(n, rA, rB, inverseMassA, inverseMassB, ia, ib);
-    r.normal = vec4(n.x, n.y, n.z);
-    r.crossA = jn.crossA;
-    r.crossB = jn.crossB;
-    r.turnA = jn.turnA;
-    r.turnB = jn.turnB;
+    r.normal.normal = vec4(n.x, n.y, n.z);
+    r.normal.crossA = jn.crossA;
+    r.normal.crossB = jn.crossB;
+    r.normal.turnA = jn.turnA;
+    r.normal.turnB = jn.turnB;
     const NormalTarget t =
         pgsNormalTargetItem(normalSpeed, depth, restitution, baumgarte, slop, dt);
-    r.speeds = make4(t.target, t.push, inverseMassA, inverseMassB);
+    r.normal.speeds = make4(t.target, t.push, inverseMassA, inverseMassB);
+    r.normal.mass = make4(jn.mass, 0.0f, 0.0f, 0.0f);
 
     // Tangents: along the sliding velocity when there is one, else the fixed basis.
     const float4 sliding = sub4(relative, scale4(n, normalSpeed));
@@ -98,19 +119,21 @@ RUBBLE_FN PgsContactRow pgsContactRowItem(float4 point, float depth, float4 n, f
     float4 t0 = fixedTangent;
     if (slidingSpeed > RUBBLE_SLIDING_SPEED)
         t0 = vec4(sliding.x / slidingSpeed, sliding.y / slidingSpeed, sliding.z / slidingSpeed);
-    r.tangent[0] = vec4(t0.x, t0.y, t0.z);
-    r.tangent[1] = cross3(n, t0);
+    PgsFrictionRows* f = &r.friction;
+    f->tangent[0] = vec4(t0.x, t0.y, t0.z);
+    f->tangent[1] = cross3(n, t0);
     float tangentMass[2];
     for (int d = 0; d < 2; ++d) {
         const RowJacobian jt =
-            rowJacobianItem(r.tangent[d], rA, rB, inverseMassA, inverseMassB, ia, ib);
-        r.tangentCrossA[d] = jt.crossA;
-        r.tangentCrossB[d] = jt.crossB;
-        r.tangentTurnA[d] = jt.turnA;
-        r.tangentTurnB[d] = jt.turnB;
+            rowJacobianItem(f->tangent[d], rA, rB, inverseMassA, inverseMassB, ia, ib);
+        f->crossA[d] = jt.crossA;
+        f->crossB[d] = jt.crossB;
+        f->turnA[d] = jt.turnA;
+        f->turnB[d] = jt.turnB;
         tangentMass[d] = jt.mass;
     }
-    r.mass = make4(jn.mass, tangentMass[0], tangentMass[1], friction);
+    f->mass = make4(tangentMass[0], tangentMass[1], friction, 0.0f);
+    f->inverseMass = make4(inverseMassA, inverseMassB, 0.0f, 0.0f);
     return r;
 }
 
@@ -154,7 +177,7 @@ typedef struct PgsUpdate {
 // One projected Gauss-Seidel update of a normal row on the velocities v (the bodies' own, or
 // the split pass's push velocities) toward `target` (m/s): the accumulated impulse stays >= 0
 // and the change is applied to both bodies.
-RUBBLE_FN PgsUpdate solvePgsNormalItem(PgsContactRow r, BodyVelocityPair v, float target,
+RUBBLE_FN PgsUpdate solvePgsNormalItem(PgsNormalRow r, BodyVelocityPair v, float target,
                                        float accumulated, float relaxation) {
     const float speed = pgsRowSpeedItem(v.a, v.b, r.normal, r.crossA, r.crossB);
     const float sum = accumulated + r.mass.x * (target - speed) * relaxation;
@@ -176,16 +199,15 @@ typedef struct PgsFrictionUpdate {
 
 // A point's two friction rows from the same velocities, each within the box |lambda_t| <=
 // mu lambda_n (`normal`, this sweep's normal impulse), applied together.
-RUBBLE_FN PgsFrictionUpdate solvePgsFrictionItem(PgsContactRow r, BodyVelocityPair v,
+RUBBLE_FN PgsFrictionUpdate solvePgsFrictionItem(PgsFrictionRows r, BodyVelocityPair v,
                                                  float normal, float impulse0, float impulse1,
                                                  float relaxation) {
-    const float bound = r.mass.w * normal;
+    const float bound = r.mass.z * normal;
     const float before[2] = {impulse0, impulse1};
-    const float mass[2] = {r.mass.y, r.mass.z};
+    const float mass[2] = {r.mass.x, r.mass.y};
     float after[2], applied[2];
     for (int k = 0; k < 2; ++k) {
-        const float speed =
-            pgsRowSpeedItem(v.a, v.b, r.tangent[k], r.tangentCrossA[k], r.tangentCrossB[k]);
+        const float speed = pgsRowSpeedItem(v.a, v.b, r.tangent[k], r.crossA[k], r.crossB[k]);
         const float change = -mass[k] * speed * relaxation;
         const float sum = before[k] + change;
         after[k] = sum < -bound ? -bound : (bound < sum ? bound : sum); // std::clamp
@@ -194,12 +216,12 @@ RUBBLE_FN PgsFrictionUpdate solvePgsFrictionItem(PgsContactRow r, BodyVelocityPa
     const float4 push = add4(scale4(r.tangent[0], applied[0]), scale4(r.tangent[1], applied[1]));
     PgsFrictionUpdate u;
     u.v = v;
-    u.v.a.linear = sub4(v.a.linear, scale4(push, r.speeds.z));
-    u.v.a.angular = sub4(v.a.angular, add4(scale4(r.tangentTurnA[0], applied[0]),
-                                           scale4(r.tangentTurnA[1], applied[1])));
-    u.v.b.linear = add4(v.b.linear, scale4(push, r.speeds.w));
-    u.v.b.angular = add4(v.b.angular, add4(scale4(r.tangentTurnB[0], applied[0]),
-                                           scale4(r.tangentTurnB[1], applied[1])));
+    u.v.a.linear = sub4(v.a.linear, scale4(push, r.inverseMass.x));
+    u.v.a.angular = sub4(v.a.angular, add4(scale4(r.turnA[0], applied[0]),
+                                           scale4(r.turnA[1], applied[1])));
+    u.v.b.linear = add4(v.b.linear, scale4(push, r.inverseMass.y));
+    u.v.b.angular = add4(v.b.angular, add4(scale4(r.turnB[0], applied[0]),
+                                           scale4(r.turnB[1], applied[1])));
     u.impulse = vec4(after[0], after[1], fmax(fabs(applied[0]), fabs(applied[1])));
     return u;
 }

@@ -1,0 +1,240 @@
+// host/gpu/pgs.cpp: dispatch of projected Gauss-Seidel on the device (kernels/pgs.cl): the rows
+// of each pair's manifold, the host's coloring of the step's elements, then warm start,
+// velocity sweeps and the split position pass, one launch per color, and the pushes after
+// integratePositions. The CPU twin is PgsSolver (host/dynamics/pgs_solver.cpp).
+#include <algorithm>
+
+#include "host/core/assert.h"
+#include "host/gpu/pipeline.h"
+
+namespace rubble::gpu {
+namespace {
+
+// Bytes one launch of a sweep kernel moves for a color of `elements` pairs with `points` rows:
+// each pair's record and summary, both bodies' velocities read and written, and per point its
+// rows (`rowBytes`) and its impulses read and written.
+std::uint64_t sweepBytes(std::uint64_t elements, std::uint64_t points, std::uint64_t rowBytes) {
+    constexpr std::uint64_t kWord = 4, kVelocity = sizeof(shared::BodyVelocity);
+    return elements * (kWord + sizeof(shared::BodyPairRecord) + kWord + 4 * kVelocity) +
+           points * (rowBytes + 2 * sizeof(shared::float4));
+}
+
+} // namespace
+
+Status Pipeline::buildPgsRows(const StepParams& params) {
+    RUBBLE_ASSERT(sat_.enabled);
+    const Context& c = *context_;
+    const cl_uint bodies = bodies_.count;
+    // What each body is to the rows: its inverse mass and world inverse inertia, zero for a
+    // body that does not move (static, asleep, kinematic).
+    RUBBLE_TRY(Dispatch(c, KernelId::PrepareJacobiBodies, &profile_)
+                   .arg(bodies)
+                   .arg(bodies_.masses)
+                   .arg(bodies_.flags)
+                   .arg(bodies_.poses)
+                   .arg(bodies_.jacobi)
+                   .run(bodies, RUBBLE_GROUP_BODIES));
+    RUBBLE_TRY(fill(c, pgs_.pushed, 0u, std::size_t(bodies) * sizeof(cl_uint), &profile_));
+    const cl_uint zero = 0;
+    RUBBLE_CL_CHECK(clEnqueueFillBuffer(c.queue(), status_.mem(), &zero, sizeof zero,
+                                        RUBBLE_STATUS_PUSHED * sizeof(cl_uint), sizeof zero, 0,
+                                        nullptr, profile_.transfer(Transfer::Fill, sizeof zero)));
+    const SolverOptions& o = params.solver;
+    const cl_uint capacity = sat_.current.capacity, previousCapacity = sat_.previous.capacity;
+    const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;
+    const cl_uint warm = o.warmStart ? 1u : 0u;
+    const std::size_t group = c.workSizes().pairGroup;
+    const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
+    const std::size_t items =
+        std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
+    return Dispatch(c, KernelId::BuildPgsRows, &profile_)
+        .arg(capacity)
+        .arg(sat_.current.count)
+        .arg(sat_.current.pairs)
+        .arg(sat_.manifolds)
+        .arg(bodies_.poses)
+        .arg(bodies_.velocities)
+        .arg(bodies_.jacobi)
+        .arg(contacts_.surfaces)
+        .arg(baumgarte)
+        .arg(slop)
+        .arg(dt)
+        .arg(warm)
+        .arg(previousCapacity)
+        .arg(sat_.previous.count)
+        .arg(sat_.previous.pairs)
+        .arg(sat_.previous.impulseCount)
+        .arg(sat_.previous.impulses)
+        .arg(pgs_.normalRows)
+        .arg(pgs_.frictionRows)
+        .arg(pgs_.impulses)
+        .arg(pgs_.pairRows)
+        .arg(sat_.current.impulseCount)
+        .arg(sat_.current.impulses)
+        .arg(pgs_.pushed)
+        .arg(status_)
+        .run(items, group);
+}
+
+Status Pipeline::colorPgs() {
+    const Context& c = *context_;
+    PgsBuffers& g = pgs_;
+    // The status block was read after the rows (readStatus waited for them).
+    const std::uint32_t pairs = std::min(statusFromSlots().pairs, sat_.current.capacity);
+    g.pairRowsHost.resize(pairs);
+    g.pairsHost.resize(pairs);
+    RUBBLE_TRY(download(c, g.pairRows, std::span(g.pairRowsHost)));
+    RUBBLE_TRY(download(c, sat_.current.pairs, std::span(g.pairsHost)));
+    // Greedy in pair order.
+    Coloring& coloring = g.coloring;
+    coloring.begin(bodies_.count);
+    for (std::uint32_t p = 0; p < pairs; ++p) {
+        const cl_uint summary = g.pairRowsHost[p];
+        if ((summary & RUBBLE_PGS_POINTS) == 0) continue;
+        coloring.add(p, g.pairsHost[p].a, g.pairsHost[p].b, summary & RUBBLE_PGS_MOVES_A,
+                     summary & RUBBLE_PGS_MOVES_B);
+    }
+    coloring.finish();
+    // Rows per color, for the sweeps' byte counts.
+    const std::span<const std::uint32_t> order = coloring.order(), start = coloring.start();
+    g.colorPoints.assign(coloring.colors(), 0);
+    for (std::uint32_t k = 0; k < coloring.colors(); ++k)
+        for (std::uint32_t i = start[k]; i < start[k + 1]; ++i)
+            g.colorPoints[k] += g.pairRowsHost[order[i]] & RUBBLE_PGS_POINTS;
+    if (order.empty()) return {};
+    RUBBLE_TRY(g.order.reserve(c.context(), order.size_bytes()));
+    // Non-blocking: the coloring's order stays put until the next step's coloring, which waits
+    // for this step first.
+    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), g.order.mem(), CL_FALSE, 0,
+                                         order.size_bytes(), order.data(), 0, nullptr,
+                                         profile_.transfer(Transfer::Write, order.size_bytes())));
+    return {};
+}
+
+Status Pipeline::solvePgs(const StepParams& params) {
+    const Context& c = *context_;
+    PgsBuffers& g = pgs_;
+    const SolverOptions& o = params.solver;
+    const Coloring& coloring = g.coloring;
+    const std::span<const std::uint32_t> start = coloring.start();
+    const std::size_t group = c.workSizes().pairGroup;
+    const cl_float relaxation = o.relaxation;
+    const std::uint64_t rowBytes = sizeof(shared::PgsNormalRow) + sizeof(shared::PgsFrictionRows);
+    RUBBLE_TRY(copyVelocities(bodies_.before));
+    auto colorRange = [&](std::uint32_t k, cl_uint& first, cl_uint& count) {
+        first = start[k];
+        count = start[k + 1] - start[k];
+    };
+    if (o.warmStart) {
+        for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
+            cl_uint first = 0, count = 0;
+            colorRange(k, first, count);
+            RUBBLE_TRY(Dispatch(c, KernelId::WarmStartPgs, &profile_)
+                           .arg(first)
+                           .arg(count)
+                           .arg(g.order)
+                           .arg(sat_.current.pairs)
+                           .arg(g.pairRows)
+                           .arg(g.normalRows)
+                           .arg(g.frictionRows)
+                           .arg(g.impulses)
+                           .arg(bodies_.velocities)
+                           .run(count, group));
+            profile_.setLastBytes(sweepBytes(count, g.colorPoints[k], rowBytes));
+        }
+    }
+    for (int it = 0; it < o.iterations; ++it) {
+        const cl_uint last = it + 1 == o.iterations ? 1u : 0u;
+        for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
+            cl_uint first = 0, count = 0;
+            colorRange(k, first, count);
+            RUBBLE_TRY(Dispatch(c, KernelId::SolvePgs, &profile_)
+                           .arg(first)
+                           .arg(count)
+                           .arg(g.order)
+                           .arg(sat_.current.pairs)
+                           .arg(g.pairRows)
+                           .arg(g.normalRows)
+                           .arg(g.frictionRows)
+                           .arg(g.impulses)
+                           .arg(bodies_.velocities)
+                           .arg(relaxation)
+                           .arg(last)
+                           .arg(sat_.current.impulses)
+                           .arg(status_)
+                           .run(count, group));
+            profile_.setLastBytes(sweepBytes(count, g.colorPoints[k], rowBytes) +
+                                  (last ? g.colorPoints[k] * sizeof(shared::PgsImpulse) : 0));
+        }
+    }
+    // The split position pass on push velocities that start at zero; a sweep after one that
+    // changed nothing beyond the tolerance returns at once.
+    // The pass runs only when a row pushes (the coloring read the status after the rows).
+    const int pushSweeps = std::max(o.iterations, 0);
+    if (pushSweeps > 0 && coloring.colors() > 0 && statusHost_[RUBBLE_STATUS_PUSHED] != 0) {
+        const std::size_t n = bodies_.count;
+        RUBBLE_TRY(fill(c, g.push, 0u, n * sizeof(shared::BodyVelocity), &profile_));
+        RUBBLE_TRY(g.sweepResidual.reserve(c.context(), std::size_t(pushSweeps) * sizeof(cl_uint)));
+        RUBBLE_TRY(fill(c, g.sweepResidual, 0u, std::size_t(pushSweeps) * sizeof(cl_uint),
+                        &profile_));
+        for (int it = 0; it < pushSweeps; ++it) {
+            const cl_uint sweep = cl_uint(it);
+            for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
+                cl_uint first = 0, count = 0;
+                colorRange(k, first, count);
+                RUBBLE_TRY(Dispatch(c, KernelId::PushPgs, &profile_)
+                               .arg(first)
+                               .arg(count)
+                               .arg(g.order)
+                               .arg(sat_.current.pairs)
+                               .arg(g.pairRows)
+                               .arg(g.normalRows)
+                               .arg(g.impulses)
+                               .arg(g.pushed)
+                               .arg(g.push)
+                               .arg(relaxation)
+                               .arg(sweep)
+                               .arg(g.sweepResidual)
+                               .run(count, group));
+                // The normal rows, and both bodies' push marks.
+                profile_.setLastBytes(
+                    sweepBytes(count, g.colorPoints[k], sizeof(shared::PgsNormalRow)) + count * 8);
+            }
+        }
+    }
+    return absorbVelocityChange();
+}
+
+Status Pipeline::applyPushes(float dt) {
+    const cl_uint count = bodies_.count;
+    const cl_float step = dt;
+    return Dispatch(*context_, KernelId::ApplyPushes, &profile_)
+        .arg(count)
+        .arg(status_)
+        .arg(bodies_.jacobi)
+        .arg(pgs_.push)
+        .arg(bodies_.momenta)
+        .arg(bodies_.masses)
+        .arg(bodies_.poses)
+        .arg(bodies_.velocities)
+        .arg(step)
+        .run(count, RUBBLE_GROUP_BODIES);
+}
+
+Result<std::vector<shared::PgsNormalRow>> Pipeline::downloadPgsNormalRows() {
+    Result<DeviceStatus> st = readStatus();
+    RUBBLE_TRY(st);
+    std::vector<shared::PgsNormalRow> rows(4 * std::size_t(std::min(st->pairs, sat_.current.capacity)));
+    RUBBLE_TRY(download(*context_, pgs_.normalRows, std::span(rows)));
+    return rows;
+}
+
+Result<std::vector<shared::float4>> Pipeline::downloadPgsImpulses() {
+    Result<DeviceStatus> st = readStatus();
+    RUBBLE_TRY(st);
+    std::vector<shared::float4> impulses(4 * std::size_t(std::min(st->pairs, sat_.current.capacity)));
+    RUBBLE_TRY(download(*context_, pgs_.impulses, std::span(impulses)));
+    return impulses;
+}
+
+} // namespace rubble::gpu

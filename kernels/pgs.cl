@@ -1,0 +1,272 @@
+// kernels/pgs.cl: entry points of projected Gauss-Seidel on the device: the rows of each pair's
+// manifold (buildPgsRows), then, one launch per color (no two elements of a color share a body
+// that moves), the warm start, the velocity sweeps and the split position pass; the pushes
+// applied after integratePositions. The math is in rubble/shared/pgs_row.h; the CPU twin is
+// PgsSolver (host/dynamics/pgs_solver.cpp).
+#include "rubble/shared/broad_phase.h"
+#include "rubble/shared/narrow_phase.h"
+#include "rubble/shared/pgs_row.h"
+#include "rubble/shared/sleep.h"
+
+// Last step's index of the pair (a, b) among its sorted pairs, or `count` when it is new.
+static uint previousPairIndex(const BodyPairRecord pair, const uint count,
+                              __global const BodyPairRecord* pairs) {
+    uint lo = 0, hi = count;
+    while (lo < hi) {
+        const uint mid = (lo + hi) / 2u;
+        const BodyPairRecord p = pairs[mid];
+        if (p.a < pair.a || (p.a == pair.a && p.b < pair.b)) lo = mid + 1u;
+        else hi = mid;
+    }
+    return lo < count && pairs[lo].a == pair.a && pairs[lo].b == pair.b ? lo : count;
+}
+
+// One work-item per pair (striding). A pair with contact points and a body that moves gets one
+// PgsContactRow per point at slots 4p .. 4p + count, warm-started from last step's impulses of
+// the same pair (warmStartMatchItem), and its summary word for the coloring: the point count,
+// RUBBLE_PGS_MOVES_A, RUBBLE_PGS_MOVES_B. A pair whose bodies both stand still keeps last step's
+// impulses as they were (an island woken later starts from them); a pair without points keeps
+// none. A row that pushes marks its moving bodies for the split position pass.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+buildPgsRows(const uint capacity, __global const uint* pairCount,
+             __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
+             __global const BodyPose* poses, __global const BodyVelocity* velocities,
+             __global const JacobiBody* bodies, __global const float4* surfaces,
+             const float baumgarte, const float slop, const float dt, const uint warmStart,
+             const uint previousCapacity, __global const uint* previousCount,
+             __global const BodyPairRecord* previousPairs,
+             __global const uint* previousImpulseCount,
+             __global const PgsImpulse* previousImpulses, __global PgsNormalRow* normalRows,
+             __global PgsFrictionRows* frictionRows, __global float4* impulses, __global uint* pairRows, __global uint* impulseCount,
+             __global PgsImpulse* kept, __global uint* pushed, __global uint* status) {
+    const uint n = min(pairCount[0], capacity);
+    const uint previous = warmStart ? min(previousCount[0], previousCapacity) : 0u;
+    for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
+        const BodyPairRecord pair = pairs[p];
+        const uint a = pair.a, b = pair.b;
+        const uint q = previousPairIndex(pair, previous, previousPairs);
+        const uint oldCount = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
+        const ContactManifold m = manifolds[p];
+        const JacobiBody ja = bodies[a], jb = bodies[b];
+        const float ima = ja.inverseInertiaWorld.r0.w, imb = jb.inverseInertiaWorld.r0.w;
+        const uint movesA = ima > 0.0f, movesB = imb > 0.0f;
+        if (m.count == 0u || (!movesA && !movesB)) {
+            pairRows[p] = 0u;
+            const uint keep = m.count == 0u ? 0u : oldCount;
+            for (uint k = 0; k < keep; ++k) kept[4u * p + k] = previousImpulses[4u * q + k];
+            impulseCount[p] = keep;
+            continue;
+        }
+        const float4 sa = surfaces[a], sb = surfaces[b];
+        const float friction = sqrt(sa.x * sb.x);
+        const float restitution = fmax(sa.y, sb.y);
+        const BodyPose pa = poses[a], pb = poses[b];
+        const BodyVelocity va = velocities[a], vb = velocities[b];
+        const float4 fixedTangent = perpendicularItem(m.normal);
+        PgsImpulse keys[4], old[4];
+        PgsContactRow built[4];
+        int pushes = 0;
+        for (uint k = 0; k < m.count; ++k) {
+            const float4 point = m.points[k];
+            built[k] = pgsContactRowItem(point, point.w, m.normal, pa.position, pb.position, va,
+                                         vb, ima, imb, ja.inverseInertiaWorld,
+                                         jb.inverseInertiaWorld, friction, restitution,
+                                         baumgarte, slop, dt, fixedTangent);
+            pushes |= built[k].normal.speeds.y > 0.0f;
+            const float4 rA = sub4(vec4(point.x, point.y, point.z),
+                                   vec4(pa.position.x, pa.position.y, pa.position.z));
+            keys[k].pointInA = quatRotateInverse(pa.orientation, rA);
+            keys[k].friction = vec4(0.0f, 0.0f, 0.0f);
+            keys[k].normal = 0.0f;
+            keys[k].feature = m.features[k];
+            keys[k].pad0 = keys[k].pad1 = 0u;
+        }
+        for (uint o = 0; o < oldCount; ++o) old[o] = previousImpulses[4u * q + o];
+        const WarmStartMatch match = warmStartMatchItem(keys, m.count, old, oldCount);
+        for (uint k = 0; k < m.count; ++k) {
+            float4 start = make4(0.0f, 0.0f, 0.0f, 0.0f);
+            if (match.from[k] >= 0) {
+                const PgsImpulse from = old[match.from[k]];
+                start.x = from.normal;
+                start.y = dot3(from.friction, built[k].friction.tangent[0]);
+                start.z = dot3(from.friction, built[k].friction.tangent[1]);
+            }
+            normalRows[4u * p + k] = built[k].normal;
+            frictionRows[4u * p + k] = built[k].friction;
+            impulses[4u * p + k] = start;
+            // What the next step starts from if no sweep runs; the last sweep overwrites it.
+            keys[k].normal = start.x;
+            keys[k].friction = add4(scale4(built[k].friction.tangent[0], start.y),
+                                    scale4(built[k].friction.tangent[1], start.z));
+            kept[4u * p + k] = keys[k];
+        }
+        pairRows[p] = m.count | (movesA ? RUBBLE_PGS_MOVES_A : 0u) | (movesB ? RUBBLE_PGS_MOVES_B : 0u);
+        impulseCount[p] = m.count;
+        if (pushes) {
+            if (movesA) pushed[a] = 1u;
+            if (movesB) pushed[b] = 1u;
+            status[RUBBLE_STATUS_PUSHED] = 1u;
+        }
+    }
+}
+
+// The velocities of an element's two bodies; a body that does not move is read (it may be a
+// moving obstacle) but never written, since other elements of the color may share it.
+static BodyVelocityPair loadPair(const uint a, const uint b, __global const BodyVelocity* v) {
+    BodyVelocityPair p;
+    p.a = v[a];
+    p.b = v[b];
+    return p;
+}
+static void storePair(const BodyVelocityPair p, const uint a, const uint b, const uint summary,
+                      __global BodyVelocity* v) {
+    if (summary & RUBBLE_PGS_MOVES_A) v[a] = p.a;
+    if (summary & RUBBLE_PGS_MOVES_B) v[b] = p.b;
+}
+
+// Warm start, one color: each pair's points apply their accumulated impulses (normal, then the
+// two friction rows), as warmStartContacts does.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+warmStartPgs(const uint first, const uint count, __global const uint* order,
+             __global const BodyPairRecord* pairs, __global const uint* pairRows,
+             __global const PgsNormalRow* normalRows, __global const PgsFrictionRows* frictionRows,
+             __global const float4* impulses, __global BodyVelocity* velocities) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const uint p = order[first + i];
+    const uint summary = pairRows[p];
+    const BodyPairRecord pair = pairs[p];
+    BodyVelocityPair v = loadPair(pair.a, pair.b, velocities);
+    for (uint k = 0; k < (summary & RUBBLE_PGS_POINTS); ++k) {
+        const float4 l = impulses[4u * p + k];
+        if (l.x != 0.0f) {
+            const PgsNormalRow r = normalRows[4u * p + k];
+            v = applyPgsRowItem(v, r.normal, r.turnA, r.turnB, r.speeds.z, r.speeds.w, l.x);
+        }
+        if (l.y == 0.0f && l.z == 0.0f) continue;
+        const PgsFrictionRows f = frictionRows[4u * p + k];
+        const float ima = f.inverseMass.x, imb = f.inverseMass.y;
+        if (l.y != 0.0f) v = applyPgsRowItem(v, f.tangent[0], f.turnA[0], f.turnB[0], ima, imb, l.y);
+        if (l.z != 0.0f) v = applyPgsRowItem(v, f.tangent[1], f.turnA[1], f.turnB[1], ima, imb, l.z);
+    }
+    storePair(v, pair.a, pair.b, summary, velocities);
+}
+
+// One velocity sweep of one color: each pair's normal rows, then its points' friction pairs
+// (bounded by this sweep's normal impulses), as solveContactSweep orders them within a pair.
+// The last sweep also writes the impulses kept for the next step's warm start and the largest
+// |change| of the sweep to the status block.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+solvePgs(const uint first, const uint count, __global const uint* order,
+         __global const BodyPairRecord* pairs, __global const uint* pairRows,
+         __global const PgsNormalRow* normalRows, __global const PgsFrictionRows* frictionRows,
+         __global float4* impulses, __global BodyVelocity* velocities, const float relaxation,
+         const uint lastSweep,
+         __global PgsImpulse* kept, __global uint* status) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const uint p = order[first + i];
+    const uint summary = pairRows[p];
+    const uint points = summary & RUBBLE_PGS_POINTS;
+    const BodyPairRecord pair = pairs[p];
+    BodyVelocityPair v = loadPair(pair.a, pair.b, velocities);
+    float4 l[4];
+    float residual = 0.0f;
+    for (uint k = 0; k < points; ++k) {
+        const PgsNormalRow r = normalRows[4u * p + k];
+        l[k] = impulses[4u * p + k];
+        const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.x, l[k].x, relaxation);
+        v = u.v;
+        l[k].x = u.accumulated;
+        residual = fmax(residual, fabs(u.applied));
+    }
+    for (uint k = 0; k < points; ++k) {
+        const PgsFrictionRows r = frictionRows[4u * p + k];
+        const PgsFrictionUpdate u = solvePgsFrictionItem(r, v, l[k].x, l[k].y, l[k].z, relaxation);
+        v = u.v;
+        l[k].y = u.impulse.x;
+        l[k].z = u.impulse.y;
+        residual = fmax(residual, u.impulse.z);
+        impulses[4u * p + k] = l[k];
+        if (lastSweep) {
+            kept[4u * p + k].normal = l[k].x;
+            kept[4u * p + k].friction =
+                add4(scale4(r.tangent[0], l[k].y), scale4(r.tangent[1], l[k].z));
+        }
+    }
+    storePair(v, pair.a, pair.b, summary, velocities);
+    if (lastSweep && residual > 0.0f) atomic_max(&status[RUBBLE_STATUS_RESIDUAL], as_uint(residual));
+}
+
+// One sweep of the split position pass, one color: the normal rows that push, and those that
+// touch a body a push moves, on the push velocities toward the rows' push speeds (their
+// accumulated push impulses in w of each impulse record, zero when built). A sweep after one
+// whose largest change was within RUBBLE_PUSH_TOLERANCE does nothing: the pass has converged.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+pushPgs(const uint first, const uint count, __global const uint* order,
+        __global const BodyPairRecord* pairs, __global const uint* pairRows,
+        __global const PgsNormalRow* normalRows, __global float4* impulses,
+        __global const uint* pushed, __global BodyVelocity* push, const float relaxation,
+        const uint sweep, __global uint* sweepResidual) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    if (sweep > 0u && as_float(sweepResidual[sweep - 1u]) <= RUBBLE_PUSH_TOLERANCE) return;
+    const uint p = order[first + i];
+    const uint summary = pairRows[p];
+    const BodyPairRecord pair = pairs[p];
+    const int touched = pushed[pair.a] || pushed[pair.b];
+    BodyVelocityPair v = loadPair(pair.a, pair.b, push);
+    float residual = 0.0f;
+    for (uint k = 0; k < (summary & RUBBLE_PGS_POINTS); ++k) {
+        const PgsNormalRow r = normalRows[4u * p + k];
+        if (r.speeds.y <= 0.0f && !touched) continue;
+        float4 l = impulses[4u * p + k];
+        const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.y, l.w, relaxation);
+        v = u.v;
+        l.w = u.accumulated;
+        impulses[4u * p + k] = l;
+        residual = fmax(residual, fabs(u.applied));
+    }
+    storePair(v, pair.a, pair.b, summary, push);
+    if (residual > 0.0f) atomic_max(&sweepResidual[sweep], as_uint(residual));
+}
+
+// After integratePositions, when some row pushed: every body that moved in the solve is moved
+// by dt times its push velocity, and its velocities follow from its momenta at the new
+// orientation (PgsSolver::solvePositions).
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+applyPushes(const uint count, __global const uint* status, __global const JacobiBody* bodies,
+            __global const BodyVelocity* push, __global const BodyMomentum* momenta,
+            __global const BodyMass* masses, __global BodyPose* poses,
+            __global BodyVelocity* velocities, const float dt) {
+    const uint i = get_global_id(0);
+    if (i >= count || !status[RUBBLE_STATUS_PUSHED]) return;
+    if (!(bodies[i].inverseInertiaWorld.r0.w > 0.0f)) return;
+    const BodyVelocity v = push[i];
+    BodyPose pose = poses[i];
+    pose.position = add4(pose.position, scale4(v.linear, dt));
+    pose.orientation = quatIntegrate(pose.orientation, v.angular, dt);
+    poses[i] = pose;
+    velocities[i] = velocityFromMomentumItem(momenta[i], masses[i], pose.orientation);
+}
+
+// Sleeping: each pair with contact points marks both of its bodies from the other's velocity
+// after the step, as markRestless does for the Jacobi rows.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+markRestlessPairs(const uint capacity, __global const uint* pairCount,
+                  __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
+                  __global const BodyVelocity* velocities, __global const uint* flags,
+                  __global uint* restless) {
+    const uint n = min(pairCount[0], capacity);
+    for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
+        if (manifolds[p].count == 0u) continue;
+        const BodyPairRecord pair = pairs[p];
+        const uint a = pair.a, b = pair.b;
+        const uint fa = flags[a], fb = flags[b];
+        const uint toA = restlessFromContactItem(fa, fb, velocities[b]);
+        const uint toB = restlessFromContactItem(fb, fa, velocities[a]);
+        const uint fixed = RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC;
+        if (toA && !(fa & fixed)) atomic_or(&restless[a], toA);
+        if (toB && !(fb & fixed)) atomic_or(&restless[b], toB);
+    }
+}
