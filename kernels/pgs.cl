@@ -5,7 +5,7 @@
 // PgsSolver (host/dynamics/pgs_solver.cpp).
 #include "rubble/shared/broad_phase.h"
 #include "rubble/shared/narrow_phase.h"
-#include "rubble/shared/pgs_row.h"
+#include "rubble/shared/pgs_joint.h"
 #include "rubble/shared/sleep.h"
 
 // Last step's index of the pair (a, b) among its sorted pairs, or `count` when it is new.
@@ -124,16 +124,34 @@ static void storePair(const BodyVelocityPair p, const uint a, const uint b, cons
     if (summary & RUBBLE_PGS_MOVES_B) v[b] = p.b;
 }
 
+// A joint's summary word: which of its bodies move in this step's solve.
+static uint jointSummary(const JacobiBody ja, const JacobiBody jb) {
+    return (jointInverseMassItem(ja) > 0.0f ? RUBBLE_PGS_MOVES_A : 0u) |
+           (jointInverseMassItem(jb) > 0.0f ? RUBBLE_PGS_MOVES_B : 0u);
+}
+
 // Warm start, one color: each pair's points apply their accumulated impulses (normal, then the
-// two friction rows), as warmStartContacts does.
+// two friction rows), as warmStartContacts does; each joint its blocks' (warmStartJoints).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 warmStartPgs(const uint first, const uint count, __global const uint* order,
              __global const BodyPairRecord* pairs, __global const uint* pairRows,
              __global const PgsNormalRow* normalRows, __global const PgsFrictionRows* frictionRows,
-             __global const float4* impulses, __global BodyVelocity* velocities) {
+             __global const float4* impulses, __global const PgsJoint* joints,
+             __global const PgsJointRow* jointRows, __global const JacobiBody* bodies,
+             __global BodyVelocity* velocities) {
     const uint i = get_global_id(0);
     if (i >= count) return;
-    const uint p = order[first + i];
+    const uint e = order[first + i];
+    if (e & RUBBLE_PGS_JOINT_ELEMENT) {
+        const uint j = e & ~RUBBLE_PGS_JOINT_ELEMENT;
+        const PgsJoint joint = joints[j];
+        const JacobiBody ja = bodies[joint.a], jb = bodies[joint.b];
+        BodyVelocityPair v = loadPair(joint.a, joint.b, velocities);
+        v = warmStartJointItem(v, joint, jointRows[j], ja, jb);
+        storePair(v, joint.a, joint.b, jointSummary(ja, jb), velocities);
+        return;
+    }
+    const uint p = e;
     const uint summary = pairRows[p];
     const BodyPairRecord pair = pairs[p];
     BodyVelocityPair v = loadPair(pair.a, pair.b, velocities);
@@ -152,20 +170,35 @@ warmStartPgs(const uint first, const uint count, __global const uint* order,
     storePair(v, pair.a, pair.b, summary, velocities);
 }
 
-// One velocity sweep of one color: each pair's normal rows, then its points' friction pairs
-// (bounded by this sweep's normal impulses), as solveContactSweep orders them within a pair.
-// The last sweep also writes the impulses kept for the next step's warm start and the largest
-// |change| of the sweep to the status block.
+// One velocity sweep of one color: each joint's blocks (solveJointVelocity); each pair's normal
+// rows, then its points' friction pairs (bounded by this sweep's normal impulses), as
+// solveContactSweep orders them within a pair. The last sweep also writes the impulses kept
+// for the next step's warm start and the largest |change| of the sweep to the status block.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 solvePgs(const uint first, const uint count, __global const uint* order,
          __global const BodyPairRecord* pairs, __global const uint* pairRows,
          __global const PgsNormalRow* normalRows, __global const PgsFrictionRows* frictionRows,
-         __global float4* impulses, __global BodyVelocity* velocities, const float relaxation,
-         const uint lastSweep,
+         __global float4* impulses, __global const PgsJoint* joints,
+         __global PgsJointRow* jointRows, __global const JacobiBody* bodies,
+         __global BodyVelocity* velocities, const float relaxation, const uint lastSweep,
          __global PgsImpulse* kept, __global uint* status) {
     const uint i = get_global_id(0);
     if (i >= count) return;
-    const uint p = order[first + i];
+    const uint e = order[first + i];
+    if (e & RUBBLE_PGS_JOINT_ELEMENT) {
+        const uint j = e & ~RUBBLE_PGS_JOINT_ELEMENT;
+        const PgsJoint joint = joints[j];
+        const JacobiBody ja = bodies[joint.a], jb = bodies[joint.b];
+        const PgsJointUpdate u = solveJointItem(loadPair(joint.a, joint.b, velocities), joint,
+                                                jointRows[j], ja, jb, relaxation);
+        storePair(u.v, joint.a, joint.b, jointSummary(ja, jb), velocities);
+        jointRows[j].pointImpulse = vec4(u.pointImpulse.x, u.pointImpulse.y, u.pointImpulse.z);
+        jointRows[j].turnImpulse = u.turnImpulse;
+        if (lastSweep && u.pointImpulse.w > 0.0f)
+            atomic_max(&status[RUBBLE_STATUS_RESIDUAL], as_uint(u.pointImpulse.w));
+        return;
+    }
+    const uint p = e;
     const uint summary = pairRows[p];
     const uint points = summary & RUBBLE_PGS_POINTS;
     const BodyPairRecord pair = pairs[p];
@@ -212,6 +245,7 @@ pushPgs(const uint first, const uint count, __global const uint* order,
     if (i >= count) return;
     if (sweep > 0u && as_float(sweepResidual[sweep - 1u]) <= RUBBLE_PUSH_TOLERANCE) return;
     const uint p = order[first + i];
+    if (p & RUBBLE_PGS_JOINT_ELEMENT) return; // joints are projected after integratePositions
     const uint summary = pairRows[p];
     const BodyPairRecord pair = pairs[p];
     const int touched = pushed[pair.a] || pushed[pair.b];
@@ -269,4 +303,78 @@ markRestlessPairs(const uint capacity, __global const uint* pairCount,
         if (toA && !(fa & fixed)) atomic_or(&restless[a], toA);
         if (toB && !(fb & fixed)) atomic_or(&restless[b], toB);
     }
+}
+
+// Stage buildContactRows for joints (prepareJoints): one work-item per joint.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+prepareJoints(const uint count, __global const PgsJoint* joints, __global const BodyPose* poses,
+              __global const JacobiBody* bodies, const uint warmStart,
+              __global PgsJointRow* jointRows) {
+    const uint j = get_global_id(0);
+    if (j >= count) return;
+    const PgsJoint joint = joints[j];
+    jointRows[j] = prepareJointItem(joint, jointRows[j], poses[joint.a], poses[joint.b],
+                                    bodies[joint.a], bodies[joint.b], (int)warmStart);
+}
+
+// A body as the position projection sees it at its current pose: its inverse mass and world
+// inverse inertia, zero when it does not move (the CPU's inverseOf).
+static JacobiBody projectionBody(const uint i, __global const BodyMass* masses,
+                                 __global const uint* flags, const BodyPose pose) {
+    BodyMass m = masses[i];
+    if (!activeBodyItem(flags[i]) || !(m.inverseMass > 0.0f)) m = wallMassItem(m);
+    return jacobiBodyItem(m, pose.orientation);
+}
+
+// One sweep of the joints' position projection, one color of joints (no two share a dynamic
+// body): each joint one Newton step onto its constraints (projectJointItem). A sweep after one
+// that moved nothing does nothing: every joint holds.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+projectJoints(const uint first, const uint count, __global const uint* order,
+              __global const PgsJoint* joints, __global const BodyMass* masses,
+              __global const uint* flags, __global BodyPose* poses, const uint sweep,
+              __global uint* sweepMoved) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    if (sweep > 0u && sweepMoved[sweep - 1u] == 0u) return;
+    const PgsJoint joint = joints[order[first + i]];
+    const BodyPose pa = poses[joint.a], pb = poses[joint.b];
+    int moved = 0;
+    const PosePair out = projectJointItem(joint, pa, pb, projectionBody(joint.a, masses, flags, pa),
+                                          projectionBody(joint.b, masses, flags, pb), &moved);
+    if (!moved) return;
+    poses[joint.a] = out.a;
+    poses[joint.b] = out.b;
+    sweepMoved[sweep] = 1u;
+}
+
+// After the projection: the jointed bodies' angular velocities follow from their momenta at
+// the new orientations (PgsSolver::solvePositions). One work-item per jointed body.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+jointVelocities(const uint count, __global const uint* jointBodies,
+                __global const BodyMass* masses, __global const uint* flags,
+                __global const BodyPose* poses, __global const BodyMomentum* momenta,
+                __global BodyVelocity* velocities) {
+    const uint k = get_global_id(0);
+    if (k >= count) return;
+    const uint i = jointBodies[k];
+    const BodyMass m = masses[i];
+    if (!activeBodyItem(flags[i]) || !(m.inverseMass > 0.0f)) return;
+    velocities[i] = velocityFromMomentumItem(momenta[i], m, poses[i].orientation);
+}
+
+// Sleeping: each joint marks both of its bodies from the other's velocity, as a contact does.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+markRestlessJoints(const uint count, __global const PgsJoint* joints,
+                   __global const BodyVelocity* velocities, __global const uint* flags,
+                   __global uint* restless) {
+    const uint j = get_global_id(0);
+    if (j >= count) return;
+    const uint a = joints[j].a, b = joints[j].b;
+    const uint fa = flags[a], fb = flags[b];
+    const uint toA = restlessFromContactItem(fa, fb, velocities[b]);
+    const uint toB = restlessFromContactItem(fb, fa, velocities[a]);
+    const uint fixed = RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC;
+    if (toA && !(fa & fixed)) atomic_or(&restless[a], toA);
+    if (toB && !(fb & fixed)) atomic_or(&restless[b], toB);
 }

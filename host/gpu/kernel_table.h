@@ -58,6 +58,13 @@ enum class KernelId : unsigned {
     PushPgs,
     ApplyPushes,
     MarkRestlessPairs,
+    PrepareJoints,
+    ProjectJoints,
+    JointVelocities,
+    MarkRestlessJoints,
+    VoteJointGroups,
+    HoldJointGroups,
+    WakeJointGroups,
     Count
 };
 

@@ -47,7 +47,7 @@ Status Pipeline::buildPgsRows(const StepParams& params) {
     const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
     const std::size_t items =
         std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
-    return Dispatch(c, KernelId::BuildPgsRows, &profile_)
+    RUBBLE_TRY(Dispatch(c, KernelId::BuildPgsRows, &profile_)
         .arg(capacity)
         .arg(sat_.current.count)
         .arg(sat_.current.pairs)
@@ -73,7 +73,17 @@ Status Pipeline::buildPgsRows(const StepParams& params) {
         .arg(sat_.current.impulses)
         .arg(pgs_.pushed)
         .arg(status_)
-        .run(items, group);
+        .run(items, group));
+    if (pgs_.jointCount == 0) return {};
+    const cl_uint joints = pgs_.jointCount;
+    return Dispatch(c, KernelId::PrepareJoints, &profile_)
+        .arg(joints)
+        .arg(pgs_.joints)
+        .arg(bodies_.poses)
+        .arg(bodies_.jacobi)
+        .arg(warm)
+        .arg(pgs_.jointRows)
+        .run(joints, RUBBLE_GROUP_BODIES);
 }
 
 Status Pipeline::colorPgs() {
@@ -85,9 +95,13 @@ Status Pipeline::colorPgs() {
     g.pairsHost.resize(pairs);
     RUBBLE_TRY(download(c, g.pairRows, std::span(g.pairRowsHost)));
     RUBBLE_TRY(download(c, sat_.current.pairs, std::span(g.pairsHost)));
-    // Greedy in pair order.
+    // Greedy: the joints first (the CPU's sweep solves them before the contacts), then the
+    // pairs in pair order.
     Coloring& coloring = g.coloring;
     coloring.begin(bodies_.count);
+    for (std::uint32_t j = 0; j < g.jointCount; ++j)
+        coloring.add(RUBBLE_PGS_JOINT_ELEMENT | j, g.jointsHost[j].a, g.jointsHost[j].b,
+                     g.jointDynamicA[j], g.jointDynamicB[j]);
     for (std::uint32_t p = 0; p < pairs; ++p) {
         const cl_uint summary = g.pairRowsHost[p];
         if ((summary & RUBBLE_PGS_POINTS) == 0) continue;
@@ -100,7 +114,8 @@ Status Pipeline::colorPgs() {
     g.colorPoints.assign(coloring.colors(), 0);
     for (std::uint32_t k = 0; k < coloring.colors(); ++k)
         for (std::uint32_t i = start[k]; i < start[k + 1]; ++i)
-            g.colorPoints[k] += g.pairRowsHost[order[i]] & RUBBLE_PGS_POINTS;
+            if (!(order[i] & RUBBLE_PGS_JOINT_ELEMENT))
+                g.colorPoints[k] += g.pairRowsHost[order[i]] & RUBBLE_PGS_POINTS;
     if (order.empty()) return {};
     RUBBLE_TRY(g.order.reserve(c.context(), order.size_bytes()));
     // Non-blocking: the coloring's order stays put until the next step's coloring, which waits
@@ -138,6 +153,9 @@ Status Pipeline::solvePgs(const StepParams& params) {
                            .arg(g.normalRows)
                            .arg(g.frictionRows)
                            .arg(g.impulses)
+                           .arg(g.joints)
+                           .arg(g.jointRows)
+                           .arg(bodies_.jacobi)
                            .arg(bodies_.velocities)
                            .run(count, group));
             profile_.setLastBytes(sweepBytes(count, g.colorPoints[k], rowBytes));
@@ -157,6 +175,9 @@ Status Pipeline::solvePgs(const StepParams& params) {
                            .arg(g.normalRows)
                            .arg(g.frictionRows)
                            .arg(g.impulses)
+                           .arg(g.joints)
+                           .arg(g.jointRows)
+                           .arg(bodies_.jacobi)
                            .arg(bodies_.velocities)
                            .arg(relaxation)
                            .arg(last)
@@ -219,6 +240,51 @@ Status Pipeline::applyPushes(float dt) {
         .arg(bodies_.velocities)
         .arg(step)
         .run(count, RUBBLE_GROUP_BODIES);
+}
+
+Status Pipeline::projectJoints() {
+    PgsBuffers& g = pgs_;
+    if (g.jointCount == 0) return {};
+    const Context& c = *context_;
+    RUBBLE_TRY(fill(c, g.jointMoved, 0u, RUBBLE_JOINT_POSITION_ITERATIONS * sizeof(cl_uint),
+                    &profile_));
+    const Coloring& coloring = g.jointColoring;
+    const std::span<const std::uint32_t> start = coloring.start();
+    for (cl_uint sweep = 0; sweep < RUBBLE_JOINT_POSITION_ITERATIONS; ++sweep) {
+        for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
+            const cl_uint first = start[k], count = start[k + 1] - start[k];
+            RUBBLE_TRY(Dispatch(c, KernelId::ProjectJoints, &profile_)
+                           .arg(first)
+                           .arg(count)
+                           .arg(g.jointOrder)
+                           .arg(g.joints)
+                           .arg(bodies_.masses)
+                           .arg(bodies_.flags)
+                           .arg(bodies_.poses)
+                           .arg(sweep)
+                           .arg(g.jointMoved)
+                           .run(count, RUBBLE_GROUP_BODIES));
+            // The joint, both bodies' masses, flags and poses (read and written).
+            profile_.setLastBytes(count * (sizeof(shared::PgsJoint) + 2 * sizeof(shared::BodyMass) +
+                                           2 * sizeof(cl_uint) + 4 * sizeof(shared::BodyPose)));
+        }
+    }
+    const cl_uint bodies = g.jointBodyCount;
+    return Dispatch(c, KernelId::JointVelocities, &profile_)
+        .arg(bodies)
+        .arg(g.jointBodies)
+        .arg(bodies_.masses)
+        .arg(bodies_.flags)
+        .arg(bodies_.poses)
+        .arg(bodies_.momenta)
+        .arg(bodies_.velocities)
+        .run(bodies, RUBBLE_GROUP_BODIES);
+}
+
+Result<std::vector<shared::PgsJointRow>> Pipeline::downloadJointRows() {
+    std::vector<shared::PgsJointRow> rows(pgs_.jointCount);
+    RUBBLE_TRY(download(*context_, pgs_.jointRows, std::span(rows)));
+    return rows;
 }
 
 Result<std::vector<shared::PgsNormalRow>> Pipeline::downloadPgsNormalRows() {

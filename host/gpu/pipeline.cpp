@@ -241,6 +241,7 @@ Status Pipeline::enqueueSatSolve(const StepParams& params) {
     profile_.setStage(DeviceStage::IntegratePositions);
     RUBBLE_TRY(integratePositions(dt, params.symplectic()));
     RUBBLE_TRY(applyPushes(dt));
+    RUBBLE_TRY(projectJoints());
     // Forces hold for one step.
     if (forcesOnDevice_) {
         RUBBLE_TRY(fill(*context_, bodies_.forces, 0u,

@@ -28,7 +28,7 @@
 #include "rubble/shared/contact_row.h"
 #include "rubble/shared/hull_contact.h"
 #include "rubble/shared/obstacle.h"
-#include "rubble/shared/pgs_row.h"
+#include "rubble/shared/pgs_joint.h"
 #include "rubble/world.h"
 
 namespace rubble::gpu {
@@ -134,6 +134,16 @@ struct PgsBuffers {
     Buffer pushed;        ///< per body: a pushing row moves it
     Buffer push;          ///< per body: the push velocities (BodyVelocity)
     Buffer sweepResidual; ///< per push sweep: the largest change, float bits
+    // Joints: in body frames (once per world), their rows and impulses (kept between steps),
+    // the jointed bodies, and the joints colored once over the dynamic bodies for the position
+    // projection.
+    std::uint32_t jointCount = 0, jointBodyCount = 0, jointGroupCount = 0;
+    Buffer joints, jointRows, jointBodies, jointOrder, jointMoved;
+    Buffer jointGroupOf; ///< per jointed body: its joint group (RUBBLE_NO_GROUP: not dynamic)
+    Buffer groupVotes;   ///< per joint group: a member stays awake (1), a member is awake (2)
+    std::vector<shared::PgsJoint> jointsHost;
+    std::vector<std::uint8_t> jointDynamicA, jointDynamicB;
+    Coloring jointColoring;
     Coloring coloring;
     std::vector<cl_uint> pairRowsHost;
     std::vector<shared::BodyPairRecord> pairsHost;
@@ -167,6 +177,7 @@ struct PipelineInput {
     CollisionMethod collision = CollisionMethod::Particles;
     std::span<const Shape> shapes;  ///< indexed by bodies.shapeOf
     std::span<const BodyPair> joined; ///< joined bodies (min, max), sorted: they do not collide
+    std::span<const shared::PgsJoint> joints; ///< SAT: the joints, in body frames
 };
 
 /// What a step takes from the host besides its parameters.
@@ -299,6 +310,11 @@ class Pipeline {
     Status solvePgs(const StepParams& params);
     /// After integratePositions: the split position pass moves the bodies.
     Status applyPushes(float dt);
+    /// After the pushes: the joints projected onto their constraints, color by color, up to
+    /// RUBBLE_JOINT_POSITION_ITERATIONS sweeps; the jointed bodies' velocities follow.
+    Status projectJoints();
+    /// Reads the joints' rows and impulses. Errors: Device.
+    Result<std::vector<shared::PgsJointRow>> downloadJointRows();
     /// Reads this step's rows and their impulses (4 slots per pair; pairRows says how many are
     /// used). Errors: Device.
     Result<std::vector<shared::PgsNormalRow>> downloadPgsNormalRows();
@@ -342,6 +358,8 @@ class Pipeline {
     Status enqueueSatCollision(const StepParams& params);
     /// The SAT step from the solve to the end.
     Status enqueueSatSolve(const StepParams& params);
+    /// The joints' buffers and the coloring of their position projection.
+    Status createJoints(const PipelineInput& in);
     /// Sizes this step's pair buffers (and the manifolds) for `capacity` pairs.
     Status setPairCapacity(std::uint32_t capacity);
     /// The stages from collision to the end of the step, and the status read.

@@ -85,6 +85,7 @@ Status Pipeline::createSat(const PipelineInput& in) {
     // PGS, per body.
     RUBBLE_TRY(pgs_.pushed.reserve(c.context(), n * sizeof(cl_uint)));
     RUBBLE_TRY(pgs_.push.reserve(c.context(), n * sizeof(shared::BodyVelocity)));
+    RUBBLE_TRY(createJoints(in));
     s.enabled = true;
     return setPairCapacity(std::max<std::uint32_t>(1024, 4 * n));
 }
@@ -213,6 +214,72 @@ Result<std::vector<shared::BodyBox>> Pipeline::downloadBoxes() {
     std::vector<shared::BodyBox> boxes(bodies_.count);
     RUBBLE_TRY(download(*context_, sat_.boxes, std::span(boxes)));
     return boxes;
+}
+
+} // namespace rubble::gpu
+
+namespace rubble::gpu {
+
+Status Pipeline::createJoints(const PipelineInput& in) {
+    const Context& c = *context_;
+    PgsBuffers& g = pgs_;
+    g.jointsHost.assign(in.joints.begin(), in.joints.end());
+    g.jointCount = std::uint32_t(g.jointsHost.size());
+    // A body joins the colorings when it is dynamic and the host does not move it.
+    auto dynamic = [&](std::uint32_t i) {
+        return in.bodies.masses[i].inverseMass > 0.0f && !kinematic_[i];
+    };
+    g.jointDynamicA.resize(g.jointCount);
+    g.jointDynamicB.resize(g.jointCount);
+    std::vector<std::uint8_t> jointed(bodies_.count, 0);
+    g.jointColoring.begin(bodies_.count);
+    for (std::uint32_t j = 0; j < g.jointCount; ++j) {
+        const shared::PgsJoint& joint = g.jointsHost[j];
+        RUBBLE_ASSERT(joint.a < bodies_.count && joint.b < bodies_.count);
+        g.jointDynamicA[j] = dynamic(joint.a) ? 1 : 0;
+        g.jointDynamicB[j] = dynamic(joint.b) ? 1 : 0;
+        g.jointColoring.add(j, joint.a, joint.b, g.jointDynamicA[j], g.jointDynamicB[j]);
+        jointed[joint.a] = jointed[joint.b] = 1;
+    }
+    g.jointColoring.finish();
+    // Joint groups: dynamic bodies joined through dynamic bodies (union-find), numbered by
+    // their lowest body, for sleeping together.
+    std::vector<std::uint32_t> parent(bodies_.count);
+    for (std::uint32_t i = 0; i < bodies_.count; ++i) parent[i] = i;
+    auto find = [&](std::uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    for (std::uint32_t j = 0; j < g.jointCount; ++j) {
+        if (!g.jointDynamicA[j] || !g.jointDynamicB[j]) continue;
+        const std::uint32_t ra = find(g.jointsHost[j].a), rb = find(g.jointsHost[j].b);
+        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+    std::vector<cl_uint> bodies, groupOf;
+    std::vector<std::uint32_t> groupOfRoot(bodies_.count, RUBBLE_NO_GROUP);
+    g.jointGroupCount = 0;
+    for (std::uint32_t i = 0; i < bodies_.count; ++i) {
+        if (!jointed[i]) continue;
+        bodies.push_back(i);
+        if (!dynamic(i)) {
+            groupOf.push_back(RUBBLE_NO_GROUP);
+            continue;
+        }
+        std::uint32_t& group = groupOfRoot[find(i)];
+        if (group == RUBBLE_NO_GROUP) group = g.jointGroupCount++;
+        groupOf.push_back(group);
+    }
+    g.jointBodyCount = std::uint32_t(bodies.size());
+    RUBBLE_TRY(upload(c, g.joints, view(g.jointsHost)));
+    RUBBLE_TRY(upload(c, g.jointBodies, view(bodies)));
+    RUBBLE_TRY(upload(c, g.jointGroupOf, view(groupOf)));
+    RUBBLE_TRY(g.groupVotes.reserve(c.context(), g.jointGroupCount * sizeof(cl_uint)));
+    RUBBLE_TRY(upload(c, g.jointOrder, g.jointColoring.order()));
+    // No impulses yet.
+    const std::size_t rowBytes = std::size_t(g.jointCount) * sizeof(shared::PgsJointRow);
+    RUBBLE_TRY(g.jointRows.reserve(c.context(), rowBytes));
+    RUBBLE_TRY(fill(c, g.jointRows, 0u, rowBytes));
+    return g.jointMoved.reserve(c.context(), RUBBLE_JOINT_POSITION_ITERATIONS * sizeof(cl_uint));
 }
 
 } // namespace rubble::gpu

@@ -25,6 +25,16 @@ Status Pipeline::sleepBodies(float dt) {
                        .arg(bodies_.flags)
                        .arg(bodies_.restless)
                        .run(items, group));
+        if (pgs_.jointCount > 0) {
+            const cl_uint joints = pgs_.jointCount;
+            RUBBLE_TRY(Dispatch(c, KernelId::MarkRestlessJoints, &profile_)
+                           .arg(joints)
+                           .arg(pgs_.joints)
+                           .arg(bodies_.velocities)
+                           .arg(bodies_.flags)
+                           .arg(bodies_.restless)
+                           .run(joints, RUBBLE_GROUP_BODIES));
+        }
     } else {
         RUBBLE_TRY(Dispatch(*context_, KernelId::MarkRestless, &profile_)
                        .arg(status_)
@@ -34,8 +44,34 @@ Status Pipeline::sleepBodies(float dt) {
                        .arg(bodies_.restless)
                        .run(strideItems(), RUBBLE_GROUP_CONTACTS));
     }
+    // Joint groups sleep as one: a member that would stay awake holds the others.
+    const Context& c = *context_;
+    const PgsBuffers& g = pgs_;
+    const cl_uint members = g.jointBodyCount;
+    const bool groups = sat_.enabled && g.jointGroupCount > 0;
+    if (groups) {
+        RUBBLE_TRY(fill(c, g.groupVotes, 0u, g.jointGroupCount * sizeof(cl_uint), &profile_));
+        RUBBLE_TRY(Dispatch(c, KernelId::VoteJointGroups, &profile_)
+                       .arg(members)
+                       .arg(g.jointBodies)
+                       .arg(g.jointGroupOf)
+                       .arg(bodies_.flags)
+                       .arg(bodies_.slowFor)
+                       .arg(bodies_.restless)
+                       .arg(bodies_.velocities)
+                       .arg(dt)
+                       .arg(g.groupVotes)
+                       .run(members, RUBBLE_GROUP_BODIES));
+        RUBBLE_TRY(Dispatch(c, KernelId::HoldJointGroups, &profile_)
+                       .arg(members)
+                       .arg(g.jointBodies)
+                       .arg(g.jointGroupOf)
+                       .arg(g.groupVotes)
+                       .arg(bodies_.restless)
+                       .run(members, RUBBLE_GROUP_BODIES));
+    }
     const cl_uint count = bodies_.count;
-    return Dispatch(*context_, KernelId::SleepBodies, &profile_)
+    RUBBLE_TRY(Dispatch(*context_, KernelId::SleepBodies, &profile_)
         .arg(count)
         .arg(status_)
         .arg(bodies_.flags)
@@ -44,7 +80,21 @@ Status Pipeline::sleepBodies(float dt) {
         .arg(bodies_.slowFor)
         .arg(bodies_.restless)
         .arg(dt)
-        .run(count, RUBBLE_GROUP_BODIES);
+        .run(count, RUBBLE_GROUP_BODIES));
+    if (!groups) return {};
+    // A group with an awake member wakes as one.
+    for (const cl_uint pass : {0u, 1u})
+        RUBBLE_TRY(Dispatch(c, KernelId::WakeJointGroups, &profile_)
+                       .arg(members)
+                       .arg(g.jointBodies)
+                       .arg(g.jointGroupOf)
+                       .arg(bodies_.flags)
+                       .arg(bodies_.slowFor)
+                       .arg(g.groupVotes)
+                       .arg(pass)
+                       .arg(status_)
+                       .run(members, RUBBLE_GROUP_BODIES));
+    return {};
 }
 
 } // namespace rubble::gpu

@@ -6,14 +6,35 @@
 #include <chrono>
 
 #include "host/collision/particles.h"
+#include "host/core/math.h"
 #include "host/core/step_params.h"
 #include "host/dynamics/forces.h"
+#include "host/dynamics/joints.h"
 #include "host/gpu/pipeline.h"
 #include "host/world/offload.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
 namespace {
+
+// The CPU's joints in body frames (makeJoints) as the device's records.
+std::vector<shared::PgsJoint> deviceJointsOf(std::span<const Joint> joints) {
+    std::vector<shared::PgsJoint> out;
+    out.reserve(joints.size());
+    for (const Joint& j : joints) {
+        shared::PgsJoint d{};
+        d.anchorA = toFloat4(j.anchorA);
+        d.anchorB = toFloat4(j.anchorB);
+        d.axisA = toFloat4(j.axisA);
+        d.perpB[0] = toFloat4(j.perpB[0]);
+        d.perpB[1] = toFloat4(j.perpB[1]);
+        d.type = j.type == JointType::Hinge ? RUBBLE_JOINT_HINGE : RUBBLE_JOINT_BALL;
+        d.a = j.a;
+        d.b = j.b;
+        out.push_back(d);
+    }
+    return out;
+}
 
 double msSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
@@ -48,6 +69,11 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
         in.collision = CollisionMethod::Sat;
         in.shapes = s.shapes;
         in.joined = s.joined;
+        if (!s.deviceJointsMade) {
+            s.deviceJoints = deviceJointsOf(makeJoints(s.joints, s.bodies.poses));
+            s.deviceJointsMade = true;
+        }
+        in.joints = s.deviceJoints;
     } else {
         particles = buildParticleSet(s.shapes, s.materials, s.bodies.view(),
                                      s.options.collision.particleSpacing);

@@ -32,6 +32,8 @@
 #define RUBBLE_EMPTY_CELL 0xffffffffu
 // "No body" in a contact row's body b (the static world: planes, static boxes).
 #define RUBBLE_NO_BODY 0xffffffffu
+// "No group": a body that no joint ties to another dynamic body (sleeping by joint group).
+#define RUBBLE_NO_GROUP 0xffffffffu
 
 // A particle meets at most this many static shapes (planes and static boxes) per step.
 #define RUBBLE_MAX_STATIC_SHAPES 64u
