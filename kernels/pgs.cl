@@ -21,92 +21,125 @@ static uint previousPairIndex(const BodyPairRecord pair, const uint count,
     return lo < count && pairs[lo].a == pair.a && pairs[lo].b == pair.b ? lo : count;
 }
 
-// One work-item per pair (striding). A pair with contact points and a body that moves gets one
-// PgsContactRow per point at slots 4p .. 4p + count, warm-started from last step's impulses of
-// the same pair (warmStartMatchItem), and its summary word for the coloring: the point count,
-// RUBBLE_PGS_MOVES_A, RUBBLE_PGS_MOVES_B. A pair whose bodies both stand still keeps last step's
-// impulses as they were (an island woken later starts from them); a pair without points keeps
-// none. A row that pushes marks its moving bodies for the split position pass.
+// One work-item per pair (striding), after the narrow phase: the pair's summary word for the
+// coloring (its point count and which bodies move; 0 when it gets no rows), and what it keeps
+// for the next step's warm start when it gets no rows: a pair whose bodies both stand still
+// keeps last step's impulses as they were (an island woken later starts from them), a pair
+// without points none. A point deep enough to push marks its pair's moving bodies for the split
+// position pass, and the status block, so that the host knows before it enqueues the pass.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-buildPgsRows(const uint capacity, __global const uint* pairCount,
-             __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
-             __global const BodyPose* poses, __global const BodyVelocity* velocities,
-             __global const JacobiBody* bodies, __global const float4* surfaces,
-             const float baumgarte, const float slop, const float dt, const uint warmStart,
-             const uint previousCapacity, __global const uint* previousCount,
-             __global const BodyPairRecord* previousPairs,
-             __global const uint* previousImpulseCount,
-             __global const PgsImpulse* previousImpulses, __global PgsNormalRow* normalRows,
-             __global PgsFrictionRows* frictionRows, __global float4* impulses, __global uint* pairRows, __global uint* impulseCount,
-             __global PgsImpulse* kept, __global uint* pushed, __global uint* status) {
+summarizePairs(const uint capacity, __global const uint* pairCount,
+               __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
+               __global const JacobiBody* bodies, const float baumgarte, const float slop,
+               const float dt, const uint warmStart, const uint previousCapacity,
+               __global const uint* previousCount, __global const BodyPairRecord* previousPairs,
+               __global const uint* previousImpulseCount,
+               __global const PgsImpulse* previousImpulses, __global uint* pairRows,
+               __global uint* impulseCount, __global PgsImpulse* kept, __global uint* pushed,
+               __global uint* status) {
     const uint n = min(pairCount[0], capacity);
     const uint previous = warmStart ? min(previousCount[0], previousCapacity) : 0u;
     for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
+        const uint count = manifolds[p].count;
         const BodyPairRecord pair = pairs[p];
-        const uint a = pair.a, b = pair.b;
-        const uint q = previousPairIndex(pair, previous, previousPairs);
-        const uint oldCount = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
-        const ContactManifold m = manifolds[p];
-        const JacobiBody ja = bodies[a], jb = bodies[b];
-        const float ima = ja.inverseInertiaWorld.r0.w, imb = jb.inverseInertiaWorld.r0.w;
-        const uint movesA = ima > 0.0f, movesB = imb > 0.0f;
-        if (m.count == 0u || (!movesA && !movesB)) {
-            pairRows[p] = 0u;
-            const uint keep = m.count == 0u ? 0u : oldCount;
-            for (uint k = 0; k < keep; ++k) kept[4u * p + k] = previousImpulses[4u * q + k];
-            impulseCount[p] = keep;
+        const uint movesA = jointInverseMassItem(bodies[pair.a]) > 0.0f;
+        const uint movesB = jointInverseMassItem(bodies[pair.b]) > 0.0f;
+        if (count > 0u && (movesA || movesB)) {
+            pairRows[p] = count | (movesA ? RUBBLE_PGS_MOVES_A : 0u) |
+                          (movesB ? RUBBLE_PGS_MOVES_B : 0u);
+            impulseCount[p] = count;
+            int pushes = 0;
+            for (uint k = 0; k < count; ++k)
+                pushes |= pgsNormalTargetItem(0.0f, manifolds[p].points[k].w, 0.0f, baumgarte,
+                                              slop, dt).push > 0.0f;
+            if (pushes) {
+                if (movesA) pushed[pair.a] = 1u;
+                if (movesB) pushed[pair.b] = 1u;
+                status[RUBBLE_STATUS_PUSHED] = 1u;
+            }
             continue;
         }
-        const float4 sa = surfaces[a], sb = surfaces[b];
-        const float friction = sqrt(sa.x * sb.x);
-        const float restitution = fmax(sa.y, sb.y);
-        const BodyPose pa = poses[a], pb = poses[b];
-        const BodyVelocity va = velocities[a], vb = velocities[b];
-        const float4 fixedTangent = perpendicularItem(m.normal);
-        PgsImpulse keys[4], old[4];
-        PgsContactRow built[4];
-        int pushes = 0;
-        for (uint k = 0; k < m.count; ++k) {
-            const float4 point = m.points[k];
-            built[k] = pgsContactRowItem(point, point.w, m.normal, pa.position, pb.position, va,
-                                         vb, ima, imb, ja.inverseInertiaWorld,
-                                         jb.inverseInertiaWorld, friction, restitution,
-                                         baumgarte, slop, dt, fixedTangent);
-            pushes |= built[k].normal.speeds.y > 0.0f;
-            const float4 rA = sub4(vec4(point.x, point.y, point.z),
-                                   vec4(pa.position.x, pa.position.y, pa.position.z));
-            keys[k].pointInA = quatRotateInverse(pa.orientation, rA);
-            keys[k].friction = vec4(0.0f, 0.0f, 0.0f);
-            keys[k].normal = 0.0f;
-            keys[k].feature = m.features[k];
-            keys[k].pad0 = keys[k].pad1 = 0u;
+        pairRows[p] = 0u;
+        uint keep = 0u;
+        if (count > 0u) {
+            const uint q = previousPairIndex(pair, previous, previousPairs);
+            keep = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
+            for (uint k = 0; k < keep; ++k) kept[4u * p + k] = previousImpulses[4u * q + k];
         }
-        for (uint o = 0; o < oldCount; ++o) old[o] = previousImpulses[4u * q + o];
-        const WarmStartMatch match = warmStartMatchItem(keys, m.count, old, oldCount);
-        for (uint k = 0; k < m.count; ++k) {
-            float4 start = make4(0.0f, 0.0f, 0.0f, 0.0f);
-            if (match.from[k] >= 0) {
-                const PgsImpulse from = old[match.from[k]];
-                start.x = from.normal;
-                start.y = dot3(from.friction, built[k].friction.tangent[0]);
-                start.z = dot3(from.friction, built[k].friction.tangent[1]);
-            }
-            normalRows[4u * p + k] = built[k].normal;
-            frictionRows[4u * p + k] = built[k].friction;
-            impulses[4u * p + k] = start;
-            // What the next step starts from if no sweep runs; the last sweep overwrites it.
-            keys[k].normal = start.x;
-            keys[k].friction = add4(scale4(built[k].friction.tangent[0], start.y),
-                                    scale4(built[k].friction.tangent[1], start.z));
-            kept[4u * p + k] = keys[k];
+        impulseCount[p] = keep;
+    }
+}
+
+// One work-item per element of the step's coloring (joints skip): the rows of the pair's
+// manifold points, packed in color order from the element's first row, warm-started from last
+// step's impulses of the same pair (warmStartMatchItem), and the points' keys for the next
+// step (their impulses are filled in by the last sweep).
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+buildPgsRows(const uint count, __global const PgsElement* elements,
+             __global const ContactManifold* manifolds, __global const BodyPose* poses,
+             __global const BodyVelocity* velocities, __global const JacobiBody* bodies,
+             __global const float4* surfaces, const float baumgarte, const float slop,
+             const float dt, const uint warmStart, const uint previousCapacity,
+             __global const uint* previousCount, __global const BodyPairRecord* previousPairs,
+             __global const uint* previousImpulseCount,
+             __global const PgsImpulse* previousImpulses, __global PgsNormalRow* normalRows,
+             __global PgsFrictionRows* frictionRows, __global float4* impulses,
+             __global PgsImpulse* kept) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const PgsElement e = elements[i];
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) return;
+    const uint p = e.id, a = e.a, b = e.b;
+    const uint first = e.rows >> RUBBLE_PGS_FIRST_SHIFT, points = e.rows & RUBBLE_PGS_POINTS;
+    const uint previous = warmStart ? min(previousCount[0], previousCapacity) : 0u;
+    BodyPairRecord pair;
+    pair.a = a;
+    pair.b = b;
+    const uint q = previousPairIndex(pair, previous, previousPairs);
+    const uint oldCount = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
+    const ContactManifold m = manifolds[p];
+    const JacobiBody ja = bodies[a], jb = bodies[b];
+    const float ima = jointInverseMassItem(ja), imb = jointInverseMassItem(jb);
+    const float4 sa = surfaces[a], sb = surfaces[b];
+    const float friction = sqrt(sa.x * sb.x);
+    const float restitution = fmax(sa.y, sb.y);
+    const BodyPose pa = poses[a], pb = poses[b];
+    const BodyVelocity va = velocities[a], vb = velocities[b];
+    const float4 fixedTangent = perpendicularItem(m.normal);
+    // The keys first: they choose which old point each new one takes its impulses from.
+    PgsImpulse keys[4], old[4];
+    for (uint k = 0; k < points; ++k) {
+        const float4 point = m.points[k];
+        const float4 rA = sub4(vec4(point.x, point.y, point.z),
+                               vec4(pa.position.x, pa.position.y, pa.position.z));
+        keys[k].pointInA = quatRotateInverse(pa.orientation, rA);
+        keys[k].feature = m.features[k];
+    }
+    for (uint o = 0; o < oldCount; ++o) old[o] = previousImpulses[4u * q + o];
+    const WarmStartMatch match = warmStartMatchItem(keys, points, old, oldCount);
+    for (uint k = 0; k < points; ++k) {
+        const float4 point = m.points[k];
+        const PgsContactRow row = pgsContactRowItem(
+            point, point.w, m.normal, pa.position, pb.position, va, vb, ima, imb,
+            ja.inverseInertiaWorld, jb.inverseInertiaWorld, friction, restitution, baumgarte,
+            slop, dt, fixedTangent);
+        float4 start = make4(0.0f, 0.0f, 0.0f, 0.0f);
+        if (match.from[k] >= 0) {
+            const PgsImpulse from = old[match.from[k]];
+            start.x = from.normal;
+            start.y = dot3(from.friction, row.friction.tangent[0]);
+            start.z = dot3(from.friction, row.friction.tangent[1]);
         }
-        pairRows[p] = m.count | (movesA ? RUBBLE_PGS_MOVES_A : 0u) | (movesB ? RUBBLE_PGS_MOVES_B : 0u);
-        impulseCount[p] = m.count;
-        if (pushes) {
-            if (movesA) pushed[a] = 1u;
-            if (movesB) pushed[b] = 1u;
-            status[RUBBLE_STATUS_PUSHED] = 1u;
-        }
+        normalRows[first + k] = row.normal;
+        frictionRows[first + k] = row.friction;
+        impulses[first + k] = start;
+        // What the next step starts from if no sweep runs; the last sweep overwrites it.
+        PgsImpulse key = keys[k];
+        key.normal = start.x;
+        key.friction = add4(scale4(row.friction.tangent[0], start.y),
+                            scale4(row.friction.tangent[1], start.z));
+        key.pad0 = key.pad1 = 0u;
+        kept[4u * p + k] = key;
     }
 }
 
@@ -124,8 +157,9 @@ static void storePair(const BodyVelocityPair p, const uint a, const uint b, cons
     if (summary & RUBBLE_PGS_MOVES_B) v[b] = p.b;
 }
 
-// A joint's summary word: which of its bodies move in this step's solve.
-static uint jointSummary(const JacobiBody ja, const JacobiBody jb) {
+// Which of a joint's bodies move in this step's solve (the host colors joints over every
+// dynamic body, asleep or not).
+static uint jointMoves(const JacobiBody ja, const JacobiBody jb) {
     return (jointInverseMassItem(ja) > 0.0f ? RUBBLE_PGS_MOVES_A : 0u) |
            (jointInverseMassItem(jb) > 0.0f ? RUBBLE_PGS_MOVES_B : 0u);
 }
@@ -133,41 +167,36 @@ static uint jointSummary(const JacobiBody ja, const JacobiBody jb) {
 // Warm start, one color: each pair's points apply their accumulated impulses (normal, then the
 // two friction rows), as warmStartContacts does; each joint its blocks' (warmStartJoints).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-warmStartPgs(const uint first, const uint count, __global const uint* order,
-             __global const BodyPairRecord* pairs, __global const uint* pairRows,
+warmStartPgs(const uint first, const uint count, __global const PgsElement* elements,
              __global const PgsNormalRow* normalRows, __global const PgsFrictionRows* frictionRows,
              __global const float4* impulses, __global const PgsJoint* joints,
              __global const PgsJointRow* jointRows, __global const JacobiBody* bodies,
              __global BodyVelocity* velocities) {
     const uint i = get_global_id(0);
     if (i >= count) return;
-    const uint e = order[first + i];
-    if (e & RUBBLE_PGS_JOINT_ELEMENT) {
-        const uint j = e & ~RUBBLE_PGS_JOINT_ELEMENT;
-        const PgsJoint joint = joints[j];
-        const JacobiBody ja = bodies[joint.a], jb = bodies[joint.b];
-        BodyVelocityPair v = loadPair(joint.a, joint.b, velocities);
-        v = warmStartJointItem(v, joint, jointRows[j], ja, jb);
-        storePair(v, joint.a, joint.b, jointSummary(ja, jb), velocities);
+    const PgsElement e = elements[first + i];
+    BodyVelocityPair v = loadPair(e.a, e.b, velocities);
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
+        const uint j = e.id & ~RUBBLE_PGS_JOINT_ELEMENT;
+        const JacobiBody ja = bodies[e.a], jb = bodies[e.b];
+        v = warmStartJointItem(v, joints[j], jointRows[j], ja, jb);
+        storePair(v, e.a, e.b, jointMoves(ja, jb), velocities);
         return;
     }
-    const uint p = e;
-    const uint summary = pairRows[p];
-    const BodyPairRecord pair = pairs[p];
-    BodyVelocityPair v = loadPair(pair.a, pair.b, velocities);
-    for (uint k = 0; k < (summary & RUBBLE_PGS_POINTS); ++k) {
-        const float4 l = impulses[4u * p + k];
+    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+    for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
+        const float4 l = impulses[row + k];
         if (l.x != 0.0f) {
-            const PgsNormalRow r = normalRows[4u * p + k];
+            const PgsNormalRow r = normalRows[row + k];
             v = applyPgsRowItem(v, r.normal, r.turnA, r.turnB, r.speeds.z, r.speeds.w, l.x);
         }
         if (l.y == 0.0f && l.z == 0.0f) continue;
-        const PgsFrictionRows f = frictionRows[4u * p + k];
+        const PgsFrictionRows f = frictionRows[row + k];
         const float ima = f.inverseMass.x, imb = f.inverseMass.y;
         if (l.y != 0.0f) v = applyPgsRowItem(v, f.tangent[0], f.turnA[0], f.turnB[0], ima, imb, l.y);
         if (l.z != 0.0f) v = applyPgsRowItem(v, f.tangent[1], f.turnA[1], f.turnB[1], ima, imb, l.z);
     }
-    storePair(v, pair.a, pair.b, summary, velocities);
+    storePair(v, e.a, e.b, e.rows, velocities);
 }
 
 // One velocity sweep of one color: each joint's blocks (solveJointVelocity); each pair's normal
@@ -175,8 +204,7 @@ warmStartPgs(const uint first, const uint count, __global const uint* order,
 // solveContactSweep orders them within a pair. The last sweep also writes the impulses kept
 // for the next step's warm start and the largest |change| of the sweep to the status block.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-solvePgs(const uint first, const uint count, __global const uint* order,
-         __global const BodyPairRecord* pairs, __global const uint* pairRows,
+solvePgs(const uint first, const uint count, __global const PgsElement* elements,
          __global const PgsNormalRow* normalRows, __global const PgsFrictionRows* frictionRows,
          __global float4* impulses, __global const PgsJoint* joints,
          __global PgsJointRow* jointRows, __global const JacobiBody* bodies,
@@ -184,50 +212,45 @@ solvePgs(const uint first, const uint count, __global const uint* order,
          __global PgsImpulse* kept, __global uint* status) {
     const uint i = get_global_id(0);
     if (i >= count) return;
-    const uint e = order[first + i];
-    if (e & RUBBLE_PGS_JOINT_ELEMENT) {
-        const uint j = e & ~RUBBLE_PGS_JOINT_ELEMENT;
-        const PgsJoint joint = joints[j];
-        const JacobiBody ja = bodies[joint.a], jb = bodies[joint.b];
-        const PgsJointUpdate u = solveJointItem(loadPair(joint.a, joint.b, velocities), joint,
-                                                jointRows[j], ja, jb, relaxation);
-        storePair(u.v, joint.a, joint.b, jointSummary(ja, jb), velocities);
+    const PgsElement e = elements[first + i];
+    BodyVelocityPair v = loadPair(e.a, e.b, velocities);
+    float residual = 0.0f;
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
+        const uint j = e.id & ~RUBBLE_PGS_JOINT_ELEMENT;
+        const JacobiBody ja = bodies[e.a], jb = bodies[e.b];
+        const PgsJointUpdate u = solveJointItem(v, joints[j], jointRows[j], ja, jb, relaxation);
+        storePair(u.v, e.a, e.b, jointMoves(ja, jb), velocities);
         jointRows[j].pointImpulse = vec4(u.pointImpulse.x, u.pointImpulse.y, u.pointImpulse.z);
         jointRows[j].turnImpulse = u.turnImpulse;
-        if (lastSweep && u.pointImpulse.w > 0.0f)
-            atomic_max(&status[RUBBLE_STATUS_RESIDUAL], as_uint(u.pointImpulse.w));
-        return;
-    }
-    const uint p = e;
-    const uint summary = pairRows[p];
-    const uint points = summary & RUBBLE_PGS_POINTS;
-    const BodyPairRecord pair = pairs[p];
-    BodyVelocityPair v = loadPair(pair.a, pair.b, velocities);
-    float4 l[4];
-    float residual = 0.0f;
-    for (uint k = 0; k < points; ++k) {
-        const PgsNormalRow r = normalRows[4u * p + k];
-        l[k] = impulses[4u * p + k];
-        const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.x, l[k].x, relaxation);
-        v = u.v;
-        l[k].x = u.accumulated;
-        residual = fmax(residual, fabs(u.applied));
-    }
-    for (uint k = 0; k < points; ++k) {
-        const PgsFrictionRows r = frictionRows[4u * p + k];
-        const PgsFrictionUpdate u = solvePgsFrictionItem(r, v, l[k].x, l[k].y, l[k].z, relaxation);
-        v = u.v;
-        l[k].y = u.impulse.x;
-        l[k].z = u.impulse.y;
-        residual = fmax(residual, u.impulse.z);
-        impulses[4u * p + k] = l[k];
-        if (lastSweep) {
-            kept[4u * p + k].normal = l[k].x;
-            kept[4u * p + k].friction =
-                add4(scale4(r.tangent[0], l[k].y), scale4(r.tangent[1], l[k].z));
+        residual = u.pointImpulse.w;
+    } else {
+        const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT, points = e.rows & RUBBLE_PGS_POINTS;
+        float4 l[4];
+        for (uint k = 0; k < points; ++k) {
+            const PgsNormalRow r = normalRows[row + k];
+            l[k] = impulses[row + k];
+            const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.x, l[k].x, relaxation);
+            v = u.v;
+            l[k].x = u.accumulated;
+            residual = fmax(residual, fabs(u.applied));
         }
+        for (uint k = 0; k < points; ++k) {
+            const PgsFrictionRows r = frictionRows[row + k];
+            const PgsFrictionUpdate u =
+                solvePgsFrictionItem(r, v, l[k].x, l[k].y, l[k].z, relaxation);
+            v = u.v;
+            l[k].y = u.impulse.x;
+            l[k].z = u.impulse.y;
+            residual = fmax(residual, u.impulse.z);
+            impulses[row + k] = l[k];
+            if (lastSweep) {
+                kept[4u * e.id + k].normal = l[k].x;
+                kept[4u * e.id + k].friction =
+                    add4(scale4(r.tangent[0], l[k].y), scale4(r.tangent[1], l[k].z));
+            }
+        }
+        storePair(v, e.a, e.b, e.rows, velocities);
     }
-    storePair(v, pair.a, pair.b, summary, velocities);
     if (lastSweep && residual > 0.0f) atomic_max(&status[RUBBLE_STATUS_RESIDUAL], as_uint(residual));
 }
 
@@ -236,32 +259,30 @@ solvePgs(const uint first, const uint count, __global const uint* order,
 // accumulated push impulses in w of each impulse record, zero when built). A sweep after one
 // whose largest change was within RUBBLE_PUSH_TOLERANCE does nothing: the pass has converged.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-pushPgs(const uint first, const uint count, __global const uint* order,
-        __global const BodyPairRecord* pairs, __global const uint* pairRows,
+pushPgs(const uint first, const uint count, __global const PgsElement* elements,
         __global const PgsNormalRow* normalRows, __global float4* impulses,
         __global const uint* pushed, __global BodyVelocity* push, const float relaxation,
         const uint sweep, __global uint* sweepResidual) {
     const uint i = get_global_id(0);
     if (i >= count) return;
     if (sweep > 0u && as_float(sweepResidual[sweep - 1u]) <= RUBBLE_PUSH_TOLERANCE) return;
-    const uint p = order[first + i];
-    if (p & RUBBLE_PGS_JOINT_ELEMENT) return; // joints are projected after integratePositions
-    const uint summary = pairRows[p];
-    const BodyPairRecord pair = pairs[p];
-    const int touched = pushed[pair.a] || pushed[pair.b];
-    BodyVelocityPair v = loadPair(pair.a, pair.b, push);
+    const PgsElement e = elements[first + i];
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) return; // joints are projected after integratePositions
+    const int touched = pushed[e.a] || pushed[e.b];
+    BodyVelocityPair v = loadPair(e.a, e.b, push);
+    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
     float residual = 0.0f;
-    for (uint k = 0; k < (summary & RUBBLE_PGS_POINTS); ++k) {
-        const PgsNormalRow r = normalRows[4u * p + k];
+    for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
+        const PgsNormalRow r = normalRows[row + k];
         if (r.speeds.y <= 0.0f && !touched) continue;
-        float4 l = impulses[4u * p + k];
+        float4 l = impulses[row + k];
         const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.y, l.w, relaxation);
         v = u.v;
         l.w = u.accumulated;
-        impulses[4u * p + k] = l;
+        impulses[row + k] = l;
         residual = fmax(residual, fabs(u.applied));
     }
-    storePair(v, pair.a, pair.b, summary, push);
+    storePair(v, e.a, e.b, e.rows, push);
     if (residual > 0.0f) atomic_max(&sweepResidual[sweep], as_uint(residual));
 }
 

@@ -52,6 +52,7 @@ enum class KernelId : unsigned {
     PlacePairs,
     SortPairLists,
     CollideShapes,
+    SummarizePairs,
     BuildPgsRows,
     WarmStartPgs,
     SolvePgs,

@@ -10,18 +10,18 @@
 namespace rubble::gpu {
 namespace {
 
-// Bytes one launch of a sweep kernel moves for a color of `elements` pairs with `points` rows:
-// each pair's record and summary, both bodies' velocities read and written, and per point its
+// Bytes one launch of a sweep kernel moves for a color of `elements` elements with `points`
+// rows: each element's record, both bodies' velocities read and written, and per point its
 // rows (`rowBytes`) and its impulses read and written.
 std::uint64_t sweepBytes(std::uint64_t elements, std::uint64_t points, std::uint64_t rowBytes) {
-    constexpr std::uint64_t kWord = 4, kVelocity = sizeof(shared::BodyVelocity);
-    return elements * (kWord + sizeof(shared::BodyPairRecord) + kWord + 4 * kVelocity) +
+    constexpr std::uint64_t kVelocity = sizeof(shared::BodyVelocity);
+    return elements * (sizeof(shared::PgsElement) + 4 * kVelocity) +
            points * (rowBytes + 2 * sizeof(shared::float4));
 }
 
 } // namespace
 
-Status Pipeline::buildPgsRows(const StepParams& params) {
+Status Pipeline::summarizePairs(const StepParams& params) {
     RUBBLE_ASSERT(sat_.enabled);
     const Context& c = *context_;
     const cl_uint bodies = bodies_.count;
@@ -47,33 +47,27 @@ Status Pipeline::buildPgsRows(const StepParams& params) {
     const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
     const std::size_t items =
         std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
-    RUBBLE_TRY(Dispatch(c, KernelId::BuildPgsRows, &profile_)
-        .arg(capacity)
-        .arg(sat_.current.count)
-        .arg(sat_.current.pairs)
-        .arg(sat_.manifolds)
-        .arg(bodies_.poses)
-        .arg(bodies_.velocities)
-        .arg(bodies_.jacobi)
-        .arg(contacts_.surfaces)
-        .arg(baumgarte)
-        .arg(slop)
-        .arg(dt)
-        .arg(warm)
-        .arg(previousCapacity)
-        .arg(sat_.previous.count)
-        .arg(sat_.previous.pairs)
-        .arg(sat_.previous.impulseCount)
-        .arg(sat_.previous.impulses)
-        .arg(pgs_.normalRows)
-        .arg(pgs_.frictionRows)
-        .arg(pgs_.impulses)
-        .arg(pgs_.pairRows)
-        .arg(sat_.current.impulseCount)
-        .arg(sat_.current.impulses)
-        .arg(pgs_.pushed)
-        .arg(status_)
-        .run(items, group));
+    RUBBLE_TRY(Dispatch(c, KernelId::SummarizePairs, &profile_)
+                   .arg(capacity)
+                   .arg(sat_.current.count)
+                   .arg(sat_.current.pairs)
+                   .arg(sat_.manifolds)
+                   .arg(bodies_.jacobi)
+                   .arg(baumgarte)
+                   .arg(slop)
+                   .arg(dt)
+                   .arg(warm)
+                   .arg(previousCapacity)
+                   .arg(sat_.previous.count)
+                   .arg(sat_.previous.pairs)
+                   .arg(sat_.previous.impulseCount)
+                   .arg(sat_.previous.impulses)
+                   .arg(pgs_.pairRows)
+                   .arg(sat_.current.impulseCount)
+                   .arg(sat_.current.impulses)
+                   .arg(pgs_.pushed)
+                   .arg(status_)
+                   .run(items, group));
     if (pgs_.jointCount == 0) return {};
     const cl_uint joints = pgs_.jointCount;
     return Dispatch(c, KernelId::PrepareJoints, &profile_)
@@ -89,7 +83,7 @@ Status Pipeline::buildPgsRows(const StepParams& params) {
 Status Pipeline::colorPgs() {
     const Context& c = *context_;
     PgsBuffers& g = pgs_;
-    // The status block was read after the rows (readStatus waited for them).
+    // The status block was read after the summaries (readStatus waited for them).
     const std::uint32_t pairs = std::min(statusFromSlots().pairs, sat_.current.capacity);
     g.pairRowsHost.resize(pairs);
     g.pairsHost.resize(pairs);
@@ -109,20 +103,88 @@ Status Pipeline::colorPgs() {
                      summary & RUBBLE_PGS_MOVES_B);
     }
     coloring.finish();
-    // Rows per color, for the sweeps' byte counts.
+    // The elements in color order, each pair's rows packed after the last one's, so that a
+    // color's sweep reads its rows front to back.
     const std::span<const std::uint32_t> order = coloring.order(), start = coloring.start();
+    g.elementsHost.resize(order.size());
     g.colorPoints.assign(coloring.colors(), 0);
-    for (std::uint32_t k = 0; k < coloring.colors(); ++k)
-        for (std::uint32_t i = start[k]; i < start[k + 1]; ++i)
-            if (!(order[i] & RUBBLE_PGS_JOINT_ELEMENT))
-                g.colorPoints[k] += g.pairRowsHost[order[i]] & RUBBLE_PGS_POINTS;
+    std::uint32_t rows = 0;
+    for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
+        for (std::uint32_t i = start[k]; i < start[k + 1]; ++i) {
+            const std::uint32_t id = order[i];
+            shared::PgsElement& e = g.elementsHost[i];
+            e.id = id;
+            if (id & RUBBLE_PGS_JOINT_ELEMENT) {
+                const shared::PgsJoint& joint = g.jointsHost[id & ~RUBBLE_PGS_JOINT_ELEMENT];
+                e.a = joint.a;
+                e.b = joint.b;
+                e.rows = 0;
+                continue;
+            }
+            const cl_uint summary = g.pairRowsHost[id];
+            const std::uint32_t points = summary & RUBBLE_PGS_POINTS;
+            e.a = g.pairsHost[id].a;
+            e.b = g.pairsHost[id].b;
+            e.rows = (rows << RUBBLE_PGS_FIRST_SHIFT) | summary;
+            rows += points;
+            g.colorPoints[k] += points;
+        }
+    }
+    g.rowCount = rows;
     if (order.empty()) return {};
-    RUBBLE_TRY(g.order.reserve(c.context(), order.size_bytes()));
-    // Non-blocking: the coloring's order stays put until the next step's coloring, which waits
-    // for this step first.
-    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), g.order.mem(), CL_FALSE, 0,
-                                         order.size_bytes(), order.data(), 0, nullptr,
-                                         profile_.transfer(Transfer::Write, order.size_bytes())));
+    RUBBLE_TRY(g.normalRows.reserve(c.context(), rows * sizeof(shared::PgsNormalRow)));
+    RUBBLE_TRY(g.frictionRows.reserve(c.context(), rows * sizeof(shared::PgsFrictionRows)));
+    RUBBLE_TRY(g.impulses.reserve(c.context(), rows * sizeof(shared::float4)));
+    const std::size_t bytes = g.elementsHost.size() * sizeof(shared::PgsElement);
+    RUBBLE_TRY(g.elements.reserve(c.context(), bytes));
+    // Non-blocking: the elements stay put until the next step's coloring, which waits for this
+    // step first.
+    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), g.elements.mem(), CL_FALSE, 0, bytes,
+                                         g.elementsHost.data(), 0, nullptr,
+                                         profile_.transfer(Transfer::Write, bytes)));
+    return {};
+}
+
+Status Pipeline::buildPgsRows(const StepParams& params) {
+    const Context& c = *context_;
+    PgsBuffers& g = pgs_;
+    const cl_uint count = cl_uint(g.elementsHost.size());
+    if (count == 0) return {};
+    const SolverOptions& o = params.solver;
+    const cl_uint previousCapacity = sat_.previous.capacity;
+    const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;
+    const cl_uint warm = o.warmStart ? 1u : 0u;
+    RUBBLE_TRY(Dispatch(c, KernelId::BuildPgsRows, &profile_)
+                   .arg(count)
+                   .arg(g.elements)
+                   .arg(sat_.manifolds)
+                   .arg(bodies_.poses)
+                   .arg(bodies_.velocities)
+                   .arg(bodies_.jacobi)
+                   .arg(contacts_.surfaces)
+                   .arg(baumgarte)
+                   .arg(slop)
+                   .arg(dt)
+                   .arg(warm)
+                   .arg(previousCapacity)
+                   .arg(sat_.previous.count)
+                   .arg(sat_.previous.pairs)
+                   .arg(sat_.previous.impulseCount)
+                   .arg(sat_.previous.impulses)
+                   .arg(g.normalRows)
+                   .arg(g.frictionRows)
+                   .arg(g.impulses)
+                   .arg(sat_.current.impulses)
+                   .run(count, c.workSizes().pairGroup));
+    // Per element its record, manifold, both bodies' poses, velocities, JacobiBody and surfaces,
+    // last step's run of impulses; per point its rows, impulses and key written.
+    const std::uint64_t perElement = sizeof(shared::PgsElement) + sizeof(shared::ContactManifold) +
+                                     2 * (sizeof(shared::BodyPose) + sizeof(shared::BodyVelocity) +
+                                          sizeof(shared::JacobiBody) + sizeof(shared::float4)) +
+                                     4 * sizeof(shared::PgsImpulse);
+    const std::uint64_t perPoint = sizeof(shared::PgsNormalRow) + sizeof(shared::PgsFrictionRows) +
+                                   sizeof(shared::float4) + sizeof(shared::PgsImpulse);
+    profile_.setLastBytes(count * perElement + g.rowCount * perPoint);
     return {};
 }
 
@@ -147,9 +209,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
             RUBBLE_TRY(Dispatch(c, KernelId::WarmStartPgs, &profile_)
                            .arg(first)
                            .arg(count)
-                           .arg(g.order)
-                           .arg(sat_.current.pairs)
-                           .arg(g.pairRows)
+                           .arg(g.elements)
                            .arg(g.normalRows)
                            .arg(g.frictionRows)
                            .arg(g.impulses)
@@ -169,9 +229,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
             RUBBLE_TRY(Dispatch(c, KernelId::SolvePgs, &profile_)
                            .arg(first)
                            .arg(count)
-                           .arg(g.order)
-                           .arg(sat_.current.pairs)
-                           .arg(g.pairRows)
+                           .arg(g.elements)
                            .arg(g.normalRows)
                            .arg(g.frictionRows)
                            .arg(g.impulses)
@@ -206,9 +264,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
                 RUBBLE_TRY(Dispatch(c, KernelId::PushPgs, &profile_)
                                .arg(first)
                                .arg(count)
-                               .arg(g.order)
-                               .arg(sat_.current.pairs)
-                               .arg(g.pairRows)
+                               .arg(g.elements)
                                .arg(g.normalRows)
                                .arg(g.impulses)
                                .arg(g.pushed)
@@ -288,17 +344,13 @@ Result<std::vector<shared::PgsJointRow>> Pipeline::downloadJointRows() {
 }
 
 Result<std::vector<shared::PgsNormalRow>> Pipeline::downloadPgsNormalRows() {
-    Result<DeviceStatus> st = readStatus();
-    RUBBLE_TRY(st);
-    std::vector<shared::PgsNormalRow> rows(4 * std::size_t(std::min(st->pairs, sat_.current.capacity)));
+    std::vector<shared::PgsNormalRow> rows(pgs_.rowCount);
     RUBBLE_TRY(download(*context_, pgs_.normalRows, std::span(rows)));
     return rows;
 }
 
 Result<std::vector<shared::float4>> Pipeline::downloadPgsImpulses() {
-    Result<DeviceStatus> st = readStatus();
-    RUBBLE_TRY(st);
-    std::vector<shared::float4> impulses(4 * std::size_t(std::min(st->pairs, sat_.current.capacity)));
+    std::vector<shared::float4> impulses(pgs_.rowCount);
     RUBBLE_TRY(download(*context_, pgs_.impulses, std::span(impulses)));
     return impulses;
 }

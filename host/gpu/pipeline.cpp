@@ -220,7 +220,7 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
         profile_.setStage(DeviceStage::NarrowPhase);
         RUBBLE_TRY(narrowPhase(params.dt));
         profile_.setStage(DeviceStage::BuildContactRows);
-        RUBBLE_TRY(buildPgsRows(params));
+        RUBBLE_TRY(summarizePairs(params));
         Result<DeviceStatus> st = readStatus();
         RUBBLE_TRY(st);
         if (st->pairs <= sat_.current.capacity) break;
@@ -231,7 +231,8 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
                      st->pairs, sat_.current.capacity, grown);
         RUBBLE_TRY(setPairCapacity(grown));
     }
-    return colorPgs();
+    RUBBLE_TRY(colorPgs());
+    return buildPgsRows(params);
 }
 
 Status Pipeline::enqueueSatSolve(const StepParams& params) {

@@ -126,14 +126,15 @@ struct SatBuffers {
 /// collides with SAT: the rows of this step's pairs (4 slots per pair), the coloring's order,
 /// and the split position pass's per-body state.
 struct PgsBuffers {
-    Buffer normalRows;    ///< PgsNormalRow per slot
-    Buffer frictionRows;  ///< PgsFrictionRows per slot
-    Buffer impulses;      ///< per slot: normal, two friction and push impulses, N s
-    Buffer pairRows;      ///< per pair: its point count and RUBBLE_PGS_MOVES_* (the coloring's)
-    Buffer order;         ///< this step's elements, color by color
+    Buffer pairRows;      ///< per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
+    Buffer elements;      ///< this step's PgsElement records, color by color
+    Buffer normalRows;    ///< PgsNormalRow per point, packed in element order
+    Buffer frictionRows;  ///< PgsFrictionRows per point, in the same order
+    Buffer impulses;      ///< per point: normal, two friction and push impulses, N s
     Buffer pushed;        ///< per body: a pushing row moves it
     Buffer push;          ///< per body: the push velocities (BodyVelocity)
     Buffer sweepResidual; ///< per push sweep: the largest change, float bits
+    std::uint32_t rowCount = 0; ///< points with rows this step
     // Joints: in body frames (once per world), their rows and impulses (kept between steps),
     // the jointed bodies, and the joints colored once over the dynamic bodies for the position
     // projection.
@@ -147,6 +148,7 @@ struct PgsBuffers {
     Coloring coloring;
     std::vector<cl_uint> pairRowsHost;
     std::vector<shared::BodyPairRecord> pairsHost;
+    std::vector<shared::PgsElement> elementsHost;
     std::vector<std::uint32_t> colorPoints; ///< rows (points) of each color, for the byte counts
 };
 
@@ -298,13 +300,18 @@ class Pipeline {
 
     // Projected Gauss-Seidel (host/gpu/pgs.cpp) for a world made with CollisionMethod::Sat; the
     // twin of PgsSolver's stages.
-    /// Stage buildContactRows: each body's inverse mass and world inverse inertia (0 when it
-    /// does not move), then the rows of every pair's manifold, warm-started.
-    Status buildPgsRows(const StepParams& params);
-    /// Reads each pair's summary and colors the step's elements; the status block must have
-    /// been read after the rows (readStatus), and the pairs must fit their buffers. Errors:
-    /// Device.
+    /// Stage buildContactRows, before the host's coloring: each body's inverse mass and world
+    /// inverse inertia (0 when it does not move), each pair's summary for the coloring (and the
+    /// impulses kept by pairs that get no rows), the marks of the split position pass, the
+    /// joints' rows.
+    Status summarizePairs(const StepParams& params);
+    /// Reads each pair's summary and colors the step's elements into PgsElement records with
+    /// their rows packed in color order; the status block must have been read after the
+    /// summaries (readStatus), and the pairs must fit their buffers. Errors: Device.
     Status colorPgs();
+    /// Stage buildContactRows, after the coloring: the rows of every element's manifold points,
+    /// warm-started.
+    Status buildPgsRows(const StepParams& params);
     /// Stage solve: warm start, `iterations` velocity sweeps and the split position pass, one
     /// launch per color each; the momenta take up the velocity change.
     Status solvePgs(const StepParams& params);
@@ -315,8 +322,7 @@ class Pipeline {
     Status projectJoints();
     /// Reads the joints' rows and impulses. Errors: Device.
     Result<std::vector<shared::PgsJointRow>> downloadJointRows();
-    /// Reads this step's rows and their impulses (4 slots per pair; pairRows says how many are
-    /// used). Errors: Device.
+    /// Reads this step's rows and their impulses, packed in element order. Errors: Device.
     Result<std::vector<shared::PgsNormalRow>> downloadPgsNormalRows();
     Result<std::vector<shared::float4>> downloadPgsImpulses();
     const PgsBuffers& pgs() const { return pgs_; }

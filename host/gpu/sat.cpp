@@ -101,12 +101,7 @@ Status Pipeline::setPairCapacity(std::uint32_t capacity) {
     RUBBLE_TRY(s.manifolds.reserve(c.context(), n * sizeof(shared::ContactManifold)));
     RUBBLE_TRY(s.current.impulseCount.reserve(c.context(), n * sizeof(cl_uint)));
     RUBBLE_TRY(s.current.impulses.reserve(c.context(), 4 * n * sizeof(shared::PgsImpulse)));
-    // PGS: four row slots per pair.
-    RUBBLE_TRY(pgs_.normalRows.reserve(c.context(), 4 * n * sizeof(shared::PgsNormalRow)));
-    RUBBLE_TRY(pgs_.frictionRows.reserve(c.context(), 4 * n * sizeof(shared::PgsFrictionRows)));
-    RUBBLE_TRY(pgs_.impulses.reserve(c.context(), 4 * n * sizeof(shared::float4)));
     RUBBLE_TRY(pgs_.pairRows.reserve(c.context(), n * sizeof(cl_uint)));
-    RUBBLE_TRY(pgs_.order.reserve(c.context(), n * sizeof(cl_uint)));
     // Last step's set keeps its size: the next narrow phase reads it before it changes.
     return {};
 }

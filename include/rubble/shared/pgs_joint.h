@@ -12,8 +12,6 @@ RUBBLE_SHARED_BEGIN
 
 #define RUBBLE_JOINT_BALL 0u
 #define RUBBLE_JOINT_HINGE 1u
-// An element of the device's solve that is a joint (its index in the low bits), not a pair.
-#define RUBBLE_PGS_JOINT_ELEMENT 0x80000000u
 
 // Position projection (host/dynamics/joint_positions.cpp): a joint is done when its anchors
 // are within RUBBLE_JOINT_LINEAR_TOLERANCE (m) and its hinge rows within

@@ -19,11 +19,24 @@ RUBBLE_SHARED_BEGIN
 // The split position pass stops when no push impulse changed by more than this in a sweep, N s.
 #define RUBBLE_PUSH_TOLERANCE 1e-6f
 
-// A pair's summary word on the device (kernels/pgs.cl), for the coloring: its rows' point count
-// in the low bits, and which of its bodies move in the solve.
+// A pair's summary word on the device (kernels/pgs.cl, summarizePairs), which the host colors
+// from: its point count in the low bits, and which of its bodies move in the solve. An element's
+// `rows` word holds the same bits and its first packed row above RUBBLE_PGS_FIRST_SHIFT.
 #define RUBBLE_PGS_POINTS 7u
-#define RUBBLE_PGS_MOVES_A 256u
-#define RUBBLE_PGS_MOVES_B 512u
+#define RUBBLE_PGS_MOVES_A 8u
+#define RUBBLE_PGS_MOVES_B 16u
+#define RUBBLE_PGS_FIRST_SHIFT 5u
+// An element of the device's solve that is a joint (its index in the low bits), not a pair.
+#define RUBBLE_PGS_JOINT_ELEMENT 0x80000000u
+
+// 16 bytes: one element of the device's solve, in color order (the host makes them after
+// coloring): a pair's contact rows, packed at rows >> RUBBLE_PGS_FIRST_SHIFT, or a joint.
+typedef struct PgsElement {
+    uint a, b; // body indices
+    uint id;   // the pair's index, or RUBBLE_PGS_JOINT_ELEMENT | the joint's
+    uint rows; // first packed row << RUBBLE_PGS_FIRST_SHIFT | RUBBLE_PGS_MOVES_* | point count
+} PgsElement;
+RUBBLE_STATIC_ASSERT_SIZE(PgsElement, 16);
 
 // 80 bytes, not stored: one row's Jacobian along a unit direction d at the arms rA, rB.
 typedef struct RowJacobian {
