@@ -107,7 +107,6 @@ Status attachScene(WorldState& s, const Scene& scene, std::shared_ptr<gpu::Conte
     }
     SimulationOptions options = scene.simulation;
     options.backend = Backend::OpenCl;
-    options.solver.type = deviceSolver(scene);
     return attachDevice(s, std::move(context), options);
 }
 

@@ -54,7 +54,8 @@ struct SolverOptions {
 
 /// The `simulation.collision` block of a scene.
 struct CollisionOptions {
-    /// Sat on the CPU and Particles on OpenCL when the scene does not say.
+    /// When the scene does not say: Sat, except on OpenCL with a solver of the Jacobi family
+    /// (jacobi, lcp-jacobi), which takes particle contacts (SimulationOptions::collisionMethod).
     std::optional<CollisionMethod> method;
     float particleSpacing = 0.1f; ///< voxel size of the particle representation, m
 };
@@ -70,10 +71,14 @@ struct SimulationOptions {
     SolverOptions solver;
     Coupling coupling = Coupling::OneWay;
 
-    /// The collision method in effect: the scene's, else the backend's default.
+    /// The collision method in effect: the scene's, else SAT, except on OpenCL with a solver
+    /// other than pgs: particles (the device's PGS takes SAT manifolds, its Jacobi solvers
+    /// particle contacts).
     CollisionMethod collisionMethod() const {
         if (collision.method) return *collision.method;
-        return backend == Backend::OpenCl ? CollisionMethod::Particles : CollisionMethod::Sat;
+        return backend == Backend::OpenCl && solver.type != SolverType::Pgs
+                   ? CollisionMethod::Particles
+                   : CollisionMethod::Sat;
     }
 };
 

@@ -36,10 +36,15 @@ TEST(SceneLoader, DefaultsMatchTheFormat) {
     EXPECT_FLOAT_EQ(s.materials[0].restitution, 0.0f);
 }
 
-TEST(SceneLoader, OpenClBackendDefaultsToParticles) {
+// On opencl the default collision follows the solver: SAT for pgs (the default solver), whose
+// rows take manifolds, particles for the Jacobi family.
+TEST(SceneLoader, OpenClBackendDefaultsToSatForPgsAndParticlesForJacobi) {
     const Scene s = parse(R"({"format": "rubble-scene", "version": 1,
         "simulation": {"backend": "opencl"}})");
-    EXPECT_EQ(s.simulation.collisionMethod(), CollisionMethod::Particles);
+    EXPECT_EQ(s.simulation.collisionMethod(), CollisionMethod::Sat);
+    const Scene j = parse(R"({"format": "rubble-scene", "version": 1,
+        "simulation": {"backend": "opencl", "solver": {"type": "jacobi"}}})");
+    EXPECT_EQ(j.simulation.collisionMethod(), CollisionMethod::Particles);
 }
 
 TEST(SceneLoader, GridGeneratorNamesAndOrdersXFastest) {
