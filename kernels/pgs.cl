@@ -347,6 +347,23 @@ static JacobiBody projectionBody(const uint i, __global const BodyMass* masses,
     return jacobiBodyItem(m, pose.orientation);
 }
 
+// The joints' position projection of the groups solved as one (the CPU path's direct
+// correction), one work-item per group: projectJointGroupItem on the group's scratch.
+__kernel void projectJointGroups(const uint count, __global const JointGroup* groups,
+                                 __global const uint* members, __global const PgsJoint* joints,
+                                 __global const BodyMass* masses, __global const uint* flags,
+                                 __global BodyPose* poses, __global JointPositionRow* rows,
+                                 __global float* matrix, __global float* solution,
+                                 __global float4* deltaPosition, __global float4* deltaRotation,
+                                 const int iterations) {
+    const uint g = get_global_id(0);
+    if (g >= count) return;
+    const JointGroup group = groups[g];
+    projectJointGroupItem(members + group.first, group.count, joints, masses, flags, poses,
+                          rows + group.rowStart, matrix + group.matrixStart,
+                          solution + group.rowStart, deltaPosition, deltaRotation, iterations);
+}
+
 // One sweep of the joints' position projection, one color of joints (no two share a dynamic
 // body): each joint one Newton step onto its constraints (projectJointItem). A sweep after one
 // that moved nothing does nothing: every joint holds.

@@ -60,6 +60,7 @@ enum class KernelId : unsigned {
     ApplyPushes,
     MarkRestlessPairs,
     PrepareJoints,
+    ProjectJointGroups,
     ProjectJoints,
     JointVelocities,
     MarkRestlessJoints,

@@ -304,9 +304,29 @@ Status Pipeline::projectJoints() {
     const Context& c = *context_;
     RUBBLE_TRY(fill(c, g.jointMoved, 0u, RUBBLE_JOINT_POSITION_ITERATIONS * sizeof(cl_uint),
                     &profile_));
+    if (g.directGroupCount > 0) {
+        const cl_uint groups = g.directGroupCount;
+        const cl_int iterations = RUBBLE_JOINT_POSITION_ITERATIONS;
+        RUBBLE_TRY(Dispatch(c, KernelId::ProjectJointGroups, &profile_)
+                       .arg(groups)
+                       .arg(g.directGroups)
+                       .arg(g.groupMembers)
+                       .arg(g.joints)
+                       .arg(bodies_.masses)
+                       .arg(bodies_.flags)
+                       .arg(bodies_.poses)
+                       .arg(g.positionRows)
+                       .arg(g.positionMatrix)
+                       .arg(g.positionSolution)
+                       .arg(g.deltaPosition)
+                       .arg(g.deltaRotation)
+                       .arg(iterations)
+                       .run(groups, 1));
+    }
     const Coloring& coloring = g.jointColoring;
     const std::span<const std::uint32_t> start = coloring.start();
-    for (cl_uint sweep = 0; sweep < RUBBLE_JOINT_POSITION_ITERATIONS; ++sweep) {
+    for (cl_uint sweep = 0; sweep < RUBBLE_JOINT_POSITION_ITERATIONS && coloring.colors() > 0;
+         ++sweep) {
         for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
             const cl_uint first = start[k], count = start[k + 1] - start[k];
             RUBBLE_TRY(Dispatch(c, KernelId::ProjectJoints, &profile_)
@@ -346,6 +366,12 @@ Result<std::vector<shared::PgsJointRow>> Pipeline::downloadJointRows() {
 Result<std::vector<shared::PgsNormalRow>> Pipeline::downloadPgsNormalRows() {
     std::vector<shared::PgsNormalRow> rows(pgs_.rowCount);
     RUBBLE_TRY(download(*context_, pgs_.normalRows, std::span(rows)));
+    return rows;
+}
+
+Result<std::vector<shared::PgsFrictionRows>> Pipeline::downloadPgsFrictionRows() {
+    std::vector<shared::PgsFrictionRows> rows(pgs_.rowCount);
+    RUBBLE_TRY(download(*context_, pgs_.frictionRows, std::span(rows)));
     return rows;
 }
 

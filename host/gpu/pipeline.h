@@ -142,6 +142,12 @@ struct PgsBuffers {
     Buffer joints, jointRows, jointBodies, jointOrder, jointMoved;
     Buffer jointGroupOf; ///< per jointed body: its joint group (RUBBLE_NO_GROUP: not dynamic)
     Buffer groupVotes;   ///< per joint group: a member stays awake (1), a member is awake (2)
+    // The position projection: joint groups of at most RUBBLE_JOINT_DIRECT_ROWS rows solved
+    // as one (JointGroup records, their members, and their scratch), the joints of larger
+    // groups joint by joint over jointColoring (jointOrder).
+    std::uint32_t directGroupCount = 0;
+    Buffer directGroups, groupMembers, positionRows, positionMatrix, positionSolution;
+    Buffer deltaPosition, deltaRotation; ///< per body, zero between uses
     std::vector<shared::PgsJoint> jointsHost;
     std::vector<std::uint8_t> jointDynamicA, jointDynamicB;
     Coloring jointColoring;
@@ -317,13 +323,16 @@ class Pipeline {
     Status solvePgs(const StepParams& params);
     /// After integratePositions: the split position pass moves the bodies.
     Status applyPushes(float dt);
-    /// After the pushes: the joints projected onto their constraints, color by color, up to
-    /// RUBBLE_JOINT_POSITION_ITERATIONS sweeps; the jointed bodies' velocities follow.
+    /// After the pushes: the joints projected onto their constraints (a group of at most
+    /// RUBBLE_JOINT_DIRECT_ROWS rows as one, up to RUBBLE_JOINT_POSITION_ITERATIONS Newton
+    /// steps; larger groups joint by joint, color by color, as many sweeps); the jointed
+    /// bodies' velocities follow.
     Status projectJoints();
     /// Reads the joints' rows and impulses. Errors: Device.
     Result<std::vector<shared::PgsJointRow>> downloadJointRows();
     /// Reads this step's rows and their impulses, packed in element order. Errors: Device.
     Result<std::vector<shared::PgsNormalRow>> downloadPgsNormalRows();
+    Result<std::vector<shared::PgsFrictionRows>> downloadPgsFrictionRows();
     Result<std::vector<shared::float4>> downloadPgsImpulses();
     const PgsBuffers& pgs() const { return pgs_; }
 

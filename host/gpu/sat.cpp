@@ -227,18 +227,15 @@ Status Pipeline::createJoints(const PipelineInput& in) {
     g.jointDynamicA.resize(g.jointCount);
     g.jointDynamicB.resize(g.jointCount);
     std::vector<std::uint8_t> jointed(bodies_.count, 0);
-    g.jointColoring.begin(bodies_.count);
     for (std::uint32_t j = 0; j < g.jointCount; ++j) {
         const shared::PgsJoint& joint = g.jointsHost[j];
         RUBBLE_ASSERT(joint.a < bodies_.count && joint.b < bodies_.count);
         g.jointDynamicA[j] = dynamic(joint.a) ? 1 : 0;
         g.jointDynamicB[j] = dynamic(joint.b) ? 1 : 0;
-        g.jointColoring.add(j, joint.a, joint.b, g.jointDynamicA[j], g.jointDynamicB[j]);
         jointed[joint.a] = jointed[joint.b] = 1;
     }
-    g.jointColoring.finish();
-    // Joint groups: dynamic bodies joined through dynamic bodies (union-find), numbered by
-    // their lowest body, for sleeping together.
+    // Joint groups: dynamic bodies joined through dynamic bodies (union-find, as the CPU's
+    // groupJoints), for the position projection and for sleeping together.
     std::vector<std::uint32_t> parent(bodies_.count);
     for (std::uint32_t i = 0; i < bodies_.count; ++i) parent[i] = i;
     auto find = [&](std::uint32_t i) {
@@ -250,6 +247,54 @@ Status Pipeline::createJoints(const PipelineInput& in) {
         const std::uint32_t ra = find(g.jointsHost[j].a), rb = find(g.jointsHost[j].b);
         if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
     }
+    // The projection's groups: joints by their group's root, then by index. A group of at most
+    // RUBBLE_JOINT_DIRECT_ROWS rows is projected as one; the joints of a larger one are
+    // colored for the joint-by-joint sweeps.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> keyed;
+    for (std::uint32_t j = 0; j < g.jointCount; ++j) {
+        const shared::PgsJoint& joint = g.jointsHost[j];
+        keyed.push_back({find(g.jointDynamicA[j] ? joint.a : joint.b), j});
+    }
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<shared::JointGroup> groups;
+    std::vector<cl_uint> members;
+    std::uint32_t rows = 0, matrix = 0;
+    g.jointColoring.begin(bodies_.count);
+    for (std::size_t first = 0; first < keyed.size();) {
+        std::size_t last = first;
+        std::uint32_t groupRows = 0;
+        while (last < keyed.size() && keyed[last].first == keyed[first].first) {
+            groupRows += g.jointsHost[keyed[last].second].type == RUBBLE_JOINT_HINGE ? 5 : 3;
+            ++last;
+        }
+        if (groupRows <= RUBBLE_JOINT_DIRECT_ROWS) {
+            groups.push_back({std::uint32_t(members.size()), std::uint32_t(last - first), rows,
+                              matrix});
+            for (std::size_t m = first; m < last; ++m) members.push_back(keyed[m].second);
+            rows += groupRows;
+            matrix += groupRows * groupRows;
+        } else {
+            for (std::size_t m = first; m < last; ++m) {
+                const std::uint32_t j = keyed[m].second;
+                g.jointColoring.add(j, g.jointsHost[j].a, g.jointsHost[j].b, g.jointDynamicA[j],
+                                    g.jointDynamicB[j]);
+            }
+        }
+        first = last;
+    }
+    g.jointColoring.finish();
+    g.directGroupCount = std::uint32_t(groups.size());
+    RUBBLE_TRY(upload(c, g.directGroups, view(groups)));
+    RUBBLE_TRY(upload(c, g.groupMembers, view(members)));
+    RUBBLE_TRY(g.positionRows.reserve(c.context(), rows * sizeof(shared::JointPositionRow)));
+    RUBBLE_TRY(g.positionMatrix.reserve(c.context(), matrix * sizeof(cl_float)));
+    RUBBLE_TRY(g.positionSolution.reserve(c.context(), rows * sizeof(cl_float)));
+    const std::size_t deltas = std::size_t(bodies_.count) * sizeof(shared::float4);
+    for (Buffer* b : {&g.deltaPosition, &g.deltaRotation}) {
+        RUBBLE_TRY(b->reserve(c.context(), deltas));
+        RUBBLE_TRY(fill(c, *b, 0u, deltas));
+    }
+    // Sleep groups: the same, numbered by their lowest body.
     std::vector<cl_uint> bodies, groupOf;
     std::vector<std::uint32_t> groupOfRoot(bodies_.count, RUBBLE_NO_GROUP);
     g.jointGroupCount = 0;

@@ -26,6 +26,9 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_JOINT_PIVOT_TOLERANCE 1e-9f
 // Newton steps of the position projection per step (it stops once every joint holds).
 #define RUBBLE_JOINT_POSITION_ITERATIONS 20
+// A joint group with at most this many rows is projected as one (its whole system solved
+// directly); a larger one joint by joint (non-linear Gauss-Seidel).
+#define RUBBLE_JOINT_DIRECT_ROWS 200u
 
 // 96 bytes, made once per world (the CPU's makeJoints): a joint in its bodies' frames.
 typedef struct PgsJoint {
@@ -327,6 +330,204 @@ RUBBLE_FN PosePair projectJointItem(PgsJoint j, BodyPose pa, BodyPose pb, Jacobi
         out.b.orientation = quatIntegrate(pb.orientation, scale4(dqB, scale), 1.0f);
     }
     return out;
+}
+
+// 16 bytes: a joint group projected as one on the device: its joints are members[first ..
+// first + count), its rows and its matrix use the scratch from rowStart and matrixStart.
+typedef struct JointGroup {
+    uint first, count;
+    uint rowStart, matrixStart;
+} JointGroup;
+RUBBLE_STATIC_ASSERT_SIZE(JointGroup, 16);
+
+#define RUBBLE_JOINT_ROW_POINT 1u
+#define RUBBLE_JOINT_ROW_MOVES_A 2u
+#define RUBBLE_JOINT_ROW_MOVES_B 4u
+
+// 144 bytes (scratch): one constraint row of a group's projection at the current poses: C, its
+// Jacobian on each body and M^-1 J^T (joint_positions.cpp's PositionRow).
+typedef struct JointPositionRow {
+    float4 linearA, angularA, linearB, angularB;
+    float4 moveA, turnA, moveB, turnB;
+    float error; // m for point rows, the cosine for hinge rows
+    uint a, b;
+    uint kind; // RUBBLE_JOINT_ROW_POINT for a point row (else a hinge row), RUBBLE_JOINT_ROW_MOVES_*
+} JointPositionRow;
+RUBBLE_STATIC_ASSERT_SIZE(JointPositionRow, 144);
+
+// A body as the projection sees it at `pose`: its inverse mass and world inverse inertia, zero
+// when it does not move (the CPU's inverseOf).
+RUBBLE_FN JacobiBody projectionBodyItem(BodyMass m, uint flags, BodyPose pose) {
+    if (!activeBodyItem(flags) || !(m.inverseMass > 0.0f)) m = wallMassItem(m);
+    return jacobiBodyItem(m, pose.orientation);
+}
+
+// Appends one joint's rows at the current poses to rows[n..]: three point rows along the world
+// axes, and for a hinge the two rows a_1 . b_2, a_1 . c_2. Returns the new row count (n when
+// neither body moves).
+RUBBLE_FN uint appendJointRowsItem(PgsJoint j, BodyPose pa, BodyPose pb, JacobiBody ja,
+                                   JacobiBody jb, RUBBLE_GLOBAL JointPositionRow* rows, uint n) {
+    const float ima = jointInverseMassItem(ja), imb = jointInverseMassItem(jb);
+    if (ima == 0.0f && imb == 0.0f) return n;
+    Mat3 ia = ja.inverseInertiaWorld, ib = jb.inverseInertiaWorld;
+    ia.r0.w = 0.0f;
+    ib.r0.w = 0.0f;
+    const float4 ra = quatRotate(pa.orientation, j.anchorA);
+    const float4 rb = quatRotate(pb.orientation, j.anchorB);
+    float4 c = sub4(add4(pb.position, rb), add4(pa.position, ra));
+    c = vec4(c.x, c.y, c.z);
+    const float size = length3(c);
+    if (size > RUBBLE_JOINT_MAX_LINEAR_CORRECTION)
+        c = scale4(c, RUBBLE_JOINT_MAX_LINEAR_CORRECTION / size);
+    const float cs[3] = {c.x, c.y, c.z};
+    const float4 a1 = quatRotate(pa.orientation, j.axisA);
+    const uint total = j.type == RUBBLE_JOINT_HINGE ? 5u : 3u;
+    for (uint k = 0; k < total; ++k) {
+        JointPositionRow r;
+        if (k < 3u) {
+            // C_k = (p_b - p_a) . e_k: turning a by theta moves p_a by theta x r_a.
+            const float4 e = vec4(k == 0u ? 1.0f : 0.0f, k == 1u ? 1.0f : 0.0f,
+                                  k == 2u ? 1.0f : 0.0f);
+            r.linearA = scale4(e, -1.0f);
+            r.angularA = scale4(cross3(ra, e), -1.0f);
+            r.linearB = e;
+            r.angularB = cross3(rb, e);
+            r.error = cs[k];
+            r.kind = RUBBLE_JOINT_ROW_POINT;
+        } else {
+            // d(a_1 . p_2) = (theta_a - theta_b) . (a_1 x p_2)
+            const float4 p2 = quatRotate(pb.orientation, j.perpB[k - 3u]);
+            const float4 turn = cross3(a1, p2);
+            r.linearA = vec4(0.0f, 0.0f, 0.0f);
+            r.angularA = turn;
+            r.linearB = vec4(0.0f, 0.0f, 0.0f);
+            r.angularB = scale4(turn, -1.0f);
+            r.error = dot3(a1, p2);
+            r.kind = 0u;
+        }
+        r.moveA = scale4(r.linearA, ima);
+        r.turnA = mat3MulVec(ia, r.angularA);
+        r.moveB = scale4(r.linearB, imb);
+        r.turnB = mat3MulVec(ib, r.angularB);
+        r.a = j.a;
+        r.b = j.b;
+        r.kind |= (ima > 0.0f ? RUBBLE_JOINT_ROW_MOVES_A : 0u) |
+                  (imb > 0.0f ? RUBBLE_JOINT_ROW_MOVES_B : 0u);
+        rows[n++] = r;
+    }
+    return n;
+}
+
+// J_x M^-1 J_y^T over the bodies two rows share.
+RUBBLE_FN float jointRowCouplingItem(JointPositionRow x, JointPositionRow y) {
+    float k = 0.0f;
+    if (x.a == y.a) k += dot3(x.linearA, y.moveA) + dot3(x.angularA, y.turnA);
+    if (x.a == y.b) k += dot3(x.linearA, y.moveB) + dot3(x.angularA, y.turnB);
+    if (x.b == y.a) k += dot3(x.linearB, y.moveA) + dot3(x.angularB, y.turnA);
+    if (x.b == y.b) k += dot3(x.linearB, y.moveB) + dot3(x.angularB, y.turnB);
+    return k;
+}
+
+// The CPU path's position correction of one joint group (correctJointPositions on a group of at
+// most RUBBLE_JOINT_DIRECT_ROWS rows): up to `maxIterations` Newton steps, each with every
+// row of the group at the current poses, K lambda = -C solved by LDL^T (redundant rows get no
+// impulse), the bodies moved by M^-1 J^T lambda with the turn limited as a whole; it stops once
+// every joint is within tolerance. Only awake dynamic bodies move. rows, k (n x n, row-major)
+// and x are the group's scratch; deltaPosition and deltaRotation are per body, zero between
+// uses. Returns the Newton steps taken.
+RUBBLE_FN int projectJointGroupItem(RUBBLE_GLOBAL const uint* members, uint count,
+                                    RUBBLE_GLOBAL const PgsJoint* joints,
+                                    RUBBLE_GLOBAL const BodyMass* masses,
+                                    RUBBLE_GLOBAL const uint* flags, RUBBLE_GLOBAL BodyPose* poses,
+                                    RUBBLE_GLOBAL JointPositionRow* rows, RUBBLE_GLOBAL float* k,
+                                    RUBBLE_GLOBAL float* x, RUBBLE_GLOBAL float4* deltaPosition,
+                                    RUBBLE_GLOBAL float4* deltaRotation, int maxIterations) {
+    int it = 0;
+    for (; it < maxIterations; ++it) {
+        uint n = 0;
+        for (uint m = 0; m < count; ++m) {
+            const PgsJoint j = joints[members[m]];
+            const BodyPose pa = poses[j.a], pb = poses[j.b];
+            n = appendJointRowsItem(j, pa, pb, projectionBodyItem(masses[j.a], flags[j.a], pa),
+                                    projectionBodyItem(masses[j.b], flags[j.b], pb), rows, n);
+        }
+        float linear = 0.0f, angular = 0.0f;
+        for (uint i = 0; i < n; ++i) {
+            if (rows[i].kind & RUBBLE_JOINT_ROW_POINT) linear = fmax(linear, fabs(rows[i].error));
+            else angular = fmax(angular, fabs(rows[i].error));
+        }
+        if (linear <= RUBBLE_JOINT_LINEAR_TOLERANCE && angular <= RUBBLE_JOINT_ANGULAR_TOLERANCE)
+            break;
+        // K (lower triangle) and -C.
+        float largest = 0.0f;
+        for (uint i = 0; i < n; ++i) {
+            const JointPositionRow ri = rows[i];
+            for (uint q = 0; q <= i; ++q) k[i * n + q] = jointRowCouplingItem(ri, rows[q]);
+            largest = fmax(largest, k[i * n + i]);
+            x[i] = -ri.error;
+        }
+        // LDL^T: L below the diagonal, D on it; a zero D marks a dropped row.
+        for (uint q = 0; q < n; ++q) {
+            float d = k[q * n + q];
+            for (uint p = 0; p < q; ++p) d -= k[q * n + p] * k[q * n + p] * k[p * n + p];
+            if (d <= RUBBLE_JOINT_PIVOT_TOLERANCE * largest) d = 0.0f;
+            k[q * n + q] = d;
+            for (uint i = q + 1; i < n; ++i) {
+                float l = k[i * n + q];
+                for (uint p = 0; p < q; ++p) l -= k[i * n + p] * k[q * n + p] * k[p * n + p];
+                k[i * n + q] = d > 0.0f ? l / d : 0.0f;
+            }
+        }
+        for (uint i = 0; i < n; ++i)
+            for (uint p = 0; p < i; ++p) x[i] -= k[i * n + p] * x[p];
+        for (uint i = 0; i < n; ++i) x[i] = k[i * n + i] > 0.0f ? x[i] / k[i * n + i] : 0.0f;
+        for (uint i = n; i-- > 0u;)
+            for (uint p = i + 1; p < n; ++p) x[i] -= k[p * n + i] * x[p];
+        // The move of each body that moves (a static body may be shared with other groups), a
+        // turn past the limit shortening the whole step.
+        float largestTurn = 0.0f;
+        for (uint i = 0; i < n; ++i) {
+            const JointPositionRow r = rows[i];
+            const float lambda = x[i];
+            if (r.kind & RUBBLE_JOINT_ROW_MOVES_A) {
+                deltaPosition[r.a] = add4(deltaPosition[r.a], scale4(r.moveA, lambda));
+                deltaRotation[r.a] = add4(deltaRotation[r.a], scale4(r.turnA, lambda));
+            }
+            if (r.kind & RUBBLE_JOINT_ROW_MOVES_B) {
+                deltaPosition[r.b] = add4(deltaPosition[r.b], scale4(r.moveB, lambda));
+                deltaRotation[r.b] = add4(deltaRotation[r.b], scale4(r.turnB, lambda));
+            }
+        }
+        for (uint i = 0; i < n; ++i) {
+            if (rows[i].kind & RUBBLE_JOINT_ROW_MOVES_A)
+                largestTurn = fmax(largestTurn, length3(deltaRotation[rows[i].a]));
+            if (rows[i].kind & RUBBLE_JOINT_ROW_MOVES_B)
+                largestTurn = fmax(largestTurn, length3(deltaRotation[rows[i].b]));
+        }
+        const float scale = largestTurn > RUBBLE_JOINT_MAX_ANGULAR_CORRECTION
+                                ? RUBBLE_JOINT_MAX_ANGULAR_CORRECTION / largestTurn
+                                : 1.0f;
+        const float4 zero = vec4(0.0f, 0.0f, 0.0f);
+        for (uint i = 0; i < n; ++i) {
+            for (uint side = 0; side < 2u; ++side) {
+                const uint moves = side ? RUBBLE_JOINT_ROW_MOVES_B : RUBBLE_JOINT_ROW_MOVES_A;
+                if (!(rows[i].kind & moves)) continue;
+                const uint body = side ? rows[i].b : rows[i].a;
+                const float4 dx = scale4(deltaPosition[body], scale);
+                const float4 dq = scale4(deltaRotation[body], scale);
+                if (dx.x == 0.0f && dx.y == 0.0f && dx.z == 0.0f && dq.x == 0.0f &&
+                    dq.y == 0.0f && dq.z == 0.0f)
+                    continue;
+                BodyPose pose = poses[body];
+                pose.position = add4(pose.position, dx);
+                pose.orientation = quatIntegrate(pose.orientation, dq, 1.0f);
+                poses[body] = pose;
+                deltaPosition[body] = zero;
+                deltaRotation[body] = zero;
+            }
+        }
+    }
+    return it;
 }
 
 RUBBLE_SHARED_END
