@@ -164,17 +164,25 @@ static uint jointMoves(const JacobiBody ja, const JacobiBody jb) {
            (jointInverseMassItem(jb) > 0.0f ? RUBBLE_PGS_MOVES_B : 0u);
 }
 
-// Warm start, one color: each pair's points apply their accumulated impulses (normal, then the
-// two friction rows), as warmStartContacts does; each joint its blocks' (warmStartJoints).
-__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-warmStartPgs(const uint first, const uint count, __global const PgsElement* elements,
-             __global const PgsNormalRow* normalRows, __global const PgsFrictionRows* frictionRows,
-             __global const float4* impulses, __global const PgsJoint* joints,
-             __global const PgsJointRow* jointRows, __global const JacobiBody* bodies,
-             __global BodyVelocity* velocities) {
-    const uint i = get_global_id(0);
-    if (i >= count) return;
-    const PgsElement e = elements[first + i];
+// The elements of one launch: one per work-item for a color, or, for the serial tail (the
+// last colors, too small to be worth a launch each), all of them in order on work-item 0,
+// which is Gauss-Seidel in color order.
+static uint elementsBegin(const uint count, const uint serial) {
+    return serial ? 0u : min((uint)get_global_id(0), count);
+}
+static uint elementsEnd(const uint count, const uint serial) {
+    if (serial) return get_global_id(0) == 0u ? count : 0u;
+    return min((uint)get_global_id(0) + 1u, count);
+}
+
+// Warm start of one element: a pair's points apply their accumulated impulses (normal, then
+// the two friction rows), as warmStartContacts does; a joint its blocks' (warmStartJoints).
+static void warmStartElement(const PgsElement e, __global const PgsNormalRow* normalRows,
+                             __global const PgsFrictionRows* frictionRows,
+                             __global const float4* impulses, __global const PgsJoint* joints,
+                             __global const PgsJointRow* jointRows,
+                             __global const JacobiBody* bodies,
+                             __global BodyVelocity* velocities) {
     BodyVelocityPair v = loadPair(e.a, e.b, velocities);
     if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
         const uint j = e.id & ~RUBBLE_PGS_JOINT_ELEMENT;
@@ -199,22 +207,30 @@ warmStartPgs(const uint first, const uint count, __global const PgsElement* elem
     storePair(v, e.a, e.b, e.rows, velocities);
 }
 
-// One velocity sweep of one color: each joint's blocks (solveJointVelocity); each pair's normal
+// Warm start, one color (or the serial tail).
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+warmStartPgs(const uint first, const uint count, const uint serial,
+             __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+             __global const PgsFrictionRows* frictionRows, __global const float4* impulses,
+             __global const PgsJoint* joints, __global const PgsJointRow* jointRows,
+             __global const JacobiBody* bodies, __global BodyVelocity* velocities) {
+    const uint end = elementsEnd(count, serial);
+    for (uint i = elementsBegin(count, serial); i < end; ++i)
+        warmStartElement(elements[first + i], normalRows, frictionRows, impulses, joints,
+                         jointRows, bodies, velocities);
+}
+
+// One velocity sweep of one element: a joint's blocks (solveJointVelocity); a pair's normal
 // rows, then its points' friction pairs (bounded by this sweep's normal impulses), as
 // solveContactSweep orders them within a pair. The last sweep also writes the impulses kept
-// for the next step's warm start and the largest |change| of the sweep to the status block.
-__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-solvePgs(const uint first, const uint count, __global const PgsElement* elements,
-         __global const PgsNormalRow* normalRows, __global const PgsFrictionRows* frictionRows,
-         __global float4* impulses, __global const PgsJoint* joints,
-         __global PgsJointRow* jointRows, __global const JacobiBody* bodies,
-         __global BodyVelocity* velocities, const float relaxation, const uint lastSweep,
-         __global PgsImpulse* kept, __global uint* status) {
-    const uint i = get_global_id(0);
-    if (i >= count) return;
-    const PgsElement e = elements[first + i];
+// for the next step's warm start. Returns the largest |change|, N s.
+static float solveElement(const PgsElement e, __global const PgsNormalRow* normalRows,
+                          __global const PgsFrictionRows* frictionRows, __global float4* impulses,
+                          __global const PgsJoint* joints, __global PgsJointRow* jointRows,
+                          __global const JacobiBody* bodies, __global BodyVelocity* velocities,
+                          const float relaxation, const uint lastSweep,
+                          __global PgsImpulse* kept) {
     BodyVelocityPair v = loadPair(e.a, e.b, velocities);
-    float residual = 0.0f;
     if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
         const uint j = e.id & ~RUBBLE_PGS_JOINT_ELEMENT;
         const JacobiBody ja = bodies[e.a], jb = bodies[e.b];
@@ -222,52 +238,45 @@ solvePgs(const uint first, const uint count, __global const PgsElement* elements
         storePair(u.v, e.a, e.b, jointMoves(ja, jb), velocities);
         jointRows[j].pointImpulse = vec4(u.pointImpulse.x, u.pointImpulse.y, u.pointImpulse.z);
         jointRows[j].turnImpulse = u.turnImpulse;
-        residual = u.pointImpulse.w;
-    } else {
-        const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT, points = e.rows & RUBBLE_PGS_POINTS;
-        float4 l[4];
-        for (uint k = 0; k < points; ++k) {
-            const PgsNormalRow r = normalRows[row + k];
-            l[k] = impulses[row + k];
-            const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.x, l[k].x, relaxation);
-            v = u.v;
-            l[k].x = u.accumulated;
-            residual = fmax(residual, fabs(u.applied));
-        }
-        for (uint k = 0; k < points; ++k) {
-            const PgsFrictionRows r = frictionRows[row + k];
-            const PgsFrictionUpdate u =
-                solvePgsFrictionItem(r, v, l[k].x, l[k].y, l[k].z, relaxation);
-            v = u.v;
-            l[k].y = u.impulse.x;
-            l[k].z = u.impulse.y;
-            residual = fmax(residual, u.impulse.z);
-            impulses[row + k] = l[k];
-            if (lastSweep) {
-                kept[4u * e.id + k].normal = l[k].x;
-                kept[4u * e.id + k].friction =
-                    add4(scale4(r.tangent[0], l[k].y), scale4(r.tangent[1], l[k].z));
-            }
-        }
-        storePair(v, e.a, e.b, e.rows, velocities);
+        return u.pointImpulse.w;
     }
-    if (lastSweep && residual > 0.0f) atomic_max(&status[RUBBLE_STATUS_RESIDUAL], as_uint(residual));
+    float residual = 0.0f;
+    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT, points = e.rows & RUBBLE_PGS_POINTS;
+    float4 l[4];
+    for (uint k = 0; k < points; ++k) {
+        const PgsNormalRow r = normalRows[row + k];
+        l[k] = impulses[row + k];
+        const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.x, l[k].x, relaxation);
+        v = u.v;
+        l[k].x = u.accumulated;
+        residual = fmax(residual, fabs(u.applied));
+    }
+    for (uint k = 0; k < points; ++k) {
+        const PgsFrictionRows r = frictionRows[row + k];
+        const PgsFrictionUpdate u = solvePgsFrictionItem(r, v, l[k].x, l[k].y, l[k].z, relaxation);
+        v = u.v;
+        l[k].y = u.impulse.x;
+        l[k].z = u.impulse.y;
+        residual = fmax(residual, u.impulse.z);
+        impulses[row + k] = l[k];
+        if (lastSweep) {
+            kept[4u * e.id + k].normal = l[k].x;
+            kept[4u * e.id + k].friction =
+                add4(scale4(r.tangent[0], l[k].y), scale4(r.tangent[1], l[k].z));
+        }
+    }
+    storePair(v, e.a, e.b, e.rows, velocities);
+    return residual;
 }
 
-// One sweep of the split position pass, one color: the normal rows that push, and those that
-// touch a body a push moves, on the push velocities toward the rows' push speeds (their
-// accumulated push impulses in w of each impulse record, zero when built). A sweep after one
-// whose largest change was within RUBBLE_PUSH_TOLERANCE does nothing: the pass has converged.
-__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-pushPgs(const uint first, const uint count, __global const PgsElement* elements,
-        __global const PgsNormalRow* normalRows, __global float4* impulses,
-        __global const uint* pushed, __global BodyVelocity* push, const float relaxation,
-        const uint sweep, __global uint* sweepResidual) {
-    const uint i = get_global_id(0);
-    if (i >= count) return;
-    if (sweep > 0u && as_float(sweepResidual[sweep - 1u]) <= RUBBLE_PUSH_TOLERANCE) return;
-    const PgsElement e = elements[first + i];
-    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) return; // joints are projected after integratePositions
+// One sweep of the split position pass for one element: the normal rows that push, and those
+// that touch a body a push moves, on the push velocities toward the rows' push speeds (their
+// accumulated push impulses in w of each impulse record, zero when built); joints are
+// projected after integratePositions instead. Returns the largest |change|, N s.
+static float pushElement(const PgsElement e, __global const PgsNormalRow* normalRows,
+                         __global float4* impulses, __global const uint* pushed,
+                         __global BodyVelocity* push, const float relaxation) {
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) return 0.0f;
     const int touched = pushed[e.a] || pushed[e.b];
     BodyVelocityPair v = loadPair(e.a, e.b, push);
     const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
@@ -283,7 +292,40 @@ pushPgs(const uint first, const uint count, __global const PgsElement* elements,
         residual = fmax(residual, fabs(u.applied));
     }
     storePair(v, e.a, e.b, e.rows, push);
-    if (residual > 0.0f) atomic_max(&sweepResidual[sweep], as_uint(residual));
+    return residual;
+}
+
+// One velocity sweep, one color (or the serial tail); the last sweep's largest |change| goes
+// to the status block. The split position pass's sweep of the same number runs in the same
+// launch (pushSweep; RUBBLE_PGS_NO_PUSH when no row pushes): it reads the same rows but its own
+// velocities and impulses, so the two passes do not see each other, as on the CPU, where it
+// runs after the velocity solve. A push sweep after one whose largest change was within
+// RUBBLE_PUSH_TOLERANCE does nothing: the pass has converged.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+solvePgs(const uint first, const uint count, const uint serial,
+         __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+         __global const PgsFrictionRows* frictionRows, __global float4* impulses,
+         __global const PgsJoint* joints, __global PgsJointRow* jointRows,
+         __global const JacobiBody* bodies, __global BodyVelocity* velocities,
+         const float relaxation, const uint lastSweep, __global PgsImpulse* kept,
+         __global uint* status, const uint pushSweep, __global const uint* pushed,
+         __global BodyVelocity* push, __global uint* sweepResidual) {
+    const uint end = elementsEnd(count, serial);
+    const int pushes = pushSweep != RUBBLE_PGS_NO_PUSH &&
+                       (pushSweep == 0u ||
+                        as_float(sweepResidual[pushSweep - 1u]) > RUBBLE_PUSH_TOLERANCE);
+    float residual = 0.0f, pushResidual = 0.0f;
+    for (uint i = elementsBegin(count, serial); i < end; ++i) {
+        const PgsElement e = elements[first + i];
+        residual = fmax(residual, solveElement(e, normalRows, frictionRows, impulses, joints,
+                                               jointRows, bodies, velocities, relaxation,
+                                               lastSweep, kept));
+        if (pushes)
+            pushResidual = fmax(pushResidual,
+                                pushElement(e, normalRows, impulses, pushed, push, relaxation));
+    }
+    if (lastSweep && residual > 0.0f) atomic_max(&status[RUBBLE_STATUS_RESIDUAL], as_uint(residual));
+    if (pushResidual > 0.0f) atomic_max(&sweepResidual[pushSweep], as_uint(pushResidual));
 }
 
 // After integratePositions, when some row pushed: every body that moved in the solve is moved

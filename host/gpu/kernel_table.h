@@ -56,7 +56,6 @@ enum class KernelId : unsigned {
     BuildPgsRows,
     WarmStartPgs,
     SolvePgs,
-    PushPgs,
     ApplyPushes,
     MarkRestlessPairs,
     PrepareJoints,

@@ -10,6 +10,11 @@
 namespace rubble::gpu {
 namespace {
 
+// The last colors of a step go to one serial launch once together they hold no more elements
+// than this: on PoCL's two threads a launch costs some 30 - 50 us in the loaded machine's
+// measurements (device busy time against wall time), more than a hundred elements do.
+constexpr std::uint32_t kSerialElements = 128;
+
 // Bytes one launch of a sweep kernel moves for a color of `elements` elements with `points`
 // rows: each element's record, both bodies' velocities read and written, and per point its
 // rows (`rowBytes`) and its impulses read and written.
@@ -131,6 +136,19 @@ Status Pipeline::colorPgs() {
         }
     }
     g.rowCount = rows;
+    // One launch per color, but the last colors, once together they hold no more than
+    // kSerialElements, in one launch on one work-item (a launch costs more than they do).
+    std::uint32_t tail = coloring.colors();
+    while (tail > 0 && start[coloring.colors()] - start[tail - 1] <= kSerialElements) --tail;
+    if (coloring.colors() - tail < 2) tail = coloring.colors(); // nothing to merge
+    g.launches.clear();
+    for (std::uint32_t k = 0; k < tail; ++k)
+        g.launches.push_back({start[k], start[k + 1] - start[k], 0u, g.colorPoints[k]});
+    if (tail < coloring.colors()) {
+        PgsLaunch serial{start[tail], start[coloring.colors()] - start[tail], 1u, 0};
+        for (std::uint32_t k = tail; k < coloring.colors(); ++k) serial.points += g.colorPoints[k];
+        g.launches.push_back(serial);
+    }
     if (order.empty()) return {};
     RUBBLE_TRY(g.normalRows.reserve(c.context(), rows * sizeof(shared::PgsNormalRow)));
     RUBBLE_TRY(g.frictionRows.reserve(c.context(), rows * sizeof(shared::PgsFrictionRows)));
@@ -192,23 +210,18 @@ Status Pipeline::solvePgs(const StepParams& params) {
     const Context& c = *context_;
     PgsBuffers& g = pgs_;
     const SolverOptions& o = params.solver;
-    const Coloring& coloring = g.coloring;
-    const std::span<const std::uint32_t> start = coloring.start();
     const std::size_t group = c.workSizes().pairGroup;
     const cl_float relaxation = o.relaxation;
     const std::uint64_t rowBytes = sizeof(shared::PgsNormalRow) + sizeof(shared::PgsFrictionRows);
     RUBBLE_TRY(copyVelocities(bodies_.before));
-    auto colorRange = [&](std::uint32_t k, cl_uint& first, cl_uint& count) {
-        first = start[k];
-        count = start[k + 1] - start[k];
-    };
+    // A serial launch runs on one work-item.
+    auto items = [&](const PgsLaunch& l) -> std::size_t { return l.serial ? group : l.count; };
     if (o.warmStart) {
-        for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
-            cl_uint first = 0, count = 0;
-            colorRange(k, first, count);
+        for (const PgsLaunch& l : g.launches) {
             RUBBLE_TRY(Dispatch(c, KernelId::WarmStartPgs, &profile_)
-                           .arg(first)
-                           .arg(count)
+                           .arg(l.first)
+                           .arg(l.count)
+                           .arg(l.serial)
                            .arg(g.elements)
                            .arg(g.normalRows)
                            .arg(g.frictionRows)
@@ -217,18 +230,29 @@ Status Pipeline::solvePgs(const StepParams& params) {
                            .arg(g.jointRows)
                            .arg(bodies_.jacobi)
                            .arg(bodies_.velocities)
-                           .run(count, group));
-            profile_.setLastBytes(sweepBytes(count, g.colorPoints[k], rowBytes));
+                           .run(items(l), group));
+            profile_.setLastBytes(sweepBytes(l.count, l.points, rowBytes));
         }
+    }
+    // The split position pass, when a row pushes (the coloring read the status after the
+    // summaries), on push velocities that start at zero: its sweep k runs in the launches of
+    // velocity sweep k.
+    const bool pushes = o.iterations > 0 && !g.launches.empty() &&
+                        statusHost_[RUBBLE_STATUS_PUSHED] != 0;
+    if (pushes) {
+        const std::size_t n = bodies_.count, sweeps = std::size_t(o.iterations);
+        RUBBLE_TRY(fill(c, g.push, 0u, n * sizeof(shared::BodyVelocity), &profile_));
+        RUBBLE_TRY(g.sweepResidual.reserve(c.context(), sweeps * sizeof(cl_uint)));
+        RUBBLE_TRY(fill(c, g.sweepResidual, 0u, sweeps * sizeof(cl_uint), &profile_));
     }
     for (int it = 0; it < o.iterations; ++it) {
         const cl_uint last = it + 1 == o.iterations ? 1u : 0u;
-        for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
-            cl_uint first = 0, count = 0;
-            colorRange(k, first, count);
+        const cl_uint pushSweep = pushes ? cl_uint(it) : RUBBLE_PGS_NO_PUSH;
+        for (const PgsLaunch& l : g.launches) {
             RUBBLE_TRY(Dispatch(c, KernelId::SolvePgs, &profile_)
-                           .arg(first)
-                           .arg(count)
+                           .arg(l.first)
+                           .arg(l.count)
+                           .arg(l.serial)
                            .arg(g.elements)
                            .arg(g.normalRows)
                            .arg(g.frictionRows)
@@ -241,42 +265,17 @@ Status Pipeline::solvePgs(const StepParams& params) {
                            .arg(last)
                            .arg(sat_.current.impulses)
                            .arg(status_)
-                           .run(count, group));
-            profile_.setLastBytes(sweepBytes(count, g.colorPoints[k], rowBytes) +
-                                  (last ? g.colorPoints[k] * sizeof(shared::PgsImpulse) : 0));
-        }
-    }
-    // The split position pass on push velocities that start at zero; a sweep after one that
-    // changed nothing beyond the tolerance returns at once.
-    // The pass runs only when a row pushes (the coloring read the status after the rows).
-    const int pushSweeps = std::max(o.iterations, 0);
-    if (pushSweeps > 0 && coloring.colors() > 0 && statusHost_[RUBBLE_STATUS_PUSHED] != 0) {
-        const std::size_t n = bodies_.count;
-        RUBBLE_TRY(fill(c, g.push, 0u, n * sizeof(shared::BodyVelocity), &profile_));
-        RUBBLE_TRY(g.sweepResidual.reserve(c.context(), std::size_t(pushSweeps) * sizeof(cl_uint)));
-        RUBBLE_TRY(fill(c, g.sweepResidual, 0u, std::size_t(pushSweeps) * sizeof(cl_uint),
-                        &profile_));
-        for (int it = 0; it < pushSweeps; ++it) {
-            const cl_uint sweep = cl_uint(it);
-            for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
-                cl_uint first = 0, count = 0;
-                colorRange(k, first, count);
-                RUBBLE_TRY(Dispatch(c, KernelId::PushPgs, &profile_)
-                               .arg(first)
-                               .arg(count)
-                               .arg(g.elements)
-                               .arg(g.normalRows)
-                               .arg(g.impulses)
-                               .arg(g.pushed)
-                               .arg(g.push)
-                               .arg(relaxation)
-                               .arg(sweep)
-                               .arg(g.sweepResidual)
-                               .run(count, group));
-                // The normal rows, and both bodies' push marks.
-                profile_.setLastBytes(
-                    sweepBytes(count, g.colorPoints[k], sizeof(shared::PgsNormalRow)) + count * 8);
-            }
+                           .arg(pushSweep)
+                           .arg(g.pushed)
+                           .arg(g.push)
+                           .arg(g.sweepResidual)
+                           .run(items(l), group));
+            // The push sweep reads the normal rows again (from cache), its velocities and
+            // impulses, and both bodies' push marks.
+            const std::uint64_t push =
+                pushes ? l.count * (4 * sizeof(shared::BodyVelocity) + 8) + l.points * 32 : 0;
+            profile_.setLastBytes(sweepBytes(l.count, l.points, rowBytes) + push +
+                                  (last ? l.points * sizeof(shared::PgsImpulse) : 0));
         }
     }
     return absorbVelocityChange();

@@ -122,6 +122,13 @@ struct SatBuffers {
     Buffer manifolds; ///< ContactManifold per pair of `current`, in pair order
 };
 
+/// One launch of the device's sweeps: a color's elements [first, first + count) of the
+/// step's order, or, serial, the last colors together on one work-item.
+struct PgsLaunch {
+    cl_uint first = 0, count = 0, serial = 0;
+    std::uint32_t points = 0; ///< rows, for the byte counts
+};
+
 /// Projected Gauss-Seidel on the device (host/gpu/pgs.cpp, kernels/pgs.cl), for a world that
 /// collides with SAT: the rows of this step's pairs (4 slots per pair), the coloring's order,
 /// and the split position pass's per-body state.
@@ -156,6 +163,7 @@ struct PgsBuffers {
     std::vector<shared::BodyPairRecord> pairsHost;
     std::vector<shared::PgsElement> elementsHost;
     std::vector<std::uint32_t> colorPoints; ///< rows (points) of each color, for the byte counts
+    std::vector<PgsLaunch> launches;        ///< this step's launches of each sweep
 };
 
 /// What the host reads at the end of a step (RUBBLE_STATUS_* slots).

@@ -18,6 +18,8 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_WARM_START_MATCH_DISTANCE 0.02f
 // The split position pass stops when no push impulse changed by more than this in a sweep, N s.
 #define RUBBLE_PUSH_TOLERANCE 1e-6f
+// A device sweep without a push sweep beside it (kernels/pgs.cl, solvePgs).
+#define RUBBLE_PGS_NO_PUSH 0xffffffffu
 
 // A pair's summary word on the device (kernels/pgs.cl, summarizePairs), which the host colors
 // from: its point count in the low bits, and which of its bodies move in the solve. An element's
