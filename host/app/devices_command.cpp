@@ -33,6 +33,9 @@ GpuCommands::GpuCommands(CLI::App& app) {
                          "report each kernel's bytes/s against the copy bandwidth");
     devices_->add_option("--steps", d.steps, "Steps of the scene's run");
     devices_->add_option("--particle-spacing", d.particleSpacing, "Particle spacing, m");
+    devices_->add_flag("--sat", d.sat,
+                       "The scene's run collides with SAT and solves with PGS (every body on the "
+                       "device) instead of particles and jacobi");
     devices_->add_option("--device", d.run.device, "OpenCL device: a name fragment or an index");
 
     compare_ = app.add_subcommand(
@@ -94,9 +97,9 @@ int kernelShares(const DevicesArgs& args, double deviceCopy) {
     if (!scene) return report(scene.error());
     SimulationOptions& sim = scene->simulation;
     sim.backend = Backend::OpenCl;
-    sim.collision.method = CollisionMethod::Particles;
+    sim.collision.method = args.sat ? CollisionMethod::Sat : CollisionMethod::Particles;
     sim.collision.particleSpacing = args.particleSpacing;
-    sim.solver.type = SolverType::Jacobi;
+    sim.solver.type = args.sat ? SolverType::Pgs : SolverType::Jacobi;
     Result<World> world = World::create(*scene, args.run);
     if (!world) return report(world.error());
     for (int i = 0; i < args.steps; ++i)
@@ -104,9 +107,14 @@ int kernelShares(const DevicesArgs& args, double deviceCopy) {
     std::vector<DeviceCommandTime> kernels = world->deviceProfile();
     std::sort(kernels.begin(), kernels.end(),
               [](const DeviceCommandTime& a, const DeviceCommandTime& b) { return a.ms > b.ms; });
-    std::printf("\n%s, %d steps, particle spacing %.2f m: device time per step and bytes moved "
-                "(each element a kernel touches, once)\n",
-                args.scene.c_str(), args.steps, double(args.particleSpacing));
+    if (args.sat)
+        std::printf("\n%s, %d steps, sat and pgs: device time per step and bytes moved (each "
+                    "element a kernel touches, once)\n",
+                    args.scene.c_str(), args.steps);
+    else
+        std::printf("\n%s, %d steps, particle spacing %.2f m: device time per step and bytes "
+                    "moved (each element a kernel touches, once)\n",
+                    args.scene.c_str(), args.steps, double(args.particleSpacing));
     std::printf("%-24s %10s %9s %12s %10s %9s\n", "kernel", "ms/step", "launches", "MB/launch",
                 "GB/s", "of copy");
     double ms = 0, bytes = 0;

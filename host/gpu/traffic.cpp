@@ -117,6 +117,16 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
         return n.pairs * (kPair + kPair + sizeof(shared::PairCache) +
                           2 * (kWord + sizeof(BodyPose) + sizeof(BodyVelocity) + kWord) +
                           sizeof(shared::ContactManifold) + sizeof(shared::PairCache));
+    case KernelId::SummarizePairs: // pair, the manifold's count and depths, both bodies'
+        // inverse mass (a JacobiBody row), the summary and the kept count written
+        return n.pairs * (kPair + 5 * kWord + 2 * kVec + 2 * kWord);
+    case KernelId::ApplyPushes: // status, the JacobiBody row, push velocity, momentum, mass,
+        // pose read and written, velocity written
+        return n.bodies * (kVec + sizeof(BodyVelocity) + sizeof(BodyMomentum) + sizeof(BodyMass) +
+                           2 * sizeof(BodyPose) + sizeof(BodyVelocity));
+    case KernelId::MarkRestlessPairs: // the manifold's count, pair, both flags and velocities,
+        // the marks
+        return n.pairs * (kWord + kPair + 2 * kWord + 2 * sizeof(BodyVelocity) + 2 * kWord);
     default:
         return 0;
     }
