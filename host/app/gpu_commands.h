@@ -22,7 +22,7 @@ struct DevicesArgs {
     std::string scene;      ///< with --bandwidth: run it and set each kernel against them
     int steps = 120;
     float particleSpacing = 0.5f; ///< m, for the scene's run
-    bool sat = false;             ///< the scene's run with SAT and PGS instead of particles and jacobi
+    bool sat = false; ///< the scene's run with SAT and PGS instead of particles and jacobi
     RunOptions run;
 };
 

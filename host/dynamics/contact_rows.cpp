@@ -18,8 +18,12 @@ bool keyLess(const ContactImpulse& x, std::uint32_t a, std::uint32_t b, std::uin
     return x.feature < feature;
 }
 
-shared::float4 toFloat4(Lanes v) { return shared::float4{v[0], v[1], v[2], v[3]}; }
-Lanes toLanes(shared::float4 v) { return Lanes{v.x, v.y, v.z, v.w}; }
+shared::float4 toFloat4(Lanes v) {
+    return shared::float4{v[0], v[1], v[2], v[3]};
+}
+Lanes toLanes(shared::float4 v) {
+    return Lanes{v.x, v.y, v.z, v.w};
+}
 shared::BodyVelocity sharedVelocity(const SolverVelocity& v) {
     return shared::BodyVelocity{toFloat4(v.linear), toFloat4(v.angular)};
 }
@@ -110,7 +114,8 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
 
         const shared::float4 normal = toFloat4(n);
         const shared::float4 positionA = poses[m.a].position, positionB = poses[m.b].position;
-        const shared::BodyVelocity velocityA = sharedVelocity(bodyA), velocityB = sharedVelocity(bodyB);
+        const shared::BodyVelocity velocityA = sharedVelocity(bodyA),
+                                   velocityB = sharedVelocity(bodyB);
         const shared::Mat3 inertiaA = toShared(ia), inertiaB = toShared(ib);
         const shared::float4 fixedTangent = shared::perpendicularItem(normal);
 

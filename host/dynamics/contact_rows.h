@@ -115,13 +115,13 @@ bool isJoinedPair(std::span<const BodyPair> joined, std::uint32_t a, std::uint32
 
 /// Stage buildContactRows for contacts (Catto, "Iterative Dynamics with Temporal Coherence",
 /// GDC 2005; "Modeling and Solving Constraints", GDC 2009). Each point's rows come from
-/// shared::pgsContactRowItem, the function the device's buildPgsRows calls. Manifolds between two bodies that do
-/// not move in the solve, or between joined bodies, are skipped. The normal row's velocity
-/// target is the restitution speed e v_approach when v_approach exceeds kRestitutionThreshold,
-/// else 0; a gap (depth < 0) may close within the step and no further. Its Baumgarte speed
-/// min(beta/dt max(depth - slop, 0), kMaxPushSpeed) goes to the split position pass (Catto,
-/// "Fast and Simple Physics using Sequential Impulses", GDC 2006: split impulses), where it moves
-/// the bodies out without adding to their velocities. The first tangent follows the sliding
+/// shared::pgsContactRowItem, the function the device's buildPgsRows calls. Manifolds between two
+/// bodies that do not move in the solve, or between joined bodies, are skipped. The normal row's
+/// velocity target is the restitution speed e v_approach when v_approach exceeds
+/// kRestitutionThreshold, else 0; a gap (depth < 0) may close within the step and no further. Its
+/// Baumgarte speed min(beta/dt max(depth - slop, 0), kMaxPushSpeed) goes to the split position pass
+/// (Catto, "Fast and Simple Physics using Sequential Impulses", GDC 2006: split impulses), where it
+/// moves the bodies out without adding to their velocities. The first tangent follows the sliding
 /// direction when there is one. Friction is sqrt(mu_a mu_b), restitution max(e_a, e_b). Warm
 /// start: last step's impulses of the same (pair, feature), else of the nearest unmatched point
 /// (see kWarmStartMatchDistance), the friction impulse projected on the new tangents.

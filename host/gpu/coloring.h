@@ -34,8 +34,8 @@ class Coloring {
     void widen();
 
     std::uint32_t bodies_ = 0;
-    std::uint32_t words_ = 1;             ///< 64-bit words of each body's mask
-    std::vector<std::uint64_t> used_;     ///< per body: the colors its elements took
+    std::uint32_t words_ = 1;         ///< 64-bit words of each body's mask
+    std::vector<std::uint64_t> used_; ///< per body: the colors its elements took
     std::vector<std::uint32_t> ids_, colorOf_;
     std::vector<std::uint32_t> order_, start_, next_;
 };

@@ -237,8 +237,8 @@ Status Pipeline::solvePgs(const StepParams& params) {
     // The split position pass, when a row pushes (the coloring read the status after the
     // summaries), on push velocities that start at zero: its sweep k runs in the launches of
     // velocity sweep k.
-    const bool pushes = o.iterations > 0 && !g.launches.empty() &&
-                        statusHost_[RUBBLE_STATUS_PUSHED] != 0;
+    const bool pushes =
+        o.iterations > 0 && !g.launches.empty() && statusHost_[RUBBLE_STATUS_PUSHED] != 0;
     if (pushes) {
         const std::size_t n = bodies_.count, sweeps = std::size_t(o.iterations);
         RUBBLE_TRY(fill(c, g.push, 0u, n * sizeof(shared::BodyVelocity), &profile_));
@@ -301,8 +301,8 @@ Status Pipeline::projectJoints() {
     PgsBuffers& g = pgs_;
     if (g.jointCount == 0) return {};
     const Context& c = *context_;
-    RUBBLE_TRY(fill(c, g.jointMoved, 0u, RUBBLE_JOINT_POSITION_ITERATIONS * sizeof(cl_uint),
-                    &profile_));
+    RUBBLE_TRY(
+        fill(c, g.jointMoved, 0u, RUBBLE_JOINT_POSITION_ITERATIONS * sizeof(cl_uint), &profile_));
     if (g.directGroupCount > 0) {
         const cl_uint groups = g.directGroupCount;
         const cl_int iterations = RUBBLE_JOINT_POSITION_ITERATIONS;

@@ -226,8 +226,9 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
         if (st->pairs <= sat_.current.capacity) break;
         // Nothing after the broad phase has touched the bodies: grow and find them again.
         const std::uint32_t grown = st->pairs + st->pairs / 2;
-        std::fprintf(stderr, "rubble: pair overflow (%u pairs, room for %u): buffers grown to %u "
-                             "and the step's collision run again\n",
+        std::fprintf(stderr,
+                     "rubble: pair overflow (%u pairs, room for %u): buffers grown to %u "
+                     "and the step's collision run again\n",
                      st->pairs, sat_.current.capacity, grown);
         RUBBLE_TRY(setPairCapacity(grown));
     }

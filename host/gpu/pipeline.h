@@ -15,8 +15,8 @@
 #include "host/collision/contact.h"
 #include "host/collision/particles.h"
 #include "host/core/bodies.h"
-#include "host/geometry/shape.h"
 #include "host/core/step_params.h"
+#include "host/geometry/shape.h"
 #include "host/gpu/buffer.h"
 #include "host/gpu/coloring.h"
 #include "host/gpu/context.h"
@@ -133,14 +133,14 @@ struct PgsLaunch {
 /// collides with SAT: the rows of this step's pairs (4 slots per pair), the coloring's order,
 /// and the split position pass's per-body state.
 struct PgsBuffers {
-    Buffer pairRows;      ///< per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
-    Buffer elements;      ///< this step's PgsElement records, color by color
-    Buffer normalRows;    ///< PgsNormalRow per point, packed in element order
-    Buffer frictionRows;  ///< PgsFrictionRows per point, in the same order
-    Buffer impulses;      ///< per point: normal, two friction and push impulses, N s
-    Buffer pushed;        ///< per body: a pushing row moves it
-    Buffer push;          ///< per body: the push velocities (BodyVelocity)
-    Buffer sweepResidual; ///< per push sweep: the largest change, float bits
+    Buffer pairRows;            ///< per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
+    Buffer elements;            ///< this step's PgsElement records, color by color
+    Buffer normalRows;          ///< PgsNormalRow per point, packed in element order
+    Buffer frictionRows;        ///< PgsFrictionRows per point, in the same order
+    Buffer impulses;            ///< per point: normal, two friction and push impulses, N s
+    Buffer pushed;              ///< per body: a pushing row moves it
+    Buffer push;                ///< per body: the push velocities (BodyVelocity)
+    Buffer sweepResidual;       ///< per push sweep: the largest change, float bits
     std::uint32_t rowCount = 0; ///< points with rows this step
     // Joints: in body frames (once per world), their rows and impulses (kept between steps),
     // the jointed bodies, and the joints colored once over the dynamic bodies for the position

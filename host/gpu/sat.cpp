@@ -268,8 +268,8 @@ Status Pipeline::createJoints(const PipelineInput& in) {
             ++last;
         }
         if (groupRows <= RUBBLE_JOINT_DIRECT_ROWS) {
-            groups.push_back({std::uint32_t(members.size()), std::uint32_t(last - first), rows,
-                              matrix});
+            groups.push_back(
+                {std::uint32_t(members.size()), std::uint32_t(last - first), rows, matrix});
             for (std::size_t m = first; m < last; ++m) members.push_back(keyed[m].second);
             rows += groupRows;
             matrix += groupRows * groupRows;

@@ -72,15 +72,15 @@ Status Pipeline::sleepBodies(float dt) {
     }
     const cl_uint count = bodies_.count;
     RUBBLE_TRY(Dispatch(*context_, KernelId::SleepBodies, &profile_)
-        .arg(count)
-        .arg(status_)
-        .arg(bodies_.flags)
-        .arg(bodies_.velocities)
-        .arg(bodies_.momenta)
-        .arg(bodies_.slowFor)
-        .arg(bodies_.restless)
-        .arg(dt)
-        .run(count, RUBBLE_GROUP_BODIES));
+                   .arg(count)
+                   .arg(status_)
+                   .arg(bodies_.flags)
+                   .arg(bodies_.velocities)
+                   .arg(bodies_.momenta)
+                   .arg(bodies_.slowFor)
+                   .arg(bodies_.restless)
+                   .arg(dt)
+                   .run(count, RUBBLE_GROUP_BODIES));
     if (!groups) return {};
     // A group with an awake member wakes as one.
     for (const cl_uint pass : {0u, 1u})

@@ -72,7 +72,9 @@ bool sameBits(shared::float4 a, shared::float4 b) {
 bool sameBits(Lanes a, shared::float4 b) {
     return sameBits(shared::float4{a[0], a[1], a[2], 0.0f}, b);
 }
-bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool sameBits(float a, float b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
 
 // The device's buildPgsRows and the CPU's buildContactRows on the same state give the same
 // rows, bit for bit: both call pgsContactRowItem.
@@ -85,8 +87,8 @@ TEST_F(PgsTwin, RowsAreTheCpuRowsBitForBit) {
     collision.broadPhase(in.collisionScene(), in.bodies.view(), params, contacts);
     collision.narrowPhase(in.collisionScene(), in.bodies.view(), params, contacts);
     PgsSolver cpu;
-    const SolverScene solverScene{in.shapes, in.scene.materials, in.surfaces, in.scene.joints,
-                                  in.joined, in.names};
+    const SolverScene solverScene{in.shapes,       in.scene.materials, in.surfaces,
+                                  in.scene.joints, in.joined,          in.names};
     cpu.buildRows(solverScene, in.bodies.view(), contacts, params);
     const ContactRows& rows = cpu.cache().contacts;
 
@@ -131,9 +133,8 @@ TEST_F(PgsTwin, RowsAreTheCpuRowsBitForBit) {
         EXPECT_TRUE(sameBits(n.crossA, dn.crossA) && sameBits(n.crossB, dn.crossB)) << where;
         EXPECT_TRUE(sameBits(n.turnA, dn.turnA) && sameBits(n.turnB, dn.turnB)) << where;
         EXPECT_TRUE(sameBits(n.mass, dn.mass.x)) << where;
-        EXPECT_TRUE(sameBits(n.targetSpeed, dn.speeds.x)) << where << ": target "
-                                                           << n.targetSpeed << " vs "
-                                                           << dn.speeds.x;
+        EXPECT_TRUE(sameBits(n.targetSpeed, dn.speeds.x))
+            << where << ": target " << n.targetSpeed << " vs " << dn.speeds.x;
         EXPECT_TRUE(sameBits(n.pushSpeed, dn.speeds.y)) << where;
         for (int d = 0; d < 2; ++d) {
             EXPECT_TRUE(sameBits(f.tangent[d], df.tangent[d])) << where << " tangent " << d;

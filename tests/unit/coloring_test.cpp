@@ -36,8 +36,8 @@ TEST(Coloring, NoColorSharesAMovingBody) {
             c->add(i, elements[i].a, elements[i].b, elements[i].movesA, elements[i].movesB);
         c->finish();
     }
-    EXPECT_TRUE(std::equal(coloring.order().begin(), coloring.order().end(),
-                           again.order().begin(), again.order().end()));
+    EXPECT_TRUE(std::equal(coloring.order().begin(), coloring.order().end(), again.order().begin(),
+                           again.order().end()));
     std::vector<std::uint32_t> seen(elements.size(), 0), degree(400, 0);
     for (const Element& e : elements) {
         if (e.movesA) ++degree[e.a];

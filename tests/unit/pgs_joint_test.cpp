@@ -49,7 +49,8 @@ JointCase makeCase(std::mt19937& rng, JointType type, bool staticA) {
             m.inverseInertiaBody = toShared(glm::inverse(inertia));
         }
         c.masses.push_back(m);
-        const glm::vec3 x = glm::vec3(0, 1, 0) * float(body) + 0.2f * glm::vec3(u(rng), u(rng), u(rng));
+        const glm::vec3 x =
+            glm::vec3(0, 1, 0) * float(body) + 0.2f * glm::vec3(u(rng), u(rng), u(rng));
         c.poses.push_back({toFloat4(x), toFloat4(randomTurn(rng, 3.0f))});
         shared::BodyVelocity v{};
         if (!(body == 0 && staticA)) {
@@ -73,7 +74,9 @@ JointCase makeCase(std::mt19937& rng, JointType type, bool staticA) {
     return c;
 }
 
-glm::vec4 toVec4(shared::float4 q) { return glm::vec4(q.x, q.y, q.z, q.w); }
+glm::vec4 toVec4(shared::float4 q) {
+    return glm::vec4(q.x, q.y, q.z, q.w);
+}
 
 shared::PgsJoint deviceJoint(const Joint& j) {
     shared::PgsJoint d{};
@@ -121,7 +124,8 @@ TEST(PgsJoint, RowsAndVelocityUpdatesMatchTheCpu) {
         expectNear(toVec3(row.ra), j.ra, 1e-6f, "ra", trial);
         expectNear(toVec3(row.rb), j.rb, 1e-6f, "rb", trial);
         const glm::mat3 pointMass = toMat3(row.pointMass);
-        for (int k = 0; k < 3; ++k) expectNear(pointMass[k], j.pointMass[k], 1e-4f, "pointMass", trial);
+        for (int k = 0; k < 3; ++k)
+            expectNear(pointMass[k], j.pointMass[k], 1e-4f, "pointMass", trial);
         if (type == JointType::Hinge) {
             expectNear(toVec3(row.turn[0]), j.turn[0], 1e-6f, "turn[0]", trial);
             expectNear(toVec3(row.turn[1]), j.turn[1], 1e-6f, "turn[1]", trial);
@@ -161,9 +165,10 @@ TEST(PgsJoint, ProjectionStepMatchesTheCpu) {
         EXPECT_EQ(moved, 1) << trial;
         const shared::BodyPose device[2] = {out.a, out.b};
         for (int body = 0; body < 2; ++body) {
-            expectNear(toVec3(device[body].position), toVec3(cpu[body].position), 2e-5f,
-                       "position", trial);
-            const glm::vec4 qd = toVec4(device[body].orientation), qc = toVec4(cpu[body].orientation);
+            expectNear(toVec3(device[body].position), toVec3(cpu[body].position), 2e-5f, "position",
+                       trial);
+            const glm::vec4 qd = toVec4(device[body].orientation),
+                            qc = toVec4(cpu[body].orientation);
             EXPECT_LT(std::min(glm::length(qd - qc), glm::length(qd + qc)), 2e-5f)
                 << "orientation, trial " << trial;
         }
@@ -216,14 +221,14 @@ TEST(PgsJoint, GroupProjectionMatchesTheCpu) {
         const std::vector<Joint> joints = makeJoints(descs, poses);
         // Drift: every link moved and turned a little.
         for (std::size_t i = 1; i < poses.size(); ++i) {
-            poses[i].position = toFloat4(toVec3(poses[i].position) +
-                                         0.02f * glm::vec3(u(rng), u(rng), u(rng)));
+            poses[i].position =
+                toFloat4(toVec3(poses[i].position) + 0.02f * glm::vec3(u(rng), u(rng), u(rng)));
             poses[i].orientation = toFloat4(randomTurn(rng, 0.05f) * toQuat(poses[i].orientation));
         }
         std::vector<shared::BodyPose> cpu = poses, device = poses;
         JointPositionScratch scratch;
-        const JointPositionReport report = correctJointPositions(
-            joints, groupJoints(joints, masses), masses, cpu, 20, scratch);
+        const JointPositionReport report =
+            correctJointPositions(joints, groupJoints(joints, masses), masses, cpu, 20, scratch);
 
         std::vector<shared::PgsJoint> deviceJoints;
         std::vector<std::uint32_t> members, flags;

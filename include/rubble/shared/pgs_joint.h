@@ -44,19 +44,21 @@ RUBBLE_STATIC_ASSERT_SIZE(PgsJoint, 96);
 // 176 bytes: a joint's rows of the current step (world frame) and its accumulated impulses,
 // kept between steps for warm starting.
 typedef struct PgsJointRow {
-    float4 ra, rb;        // centres of mass to the anchor, m
-    Mat3 pointMass;       // (J M^-1 J^T)^-1 of the point rows, kg
-    float4 turn[2];       // a_1 x b_2, a_1 x c_2: the hinge rows' angular Jacobian on a
-    float4 turnMass;      // (J M^-1 J^T)^-1 of the hinge rows, kg m^2: (k00, k01, k10, k11)
-    float4 pointImpulse;  // on b at the anchor (a gets the opposite), N s
-    float4 turnImpulse;   // x, y: along turn[0], turn[1] on a (b gets the opposite), N m s
-    float4 state;         // x: 1 when a body moves in this step's solve (the rows are active)
+    float4 ra, rb;       // centres of mass to the anchor, m
+    Mat3 pointMass;      // (J M^-1 J^T)^-1 of the point rows, kg
+    float4 turn[2];      // a_1 x b_2, a_1 x c_2: the hinge rows' angular Jacobian on a
+    float4 turnMass;     // (J M^-1 J^T)^-1 of the hinge rows, kg m^2: (k00, k01, k10, k11)
+    float4 pointImpulse; // on b at the anchor (a gets the opposite), N s
+    float4 turnImpulse;  // x, y: along turn[0], turn[1] on a (b gets the opposite), N m s
+    float4 state;        // x: 1 when a body moves in this step's solve (the rows are active)
 } PgsJointRow;
 RUBBLE_STATIC_ASSERT_SIZE(PgsJointRow, 176);
 
 // A body as the joints see it: its inverse mass (r0.w of JacobiBody, 0 when it does not move)
 // and world inverse inertia.
-RUBBLE_FN float jointInverseMassItem(JacobiBody j) { return j.inverseInertiaWorld.r0.w; }
+RUBBLE_FN float jointInverseMassItem(JacobiBody j) {
+    return j.inverseInertiaWorld.r0.w;
+}
 
 // The cross-product matrix: skew(r) v = r x v.
 RUBBLE_FN Mat3 skewItem(float4 r) {
@@ -194,8 +196,8 @@ RUBBLE_FN PgsJointUpdate solveJointItem(BodyVelocityPair v, PgsJoint j, PgsJoint
         const float4 dw = sub4(u.v.a.angular, u.v.b.angular);
         const float s0 = dot3(r.turn[0], dw), s1 = dot3(r.turn[1], dw);
         const float4 m = r.turnMass;
-        const float4 impulse = vec4(-(m.x * s0 + m.y * s1) * relaxation,
-                                    -(m.z * s0 + m.w * s1) * relaxation, 0.0f);
+        const float4 impulse =
+            vec4(-(m.x * s0 + m.y * s1) * relaxation, -(m.z * s0 + m.w * s1) * relaxation, 0.0f);
         u.turnImpulse = add4(u.turnImpulse, impulse);
         u.v = applyJointTurnItem(u.v, r, impulse, ja, jb);
         residual = fmax(fabs(impulse.x), fabs(impulse.y));
@@ -351,7 +353,8 @@ typedef struct JointPositionRow {
     float4 moveA, turnA, moveB, turnB;
     float error; // m for point rows, the cosine for hinge rows
     uint a, b;
-    uint kind; // RUBBLE_JOINT_ROW_POINT for a point row (else a hinge row), RUBBLE_JOINT_ROW_MOVES_*
+    uint
+        kind; // RUBBLE_JOINT_ROW_POINT for a point row (else a hinge row), RUBBLE_JOINT_ROW_MOVES_*
 } JointPositionRow;
 RUBBLE_STATIC_ASSERT_SIZE(JointPositionRow, 144);
 
@@ -386,8 +389,8 @@ RUBBLE_FN uint appendJointRowsItem(PgsJoint j, BodyPose pa, BodyPose pb, JacobiB
         JointPositionRow r;
         if (k < 3u) {
             // C_k = (p_b - p_a) . e_k: turning a by theta moves p_a by theta x r_a.
-            const float4 e = vec4(k == 0u ? 1.0f : 0.0f, k == 1u ? 1.0f : 0.0f,
-                                  k == 2u ? 1.0f : 0.0f);
+            const float4 e =
+                vec4(k == 0u ? 1.0f : 0.0f, k == 1u ? 1.0f : 0.0f, k == 2u ? 1.0f : 0.0f);
             r.linearA = scale4(e, -1.0f);
             r.angularA = scale4(cross3(ra, e), -1.0f);
             r.linearB = e;
@@ -453,8 +456,10 @@ RUBBLE_FN int projectJointGroupItem(RUBBLE_GLOBAL const uint* members, uint coun
         }
         float linear = 0.0f, angular = 0.0f;
         for (uint i = 0; i < n; ++i) {
-            if (rows[i].kind & RUBBLE_JOINT_ROW_POINT) linear = fmax(linear, fabs(rows[i].error));
-            else angular = fmax(angular, fabs(rows[i].error));
+            if (rows[i].kind & RUBBLE_JOINT_ROW_POINT)
+                linear = fmax(linear, fabs(rows[i].error));
+            else
+                angular = fmax(angular, fabs(rows[i].error));
         }
         if (linear <= RUBBLE_JOINT_LINEAR_TOLERANCE && angular <= RUBBLE_JOINT_ANGULAR_TOLERANCE)
             break;
@@ -515,8 +520,8 @@ RUBBLE_FN int projectJointGroupItem(RUBBLE_GLOBAL const uint* members, uint coun
                 const uint body = side ? rows[i].b : rows[i].a;
                 const float4 dx = scale4(deltaPosition[body], scale);
                 const float4 dq = scale4(deltaRotation[body], scale);
-                if (dx.x == 0.0f && dx.y == 0.0f && dx.z == 0.0f && dq.x == 0.0f &&
-                    dq.y == 0.0f && dq.z == 0.0f)
+                if (dx.x == 0.0f && dx.y == 0.0f && dx.z == 0.0f && dq.x == 0.0f && dq.y == 0.0f &&
+                    dq.z == 0.0f)
                     continue;
                 BodyPose pose = poses[body];
                 pose.position = add4(pose.position, dx);

@@ -65,8 +65,7 @@ RUBBLE_FN RowJacobian rowJacobianItem(float4 d, float4 rA, float4 rB, float inve
 }
 
 // Velocity of b's material point at rB relative to a's at rA, world, m/s.
-RUBBLE_FN float4 pointRelativeVelocityItem(BodyVelocity va, BodyVelocity vb, float4 rA,
-                                           float4 rB) {
+RUBBLE_FN float4 pointRelativeVelocityItem(BodyVelocity va, BodyVelocity vb, float4 rA, float4 rB) {
     return sub4(add4(vb.linear, cross3(vb.angular, rB)), add4(va.linear, cross3(va.angular, rA)));
 }
 
@@ -86,7 +85,7 @@ typedef struct PgsFrictionRows {
     float4 tangent[2]; // unit, world; tangent[1] = n x tangent[0]
     float4 crossA[2], crossB[2];
     float4 turnA[2], turnB[2];
-    float4 mass; // x, y: effective masses, kg; z: friction coefficient; w: 0
+    float4 mass;        // x, y: effective masses, kg; z: friction coefficient; w: 0
     float4 inverseMass; // x, y: 1/m_a, 1/m_b (1/kg); z, w: 0
 } PgsFrictionRows;
 RUBBLE_STATIC_ASSERT_SIZE(PgsFrictionRows, 192);
@@ -105,11 +104,11 @@ RUBBLE_STATIC_ASSERT_SIZE(PgsContactRow, 304);
 // the first tangent follows the sliding direction when there is one, else fixedTangent (the
 // manifold's perpendicularItem(n)). (Catto, "Iterative Dynamics with Temporal Coherence",
 // GDC 2005; "Modeling and Solving Constraints", GDC 2009.)
-RUBBLE_FN PgsContactRow pgsContactRowItem(float4 point, float depth, float4 n, float4 xA,
-                                          float4 xB, BodyVelocity va, BodyVelocity vb,
-                                          float inverseMassA, float inverseMassB, Mat3 ia, Mat3 ib,
-                                          float friction, float restitution, float baumgarte,
-                                          float slop, float dt, float4 fixedTangent) {
+RUBBLE_FN PgsContactRow pgsContactRowItem(float4 point, float depth, float4 n, float4 xA, float4 xB,
+                                          BodyVelocity va, BodyVelocity vb, float inverseMassA,
+                                          float inverseMassB, Mat3 ia, Mat3 ib, float friction,
+                                          float restitution, float baumgarte, float slop, float dt,
+                                          float4 fixedTangent) {
     PgsContactRow r;
     const float4 p = vec4(point.x, point.y, point.z);
     const float4 rA = sub4(p, vec4(xA.x, xA.y, xA.z));
@@ -156,12 +155,12 @@ RUBBLE_FN PgsContactRow pgsContactRowItem(float4 point, float depth, float4 n, f
 // the CPU's four-lane form does (d (v_b - v_a) + (r_b x d) w_b - (r_a x d) w_a, then x + y + z).
 RUBBLE_FN float pgsRowSpeedItem(BodyVelocity a, BodyVelocity b, float4 d, float4 crossA,
                                 float4 crossB) {
-    const float x = d.x * (b.linear.x - a.linear.x) + crossB.x * b.angular.x -
-                    crossA.x * a.angular.x;
-    const float y = d.y * (b.linear.y - a.linear.y) + crossB.y * b.angular.y -
-                    crossA.y * a.angular.y;
-    const float z = d.z * (b.linear.z - a.linear.z) + crossB.z * b.angular.z -
-                    crossA.z * a.angular.z;
+    const float x =
+        d.x * (b.linear.x - a.linear.x) + crossB.x * b.angular.x - crossA.x * a.angular.x;
+    const float y =
+        d.y * (b.linear.y - a.linear.y) + crossB.y * b.angular.y - crossA.y * a.angular.y;
+    const float z =
+        d.z * (b.linear.z - a.linear.z) + crossB.z * b.angular.z - crossA.z * a.angular.z;
     return x + y + z;
 }
 
@@ -171,9 +170,8 @@ typedef struct BodyVelocityPair {
 } BodyVelocityPair;
 
 // M^-1 J^T lambda of one row on both bodies.
-RUBBLE_FN BodyVelocityPair applyPgsRowItem(BodyVelocityPair v, float4 d, float4 turnA,
-                                           float4 turnB, float inverseMassA, float inverseMassB,
-                                           float lambda) {
+RUBBLE_FN BodyVelocityPair applyPgsRowItem(BodyVelocityPair v, float4 d, float4 turnA, float4 turnB,
+                                           float inverseMassA, float inverseMassB, float lambda) {
     v.a.linear = sub4(v.a.linear, scale4(d, inverseMassA * lambda));
     v.a.angular = sub4(v.a.angular, scale4(turnA, lambda));
     v.b.linear = add4(v.b.linear, scale4(d, inverseMassB * lambda));
@@ -232,11 +230,11 @@ RUBBLE_FN PgsFrictionUpdate solvePgsFrictionItem(PgsFrictionRows r, BodyVelocity
     PgsFrictionUpdate u;
     u.v = v;
     u.v.a.linear = sub4(v.a.linear, scale4(push, r.inverseMass.x));
-    u.v.a.angular = sub4(v.a.angular, add4(scale4(r.turnA[0], applied[0]),
-                                           scale4(r.turnA[1], applied[1])));
+    u.v.a.angular =
+        sub4(v.a.angular, add4(scale4(r.turnA[0], applied[0]), scale4(r.turnA[1], applied[1])));
     u.v.b.linear = add4(v.b.linear, scale4(push, r.inverseMass.y));
-    u.v.b.angular = add4(v.b.angular, add4(scale4(r.turnB[0], applied[0]),
-                                           scale4(r.turnB[1], applied[1])));
+    u.v.b.angular =
+        add4(v.b.angular, add4(scale4(r.turnB[0], applied[0]), scale4(r.turnB[1], applied[1])));
     u.impulse = vec4(after[0], after[1], fmax(fabs(applied[0]), fabs(applied[1])));
     return u;
 }
