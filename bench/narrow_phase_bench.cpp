@@ -158,7 +158,8 @@ void BM_BroadPhaseResting16k(benchmark::State& state) {
     SatCollision sat(ContactForm::Manifolds);
     StepContacts contacts;
     for (auto _ : state) {
-        sat.broadPhase(in.collisionScene(), in.bodies.view(), in.params(), contacts);
+        if (!sat.broadPhase(in.collisionScene(), in.bodies.view(), in.params(), contacts).ok())
+            return state.SkipWithError("the broad phase failed");
         benchmark::DoNotOptimize(contacts.pairs.data());
     }
     state.counters["pairs"] = double(contacts.pairs.size());
@@ -171,11 +172,13 @@ void BM_NarrowPhaseResting16k(benchmark::State& state) {
     SatCollision sat(ContactForm::Manifolds);
     StepContacts contacts;
     const StepParams params = in.params();
-    sat.broadPhase(in.collisionScene(), in.bodies.view(), params, contacts);
     // warm: every pair has its cached feature
-    sat.narrowPhase(in.collisionScene(), in.bodies.view(), params, contacts);
+    if (!sat.broadPhase(in.collisionScene(), in.bodies.view(), params, contacts).ok() ||
+        !sat.narrowPhase(in.collisionScene(), in.bodies.view(), params, contacts).ok())
+        return state.SkipWithError("the collision stages failed");
     for (auto _ : state) {
-        sat.narrowPhase(in.collisionScene(), in.bodies.view(), params, contacts);
+        if (!sat.narrowPhase(in.collisionScene(), in.bodies.view(), params, contacts).ok())
+            return state.SkipWithError("the narrow phase failed");
         benchmark::DoNotOptimize(contacts.manifolds.data());
     }
     state.SetItemsProcessed(state.iterations() * std::int64_t(contacts.pairs.size()));

@@ -388,7 +388,9 @@ void benchCpuSatBroadPhase(benchmark::State& state) {
     SatCollision cpu(ContactForm::Manifolds);
     StepContacts out;
     const StepParams params = b.in->params();
-    for (auto _ : state) cpu.broadPhase(b.in->collisionScene(), b.in->bodies.view(), params, out);
+    for (auto _ : state)
+        if (!cpu.broadPhase(b.in->collisionScene(), b.in->bodies.view(), params, out).ok())
+            return state.SkipWithError("the broad phase failed");
     state.counters["pairs"] = double(out.pairs.size());
 }
 
@@ -399,18 +401,21 @@ void benchCpuSatNarrowPhase(benchmark::State& state) {
     StepContacts out;
     const StepParams params = b.in->params();
     const CollisionScene scene = b.in->collisionScene();
-    warm.broadPhase(scene, b.in->bodies.view(), params, out);
-    warm.narrowPhase(scene, b.in->bodies.view(), params, out);
+    if (!warm.broadPhase(scene, b.in->bodies.view(), params, out).ok() ||
+        !warm.narrowPhase(scene, b.in->bodies.view(), params, out).ok())
+        return state.SkipWithError("the collision stages failed");
     for (auto _ : state) {
         if (state.range(0)) {
-            warm.narrowPhase(scene, b.in->bodies.view(), params, out);
+            if (!warm.narrowPhase(scene, b.in->bodies.view(), params, out).ok())
+                return state.SkipWithError("the narrow phase failed");
             continue;
         }
         state.PauseTiming();
         SatCollision cold(ContactForm::Manifolds);
-        cold.broadPhase(scene, b.in->bodies.view(), params, out);
+        const bool found = cold.broadPhase(scene, b.in->bodies.view(), params, out).ok();
         state.ResumeTiming();
-        cold.narrowPhase(scene, b.in->bodies.view(), params, out);
+        if (!found || !cold.narrowPhase(scene, b.in->bodies.view(), params, out).ok())
+            return state.SkipWithError("the collision stages failed");
     }
     state.counters["pairs"] = double(out.pairs.size());
     state.counters["contacts"] = double(out.contactCount);

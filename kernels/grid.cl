@@ -113,3 +113,12 @@ __kernel void contactKeys(__global const uint* status, __global const ParticleCo
         values[i] = c;
     }
 }
+
+// out[i] = value for i < count: clears counters and accumulators. A kernel rather than
+// clEnqueueFillBuffer, whose writes Oclgrind 21.10 does not see (it then reports every read of
+// the memory as uninitialised).
+__kernel void fillWords(const uint count, const uint value, __global uint* out) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    out[i] = value;
+}

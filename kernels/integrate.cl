@@ -4,17 +4,23 @@
 #include "rubble/shared/body.h"
 
 // Kinematic bodies keep the velocity the host gave them; sleeping ones keep their state unless
-// the host put a force on them, which wakes them.
+// the host put a force on them, which wakes them. Every body's velocities before the forces go
+// to atStart: restitution's approach speeds, explicit Euler's motion.
 __kernel void integrateVelocities(const uint count, __global BodyMomentum* momenta,
                                   __global const BodyForce* forces,
                                   __global const BodyMass* masses, __global uint* flags,
                                   __global const BodyPose* poses,
-                                  __global BodyVelocity* velocities, const float4 gravity,
+                                  __global BodyVelocity* velocities,
+                                  __global BodyVelocity* atStart, const float4 gravity,
                                   const float dt) {
     const uint i = get_global_id(0);
     if (i >= count) return; // the global size is rounded up to the group size
     const uint f = flags[i];
-    if (f & RUBBLE_BODY_KINEMATIC) return;
+    if (f & RUBBLE_BODY_KINEMATIC) {
+        atStart[i] = velocities[i];
+        return;
+    }
+    atStart[i] = beforeForcesItem(momenta[i], masses[i], velocities[i]);
     const BodyForce force = forces[i];
     if (f & RUBBLE_BODY_ASLEEP) {
         if (dot3(force.force, force.force) == 0.0f && dot3(force.torque, force.torque) == 0.0f)

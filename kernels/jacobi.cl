@@ -69,10 +69,11 @@ __kernel void prepareJacobiBodies(const uint count, __global const BodyMass* mas
     jacobiBodies[i] = jacobiBodyItem(m, poses[i].orientation);
 }
 
+// approach: the bodies' velocities before this step's forces, for restitution.
 __kernel void buildJacobiRows(__global const uint* status,
                               __global const ParticleContact* contacts,
                               __global const BodyPose* poses,
-                              __global const BodyVelocity* velocities,
+                              __global const BodyVelocity* approach,
                               __global const JacobiBody* jacobiBodies,
                               __global const float4* surfaces, __global const uint* bodyCount,
                               const SolverParams params, const uint warmStart,
@@ -94,7 +95,7 @@ __kernel void buildJacobiRows(__global const uint* status,
             }
         }
         rows[r] = contactRowFromJacobiItem(c, poses[c.a].position, poses[c.b].position,
-                                           velocities[c.a], velocities[c.b], jacobiBodies[c.a],
+                                           approach[c.a], approach[c.b], jacobiBodies[c.a],
                                            jacobiBodies[c.b], surfaces[c.a], surfaces[c.b],
                                            bodyCount[c.a], bodyCount[c.b], params, warm);
     }

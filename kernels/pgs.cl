@@ -50,8 +50,8 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
             impulseCount[p] = count;
             int pushes = 0;
             for (uint k = 0; k < count; ++k)
-                pushes |= pgsNormalTargetItem(0.0f, manifolds[p].points[k].w, 0.0f, baumgarte,
-                                              slop, dt).push > 0.0f;
+                pushes |=
+                    pgsNormalTargetItem(manifolds[p].points[k].w, baumgarte, slop, dt).push > 0.0f;
             if (pushes) {
                 if (movesA) pushed[pair.a] = 1u;
                 if (movesB) pushed[pair.b] = 1u;
@@ -77,8 +77,9 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 buildPgsRows(const uint count, __global const PgsElement* elements,
              __global const ContactManifold* manifolds, __global const BodyPose* poses,
-             __global const BodyVelocity* velocities, __global const JacobiBody* bodies,
-             __global const float4* surfaces, const float baumgarte, const float slop,
+             __global const BodyVelocity* velocities, __global const BodyVelocity* approach,
+             __global const JacobiBody* bodies, __global const float4* surfaces,
+             const float baumgarte, const float slop,
              const float dt, const uint warmStart, const uint previousCapacity,
              __global const uint* previousCount, __global const BodyPairRecord* previousPairs,
              __global const uint* previousImpulseCount,
@@ -105,6 +106,7 @@ buildPgsRows(const uint count, __global const PgsElement* elements,
     const float restitution = fmax(sa.y, sb.y);
     const BodyPose pa = poses[a], pb = poses[b];
     const BodyVelocity va = velocities[a], vb = velocities[b];
+    const BodyVelocity aa = approach[a], ab = approach[b];
     const float4 fixedTangent = perpendicularItem(m.normal);
     // The keys first: they choose which old point each new one takes its impulses from.
     PgsImpulse keys[4], old[4];
@@ -120,7 +122,7 @@ buildPgsRows(const uint count, __global const PgsElement* elements,
     for (uint k = 0; k < points; ++k) {
         const float4 point = m.points[k];
         const PgsContactRow row = pgsContactRowItem(
-            point, point.w, m.normal, pa.position, pb.position, va, vb, ima, imb,
+            point, point.w, m.normal, pa.position, pb.position, va, vb, aa, ab, ima, imb,
             ja.inverseInertiaWorld, jb.inverseInertiaWorld, friction, restitution, baumgarte,
             slop, dt, fixedTangent);
         float4 start = make4(0.0f, 0.0f, 0.0f, 0.0f);

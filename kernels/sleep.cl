@@ -5,6 +5,29 @@
 #include "rubble/shared/contact_row.h"
 #include "rubble/shared/sleep.h"
 
+// Stage wakeTouched, after collideParticles and before the rows: a contact of a sleeping body
+// with a waking one (wakesBeforeSolveItem, on the velocities before this step's forces) wakes it
+// now, its slow time starting again. A body woken here was asleep, so its approach is zero and
+// it wakes nobody else in this pass: the result does not depend on the order of the contacts.
+__kernel void wakeTouched(__global uint* status, __global const ParticleContact* contacts,
+                          __global const BodyVelocity* approach, __global uint* flags,
+                          __global float* slowFor) {
+    const uint n = liveContactsItem(status[RUBBLE_STATUS_CONTACTS], status[RUBBLE_STATUS_CAPACITY]);
+    for (uint r = get_global_id(0); r < n; r += get_global_size(0)) {
+        const uint a = contacts[r].a, b = contacts[r].b;
+        const uint fa = flags[a], fb = flags[b];
+        uint wake = RUBBLE_NO_BODY;
+        if (wakesBeforeSolveItem(fa, fb, approach[b])) wake = a;
+        if (wakesBeforeSolveItem(fb, fa, approach[a])) wake = b;
+        if (wake == RUBBLE_NO_BODY) continue;
+        const uint before = atomic_and(&flags[wake], ~RUBBLE_BODY_ASLEEP);
+        if (before & RUBBLE_BODY_ASLEEP) {
+            slowFor[wake] = 0.0f;
+            atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
+        }
+    }
+}
+
 // Every row marks both of its bodies from the other's velocity after the step (restless was
 // zeroed by the last step's sleepBodies, or at load).
 __kernel void markRestless(__global const uint* status, __global const ContactRow* rows,

@@ -18,6 +18,14 @@ packages=(
     libegl-mesa0 libgl1-mesa-dri
     # plots of the benchmarks and comparisons
     python3 python3-matplotlib
+    # videos of `rubble render` (its test runs where ffmpeg is)
+    ffmpeg
+    # CI's checks: clang with AddressSanitizer, UBSan and libFuzzer (the sanitize preset), and
+    # Oclgrind, which runs every kernel with bounds, uninitialised-value and data-race checks
+    clang libclang-rt-14-dev oclgrind
+    # the Python package (docs/python.md): a virtual environment (Debian's python3 is externally
+    # managed), the headers its module builds against, and the generator pip's CMake uses
+    python3-venv python3-dev ninja-build
 )
 
 missing=()

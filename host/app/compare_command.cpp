@@ -4,7 +4,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +13,7 @@
 
 #include "host/app/commands.h"
 #include "host/app/gpu_commands.h"
+#include "rubble/tools.h"
 #include "rubble/world.h"
 
 namespace rubble::app {
@@ -33,60 +33,22 @@ Error badSetting(const char* option, const std::string& item, const std::string&
     return makeError(ErrorKind::BadInput, std::string(option) + " " + item, message);
 }
 
-template <class T> bool parseNumber(const std::string& text, T& out) {
-    const char* end = text.data() + text.size();
-    const auto [ptr, ec] = std::from_chars(text.data(), end, out);
-    return ec == std::errc() && ptr == end;
-}
-
-// One KEY=VALUE into the side; the value is checked here so that the error names the setting.
+// One KEY=VALUE into the side, read and checked by the option table so that the error names
+// the setting; a simulation option is kept as text for applyOverrides.
 Status parseSetting(const char* option, const std::string& item, Side& side) {
     const std::size_t eq = item.find('=');
     if (eq == std::string::npos || eq == 0)
         return badSetting(option, item, "expected KEY=VALUE");
     const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
-    Overrides& o = side.overrides;
-    if (key == "backend") {
-        if (!parseBackend(value)) return badSetting(option, item, "expected cpu or opencl");
-        o.backend = value;
-    } else if (key == "collision") {
-        if (!parseCollisionMethod(value))
-            return badSetting(option, item, "expected sat or particles");
-        o.collision = value;
-    } else if (key == "solver") {
-        if (!parseSolverType(value))
-            return badSetting(option, item, "expected pgs, jacobi, lcp-jacobi or lemke");
-        o.solver = value;
-    } else if (key == "integrator") {
-        if (!parseIntegrator(value))
-            return badSetting(option, item, "expected symplectic or explicit");
-        o.integrator = value;
-    } else if (key == "iterations") {
-        int n = 0;
-        if (!parseNumber(value, n) || n < 1)
-            return badSetting(option, item, "expected a whole number of 1 or more");
-        o.iterations = n;
-    } else if (key == "particle-spacing" || key == "particle_spacing") {
-        float v = 0;
-        if (!parseNumber(value, v) || !(v > 0.0f) || !std::isfinite(v))
-            return badSetting(option, item, "expected a length in m greater than 0");
-        o.particleSpacing = v;
-    } else if (key == "dt") {
-        float v = 0;
-        if (!parseNumber(value, v) || !(v > 0.0f) || !std::isfinite(v))
-            return badSetting(option, item, "expected a time step in s greater than 0");
-        o.dt = v;
-    } else if (key == "device") {
-        side.run.device = value;
-    } else if (key == "deterministic") {
-        if (value == "true" || value == "1" || value == "yes") side.run.deterministic = true;
-        else if (value == "false" || value == "0" || value == "no") side.run.deterministic = false;
-        else return badSetting(option, item, "expected true or false");
-    } else {
-        return badSetting(option, item,
-                          "unknown key (expected backend, collision, solver, iterations, "
-                          "integrator, particle-spacing, dt, device or deterministic)");
-    }
+    const Option* o = findOptionByName(key);
+    if (o == nullptr || !(o->uses & kUseCompare))
+        return badSetting(option, item, "unknown key (expected " + compareKeysText() + ")");
+    const std::string where = std::string(option) + " " + item;
+    if (o->scope == OptionScope::Run)
+        return assignOptionText(*o, value, where, OptionTarget{nullptr, &side.run});
+    SimulationOptions check; // refuses a bad value now, before the scene is loaded
+    RUBBLE_TRY(assignOptionText(*o, value, where, OptionTarget{&check, nullptr}));
+    side.overrides.items.push_back({o, where, value});
     return {};
 }
 
@@ -111,81 +73,12 @@ Result<Side> parseSide(const char* option, const std::vector<std::string>& items
     return side;
 }
 
-// What one side is at one compared step.
-struct SideSample {
-    double kineticEnergy = 0;   ///< J
-    double linearMomentum = 0;  ///< |sum P|, kg m/s
-    double angularMomentum = 0; ///< |sum x x P + L| about the origin, kg m^2/s
-    float penetration = 0;      ///< m, largest over the step's substeps
-    float residual = 0;         ///< the last substep's solver residual, N s
-    std::uint32_t contacts = 0;
-};
-
-SideSample sample(const World& w, const std::vector<BodyState>& bodies) {
-    SideSample s;
-    glm::dvec3 p(0.0), l(0.0);
-    for (const BodyState& b : bodies) {
-        if (b.isStatic) continue;
-        const glm::dvec3 v(b.linearVelocity), omega(b.angularVelocity);
-        const glm::dvec3 pl(b.linearMomentum), pa(b.angularMomentum);
-        s.kineticEnergy += 0.5 * double(b.mass) * glm::dot(v, v) + 0.5 * glm::dot(omega, pa);
-        p += pl;
-        l += glm::cross(glm::dvec3(b.position), pl) + pa;
-    }
-    s.linearMomentum = glm::length(p);
-    s.angularMomentum = glm::length(l);
-    s.residual = w.lastStep().solverResidual;
-    s.contacts = w.lastStep().contactCount;
-    return s;
-}
-
-std::vector<BodyState> bodiesOf(const World& w) {
-    std::vector<BodyState> out(w.bodyCount());
-    for (std::uint32_t i = 0; i < w.bodyCount(); ++i) out[i] = w.body(i);
-    return out;
-}
-
-// Divergence of the dynamic bodies: position distance and rotation angle, max and RMS.
-struct Divergence {
-    double positionMax = 0, positionRms = 0, angleMax = 0, angleRms = 0;
-};
-
-Divergence divergence(const std::vector<BodyState>& a, const std::vector<BodyState>& b) {
-    Divergence d;
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        if (a[i].isStatic) continue;
-        const double dx = glm::length(glm::dvec3(a[i].position) - glm::dvec3(b[i].position));
-        // The angle of conj(qa) qb (unit quaternions), from its vector part: accurate for small
-        // angles, and exactly 0 for equal orientations.
-        const glm::dquat r = glm::conjugate(glm::dquat(a[i].orientation)) * glm::dquat(b[i].orientation);
-        const double angle = 2.0 * std::atan2(glm::length(glm::dvec3(r.x, r.y, r.z)), std::abs(r.w));
-        d.positionMax = std::max(d.positionMax, dx);
-        d.angleMax = std::max(d.angleMax, angle);
-        d.positionRms += dx * dx;
-        d.angleRms += angle * angle;
-        ++n;
-    }
-    if (n > 0) {
-        d.positionRms = std::sqrt(d.positionRms / double(n));
-        d.angleRms = std::sqrt(d.angleRms / double(n));
-    }
-    return d;
-}
-
-struct Row {
-    long long step = 0;
-    double time = 0;
-    Divergence d;
-    SideSample a, b;
-};
-
-std::string csvLine(const Row& r) {
+std::string csvLine(const CompareRow& r) {
     char buf[512];
     std::snprintf(buf, sizeof buf,
                   "%lld,%.6f,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,"
                   "%u,%u\n",
-                  r.step, r.time, r.d.positionMax, r.d.positionRms, r.d.angleMax, r.d.angleRms,
+                  r.step, r.time, r.positionMax, r.positionRms, r.angleMax, r.angleRms,
                   r.a.kineticEnergy, r.b.kineticEnergy, r.a.linearMomentum, r.b.linearMomentum,
                   r.a.angularMomentum, r.b.angularMomentum, double(r.a.penetration),
                   double(r.b.penetration), double(r.a.residual), double(r.b.residual),
@@ -207,10 +100,10 @@ void printHeading() {
                 "kg m2/s", "m", "m", "N s", "N s");
 }
 
-void printRow(const Row& r) {
+void printRow(const CompareRow& r) {
     std::printf("%6lld %8.4f | %9.2e %9.2e %9.2e %9.2e | %9.3e %9.3e | %9.3e %9.3e | %9.3e "
                 "%9.3e | %8.1e %8.1e | %8.1e %8.1e\n",
-                r.step, r.time, r.d.positionMax, r.d.positionRms, r.d.angleMax, r.d.angleRms,
+                r.step, r.time, r.positionMax, r.positionRms, r.angleMax, r.angleRms,
                 r.a.kineticEnergy, r.b.kineticEnergy, r.a.linearMomentum, r.b.linearMomentum,
                 r.a.angularMomentum, r.b.angularMomentum, double(r.a.penetration),
                 double(r.b.penetration), double(r.a.residual), double(r.b.residual));
@@ -263,20 +156,6 @@ Status drawPlot(const std::string& csv, const std::string& png) {
                          "). The table is in " + csv);
 }
 
-// Whole steps of each side per compared step: the larger dt sets the pace, and must be a
-// whole multiple of the smaller.
-Result<std::pair<int, int>> stepRatio(float dtA, float dtB) {
-    const double big = std::max(dtA, dtB), small = std::min(dtA, dtB);
-    const double ratio = big / small;
-    const long whole = std::lround(ratio);
-    if (std::abs(ratio - double(whole)) > 1e-4 * ratio)
-        return makeError(ErrorKind::BadInput, "--a dt / --b dt",
-                         "the two time steps (" + std::to_string(dtA) + " s and " +
-                             std::to_string(dtB) + " s) must be equal or one a whole multiple "
-                             "of the other");
-    return dtA >= dtB ? std::pair<int, int>{1, int(whole)} : std::pair<int, int>{int(whole), 1};
-}
-
 } // namespace
 
 int compareCommand(const CompareArgs& args) {
@@ -290,12 +169,8 @@ int compareCommand(const CompareArgs& args) {
     Scene sceneA = *base, sceneB = *base;
     if (Status s = applyOverrides(a->overrides, sceneA); !s) return report(s.error());
     if (Status s = applyOverrides(b->overrides, sceneB); !s) return report(s.error());
-    Result<std::pair<int, int>> ratio = stepRatio(sceneA.simulation.dt, sceneB.simulation.dt);
-    if (!ratio) return report(ratio.error());
-    Result<World> worldA = World::create(sceneA, a->run);
-    if (!worldA) return report(worldA.error());
-    Result<World> worldB = World::create(sceneB, b->run);
-    if (!worldB) return report(worldB.error());
+    Result<Comparison> comparison = Comparison::create(sceneA, a->run, sceneB, b->run);
+    if (!comparison) return report(comparison.error());
 
     std::optional<std::ofstream> csv;
     std::string csvPath = args.csv;
@@ -308,39 +183,22 @@ int compareCommand(const CompareArgs& args) {
         *csv << kCsvHeader;
     }
 
-    const double dt = std::max(sceneA.simulation.dt, sceneB.simulation.dt);
     std::printf("%s, %d steps of %.6g s\n  a: %s (%s)\n  b: %s (%s)\n", args.scene.c_str(),
-                args.steps, dt, a->label.c_str(), worldA->deviceName().c_str(), b->label.c_str(),
-                worldB->deviceName().c_str());
+                args.steps, comparison->dt(), a->label.c_str(),
+                comparison->a().deviceName().c_str(), b->label.c_str(),
+                comparison->b().deviceName().c_str());
     printHeading();
     const int every = std::max(1, args.steps / 10);
     std::optional<Error> failure;
-    Row row;
-    for (int step = 0; step <= args.steps; ++step) {
-        row = Row{};
-        row.step = step;
-        row.time = double(step) * dt;
-        // Both sides advance to the same time; step 0 is the scene as loaded.
-        for (auto [w, substeps, out] : {std::tuple{&*worldA, ratio->first, &row.a},
-                                        std::tuple{&*worldB, ratio->second, &row.b}}) {
-            if (step == 0 || failure) continue;
-            float penetration = 0.0f;
-            for (int i = 0; i < substeps && !failure; ++i) {
-                if (Status s = w->step(); !s) failure = s.error();
-                penetration = std::max(penetration, w->lastStep().largestPenetration);
-            }
-            out->penetration = penetration;
+    long long step = 0;
+    for (; step <= args.steps; ++step) {
+        Result<CompareRow> row = comparison->next();
+        if (!row) {
+            failure = row.error();
+            break;
         }
-        if (failure) break;
-        const std::vector<BodyState> bodiesA = bodiesOf(*worldA), bodiesB = bodiesOf(*worldB);
-        const float penA = row.a.penetration, penB = row.b.penetration;
-        row.a = sample(*worldA, bodiesA);
-        row.b = sample(*worldB, bodiesB);
-        row.a.penetration = penA;
-        row.b.penetration = penB;
-        row.d = divergence(bodiesA, bodiesB);
-        if (csv) *csv << csvLine(row);
-        if (step % every == 0 || step == args.steps) printRow(row);
+        if (csv) *csv << csvLine(*row);
+        if (step % every == 0 || step == args.steps) printRow(*row);
     }
     if (csv) {
         csv->flush();
@@ -350,7 +208,7 @@ int compareCommand(const CompareArgs& args) {
     }
     if (failure) {
         const int code = report(*failure);
-        std::fprintf(stderr, "rubble: compare stopped before step %lld%s%s\n", row.step,
+        std::fprintf(stderr, "rubble: compare stopped before step %lld%s%s\n", step,
                      args.csv.empty() ? "" : "; the CSV holds the steps before it: ",
                      args.csv.c_str());
         return code;

@@ -11,6 +11,7 @@
 #include "host/gpu/device.h"
 #include "host/gpu/traffic.h"
 #include "rubble/scene.h"
+#include "rubble/tools.h"
 #include "rubble/world.h"
 
 namespace rubble::app {
@@ -32,26 +33,26 @@ GpuCommands::GpuCommands(CLI::App& app) {
                          "With --bandwidth: run this scene on the device (particles, jacobi) and "
                          "report each kernel's bytes/s against the copy bandwidth");
     devices_->add_option("--steps", d.steps, "Steps of the scene's run");
-    devices_->add_option("--particle-spacing", d.particleSpacing, "Particle spacing, m");
+    addOverrideFlag(devices_, "particle-spacing", d.overrides);
     devices_->add_flag("--sat", d.sat,
                        "The scene's run collides with SAT and solves with PGS (every body on the "
                        "device) instead of particles and jacobi");
-    devices_->add_option("--device", d.run.device, "OpenCL device: a name fragment or an index");
+    addRunFlag(devices_, "device", d.run);
 
     compare_ = app.add_subcommand(
         "compare", "Run a scene on two configurations and report their divergence step by step");
     CompareArgs& c = compareArgs_;
     compare_->add_option("scene", c.scene, "Scene file (JSON)")->required();
     compare_->add_option("--steps", c.steps, "Steps to compare");
-    compare_->add_option("--a", c.a,
-                         "Settings of side a: backend=, collision=, solver=, iterations=, "
-                         "integrator=, particle_spacing=, dt=, deterministic=")
+    compare_
+        ->add_option("--a", c.a,
+                     "Settings of side a, KEY=VALUE (KEY: " + compareKeysText() + ")")
         ->required();
     compare_->add_option("--b", c.b, "Settings of side b, as --a")->required();
     compare_->add_option("--csv", c.csv, "Write the per-step table as CSV");
     compare_->add_option("--plot", c.plot, "Draw the table to a PNG (python3 with matplotlib)");
-    compare_->add_option("--device", c.run.device, "OpenCL device: a name fragment or an index");
-    compare_->add_option("--kernel-dir", c.run.kernelDir, "Load kernels/*.cl from this folder");
+    addRunFlag(compare_, "device", c.run);
+    addRunFlag(compare_, "kernel-dir", c.run);
 
     solvers_ = app.add_subcommand(
         "solvers", "Freeze one step's contacts and compare the solvers' convergence on them");
@@ -59,12 +60,12 @@ GpuCommands::GpuCommands(CLI::App& app) {
     solvers_->add_option("scene", s.scene, "Scene file (JSON)")->required();
     solvers_->add_option("--step", s.step, "Step whose contact set is frozen");
     solvers_->add_option("--iterations", s.iterations, "Iterations of each iterative solver");
-    solvers_->add_option("--collision", s.collision, "sat or particles (default: the scene's)");
+    addOverrideFlag(solvers_, "collision", s.overrides);
     solvers_->add_option("--csv", s.csv, "Write the per-iteration table as CSV");
     solvers_->add_flag("--frictionless", s.frictionless,
                        "Set every material's friction to 0 (lemke solves frictionless sets)");
-    solvers_->add_option("--device", s.run.device, "OpenCL device: a name fragment or an index");
-    solvers_->add_option("--kernel-dir", s.run.kernelDir, "Load kernels/*.cl from this folder");
+    addRunFlag(solvers_, "device", s.run);
+    addRunFlag(solvers_, "kernel-dir", s.run);
 }
 
 bool GpuCommands::dispatch(int& exitCode) {
@@ -98,8 +99,8 @@ int kernelShares(const DevicesArgs& args, double deviceCopy) {
     SimulationOptions& sim = scene->simulation;
     sim.backend = Backend::OpenCl;
     sim.collision.method = args.sat ? CollisionMethod::Sat : CollisionMethod::Particles;
-    sim.collision.particleSpacing = args.particleSpacing;
     sim.solver.type = args.sat ? SolverType::Pgs : SolverType::Jacobi;
+    if (Status s = applyOverrides(args.overrides, *scene); !s) return report(s.error());
     Result<World> world = World::create(*scene, args.run);
     if (!world) return report(world.error());
     for (int i = 0; i < args.steps; ++i)
@@ -114,7 +115,7 @@ int kernelShares(const DevicesArgs& args, double deviceCopy) {
     else
         std::printf("\n%s, %d steps, particle spacing %.2f m: device time per step and bytes "
                     "moved (each element a kernel touches, once)\n",
-                    args.scene.c_str(), args.steps, double(args.particleSpacing));
+                    args.scene.c_str(), args.steps, double(sim.collision.particleSpacing));
     std::printf("%-24s %10s %9s %12s %10s %9s\n", "kernel", "ms/step", "launches", "MB/launch",
                 "GB/s", "of copy");
     double ms = 0, bytes = 0;
@@ -159,9 +160,9 @@ int bandwidthCommand(const DevicesArgs& args) {
 
 int devicesCommand(const DevicesArgs& args) {
     if (args.bandwidth) return bandwidthCommand(args);
-    Result<std::vector<gpu::DeviceInfo>> devices = gpu::listDevices();
+    Result<std::vector<DeviceDesc>> devices = openClDevices();
     if (!devices) return report(devices.error());
-    for (const gpu::DeviceInfo& d : *devices)
+    for (const DeviceDesc& d : *devices)
         std::printf("%u: %s (platform %s; %s; driver %s; %u compute units, %.1f GiB)\n", d.index,
                     d.name.c_str(), d.platform.c_str(), d.version.c_str(), d.driver.c_str(),
                     d.computeUnits, double(d.globalMemory) / (1024.0 * 1024.0 * 1024.0));

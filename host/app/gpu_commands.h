@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "host/app/commands.h"
 #include "rubble/options.h"
 
 namespace rubble::app {
@@ -21,7 +22,7 @@ struct DevicesArgs {
     int repeats = 10;       ///< copies of each kind; the median is reported
     std::string scene;      ///< with --bandwidth: run it and set each kernel against them
     int steps = 120;
-    float particleSpacing = 0.5f; ///< m, for the scene's run
+    Overrides overrides; ///< --particle-spacing for the scene's run; else the scene's
     bool sat = false; ///< the scene's run with SAT and PGS instead of particles and jacobi
     RunOptions run;
 };
@@ -39,7 +40,7 @@ struct SolversArgs {
     int step = 30;
     int iterations = 50;
     std::string csv;
-    std::string collision;
+    Overrides overrides;       ///< --collision; else the scene's
     bool frictionless = false; ///< every material's friction set to 0, so that lemke can solve
     RunOptions run;
 };

@@ -1,4 +1,5 @@
-// host/app/main.cpp: the `rubble` command: subcommands and their options (CLI11).
+// host/app/main.cpp: the `rubble` command: subcommands and their options (CLI11); the flags of
+// simulation and run options come from the option table (host/core/option_table.h).
 #include <cstdio>
 #include <cstdlib>
 
@@ -9,27 +10,6 @@
 #include "host/app/viewer_commands.h"
 #include "rubble/version.h"
 
-namespace {
-
-void addOverrides(CLI::App* cmd, rubble::app::Overrides& o) {
-    cmd->add_option("--steps", o.steps, "Number of steps (overrides simulation.steps)");
-    cmd->add_option("--dt", o.dt, "Time step in seconds (overrides simulation.dt)");
-    cmd->add_option("--backend", o.backend, "cpu or opencl");
-    cmd->add_option("--integrator", o.integrator, "symplectic or explicit");
-    cmd->add_option("--solver", o.solver, "pgs, jacobi, lcp-jacobi or lemke");
-    cmd->add_option("--iterations", o.iterations, "Solver iterations per step");
-    cmd->add_option("--collision", o.collision, "sat or particles");
-    cmd->add_option("--particle-spacing", o.particleSpacing, "Voxel size of particle shapes, m");
-}
-
-void addRunOptions(CLI::App* cmd, rubble::RunOptions& r) {
-    cmd->add_option("--device", r.device, "OpenCL device: a name fragment or an index");
-    cmd->add_option("--kernel-dir", r.kernelDir, "Load kernels/*.cl from this folder");
-    cmd->add_flag("--deterministic", r.deterministic, "Sort device rows so runs repeat bit for bit");
-}
-
-} // namespace
-
 int main(int argc, char** argv) {
     using namespace rubble::app;
     CLI::App app{"rubble: rigid-body simulation on the CPU and on OpenCL devices"};
@@ -37,15 +17,17 @@ int main(int argc, char** argv) {
                "  rubble run scenes/pyramid_20.json --out pyramid.csv --metrics pyramid.json\n"
                "  rubble run scenes/bench/debris_1k.json --steps 120 --every 10 --out debris.jsonl\n"
                "  rubble validate scenes/ragdoll.json\n"
-               "Exit status: 0 done, 1 I/O or device failure, 2 bad input, 3 non-finite state.");
+               "Exit status: 0 done, 1 I/O or device failure, 2 bad input, 3 the simulation blew "
+               "up\n(non-finite state, energy growth, a joint apart), 4 a limit reached (pairs, "
+               "contacts,\nparticles, memory), 130 interrupted (SIGINT), 143 terminated (SIGTERM).");
     app.set_version_flag("--version", std::string("rubble ") + rubble::kVersion);
     app.require_subcommand(1);
 
     RunArgs run;
     CLI::App* runCmd = app.add_subcommand("run", "Simulate a scene and write its trajectory");
     runCmd->add_option("scene", run.scene, "Scene file (JSON)")->required();
-    addOverrides(runCmd, run.overrides);
-    addRunOptions(runCmd, run.run);
+    addOverrideFlags(runCmd, run.overrides);
+    addRunFlags(runCmd, run.run);
     runCmd->add_option("--out", run.out, "Trajectory file, .csv or .jsonl");
     runCmd->add_option("--every", run.every, "Write every K-th step (step 0 always)");
     runCmd->add_option("--metrics", run.metrics, "Summary file, .json");
@@ -57,16 +39,25 @@ int main(int argc, char** argv) {
 
     ViewArgs view;
     CLI::App* viewCmd = app.add_subcommand("view", "Open a window on a scene or a recorded run");
-    addOverrides(viewCmd, view.common.overrides);
-    addRunOptions(viewCmd, view.common.run);
+    addOverrideFlags(viewCmd, view.common.overrides);
+    addRunFlags(viewCmd, view.common.run);
     addViewOptions(viewCmd, view);
 
     RenderArgs render;
     CLI::App* renderCmd =
         app.add_subcommand("render", "Draw a scene off-screen to PNG files or a video");
-    addOverrides(renderCmd, render.common.overrides);
-    addRunOptions(renderCmd, render.common.run);
+    addOverrideFlags(renderCmd, render.common.overrides);
+    addRunFlags(renderCmd, render.common.run);
     addRenderOptions(renderCmd, render);
+
+    SweepArgs sweep;
+    CLI::App* sweepCmd = app.add_subcommand(
+        "sweep", "Run a parameter sweep on Dask (needs the Python package: docs/python.md)");
+    sweepCmd->add_option("sweep", sweep.file, "Sweep file (JSON, docs/python.md)")->required();
+    sweepCmd->add_option("--workers", sweep.workers, "Workers of the local Dask cluster");
+    sweepCmd->add_option("--scheduler", sweep.scheduler,
+                         "A Dask scheduler (tcp://host:port) instead of a local cluster");
+    sweepCmd->add_option("--out", sweep.out, "Write the table as CSV (default: stdout)");
 
     GpuCommands gpuCommands(app);
 
@@ -82,5 +73,9 @@ int main(int argc, char** argv) {
     if (validateCmd->parsed()) return validateCommand(validate);
     if (viewCmd->parsed()) return viewCommand(view);
     if (renderCmd->parsed()) return renderCommand(render);
+    if (sweepCmd->parsed()) {
+        sweepFromEnvironment(sweep);
+        return sweepCommand(sweep);
+    }
     return kExitBadInput;
 }

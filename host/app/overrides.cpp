@@ -1,56 +1,81 @@
-// host/app/overrides.cpp: command-line overrides of scene fields, and error reporting.
+// host/app/overrides.cpp: command-line flags of the option table (host/core/option_table.h),
+// the overrides they give, and error reporting.
 #include <cstdio>
 
+#include <CLI/CLI.hpp>
+
 #include "host/app/commands.h"
+#include "host/core/assert.h"
 
 namespace rubble::app {
 namespace {
 
-template <class E, class Parse>
-Status overrideEnum(const std::optional<std::string>& value, const char* option, Parse parse,
-                    const char* choices, E& out) {
-    if (!value) return {};
-    const std::optional<E> v = parse(*value);
-    if (!v)
-        return makeError(ErrorKind::BadInput, option,
-                         "unknown value \"" + *value + "\" (expected " + choices + ")");
-    out = *v;
-    return {};
+std::string flagOf(const Option& option) { return "--" + std::string(option.name); }
+
+void addFlag(CLI::App* cmd, const Option& option, Overrides& o) {
+    RUBBLE_ASSERT(option.scope == OptionScope::Simulation && (option.uses & kUseFlag));
+    const Option* p = &option;
+    cmd->add_option_function<std::string>(
+           flagOf(option),
+           [p, &o](const std::string& text) { o.items.push_back({p, flagOf(*p), text}); },
+           optionFlagHelp(option))
+        ->type_name(optionTypeName(option));
+}
+
+// A run option is read as soon as it is parsed; its kinds (text, a flag) always read.
+void addFlag(CLI::App* cmd, const Option& option, RunOptions& run) {
+    RUBBLE_ASSERT(option.scope == OptionScope::Run && (option.uses & kUseFlag));
+    const Option* p = &option;
+    auto assign = [p, &run](const std::string& text) {
+        if (Status s = assignOptionText(*p, text, flagOf(*p), OptionTarget{nullptr, &run}); !s)
+            throw CLI::ValidationError(s.error().describe());
+    };
+    if (option.kind == OptionKind::Bool) // --flag, or --flag=false
+        cmd->add_flag_function(
+            flagOf(option), [assign](std::int64_t count) { assign(count > 0 ? "true" : "false"); },
+            optionFlagHelp(option));
+    else
+        cmd->add_option_function<std::string>(flagOf(option), assign, optionFlagHelp(option))
+            ->type_name(optionTypeName(option));
+}
+
+const Option& optionNamed(std::string_view name) {
+    const Option* option = findOptionByName(name);
+    RUBBLE_ASSERT(option != nullptr);
+    return *option;
 }
 
 } // namespace
 
 Status applyOverrides(const Overrides& o, Scene& scene) {
-    SimulationOptions& sim = scene.simulation;
-    if (o.steps) {
-        if (*o.steps < 0) return makeError(ErrorKind::BadInput, "--steps", "must be 0 or more");
-        sim.steps = *o.steps;
-    }
-    if (o.dt) {
-        if (!(*o.dt > 0.0f) || !std::isfinite(*o.dt))
-            return makeError(ErrorKind::BadInput, "--dt", "must be a finite number greater than 0");
-        sim.dt = *o.dt;
-    }
-    if (o.iterations) {
-        if (*o.iterations < 1) return makeError(ErrorKind::BadInput, "--iterations", "must be 1 or more");
-        sim.solver.iterations = *o.iterations;
-    }
-    if (o.particleSpacing) {
-        if (!(*o.particleSpacing > 0.0f))
-            return makeError(ErrorKind::BadInput, "--particle-spacing", "must be greater than 0");
-        sim.collision.particleSpacing = *o.particleSpacing;
-    }
-    RUBBLE_TRY(overrideEnum(o.backend, "--backend", parseBackend, "cpu or opencl", sim.backend));
-    RUBBLE_TRY(overrideEnum(o.integrator, "--integrator", parseIntegrator, "symplectic or explicit",
-                            sim.integrator));
-    RUBBLE_TRY(overrideEnum(o.solver, "--solver", parseSolverType,
-                            "pgs, jacobi, lcp-jacobi or lemke", sim.solver.type));
-    if (o.collision) {
-        CollisionMethod m = CollisionMethod::Sat;
-        RUBBLE_TRY(overrideEnum(o.collision, "--collision", parseCollisionMethod, "sat or particles", m));
-        sim.collision.method = m;
-    }
+    for (const Overrides::Item& item : o.items)
+        RUBBLE_TRY(assignOptionText(*item.option, item.text, item.where,
+                                    OptionTarget{&scene.simulation, nullptr}));
     return {};
+}
+
+void addOverrideFlags(CLI::App* cmd, Overrides& o) {
+    for (const Option& option : optionTable())
+        if (option.scope == OptionScope::Simulation && (option.uses & kUseFlag))
+            addFlag(cmd, option, o);
+}
+
+void addOverrideFlag(CLI::App* cmd, std::string_view name, Overrides& o) {
+    addFlag(cmd, optionNamed(name), o);
+}
+
+void addRunFlags(CLI::App* cmd, RunOptions& run) {
+    for (const Option& option : optionTable())
+        if (option.scope == OptionScope::Run && (option.uses & kUseFlag)) addFlag(cmd, option, run);
+}
+
+void addRunFlag(CLI::App* cmd, std::string_view name, RunOptions& run) {
+    addFlag(cmd, optionNamed(name), run);
+}
+
+void reportWarnings(const World& world) {
+    for (const Warning& w : world.warnings())
+        std::fprintf(stderr, "rubble: warning: %s\n", w.describe().c_str());
 }
 
 int report(const Error& e) {
@@ -61,6 +86,10 @@ int report(const Error& e) {
         return kExitBadInput;
     case ErrorKind::Numerical:
         return kExitNumerical;
+    case ErrorKind::Limit:
+        return kExitLimit;
+    case ErrorKind::Interrupted:
+        return kExitInterrupted;
     default:
         return kExitFailure;
     }

@@ -17,18 +17,35 @@
 namespace rubble::app {
 namespace {
 
-std::atomic<bool> gInterrupted{false};
-extern "C" void onInterrupt(int) { gInterrupted = true; }
+// SIGINT and SIGTERM stop the run between two stages of a step (RunOptions::stop): the output
+// keeps every step completed. A second signal of the same kind ends the process at once.
+std::atomic<bool> gStop{false};
+volatile std::sig_atomic_t gSignal = 0;
+extern "C" void onStopSignal(int signal) {
+    if (gSignal == signal) {
+        std::signal(signal, SIG_DFL);
+        std::raise(signal);
+        return;
+    }
+    gSignal = signal;
+    gStop.store(true);
+}
 
 // A one-line progress bar on stderr, redrawn at most ten times a second.
+// The rate shown is the mean of the steps since the last redraw, so that drawing costs O(1).
 class Progress {
   public:
     Progress(bool enabled, int total) : enabled_(enabled && total > 0), total_(total) {}
-    void update(int done, double msPerStep) {
+    void update(int done, double stepMs) {
         if (!enabled_) return;
+        sumMs_ += stepMs;
+        ++steps_;
         const auto now = Clock::now();
         if (done < total_ && now - last_ < std::chrono::milliseconds(100)) return;
         last_ = now;
+        const double msPerStep = sumMs_ / double(steps_);
+        sumMs_ = 0.0;
+        steps_ = 0;
         const int width = 30;
         const int filled = int(double(width) * done / total_);
         std::fprintf(stderr, "\r[%.*s%*s] %3d%% %d/%d steps, %.2f ms/step", filled,
@@ -45,7 +62,12 @@ class Progress {
     bool enabled_;
     int total_;
     Clock::time_point last_{};
+    double sumMs_ = 0.0;
+    int steps_ = 0;
 };
+
+// The exit status of a run stopped by a signal: 128 + its number, as a shell reports it.
+int stoppedStatus() { return gSignal == SIGTERM ? kExitTerminated : kExitInterrupted; }
 
 // The bodies as the end-state assessment sees them.
 std::vector<QualityBody> qualityBodies(const World& w) {
@@ -76,9 +98,20 @@ int runCommand(const RunArgs& args) {
     if (!scene) return report(scene.error());
     if (Status s = applyOverrides(args.overrides, *scene); !s) return report(s.error());
     if (args.every < 1) return report(makeError(ErrorKind::BadInput, "--every", "must be 1 or more"));
-    Result<World> world = World::create(*scene, args.run);
+    RunOptions run = args.run;
+    run.stop = &gStop;
+    Result<World> world = World::create(*scene, run);
     if (!world) return report(world.error());
+    reportWarnings(*world);
 
+    // Every output is created before the first step: a missing or read-only folder fails now,
+    // not after the run (the metrics file first: dropped unwritten, it leaves nothing).
+    std::optional<AtomicFile> metricsFile;
+    if (!args.metrics.empty()) {
+        Result<AtomicFile> m = AtomicFile::create(args.metrics);
+        if (!m) return report(m.error());
+        metricsFile.emplace(std::move(*m));
+    }
     std::optional<TrajectoryWriter> out;
     if (!args.out.empty()) {
         Result<TrajectoryWriter> w = TrajectoryWriter::open(args.out);
@@ -89,7 +122,10 @@ int runCommand(const RunArgs& args) {
 
     MetricsRecorder metrics;
     metrics.start(*world);
-    std::signal(SIGINT, onInterrupt);
+    gStop = false;
+    gSignal = 0;
+    std::signal(SIGINT, onStopSignal);
+    std::signal(SIGTERM, onStopSignal);
     Progress progress(!args.quiet && isatty(STDERR_FILENO), scene->simulation.steps);
     std::optional<Error> failure;
     // The drift of the end-state assessment is measured over the last second of the run.
@@ -98,9 +134,9 @@ int runCommand(const RunArgs& args) {
     std::vector<TrajectoryRow> before, now;
     if (driftFrom == 0) snapshot(*world, before);
     for (int step = 1; step <= steps; ++step) {
-        if (gInterrupted) break;
+        if (gStop) break;
         if (Status s = world->step(); !s) {
-            failure = s.error();
+            if (s.error().kind != ErrorKind::Interrupted) failure = s.error();
             break;
         }
         metrics.afterStep(*world);
@@ -110,32 +146,32 @@ int runCommand(const RunArgs& args) {
                 progress.clear();
                 return report(s.error());
             }
-        progress.update(step, metrics.medianMs());
+        progress.update(step, world->lastStep().totalMs);
     }
     progress.clear();
     std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
 
-    if (gInterrupted) {
-        std::fprintf(stderr, "rubble: interrupted after step %lld; the partial output is %s\n",
-                     static_cast<long long>(world->stepIndex()),
+    if (gStop && !failure) {
+        std::fprintf(stderr, "rubble: %s after step %lld; the partial output is %s\n",
+                     gSignal == SIGTERM ? "terminated" : "interrupted",
+                     static_cast<long long>(metrics.steps()),
                      out ? out->partialPath().c_str() : "(none)");
-        return kExitInterrupted;
+        return stoppedStatus();
     }
     // A run that blew up keeps every step it wrote, under the final name, and says so.
     if (out)
         if (Status s = out->finish(); !s) return report(s.error());
-    if (!args.metrics.empty()) {
+    if (metricsFile) {
         snapshot(*world, now);
         const double interval = double(world->stepIndex() - driftFrom) * scene->simulation.dt;
         metrics.setQuality(assessQuality(qualityBodies(*world), now, before, interval));
+        if (Status s = metricsFile->commit(metrics.toJson(*world)); !s) return report(s.error());
     }
-    if (!args.metrics.empty())
-        if (Status s = writeFileAtomically(args.metrics, metrics.toJson(*world)); !s)
-            return report(s.error());
     if (failure) {
         const int code = report(*failure);
         std::fprintf(stderr, "rubble: stopped at step %lld; %s holds the steps before it\n",
-                     static_cast<long long>(world->stepIndex()),
+                     static_cast<long long>(metrics.steps() + 1),
                      out ? out->path().c_str() : "no trajectory file");
         return code;
     }

@@ -126,6 +126,7 @@ void findPairs(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,
                std::span<const PlaneProxy> planes, std::vector<BodyPair>& pairs,
                BroadPhaseScratch& scratch) {
     pairs.clear();
+    scratch.overflowed = false;
     const auto n = std::uint32_t(boxes.size());
 
     // The sweep runs along the axis where the centres spread most; columns cut the other two.
@@ -238,6 +239,12 @@ void findPairs(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,
                     if (cellOf(std::max(e->uMin, f->uMin), std::max(e->vMin, f->vMin)) != cell)
                         continue;
                     pairs.push_back(ordered(e->body & ~kInactiveBit, f->body & ~kInactiveBit));
+                    if (pairs.size() > scratch.pairLimit) {
+                        // Bodies piled into each other: stop before the pairs fill memory.
+                        scratch.overflowed = true;
+                        pairs.clear();
+                        return;
+                    }
                 }
             }
         }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -49,6 +50,10 @@ struct BroadPhaseScratch {
     std::vector<std::uint64_t> keys;
     std::vector<std::uint32_t> pairStart; ///< first pair of each body, while sorting the pairs
     std::vector<BodyPair> pairBuffer;
+    /// Most pairs findPairs may report (host/core/limits.h); past it, it stops, leaves `pairs`
+    /// empty and sets `overflowed`.
+    std::size_t pairLimit = std::numeric_limits<std::size_t>::max();
+    bool overflowed = false;
 };
 
 /// Every pair (a < b, sorted, each once) of bodies whose boxes overlap (touching counts), unless
@@ -58,7 +63,8 @@ struct BroadPhaseScratch {
 /// spread least are cut into a grid of columns (cells at least two mean box widths wide, at most
 /// kMaxStrips a side, no more columns than twice the bodies); each column is sorted and swept
 /// along the third axis, and a pair seen in two columns is reported by the one holding the
-/// lower corner of the overlap. O(n log n + pairs) for bodies of similar size.
+/// lower corner of the overlap. O(n log n + pairs) for bodies of similar size. Stops with no
+/// pairs and scratch.overflowed set once more than scratch.pairLimit pairs are found.
 void findPairs(std::span<const Aabb> boxes, std::span<const std::uint8_t> flags,
                std::span<const PlaneProxy> planes, std::vector<BodyPair>& pairs,
                BroadPhaseScratch& scratch);

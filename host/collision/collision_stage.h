@@ -44,13 +44,16 @@ class CollisionStage {
   public:
     virtual ~CollisionStage() = default;
 
-    /// Stage broadPhase. reads: bodies, scene, params   writes: out.pairs, the stage's cache
-    virtual void broadPhase(const CollisionScene& scene, BodiesView bodies,
-                            const StepParams& params, StepContacts& out) = 0;
+    /// Stage broadPhase. reads: bodies, scene, params   writes: out.pairs, the stage's cache.
+    /// Errors: Limit naming the stage when the pairs pass their budget (host/core/limits.h); the
+    /// pairs are then left empty.
+    [[nodiscard]] virtual Status broadPhase(const CollisionScene& scene, BodiesView bodies,
+                                            const StepParams& params, StepContacts& out) = 0;
     /// Stage narrowPhase. reads: bodies, scene, params, out.pairs   writes: out's contacts in the
-    /// form the stage was made for, contactCount, largestPenetration, the stage's cache
-    virtual void narrowPhase(const CollisionScene& scene, BodiesView bodies,
-                             const StepParams& params, StepContacts& out) = 0;
+    /// form the stage was made for, contactCount, largestPenetration, the stage's cache.
+    /// Errors: Limit naming the stage when the contacts pass their budget (host/core/limits.h).
+    [[nodiscard]] virtual Status narrowPhase(const CollisionScene& scene, BodiesView bodies,
+                                             const StepParams& params, StepContacts& out) = 0;
     /// The step's contacts as points, whatever form they were delivered in (the contact set of
     /// `rubble solvers`). reads: out of the last narrowPhase   writes: points
     virtual void contactPoints(const StepContacts& contacts,

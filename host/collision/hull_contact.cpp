@@ -18,6 +18,12 @@ constexpr float kRelativeFaceTolerance = 0.05f;
 constexpr float kRelativeEdgeTolerance = 0.10f;
 constexpr float kAbsoluteTolerance = 0.0025f;
 
+// A cached edge pair's axis may turn by about 0.5 degrees (cosine) before the full test runs
+// again, as much as a face normal under kReuseRotation; support points along it this far (m)
+// below its edges' points mean the axis has left the pair's Gauss-map arcs.
+constexpr float kReuseAxisCosine = 0.99996f;
+constexpr float kSupportTolerance = 1e-4f;
+
 // Faces up to this many vertices (incident plus reference) clip in stack buffers.
 constexpr std::size_t kInlineClipVertices = 64;
 
@@ -161,6 +167,20 @@ ContactSet clipFaceContactOfB(const HalfEdgeMesh& a, const HalfEdgeMesh& b, cons
     return set;
 }
 
+// True while a cached edge pair's axis at this pose is within kReuseAxisCosine of its axis at
+// the reference, and the pair still spans a face of the Minkowski difference: along its axis the
+// edges' own points are the support points (report 3.3.1), so that the separation the pair gives
+// is the hulls' separation along that axis.
+bool edgeAxisHolds(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
+                   const Transform& reference, const SatHint& edges) {
+    const std::optional<glm::vec3> now = edgePairAxis(a, edges.indexA, b, edges.indexB, bInA);
+    const std::optional<glm::vec3> then = edgePairAxis(a, edges.indexA, b, edges.indexB, reference);
+    if (!now || !then || glm::dot(*now, *then) < kReuseAxisCosine) return false;
+    const float byEdges = glm::dot(*now, bInA.apply(b.edgeRecords[edges.indexB].origin) -
+                                             a.edgeRecords[edges.indexA].origin);
+    return separationAlong(a, b, bInA, *now) >= byEdges - kSupportTolerance;
+}
+
 } // namespace
 
 HullContact collideHulls(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
@@ -231,16 +251,9 @@ HullContact collideHullsFromFeature(const HalfEdgeMesh& a, const HalfEdgeMesh& b
     }
     if (feature.feature == SatFeature::Edges && feature.indexA < a.edgeCount() &&
         feature.indexB < b.edgeCount()) {
-        const HalfEdgeEdge& ea = a.edgeRecords[feature.indexA];
-        const glm::vec3 dirB = bInA.rotate(b.edgeRecords[feature.indexB].direction);
-        glm::vec3 axis = glm::cross(ea.direction, dirB);
-        const float len2 = glm::dot(axis, axis);
-        if (len2 > kParallelSine * kParallelSine * glm::dot(ea.direction, ea.direction) *
-                       glm::dot(dirB, dirB)) {
-            axis *= 1.0f / std::sqrt(len2);
-            if (glm::dot(axis, ea.origin - a.centroid) < 0.0f) axis = -axis;
-            const EdgeQuery q{separationAlong(a, b, bInA, axis), feature.indexA, feature.indexB,
-                              axis};
+        if (const auto axis = edgePairAxis(a, feature.indexA, b, feature.indexB, bInA)) {
+            const EdgeQuery q{separationAlong(a, b, bInA, *axis), feature.indexA, feature.indexB,
+                              *axis};
             r.separated = q.separation > margin;
             if (!r.separated) r.contacts = edgeContact(a, b, bInA, q);
             return r;
@@ -258,6 +271,11 @@ HullContact collideHullsCached(const HalfEdgeMesh& a, const HalfEdgeMesh& b, con
         const glm::vec3 d = glm::abs(bInA.rotation[c] - cache.reference.rotation[c]);
         close = std::max({d.x, d.y, d.z}) <= kReuseRotation;
     }
+    // The axis of two nearly parallel edges swings with the slightest turn (by the turn over
+    // the sine of their angle): it is the same axis only while it points the same way and the
+    // edges are still the support features along it.
+    if (close && cache.feature.feature == SatFeature::Edges)
+        close = edgeAxisHolds(a, b, bInA, cache.reference, cache.feature);
     if (close) {
         const HullContact r = collideHullsFromFeature(a, b, bInA, cache.feature, margin);
         // A face that clipped to nothing while the hulls touch needs the full test.

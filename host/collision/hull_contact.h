@@ -46,8 +46,10 @@ HullContact collideHullsFromFeature(const HalfEdgeMesh& a, const HalfEdgeMesh& b
                                     float margin = kContactMargin);
 
 /// Collides with the pair's cache: the feature is reused while b's pose in a's frame stays
-/// within kReuseDistance and kReuseRotation of the reference, else the full test runs and
-/// becomes the new reference.
+/// within kReuseDistance and kReuseRotation of the reference (and a cached edge pair's axis has
+/// turned by less than half a degree and still spans a face of the Minkowski difference: its
+/// edges are the support features along it), else the full test runs and becomes the new
+/// reference.
 HullContact collideHullsCached(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
                                HullPairCache& cache, float margin = kContactMargin);
 

@@ -5,26 +5,37 @@
 #include <algorithm>
 
 #include "host/collision/sat_collision.h"
+#include "host/core/limits.h"
 
 namespace rubble {
 
-void ParticleCollision::broadPhase(const CollisionScene&, BodiesView bodies, const StepParams&,
-                                   StepContacts&) {
+Status ParticleCollision::broadPhase(const CollisionScene&, BodiesView bodies, const StepParams&,
+                                     StepContacts&) {
     transformParticles(set_.particles, bodies.poses, bodies.masses, world_);
     buildGrid(world_, set_.cellSize, set_.bits, grid_);
+    return {};
 }
 
-void ParticleCollision::narrowPhase(const CollisionScene&, BodiesView bodies, const StepParams&,
-                                    StepContacts& out) {
+Status ParticleCollision::narrowPhase(const CollisionScene&, BodiesView bodies,
+                                      const StepParams& params, StepContacts& out) {
     std::vector<shared::ParticleContact>& contacts =
         form_ == ContactForm::Points ? out.points : contacts_;
-    collideParticles(set_, world_, grid_, bodies.masses, contacts);
+    const std::size_t budget = particleContactBudget(set_.particles.size());
+    if (!collideParticles(set_, world_, grid_, bodies.masses, contacts, budget)) {
+        const std::size_t found = contacts.size();
+        contacts.clear();
+        out.manifolds.clear();
+        out.contactCount = 0;
+        return limitError("collideParticles", "particle contacts", found, budget,
+                          params.step + 1, "bodies overlap each other in large numbers");
+    }
     sortContactsByParticle(contacts);
     float deepest = 0.0f;
     for (const shared::ParticleContact& c : contacts) deepest = std::max(deepest, c.point.w);
     out.contactCount = std::uint32_t(contacts.size());
     out.largestPenetration = deepest;
     if (form_ == ContactForm::Manifolds) particleContactsToManifolds(contacts, out.manifolds);
+    return {};
 }
 
 void ParticleCollision::contactPoints(const StepContacts& contacts,

@@ -18,13 +18,13 @@ class ParticleCollision final : public CollisionStage {
 
     /// Stages transformParticles and buildGrid. reads: poses, masses (flags)   writes: the
     /// particles' world positions, the grid
-    void broadPhase(const CollisionScene& scene, BodiesView bodies, const StepParams& params,
-                    StepContacts& out) override;
+    Status broadPhase(const CollisionScene& scene, BodiesView bodies, const StepParams& params,
+                      StepContacts& out) override;
     /// Stage collideParticles, contacts sorted by particle (as the device's deterministic mode
     /// has them). reads: the grid, masses   writes: points (or single-point manifolds when the
     /// solver reads manifolds), contactCount, largestPenetration
-    void narrowPhase(const CollisionScene& scene, BodiesView bodies, const StepParams& params,
-                     StepContacts& out) override;
+    Status narrowPhase(const CollisionScene& scene, BodiesView bodies,
+                       const StepParams& params, StepContacts& out) override;
     /// The particle contacts as collided.
     void contactPoints(const StepContacts& contacts,
                        std::vector<shared::ParticleContact>& points) const override;

@@ -3,15 +3,36 @@
 #include "host/collision/particles.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <map>
 
 #include "host/core/assert.h"
+#include "host/core/limits.h"
 #include "host/core/math.h"
 #include "host/geometry/voxelise.h"
 
 namespace rubble {
 
 using namespace shared;
+
+namespace {
+
+// Refuses a spacing that would voxelise a shape into more cells or ray tests than a world may
+// spend on it, before any is allocated.
+Status checkVoxelCost(const Shape& shape, float spacing) {
+    const VoxelCost cost = voxelCost(shape, spacing);
+    if (cost.cells <= kMaxVoxels && cost.rayTests <= kMaxVoxelWork) return {};
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "of %g m voxelises shape %s into %.3g cells (%.3g ray tests), more than the "
+                  "%.3g cells and %.3g tests a shape may take (docs/scene-format.md, Limits); "
+                  "use a larger spacing",
+                  double(spacing), shape.name.c_str(), cost.cells, cost.rayTests, kMaxVoxels,
+                  kMaxVoxelWork);
+    return makeError(ErrorKind::Limit, "simulation.collision.particle_spacing", text);
+}
+
+} // namespace
 
 Result<ParticleSet> buildParticleSet(std::span<const Shape> shapes,
                                      std::span<const MaterialDesc> materials, BodiesView bodies,
@@ -40,8 +61,16 @@ Result<ParticleSet> buildParticleSet(std::span<const Shape> shapes,
             continue;
         }
         auto it = byShape.find(bodies.shapeOf[b]);
-        if (it == byShape.end())
+        if (it == byShape.end()) {
+            RUBBLE_TRY(checkVoxelCost(shape, spacing));
             it = byShape.emplace(bodies.shapeOf[b], voxeliseShape(shape, spacing, true)).first;
+        }
+        if (p.particles.size() + it->second.size() > kMaxParticles)
+            return makeError(ErrorKind::Limit, "simulation.collision.particle_spacing",
+                             "gives more than " + std::to_string(kMaxParticles) +
+                                 " particles to the first " + std::to_string(b + 1) +
+                                 " bodies, more than a world may have (docs/scene-format.md, "
+                                 "Limits); use a larger spacing");
         for (const glm::vec3& c : it->second) {
             Particle particle{};
             particle.offset = toFloat4(c, 0.5f * spacing);
@@ -80,9 +109,9 @@ void transformParticles(std::span<const Particle> particles, std::span<const Bod
     }
 }
 
-void collideParticles(const ParticleSet& set, std::span<const float4> world,
+bool collideParticles(const ParticleSet& set, std::span<const float4> world,
                       const ParticleGrid& grid, std::span<const BodyMass> masses,
-                      std::vector<ParticleContact>& contacts) {
+                      std::vector<ParticleContact>& contacts, std::size_t maxContacts) {
     contacts.clear();
     const float inverse = 1.0f / set.cellSize;
     const std::uint32_t count = std::uint32_t(set.particles.size());
@@ -120,6 +149,7 @@ void collideParticles(const ParticleSet& set, std::span<const float4> world,
                         c.particleA = swap ? j : i;
                         c.featureB = swap ? i : j;
                         contacts.push_back(c);
+                        if (contacts.size() > maxContacts) return false;
                     }
                 }
         if (!activeBodyItem(flagsI)) continue;
@@ -130,8 +160,10 @@ void collideParticles(const ParticleSet& set, std::span<const float4> world,
             c.particleA = i;
             c.featureB = count + k;
             contacts.push_back(c);
+            if (contacts.size() > maxContacts) return false;
         }
     }
+    return true;
 }
 
 void sortContactsByParticle(std::vector<ParticleContact>& contacts) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -29,7 +30,9 @@ struct ParticleSet {
 /// except planes and static boxes its shape's particles; planes and static boxes become static
 /// shapes (at their poses, with their materials' friction and restitution). Errors: BadInput at
 /// simulation.collision.particle_spacing when the world would need more particles than a
-/// device buffer index can address; NotSupported past RUBBLE_MAX_STATIC_SHAPES static shapes.
+/// device buffer index can address; Limit there when a shape would take more voxels or ray
+/// tests, or the world more particles, than host/core/limits.h allows (checked before they are
+/// made); NotSupported past RUBBLE_MAX_STATIC_SHAPES static shapes.
 Result<ParticleSet> buildParticleSet(std::span<const Shape> shapes,
                                      std::span<const MaterialDesc> materials, BodiesView bodies,
                                      float spacing);
@@ -47,11 +50,13 @@ void transformParticles(std::span<const shared::Particle> particles,
 /// dynamic body) against the particles of other bodies in its 27 neighbouring cells and against
 /// the static shapes. Which side tests a pair: pairFromHereItem (two awake bodies' pair once,
 /// from the particle sorted first); body a of a contact is the awake body, or the lower index
-/// of two awake ones. Appends to `contacts` in sorted-slot order.
+/// of two awake ones. Appends to `contacts` in sorted-slot order. Stops and returns false once
+/// it has found more than `maxContacts` (host/core/limits.h).
 /// reads: set, world, grid, masses   writes: contacts
-void collideParticles(const ParticleSet& set, std::span<const shared::float4> world,
+bool collideParticles(const ParticleSet& set, std::span<const shared::float4> world,
                       const ParticleGrid& grid, std::span<const shared::BodyMass> masses,
-                      std::vector<shared::ParticleContact>& contacts);
+                      std::vector<shared::ParticleContact>& contacts,
+                      std::size_t maxContacts = std::numeric_limits<std::size_t>::max());
 
 /// Orders contacts by their particle a, then by feature b (the pair names a contact): the
 /// device's deterministic mode gives the same order, and so the same sums.

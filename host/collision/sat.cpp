@@ -147,6 +147,14 @@ EdgeQuery queryEdgeDirectionsUnpruned(const HalfEdgeMesh& a, const HalfEdgeMesh&
     return best;
 }
 
+std::optional<glm::vec3> edgePairAxis(const HalfEdgeMesh& a, std::uint32_t edgeA,
+                                      const HalfEdgeMesh& b, std::uint32_t edgeB,
+                                      const Transform& bInA) {
+    const HalfEdgeEdge& ea = a.edgeRecords[edgeA];
+    return edgeAxis(ea.origin, ea.direction, bInA.rotate(b.edgeRecords[edgeB].direction),
+                    a.centroid);
+}
+
 float separationAlong(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,
                       glm::vec3 axis) {
     std::uint32_t startA = 0, startB = 0;
@@ -178,9 +186,7 @@ SatResult runSat(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& 
                -bInA.rotate(b.faces[hint.indexB].normal), q.vertex);
     } else if (hint.feature == SatFeature::Edges && hint.indexA < a.edgeCount() &&
                hint.indexB < b.edgeCount()) {
-        const HalfEdgeEdge& ea = a.edgeRecords[hint.indexA];
-        const glm::vec3 dirB = bInA.rotate(b.edgeRecords[hint.indexB].direction);
-        if (const auto axis = edgeAxis(ea.origin, ea.direction, dirB, a.centroid))
+        if (const auto axis = edgePairAxis(a, hint.indexA, b, hint.indexB, bInA))
             settle(SatFeature::Edges, separationAlong(a, b, bInA, *axis), hint.indexA, hint.indexB,
                    *axis);
     }

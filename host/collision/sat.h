@@ -84,6 +84,13 @@ EdgeQuery queryEdgeDirectionsUnpruned(const HalfEdgeMesh& a, const HalfEdgeMesh&
                                       const Transform& bInA,
                                       float stopAbove = std::numeric_limits<float>::max());
 
+/// The axis of an edge pair (undirected edge indices of a and b) at b's pose in a's frame: the unit
+/// cross product of the two edges turned out of a (away from its centroid through a's edge), or
+/// std::nullopt when the edges are closer to parallel than kParallelSine.
+std::optional<glm::vec3> edgePairAxis(const HalfEdgeMesh& a, std::uint32_t edgeA,
+                                      const HalfEdgeMesh& b, std::uint32_t edgeB,
+                                      const Transform& bInA);
+
 /// Separation along an axis from support points: min over b minus max over a of the projections
 /// on `axis` (unit, a's frame); > 0 when the axis separates them.
 float separationAlong(const HalfEdgeMesh& a, const HalfEdgeMesh& b, const Transform& bInA,

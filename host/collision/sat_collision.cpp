@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "host/collision/narrow_phase.h"
+#include "host/core/limits.h"
 #include "host/core/math.h"
 
 namespace rubble {
@@ -42,8 +43,8 @@ float pairReach(BodiesView bodies, const BodyPair& pair, const std::vector<float
 
 } // namespace
 
-void SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
-                              const StepParams& params, StepContacts& out) {
+Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
+                                const StepParams& params, StepContacts& out) {
     CollisionCache& c = cache_;
     updateTransforms(bodies, c.transforms);
     const std::uint32_t n = bodies.count();
@@ -72,7 +73,12 @@ void SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
         }
         c.boxes[i] = worldBox(shape, c.transforms[i], kContactMargin + c.reach[i]);
     }
+    c.broadPhase.pairLimit = pairBudget(n);
     findPairs(c.boxes, c.flags, c.planes, out.pairs, c.broadPhase);
+    if (c.broadPhase.overflowed)
+        return limitError("broadPhase", "broad-phase pairs", c.broadPhase.pairLimit + 1,
+                          c.broadPhase.pairLimit, params.step + 1,
+                          "bodies overlap each other in large numbers");
     // Bodies joined to each other do not collide: their pairs leave before the narrow phase, so
     // that no contact between them is computed, counted or drawn (the pairs keep their order).
     if (!scene.joined.empty())
@@ -80,15 +86,17 @@ void SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
             return std::binary_search(scene.joined.begin(), scene.joined.end(),
                                       BodyPair{std::min(p.a, p.b), std::max(p.a, p.b)});
         });
+    return {};
 }
 
-void SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
-                               const StepParams& params, StepContacts& out) {
+Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
+                                 const StepParams& params, StepContacts& out) {
     CollisionCache& c = cache_;
     updateTransforms(bodies, c.transforms);
     out.manifolds.clear();
     c.nextFeatures.clear();
-    std::uint32_t contacts = 0;
+    std::size_t contacts = 0;
+    const std::size_t budget = contactBudget(bodies.count());
     float deepest = 0.0f;
     // Both lists are sorted by pair: walk last step's features alongside.
     std::size_t cached = 0;
@@ -115,11 +123,20 @@ void SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
         }
         contacts += m.count;
         out.manifolds.push_back(m);
+        if (contacts > budget) {
+            // Bodies piled into each other: stop before the manifolds and rows fill memory.
+            out.manifolds.clear();
+            out.points.clear();
+            out.contactCount = 0;
+            return limitError("narrowPhase", "contact points", contacts, budget, params.step + 1,
+                              "bodies overlap each other in large numbers");
+        }
     }
     std::swap(c.features, c.nextFeatures);
-    out.contactCount = contacts;
+    out.contactCount = std::uint32_t(contacts);
     out.largestPenetration = deepest;
     if (form_ == ContactForm::Points) manifoldsToContacts(out.manifolds, out.points);
+    return {};
 }
 
 void SatCollision::contactPoints(const StepContacts& contacts,

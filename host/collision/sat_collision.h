@@ -44,15 +44,15 @@ class SatCollision final : public CollisionStage {
     /// (|v| + |omega| r) dt, so that the narrow phase sees every pair that could touch before the
     /// next step (speculative contacts: a fast body meets what lies in its path instead of
     /// tunnelling through it).
-    void broadPhase(const CollisionScene& scene, BodiesView bodies, const StepParams& params,
-                    StepContacts& out) override;
+    Status broadPhase(const CollisionScene& scene, BodiesView bodies, const StepParams& params,
+                      StepContacts& out) override;
     /// reads: pairs, poses, shapes, the cache, reach   writes: manifolds (in pair order, pairs
     /// without contacts left out; as points when the solver reads points), the cache. A pair's
     /// margin is kContactMargin plus how much closer the bodies can come this step (relative
     /// translation plus turning): contacts up to that gap come out with negative depth, and the
     /// solver lets them close only that far.
-    void narrowPhase(const CollisionScene& scene, BodiesView bodies, const StepParams& params,
-                     StepContacts& out) override;
+    Status narrowPhase(const CollisionScene& scene, BodiesView bodies,
+                       const StepParams& params, StepContacts& out) override;
     /// The manifolds' points (manifoldsToContacts).
     void contactPoints(const StepContacts& contacts,
                        std::vector<shared::ParticleContact>& points) const override;

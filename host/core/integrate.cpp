@@ -9,10 +9,13 @@ using namespace shared;
 
 void integrateVelocities(std::span<BodyMomentum> momenta, std::span<const BodyForce> forces,
                          std::span<const BodyMass> masses, std::span<const BodyPose> poses,
-                         std::span<BodyVelocity> velocities, float4 gravity, float dt) {
+                         std::span<BodyVelocity> velocities, std::span<BodyVelocity> beforeForces,
+                         float4 gravity, float dt) {
     RUBBLE_ASSERT(momenta.size() == forces.size() && momenta.size() == masses.size() &&
-                  momenta.size() == poses.size() && momenta.size() == velocities.size());
+                  momenta.size() == poses.size() && momenta.size() == velocities.size() &&
+                  momenta.size() == beforeForces.size());
     for (std::size_t i = 0; i < momenta.size(); ++i) {
+        beforeForces[i] = beforeForcesItem(momenta[i], masses[i], velocities[i]);
         if (masses[i].flags & RUBBLE_BODY_ASLEEP) continue;
         momenta[i] = integrateMomentumItem(momenta[i], forces[i], masses[i], gravity, dt);
         velocities[i] = velocityFromMomentumItem(momenta[i], masses[i], poses[i].orientation);

@@ -10,12 +10,15 @@
 namespace rubble {
 
 /// Stage integrateVelocities: P += dt (F + m g), L += dt tau, then v = P/m, omega = I_w^-1 L.
-/// reads: momenta, forces, masses, poses   writes: momenta, velocities
+/// Every body's velocities before the forces go to `beforeForces` (beforeForcesItem): the
+/// approach speeds of restitution, and the velocities explicit Euler moves positions with.
+/// reads: momenta, forces, masses, poses, velocities   writes: momenta, velocities, beforeForces
 void integrateVelocities(std::span<shared::BodyMomentum> momenta,
                          std::span<const shared::BodyForce> forces,
                          std::span<const shared::BodyMass> masses,
                          std::span<const shared::BodyPose> poses,
-                         std::span<shared::BodyVelocity> velocities, shared::float4 gravity,
+                         std::span<shared::BodyVelocity> velocities,
+                         std::span<shared::BodyVelocity> beforeForces, shared::float4 gravity,
                          float dt);
 
 /// Momenta take up the change that constraint impulses made to the velocities.

@@ -4,7 +4,9 @@
 #include <numbers>
 #include "host/core/mass_properties.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace rubble {
 
@@ -131,6 +133,31 @@ PrincipalAxes principalAxes(const glm::dmat3& inertia) {
 
 glm::mat3 inertiaForMass(const MassProperties& mp, double mass) {
     return glm::mat3(mp.inertia * (mass / mp.volume));
+}
+
+Status checkMassRange(const shared::BodyMass& m, const std::string& where,
+                      const std::string& field) {
+    const float values[] = {m.mass,
+                            m.inverseMass,
+                            m.inertiaBody.r0.x,
+                            m.inertiaBody.r1.y,
+                            m.inertiaBody.r2.z,
+                            m.inverseInertiaBody.r0.x,
+                            m.inverseInertiaBody.r1.y,
+                            m.inverseInertiaBody.r2.z};
+    for (float v : values)
+        if (!std::isnormal(v) || v < 0.0f) {
+            char text[200];
+            std::snprintf(text, sizeof text,
+                          "its %s gives %g kg and a smallest moment of inertia of %g kg m^2 with "
+                          "this shape: single precision cannot hold these and their inverses "
+                          "(change the mass, density or size)",
+                          field.c_str(), double(m.mass),
+                          double(std::min({m.inertiaBody.r0.x, m.inertiaBody.r1.y,
+                                           m.inertiaBody.r2.z})));
+            return makeError(ErrorKind::BadInput, where, text);
+        }
+    return {};
 }
 
 } // namespace rubble

@@ -3,9 +3,13 @@
 #pragma once
 
 #include <span>
+#include <string>
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
+
+#include "rubble/error.h"
+#include "rubble/shared/body.h"
 
 namespace rubble {
 
@@ -31,6 +35,14 @@ MassProperties polyhedronMassProperties(std::span<const glm::vec3> vertices,
 
 /// The inertia tensor of mp scaled from unit density to a total mass (kg).
 glm::mat3 inertiaForMass(const MassProperties& mp, double mass);
+
+/// Checks that a dynamic body's mass record holds normal, finite single-precision numbers: its
+/// mass, inverse mass and the diagonals of its inertia and inverse inertia. A mass or a size at
+/// the edge of the float range (a grain of 1e-30 kg, a box of 1e4 m with a mass of 1e30 kg) gives
+/// a zero or an infinity there. Errors: BadInput at `where` (the body), naming `field` ("mass"
+/// or "density").
+Status checkMassRange(const shared::BodyMass& m, const std::string& where,
+                      const std::string& field);
 
 /// Principal moments and axes of a symmetric inertia tensor: I = R diag(moments) R^T, with R the
 /// rotation of `axes` (a proper rotation, columns the principal axes in the tensor's frame).

@@ -88,7 +88,9 @@ void tangentBasis(glm::vec3 n, glm::vec3& t1, glm::vec3& t2) {
 }
 
 void buildContactRows(std::span<const Manifold> manifolds, std::span<const shared::BodyPose> poses,
-                      const SolverBodies& bodies, std::span<const MaterialDesc> materials,
+                      const SolverBodies& bodies,
+                      std::span<const shared::BodyVelocity> beforeForces,
+                      std::span<const MaterialDesc> materials,
                       std::span<const std::uint32_t> materialOf, std::span<const BodyPair> joined,
                       std::span<const ContactImpulse> last, const ContactRowSettings& settings,
                       ContactRows& rows) {
@@ -125,8 +127,8 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
             // The rows themselves come from the code the device runs (rubble/shared/pgs_row.h).
             const shared::PgsContactRow row = shared::pgsContactRowItem(
                 toFloat4(p.position), p.depth, normal, positionA, positionB, velocityA, velocityB,
-                ima, imb, inertiaA, inertiaB, friction, restitution, settings.baumgarte,
-                settings.slop, dt, fixedTangent);
+                beforeForces[m.a], beforeForces[m.b], ima, imb, inertiaA, inertiaB, friction,
+                restitution, settings.baumgarte, settings.slop, dt, fixedTangent);
 
             const shared::PgsNormalRow& rn = row.normal;
             NormalRow nr;
@@ -142,6 +144,8 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
             nr.mass = rn.mass.x;
             nr.targetSpeed = rn.speeds.x;
             nr.pushSpeed = rn.speeds.y;
+            nr.bounceSpeed = rn.mass.y;
+            nr.bounceLift = rn.mass.z;
             rows.normals.push_back(nr);
 
             const shared::PgsFrictionRows& rf = row.friction;

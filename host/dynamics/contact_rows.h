@@ -28,8 +28,12 @@ struct NormalRow {
     float mass = 0;                           ///< 1 / (J M^-1 J^T), kg
     float targetSpeed = 0;                    ///< normal velocity the solve aims at, m/s
     float pushSpeed = 0;                      ///< Baumgarte speed of the split position pass, m/s
-    float impulse = 0;                        ///< accumulated, N s
-    float pushImpulse = 0;                    ///< accumulated in the position pass, N s
+    float pushTarget = 0;    ///< what the split pass aims at: pushSpeed, or a bounce's lift, m/s
+    float bounceSpeed = 0;   ///< normal velocity a bounce leaves with (0: none), m/s
+    float bounceLift = 0;    ///< the split pass's speed that lifts a bounce off the contact, m/s
+    float impulse = 0;       ///< accumulated, N s
+    float pushImpulse = 0;   ///< accumulated in the position pass, N s
+    float bounceImpulse = 0; ///< the restitution pass's, N s
 };
 
 /// The same point's two friction rows, along two unit tangents.
@@ -59,6 +63,10 @@ struct ContactRows {
     // The split position pass: its rows, and the bodies that pushing rows move.
     std::vector<std::uint32_t> pushRows;
     std::vector<std::uint8_t> pushedBody;
+    std::vector<std::uint32_t> bounceRows; ///< the restitution pass's rows
+    // The layer pass: each body's layer above the bodies that do not move, its rows in order.
+    std::vector<std::uint32_t> layer, layerRows;
+    std::vector<std::uint8_t> loaded;
     // While building: each row's point index in its manifold; and reordering buffers.
     std::vector<std::uint8_t> slot;
     std::vector<NormalRow> scratchNormals;
@@ -97,8 +105,8 @@ struct ContactRowSettings {
     bool warmStart = true;
 };
 
-/// Approach speeds at or below this do not bounce (resting contacts stay at rest), m/s; the
-/// rows' rule lives in rubble/shared/contact_row.h (pgsNormalTargetItem), shared with the device.
+/// Approach speeds below this do not bounce (resting contacts stay at rest), m/s: the kernels'
+/// value (rubble/shared/constants.h).
 inline constexpr float kRestitutionThreshold = RUBBLE_RESTITUTION_THRESHOLD;
 
 /// The Baumgarte push-out speed is at most this, m/s: a deep penetration (a fast body caught a
@@ -117,18 +125,25 @@ bool isJoinedPair(std::span<const BodyPair> joined, std::uint32_t a, std::uint32
 /// GDC 2005; "Modeling and Solving Constraints", GDC 2009). Each point's rows come from
 /// shared::pgsContactRowItem, the function the device's buildPgsRows calls. Manifolds between two
 /// bodies that do not move in the solve, or between joined bodies, are skipped. The normal row's
-/// velocity target is the restitution speed e v_approach when v_approach exceeds
-/// kRestitutionThreshold, else 0; a gap (depth < 0) may close within the step and no further. Its
-/// Baumgarte speed min(beta/dt max(depth - slop, 0), kMaxPushSpeed) goes to the split position pass
-/// (Catto, "Fast and Simple Physics using Sequential Impulses", GDC 2006: split impulses), where it
-/// moves the bodies out without adding to their velocities. The first tangent follows the sliding
-/// direction when there is one. Friction is sqrt(mu_a mu_b), restitution max(e_a, e_b). Warm
-/// start: last step's impulses of the same (pair, feature), else of the nearest unmatched point
-/// (see kWarmStartMatchDistance), the friction impulse projected on the new tangents.
-/// reads: manifolds, poses, bodies (velocities and inverse masses), materials, last impulses
-/// (sorted by pair)   writes: rows
+/// velocity target is 0, or for a gap (depth < 0) the speed that closes it within the step and
+/// no further. A bounce is left to the restitution pass after the positions moved
+/// (solveRestitution), from the contact: its speed is e v_contact, v_contact the approach
+/// speed before this step's forces (`beforeForces`) carried over the gap by the forces'
+/// acceleration, when v_contact exceeds kRestitutionThreshold (as Box2D v3 keeps the relative
+/// velocity of its contact prepare, before gravity, and applies restitution last;
+/// shared::bounceItem). Its Baumgarte speed min(beta/dt max(depth - slop, 0), kMaxPushSpeed) goes
+/// to the split position pass (Catto, "Fast and Simple Physics using Sequential Impulses",
+/// GDC 2006: split impulses), where it moves the bodies out without adding to their velocities.
+/// The first tangent follows the sliding direction when there is one. Friction is
+/// sqrt(mu_a mu_b), restitution max(e_a, e_b). Warm start: last step's impulses of the same
+/// (pair, feature), else of the nearest unmatched point (see kWarmStartMatchDistance), the
+/// friction impulse projected on the new tangents.
+/// reads: manifolds, poses, bodies (velocities and inverse masses), velocities before the forces,
+/// materials, last impulses (sorted by pair)   writes: rows
 void buildContactRows(std::span<const Manifold> manifolds, std::span<const shared::BodyPose> poses,
-                      const SolverBodies& bodies, std::span<const MaterialDesc> materials,
+                      const SolverBodies& bodies,
+                      std::span<const shared::BodyVelocity> beforeForces,
+                      std::span<const MaterialDesc> materials,
                       std::span<const std::uint32_t> materialOf, std::span<const BodyPair> joined,
                       std::span<const ContactImpulse> last, const ContactRowSettings& settings,
                       ContactRows& rows);

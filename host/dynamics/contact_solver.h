@@ -13,6 +13,7 @@
 #include "host/collision/collision_stage.h"
 #include "host/core/bodies.h"
 #include "host/core/step_params.h"
+#include "host/dynamics/joints.h"
 #include "rubble/error.h"
 #include "rubble/scene.h"
 
@@ -32,6 +33,12 @@ struct SolverScene {
 /// No body: the new index of a removed body in ContactSolver::bodiesChanged.
 inline constexpr std::uint32_t kRemovedBody = 0xffffffffu;
 
+/// What the stage wake did.
+struct WakeReport {
+    std::uint32_t woken = 0;   ///< sleeping bodies it woke
+    bool collideAgain = false; ///< the woken bodies' pairs were not collided: collide again
+};
+
 /// A contact solver's stages, with what they keep between steps.
 class ContactSolver {
   public:
@@ -39,8 +46,18 @@ class ContactSolver {
 
     /// The form of contacts buildRows reads.
     virtual ContactForm reads() const = 0;
-    /// Stage buildContactRows. reads: contacts, bodies, scene, params   writes: the rows
+    /// Stage wake, after narrowPhase: the sleeping bodies that this step's contacts, joints or
+    /// impulses from outside touch wake before the rows, so that their mass takes part in the
+    /// solve. `approach` as in buildRows. reads: contacts, bodies, approach, scene
+    /// writes: masses (flags), the solver's sleep state
+    virtual WakeReport wake(const SolverScene& scene, Bodies bodies,
+                            std::span<const shared::BodyVelocity> approach,
+                            const StepContacts& contacts, const StepParams& params) = 0;
+    /// Stage buildContactRows. `approach` holds the bodies' velocities before this step's
+    /// forces, which restitution measures the approach with (the velocities in `bodies` are
+    /// after them). reads: contacts, bodies, approach, scene, params   writes: the rows
     virtual void buildRows(const SolverScene& scene, BodiesView bodies,
+                           std::span<const shared::BodyVelocity> approach,
                            const StepContacts& contacts, const StepParams& params) = 0;
     /// Stage solve: the bodies' velocities from the rows, `before` holding them as they were
     /// before it. Errors: those of the dense solvers (a contact set they cannot take, no
@@ -58,6 +75,10 @@ class ContactSolver {
     /// The largest |impulse change| of each sweep of the last solve, N s (empty for a direct
     /// solver).
     virtual std::span<const float> residuals() const = 0;
+    /// The scene's joints in the bodies' frames as the solver holds them (renumbered with the
+    /// bodies), for the joint watch after the step; empty for a solver without joint rows and
+    /// before the first step.
+    virtual std::span<const Joint> joints() const { return {}; }
     /// Bodies were added or removed: body i is now newIndex[i] (kRemovedBody when it went).
     /// What is kept by body index (warm starts, sleep timers) is forgotten, joints renumbered.
     virtual void bodiesChanged(std::span<const std::uint32_t> newIndex, BodiesView bodies) = 0;

@@ -32,7 +32,79 @@ void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b)
         parent[ra] = rb;
 }
 
+// Sized to the bodies at the first call (or after bodies were added or removed); a body asleep
+// then (a restored state) sleeps in no group but alone.
+void prepareState(std::span<const shared::BodyMass> masses, SleepState& st) {
+    const std::size_t n = masses.size();
+    if (st.slowFor.size() == n) return;
+    st.slowFor.assign(n, 0.0f);
+    st.group.assign(n, kNoGroup);
+    st.wasAsleep.assign(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+        st.wasAsleep[i] = (masses[i].flags & RUBBLE_BODY_ASLEEP) ? 1 : 0;
+}
+
+// The speed of the body's fastest point: the centre's speed plus the turn at the rim, m/s.
+float fastestPoint(const shared::BodyVelocity& v, float radius) {
+    return glm::length(toVec3(v.linear)) + radius * glm::length(toVec3(v.angular));
+}
+
+bool isAsleep(const shared::BodyMass& m) {
+    return (m.flags & RUBBLE_BODY_ASLEEP) != 0;
+}
+
 } // namespace
+
+std::uint32_t wakeIslands(std::span<const Manifold> manifolds, std::span<const BodyPair> joined,
+                          std::span<const float> radii, std::span<shared::BodyMass> masses,
+                          std::span<const shared::BodyVelocity> approach, SleepState& st) {
+    const std::uint32_t n = std::uint32_t(masses.size());
+    RUBBLE_ASSERT(approach.size() == n && radii.size() == n);
+    prepareState(masses, st);
+    // Nothing asleep, nothing to wake.
+    if (std::none_of(masses.begin(), masses.end(),
+                     [](const shared::BodyMass& m) { return isAsleep(m); }))
+        return 0;
+    // Restless: awake and moving, or woken from outside since the last step.
+    st.restless.assign(n, 0);
+    bool any = false;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        if (!isDynamic(masses[i]) || isAsleep(masses[i])) continue;
+        st.restless[i] = st.wasAsleep[i] != 0 || fastestPoint(approach[i], radii[i]) >= kSleepSpeed;
+        any = any || st.restless[i];
+    }
+    if (!any) return 0;
+    // What wakes: the sleeping bodies a restless one touches, and the groups of both those and
+    // the bodies woken from outside. A body asleep in no group wakes alone.
+    st.wakeGroup.assign(n, 0);
+    st.wakeBody.assign(n, 0);
+    auto mark = [&](std::uint32_t i) {
+        if (st.group[i] == kNoGroup)
+            st.wakeBody[i] = 1;
+        else
+            st.wakeGroup[st.group[i]] = 1;
+    };
+    auto touch = [&](std::uint32_t a, std::uint32_t b) {
+        if (!isDynamic(masses[a]) || !isDynamic(masses[b])) return;
+        if (st.restless[a] && isAsleep(masses[b])) mark(b);
+        if (st.restless[b] && isAsleep(masses[a])) mark(a);
+    };
+    for (const Manifold& m : manifolds)
+        if (m.count > 0) touch(m.a, m.b);
+    for (const BodyPair& j : joined) touch(j.a, j.b);
+    for (std::uint32_t i = 0; i < n; ++i)
+        if (st.restless[i] && st.wasAsleep[i] && st.group[i] != kNoGroup) mark(i);
+    // Woken: still of its group and woken from outside for updateSleep (restless, its slow time
+    // starting again), with the zero velocities it slept with.
+    std::uint32_t woken = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        if (!isDynamic(masses[i]) || !isAsleep(masses[i])) continue;
+        if (!st.wakeBody[i] && (st.group[i] == kNoGroup || !st.wakeGroup[st.group[i]])) continue;
+        masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
+        ++woken;
+    }
+    return woken;
+}
 
 SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joint> joints,
                         std::span<const float> radii, std::span<shared::BodyMass> masses,
@@ -40,13 +112,7 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
                         std::span<shared::BodyMomentum> momenta, float dt, SleepState& st) {
     const std::uint32_t n = std::uint32_t(masses.size());
     RUBBLE_ASSERT(velocities.size() == n && momenta.size() == n && radii.size() == n);
-    if (st.slowFor.size() != n) {
-        st.slowFor.assign(n, 0.0f);
-        st.group.assign(n, kNoGroup);
-        st.wasAsleep.assign(n, 0);
-        for (std::uint32_t i = 0; i < n; ++i)
-            st.wasAsleep[i] = (masses[i].flags & RUBBLE_BODY_ASLEEP) ? 1 : 0;
-    }
+    prepareState(masses, st);
 
     // How long each awake body has been slow; one woken from outside starts again. A body that
     // is not slow, or was just woken from outside, is restless: it wakes what it touches.
@@ -55,10 +121,7 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
         if (!isDynamic(masses[i]) || (masses[i].flags & RUBBLE_BODY_ASLEEP)) continue;
         const bool wokenFromOutside = st.wasAsleep[i] != 0;
         if (wokenFromOutside) st.slowFor[i] = 0.0f;
-        // The fastest point of the body: the centre's speed plus the turn at the rim.
-        const float speed = glm::length(toVec3(velocities[i].linear)) +
-                            radii[i] * glm::length(toVec3(velocities[i].angular));
-        const bool slow = speed < kSleepSpeed;
+        const bool slow = fastestPoint(velocities[i], radii[i]) < kSleepSpeed;
         st.slowFor[i] = slow ? st.slowFor[i] + dt : 0.0f;
         st.restless[i] = !slow || wokenFromOutside ? 1 : 0;
     }

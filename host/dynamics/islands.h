@@ -25,7 +25,7 @@ struct SleepState {
     std::vector<std::uint8_t> wasAsleep; ///< asleep at the end of the last step
     // Scratch reused every step.
     std::vector<std::uint32_t> parent, groupFirst, awake, asleep, islandRestless;
-    std::vector<std::uint8_t> restless;
+    std::vector<std::uint8_t> restless, wakeGroup, wakeBody;
     std::vector<float> islandSlowFor;
 };
 
@@ -38,6 +38,22 @@ struct SleepReport {
     std::uint32_t woken = 0;        ///< bodies woken by it
     std::uint32_t fellAsleep = 0;   ///< bodies put to sleep by it
 };
+
+/// Stage wake of the reference pipeline, before the rows (as Box2D v3 wakes a sleeping island when
+/// a contact with it begins, before that step's solve). A sleeping body wakes, with the bodies it
+/// fell asleep with, when a manifold with points or a joint joins it to a restless awake body, or
+/// when it is one of those bodies and was woken from outside this step (the API, an explosion): so
+/// its mass takes part in this step's solve instead of meeting the hit as a wall. Restless here is
+/// measured on `approach`, the velocities before this step's forces (the last step's velocities and
+/// any impulse since), so that the step's gravity does not count as motion. A woken body keeps its
+/// zero velocities and takes none of this step's forces. The woken bodies' pairs were not
+/// collided while they slept: the caller collides again and calls wake again until it returns 0.
+/// `joined` holds the joints' body pairs. Returns the number of bodies it woke.
+/// reads: manifolds, joined, approach, radii, masses
+/// writes: masses (flags), state
+std::uint32_t wakeIslands(std::span<const Manifold> manifolds, std::span<const BodyPair> joined,
+                          std::span<const float> radii, std::span<shared::BodyMass> masses,
+                          std::span<const shared::BodyVelocity> approach, SleepState& state);
 
 /// Stage updateSleep (islands as in Catto, "Box2D" island management; union-find after Tarjan).
 /// Dynamic bodies are joined by every manifold with points and every joint; bodies that fell

@@ -45,17 +45,17 @@ void buildBodyLists(std::span<const ParticleContact> contacts, std::span<const B
 }
 
 void buildJacobiRows(std::span<const ParticleContact> contacts, std::span<const BodyPose> poses,
-                     std::span<const BodyVelocity> velocities, std::span<const BodyMass> masses,
+                     std::span<const BodyVelocity> approach, std::span<const BodyMass> masses,
                      std::span<const float4> surfaces, SolverParams params,
                      std::span<const float4> warm, JacobiState& j) {
     RUBBLE_ASSERT(warm.size() == contacts.size());
     j.rows.resize(contacts.size());
     for (std::size_t r = 0; r < contacts.size(); ++r)
         j.rows[r] = contactRowFromContactItem(
-            contacts[r], poses[contacts[r].a], poses[contacts[r].b], velocities[contacts[r].a],
-            velocities[contacts[r].b], rowMass(masses[contacts[r].a]),
-            rowMass(masses[contacts[r].b]), surfaces[contacts[r].a], surfaces[contacts[r].b],
-            j.bodyCount[contacts[r].a], j.bodyCount[contacts[r].b], params, warm[r]);
+            contacts[r], poses[contacts[r].a], poses[contacts[r].b], approach[contacts[r].a],
+            approach[contacts[r].b], rowMass(masses[contacts[r].a]), rowMass(masses[contacts[r].b]),
+            surfaces[contacts[r].a], surfaces[contacts[r].b], j.bodyCount[contacts[r].a],
+            j.bodyCount[contacts[r].b], params, warm[r]);
 }
 
 void matchWarmStart(std::span<const ParticleContact> contacts,

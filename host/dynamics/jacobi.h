@@ -51,11 +51,12 @@ void buildBodyLists(std::span<const shared::ParticleContact> contacts,
                     std::span<const shared::BodyMass> masses, JacobiState& j);
 
 /// Stage buildJacobiRows: a row per contact with split masses (each body's mass shared among
-/// its rows), starting from `warm`. reads: contacts, poses, velocities, masses, surfaces,
+/// its rows), starting from `warm`; restitution measures the approach with `approach`, the
+/// velocities before this step's forces. reads: contacts, poses, approach, masses, surfaces,
 /// bodyCount, warm   writes: rows
 void buildJacobiRows(std::span<const shared::ParticleContact> contacts,
                      std::span<const shared::BodyPose> poses,
-                     std::span<const shared::BodyVelocity> velocities,
+                     std::span<const shared::BodyVelocity> approach,
                      std::span<const shared::BodyMass> masses,
                      std::span<const shared::float4> surfaces, shared::SolverParams params,
                      std::span<const shared::float4> warm, JacobiState& j);

@@ -11,15 +11,24 @@ namespace rubble {
 
 using namespace shared;
 
+WakeReport JacobiSolver::wake(const SolverScene&, Bodies bodies,
+                              std::span<const BodyVelocity> approach, const StepContacts& contacts,
+                              const StepParams&) {
+    WakeReport r;
+    r.woken = wakeTouched(contacts.points, approach, bodies.masses, sleep_);
+    return r;
+}
+
 void JacobiSolver::buildRows(const SolverScene& scene, BodiesView bodies,
-                             const StepContacts& contacts, const StepParams& params) {
+                             std::span<const BodyVelocity> approach, const StepContacts& contacts,
+                             const StepParams& params) {
     JacobiState& j = jacobi_;
     buildBodyLists(contacts.points, bodies.masses, j);
     if (params.solver.warmStart)
         matchWarmStart(contacts.points, j.previous, j.warm);
     else
         j.warm.assign(contacts.points.size(), vec4(0.0f, 0.0f, 0.0f));
-    buildJacobiRows(contacts.points, bodies.poses, bodies.velocities, bodies.masses, scene.surfaces,
+    buildJacobiRows(contacts.points, bodies.poses, approach, bodies.masses, scene.surfaces,
                     params.rows, j.warm, j);
 }
 

@@ -17,9 +17,15 @@ namespace rubble {
 class JacobiSolver : public ContactSolver {
   public:
     ContactForm reads() const override { return ContactForm::Points; }
+    /// Stage wakeTouched (the device's twin): its woken bodies' contacts come next step.
+    WakeReport wake(const SolverScene& scene, Bodies bodies,
+                    std::span<const shared::BodyVelocity> approach, const StepContacts& contacts,
+                    const StepParams& params) override;
     /// Stage buildJacobiRows: the body lists, the warm start matched by contact key, a row per
-    /// contact point. reads: points, poses, velocities, masses, surfaces
-    void buildRows(const SolverScene& scene, BodiesView bodies, const StepContacts& contacts,
+    /// contact point, its approach measured with `approach`. reads: points, poses, approach,
+    /// masses, surfaces
+    void buildRows(const SolverScene& scene, BodiesView bodies,
+                   std::span<const shared::BodyVelocity> approach, const StepContacts& contacts,
                    const StepParams& params) override;
     /// Stage solveJacobi; the impulses kept for the next step's warm start.
     Status solve(const SolverScene& scene, Bodies bodies,

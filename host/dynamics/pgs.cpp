@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "host/core/math.h"
+
 namespace rubble {
 namespace {
 
@@ -22,6 +24,12 @@ inline void applyRow(SolverVelocity& a, SolverVelocity& b, Lanes d, Lanes turnA,
     b.angular += turnB * lambda;
 }
 
+// A row bounces when it has a bounce speed and stopped its bodies in this step's solve: they
+// reached the contact.
+bool isBouncing(const NormalRow& r) {
+    return r.bounceSpeed > 0.0f && r.impulse > 0.0f;
+}
+
 // The position pass stops when no push impulse changes by more than this, N s.
 constexpr float kPushTolerance = 1e-6f;
 
@@ -38,7 +46,106 @@ float solveNormalRow(const NormalRow& r, SolverVelocity& a, SolverVelocity& b, f
     return applied;
 }
 
+constexpr std::uint32_t kNoLayer = 0xffffffffu;
+// What solveLayers marks on a body: it carries a heavy load, or it is in a joint.
+constexpr std::uint8_t kLoaded = 1, kJoined = 2;
+
+// Each body's layer: 0 for a body that does not move, else one more than the lowest layer it
+// touches through a row (kNoLayer when nothing links it to a body that does not move).
+void findLayers(const ContactRows& contacts, const SolverBodies& bodies,
+                std::vector<std::uint32_t>& layer) {
+    const std::size_t n = bodies.velocity.size();
+    layer.assign(n, kNoLayer);
+    for (std::size_t i = 0; i < n; ++i)
+        if (!bodies.moves(std::uint32_t(i))) layer[i] = 0;
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (const NormalRow& r : contacts.normals) {
+            if (layer[r.a] != kNoLayer && layer[r.a] + 1 < layer[r.b]) {
+                layer[r.b] = layer[r.a] + 1;
+                changed = true;
+            }
+            if (layer[r.b] != kNoLayer && layer[r.b] + 1 < layer[r.a]) {
+                layer[r.a] = layer[r.b] + 1;
+                changed = true;
+            }
+        }
+    }
+}
+
+// One update of a normal row that moves only the body on `upper`'s side (the other one held, as
+// if it did not move), from the accumulated impulse `total`, clamped >= 0.
+void solveNormalRowOnto(const NormalRow& r, SolverVelocity& a, SolverVelocity& b, bool upperIsB,
+                        float target, float& total) {
+    const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
+    const float k = upperIsB ? r.inverseMassB + sum3(r.crossB * r.turnB)
+                             : r.inverseMassA + sum3(r.crossA * r.turnA);
+    if (k <= 0.0f) return;
+    const float next = std::max(total + (target - speed) / k, 0.0f);
+    const float applied = next - total;
+    total = next;
+    if (upperIsB) {
+        b.linear += r.normal * (r.inverseMassB * applied);
+        b.angular += r.turnB * applied;
+    } else {
+        a.linear -= r.normal * (r.inverseMassA * applied);
+        a.angular -= r.turnA * applied;
+    }
+}
+
 } // namespace
+
+void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBodies& bodies) {
+    std::vector<std::uint32_t>& rows = contacts.layerRows;
+    rows.clear();
+    // Bodies in joints keep out: the pass would move one without its partner.
+    std::vector<std::uint8_t>& loaded = contacts.loaded;
+    loaded.assign(bodies.velocity.size(), 0);
+    for (const Joint& j : joints) loaded[j.a] = loaded[j.b] = kJoined;
+    // Both bodies move, and the upper one is kLayerMassRatio times as heavy.
+    auto heavyOver = [&](std::uint32_t up, std::uint32_t down) {
+        const float upInverse = bodies.inverseMass[up];
+        return upInverse > 0.0f && bodies.inverseMass[down] >= kLayerMassRatio * upInverse;
+    };
+    // Most steps have no pair of moving bodies this far apart in mass: nothing to do.
+    bool any = false;
+    for (const NormalRow& r : contacts.normals)
+        any = any || (!loaded[r.a] && !loaded[r.b] && (heavyOver(r.a, r.b) || heavyOver(r.b, r.a)));
+    if (!any) return;
+    std::vector<std::uint32_t>& layer = contacts.layer;
+    findLayers(contacts, bodies, layer);
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+        const NormalRow& r = contacts.normals[i];
+        if (layer[r.a] != layer[r.b] && layer[r.a] != kNoLayer && layer[r.b] != kNoLayer &&
+            loaded[r.a] != kJoined && loaded[r.b] != kJoined)
+            rows.push_back(std::uint32_t(i));
+    }
+    auto lower = [&](std::uint32_t i) {
+        return std::min(layer[contacts.normals[i].a], layer[contacts.normals[i].b]);
+    };
+    // From the top down: a row takes part when its upper body is kLayerMassRatio times as heavy
+    // as its lower one, or carries such a load; its lower body then carries it.
+    std::stable_sort(rows.begin(), rows.end(),
+                     [&](std::uint32_t x, std::uint32_t y) { return lower(x) > lower(y); });
+    std::size_t kept = 0;
+    for (const std::uint32_t i : rows) {
+        const NormalRow& r = contacts.normals[i];
+        const bool upperIsB = layer[r.b] > layer[r.a];
+        const std::uint32_t up = upperIsB ? r.b : r.a, down = upperIsB ? r.a : r.b;
+        if (!heavyOver(up, down) && loaded[up] != kLoaded) continue;
+        loaded[down] = kLoaded;
+        rows[kept++] = i;
+    }
+    rows.resize(kept);
+    // Then from the bottom up, each row stopping its upper body against the lower one.
+    std::reverse(rows.begin(), rows.end());
+    for (const std::uint32_t i : rows) {
+        const NormalRow& r = contacts.normals[i];
+        float total = r.impulse;
+        solveNormalRowOnto(r, bodies.velocity[r.a], bodies.velocity[r.b], layer[r.b] > layer[r.a],
+                           r.targetSpeed, total);
+    }
+}
 
 void warmStartContacts(const ContactRows& contacts, SolverBodies& bodies) {
     for (std::size_t i = 0; i < contacts.size(); ++i) {
@@ -96,8 +203,10 @@ bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, fl
     std::vector<std::uint8_t>& moved = contacts.pushedBody;
     moved.assign(bodies.velocity.size(), 0);
     bool needed = false;
-    for (const NormalRow& r : contacts.normals) {
-        if (r.pushSpeed <= 0.0f) continue;
+    for (NormalRow& r : contacts.normals) {
+        // A bounce that stops its bodies at the contact in this solve lifts them off it again.
+        r.pushTarget = isBouncing(r) ? std::max(r.pushSpeed, r.bounceLift) : r.pushSpeed;
+        if (r.pushTarget <= 0.0f) continue;
         needed = true;
         moved[r.a] = bodies.moves(r.a) ? 1 : 0;
         moved[r.b] = bodies.moves(r.b) ? 1 : 0;
@@ -108,21 +217,75 @@ bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, fl
     for (std::size_t i = 0; i < contacts.size(); ++i) {
         NormalRow& r = contacts.normals[i];
         r.pushImpulse = 0.0f;
-        if (r.pushSpeed > 0.0f || moved[r.a] || moved[r.b]) active.push_back(std::uint32_t(i));
+        if (r.pushTarget > 0.0f || moved[r.a] || moved[r.b]) active.push_back(std::uint32_t(i));
     }
     bodies.push.assign(bodies.velocity.size(), SolverVelocity{});
     for (int it = 0; it < iterations; ++it) {
         float residual = 0.0f;
         for (const std::uint32_t i : active) {
             NormalRow& r = contacts.normals[i];
-            const float applied = solveNormalRow(r, bodies.push[r.a], bodies.push[r.b], r.pushSpeed,
-                                                 r.pushImpulse, relaxation);
+            const float applied = solveNormalRow(r, bodies.push[r.a], bodies.push[r.b],
+                                                 r.pushTarget, r.pushImpulse, relaxation);
             residual = std::max(residual, std::abs(applied));
         }
         // Converged: a further sweep would move nothing by more than round-off.
         if (residual <= kPushTolerance) break;
     }
+    // The layer pass's rows (solvePgs), bottom up, each moving its upper body only.
+    for (const std::uint32_t i : contacts.layerRows) {
+        const NormalRow& r = contacts.normals[i];
+        if (r.pushTarget <= 0.0f && !moved[r.a] && !moved[r.b]) continue;
+        float total = r.pushImpulse;
+        solveNormalRowOnto(r, bodies.push[r.a], bodies.push[r.b],
+                           contacts.layer[r.b] > contacts.layer[r.a], r.pushTarget, total);
+    }
     return true;
+}
+
+bool solveRestitution(ContactRows& contacts, SolverBodies& bodies, int iterations) {
+    std::vector<std::uint32_t>& rows = contacts.bounceRows;
+    rows.clear();
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+        NormalRow& r = contacts.normals[i];
+        r.bounceImpulse = 0.0f;
+        if (isBouncing(r)) rows.push_back(std::uint32_t(i));
+    }
+    if (rows.empty()) return false;
+    for (int it = 0; it < iterations; ++it) {
+        float residual = 0.0f;
+        for (const std::uint32_t i : rows) {
+            NormalRow& r = contacts.normals[i];
+            SolverVelocity& a = bodies.velocity[r.a];
+            SolverVelocity& b = bodies.velocity[r.b];
+            const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
+            const float total =
+                std::max(r.bounceImpulse + r.mass * (r.bounceSpeed - speed), -r.impulse);
+            const float applied = total - r.bounceImpulse;
+            r.bounceImpulse = total;
+            applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB, applied);
+            residual = std::max(residual, std::abs(applied));
+        }
+        if (residual <= kPushTolerance) break;
+    }
+    return true;
+}
+
+void addBounceImpulses(const ContactRows& contacts, std::span<shared::BodyMomentum> momenta) {
+    for (const std::uint32_t i : contacts.bounceRows) {
+        const NormalRow& r = contacts.normals[i];
+        const Lanes linear = r.normal * r.bounceImpulse;
+        // A body that does not move has zero crosses and takes nothing.
+        if (r.inverseMassA > 0.0f) {
+            shared::BodyMomentum& p = momenta[r.a];
+            p.linear = toFloat4(toVec3(p.linear) - fromLanes(linear));
+            p.angular = toFloat4(toVec3(p.angular) - fromLanes(r.crossA * r.bounceImpulse));
+        }
+        if (r.inverseMassB > 0.0f) {
+            shared::BodyMomentum& p = momenta[r.b];
+            p.linear = toFloat4(toVec3(p.linear) + fromLanes(linear));
+            p.angular = toFloat4(toVec3(p.angular) + fromLanes(r.crossB * r.bounceImpulse));
+        }
+    }
 }
 
 void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodies,
@@ -137,6 +300,7 @@ void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodi
             residual = std::max(residual, solveJointVelocity(j, bodies, options.relaxation));
         residual = std::max(residual, solveContactSweep(contacts, bodies, options.relaxation));
     }
+    solveLayers(contacts, joints, bodies);
 }
 
 } // namespace rubble

@@ -9,6 +9,7 @@
 #include "host/dynamics/joints.h"
 #include "host/dynamics/solver_bodies.h"
 #include "rubble/options.h"
+#include "rubble/shared/body.h"
 
 namespace rubble {
 
@@ -24,10 +25,27 @@ namespace rubble {
 /// same number of sweeps over the normal rows that push and the rows touching the bodies they
 /// move, on separate pseudo-velocities that start at zero and aim at the rows' Baumgarte speeds
 /// (lambda_push >= 0), so that pushing bodies apart adds no energy; PgsSolver::solvePositions
-/// moves the bodies by dt times them.
+/// moves the bodies by dt times them. After the sweeps, the layer pass (solveLayers).
 /// reads: rows, joints, bodies   writes: bodies' velocities and push, impulses, residuals
 void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodies,
               const SolverOptions& options, std::vector<float>& residuals);
+
+/// A contact's upper body is this many times as heavy as its lower one before the layer pass
+/// takes it (solveLayers).
+inline constexpr float kLayerMassRatio = 10.0f;
+
+/// The layer pass (shock propagation, Guendelman, Bridson and Fedkiw, "Nonconvex rigid bodies
+/// with stacking", SIGGRAPH 2003, section 7, on velocities), after the sweeps of solvePgs: with a
+/// heavy body on a light one, Gauss-Seidel passes the weight down by a fraction m_light /
+/// m_heavy a sweep, so 10 sweeps leave a 1:100 stack sinking and tipping. Layers count contacts
+/// up from the bodies that do not move. The rows whose upper body is kLayerMassRatio times as
+/// heavy as the lower one, and the rows under a body that carries such a load, are updated once
+/// more from the bottom up, each moving only its upper body (the lower one held as if it did not
+/// move): what is below has stopped when what is above stops on it. Rows of bodies in joints do
+/// not take part. The pass's impulses are not kept for the warm start (they are what the sweeps
+/// have not yet found: the sweeps get there over the next steps). Scenes without such a pair
+/// skip it. reads: rows, joints   writes: bodies' velocities, rows' layer lists
+void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBodies& bodies);
 
 /// One sweep of the contact rows; returns the largest |applied impulse change|, N s.
 float solveContactSweep(ContactRows& contacts, SolverBodies& bodies, float relaxation);
@@ -36,7 +54,25 @@ float solveContactSweep(ContactRows& contacts, SolverBodies& bodies, float relax
 void warmStartContacts(const ContactRows& contacts, SolverBodies& bodies);
 
 /// The split position pass; returns false (and leaves bodies.push untouched) when no contact
-/// needs it. writes: bodies.push, rows' push impulses
+/// needs it. A row that bounces (a bounce speed, and a normal impulse from the solve) aims at the
+/// larger of its Baumgarte speed and its bounce's lift, which carries the bodies from the
+/// contact to where the rebound has taken them by the step's end. Then the layer pass's rows
+/// (solveLayers) once more, bottom up, each moving its upper body only, so that a light body
+/// under a heavy one is pushed out as well. writes: bodies.push, rows' push targets and impulses
 bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, float relaxation);
+
+/// The restitution pass, after the positions moved (as Box2D v3 applies restitution after its
+/// relax iterations): the rows that bounce (bounceSpeed > 0) and stopped their bodies in this
+/// step's solve (impulse > 0, so that the bodies reached the contact) give them back bounceSpeed
+/// along the normal, by up to `iterations` sweeps of lambda_b = max(lambda_b + m_eff
+/// (bounceSpeed - J v), -lambda) on the solved velocities (the solve's impulse and the bounce's
+/// stay >= 0 together). A bounce thus leaves from the contact, not from where the step began.
+/// Returns false when no row bounces. reads: rows   writes: rows' bounce impulses,
+/// bodies' velocities
+bool solveRestitution(ContactRows& contacts, SolverBodies& bodies, int iterations);
+
+/// The bounce impulses into the momenta: P += lambda_b n, L += lambda_b (r x n) on b, the
+/// opposite on a. reads: rows   writes: momenta
+void addBounceImpulses(const ContactRows& contacts, std::span<shared::BodyMomentum> momenta);
 
 } // namespace rubble

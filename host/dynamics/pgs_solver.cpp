@@ -8,8 +8,28 @@
 
 namespace rubble {
 
-void PgsSolver::buildRows(const SolverScene& scene, BodiesView bodies, const StepContacts& contacts,
-                          const StepParams& params) {
+void PgsSolver::prepareRadii(const SolverScene& scene, BodiesView bodies) {
+    SolverCache& c = cache_;
+    if (c.radii.size() == bodies.count()) return;
+    c.radii.resize(bodies.count());
+    for (std::uint32_t i = 0; i < bodies.count(); ++i)
+        c.radii[i] = scene.shapes[bodies.shapeOf[i]].boundingRadius;
+}
+
+WakeReport PgsSolver::wake(const SolverScene& scene, Bodies bodies,
+                           std::span<const shared::BodyVelocity> approach,
+                           const StepContacts& contacts, const StepParams&) {
+    prepareRadii(scene, bodies);
+    WakeReport r;
+    r.woken = wakeIslands(contacts.manifolds, scene.joined, cache_.radii, bodies.masses, approach,
+                          cache_.sleep);
+    r.collideAgain = r.woken > 0;
+    return r;
+}
+
+void PgsSolver::buildRows(const SolverScene& scene, BodiesView bodies,
+                          std::span<const shared::BodyVelocity> approach,
+                          const StepContacts& contacts, const StepParams& params) {
     SolverCache& c = cache_;
     // Joints are turned into body frames at the poses of the first step.
     if (!c.jointsBuilt) {
@@ -21,8 +41,8 @@ void PgsSolver::buildRows(const SolverScene& scene, BodiesView bodies, const Ste
     gatherSolverVelocities(bodies.velocities, c.bodies);
     const SolverOptions& o = params.solver;
     const ContactRowSettings settings{params.dt, o.baumgarte, o.slop, o.warmStart};
-    buildContactRows(contacts.manifolds, bodies.poses, c.bodies, scene.materials, bodies.materialOf,
-                     scene.joined, c.impulses, settings, c.contacts);
+    buildContactRows(contacts.manifolds, bodies.poses, c.bodies, approach, scene.materials,
+                     bodies.materialOf, scene.joined, c.impulses, settings, c.contacts);
     prepareJoints(c.joints, bodies.poses, c.bodies, o.warmStart);
 }
 
@@ -41,6 +61,14 @@ Status PgsSolver::solve(const SolverScene&, Bodies bodies, std::span<const share
 void PgsSolver::solvePositions(const SolverScene&, Bodies bodies, const StepParams& params) {
     SolverCache& c = cache_;
     const float dt = params.dt;
+    // Bounces leave from the contact the bodies reached, with momenta to match.
+    if (solveRestitution(c.contacts, c.bodies, params.solver.iterations)) {
+        addBounceImpulses(c.contacts, bodies.momenta);
+        for (std::uint32_t i = 0; i < bodies.count(); ++i)
+            if (c.bodies.moves(i))
+                bodies.velocities[i] = shared::velocityFromMomentumItem(
+                    bodies.momenta[i], bodies.masses[i], bodies.poses[i].orientation);
+    }
     // Contacts: the split position pass moves the bodies out of each other.
     if (c.pushed) {
         for (std::uint32_t i = 0; i < bodies.count(); ++i) {
@@ -69,11 +97,7 @@ void PgsSolver::solvePositions(const SolverScene&, Bodies bodies, const StepPara
 std::uint32_t PgsSolver::sleep(const SolverScene& scene, Bodies bodies,
                                const StepContacts& contacts, const StepParams& params) {
     SolverCache& c = cache_;
-    if (c.radii.size() != bodies.count()) {
-        c.radii.resize(bodies.count());
-        for (std::uint32_t i = 0; i < bodies.count(); ++i)
-            c.radii[i] = scene.shapes[bodies.shapeOf[i]].boundingRadius;
-    }
+    prepareRadii(scene, bodies);
     c.lastSleep = updateSleep(contacts.manifolds, c.joints, c.radii, bodies.masses,
                               bodies.velocities, bodies.momenta, params.dt, c.sleep);
     return c.lastSleep.asleepBodies;

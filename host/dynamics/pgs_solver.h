@@ -43,9 +43,15 @@ struct SolverCache {
 class PgsSolver final : public ContactSolver {
   public:
     ContactForm reads() const override { return ContactForm::Manifolds; }
+    /// Islands touched by a restless body wake (wakeIslands), with their pairs collided again.
+    WakeReport wake(const SolverScene& scene, Bodies bodies,
+                    std::span<const shared::BodyVelocity> approach, const StepContacts& contacts,
+                    const StepParams& params) override;
     /// Contact rows from the manifolds, joint rows (the joints are put in body frames at the
-    /// poses of the first step). reads: manifolds, poses, masses, materials, joints, the cache
-    void buildRows(const SolverScene& scene, BodiesView bodies, const StepContacts& contacts,
+    /// poses of the first step); bounces from the approach in `approach`. reads: manifolds,
+    /// poses, velocities, approach, masses, materials, joints, the cache
+    void buildRows(const SolverScene& scene, BodiesView bodies,
+                   std::span<const shared::BodyVelocity> approach, const StepContacts& contacts,
                    const StepParams& params) override;
     /// PGS, then the split position pass; impulses kept for the next step's warm start.
     Status solve(const SolverScene& scene, Bodies bodies,
@@ -58,11 +64,17 @@ class PgsSolver final : public ContactSolver {
     std::uint32_t sleep(const SolverScene& scene, Bodies bodies, const StepContacts& contacts,
                         const StepParams& params) override;
     std::span<const float> residuals() const override { return cache_.residuals; }
+    std::span<const Joint> joints() const override {
+        if (!cache_.jointsBuilt) return {};
+        return cache_.joints;
+    }
     void bodiesChanged(std::span<const std::uint32_t> newIndex, BodiesView bodies) override;
 
     const SolverCache& cache() const { return cache_; }
 
   private:
+    void prepareRadii(const SolverScene& scene, BodiesView bodies);
+
     SolverCache cache_;
 };
 

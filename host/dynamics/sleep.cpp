@@ -1,4 +1,5 @@
-// host/dynamics/sleep.cpp: stage sleepBodies on the CPU; twin of kernels/sleep.cl.
+// host/dynamics/sleep.cpp: stages wakeTouched and sleepBodies on the CPU; twins of
+// kernels/sleep.cl.
 #include "host/dynamics/sleep.h"
 
 #include "rubble/shared/sleep.h"
@@ -6,6 +7,25 @@
 namespace rubble {
 
 using namespace shared;
+
+std::uint32_t wakeTouched(std::span<const ParticleContact> contacts,
+                          std::span<const BodyVelocity> approach, std::span<BodyMass> masses,
+                          BodySleepState& state) {
+    state.slowFor.resize(masses.size(), 0.0f);
+    state.restless.resize(masses.size(), 0u);
+    std::uint32_t woken = 0;
+    for (const ParticleContact& c : contacts) {
+        const uint fa = masses[c.a].flags, fb = masses[c.b].flags;
+        std::uint32_t wake = RUBBLE_NO_BODY;
+        if (wakesBeforeSolveItem(fa, fb, approach[c.b])) wake = c.a;
+        if (wakesBeforeSolveItem(fb, fa, approach[c.a])) wake = c.b;
+        if (wake == RUBBLE_NO_BODY) continue;
+        masses[wake].flags &= ~RUBBLE_BODY_ASLEEP;
+        state.slowFor[wake] = 0.0f;
+        ++woken;
+    }
+    return woken;
+}
 
 BodySleepCounts sleepBodies(std::span<const ContactRow> rows, std::span<BodyMass> masses,
                             std::span<BodyVelocity> velocities, std::span<BodyMomentum> momenta,

@@ -1,5 +1,5 @@
-// host/dynamics/sleep.h: sleeping as the device does it (stage sleepBodies), the CPU twin of
-// kernels/sleep.cl (dispatch in host/gpu/sleep.cpp) with the per-element math of
+// host/dynamics/sleep.h: sleeping as the device does it (stages wakeTouched and sleepBodies), the
+// CPU twins of kernels/sleep.cl (dispatch in host/gpu/sleep.cpp) with the per-element math of
 // rubble/shared/sleep.h: each contact row tells its bodies whether a neighbour is restless or
 // fast, then each dynamic body updates its sleep. The reference pipeline's PGS sleeps by islands
 // instead (host/dynamics/islands.h).
@@ -24,6 +24,15 @@ struct BodySleepCounts {
     std::uint32_t asleep = 0; ///< bodies asleep after it
     std::uint32_t woken = 0;  ///< bodies it woke
 };
+
+/// Stage wakeTouched, before the rows: a contact of a sleeping body with a waking one
+/// (wakesBeforeSolveItem, on `approach`, the velocities before this step's forces) wakes it, its
+/// slow time starting again, so that its mass takes part in this step's solve. Its own contacts
+/// appear from the next step on (its particles tested none while it slept). Returns the bodies
+/// it woke. reads: contacts, approach, masses (flags)   writes: masses (flags), state.slowFor
+std::uint32_t wakeTouched(std::span<const shared::ParticleContact> contacts,
+                          std::span<const shared::BodyVelocity> approach,
+                          std::span<shared::BodyMass> masses, BodySleepState& state);
 
 /// Stage sleepBodies: restless marks from every row (restlessFromContactItem on each side), then
 /// sleepItem for every dynamic body; a body that falls asleep has its velocities and momenta

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <set>
 
 extern "C" {
 #include <libqhull_r/qhull_ra.h>
@@ -99,8 +100,11 @@ Result<ConvexPolygons> computeConvexHull(std::span<const glm::vec3> points,
     } else {
         // Qt triangulates merged facets; triangles of one merged facet share its normal, so
         // gathering them by facet normal rebuilds the polygon.
+        // Each face lists its vertices in the order they first appear; `inFace` makes that
+        // O(log n) a vertex, so that a facet of many triangles costs no more than its corners.
         std::map<int, std::uint32_t> vertexIndex;
         std::map<std::array<double, 4>, std::vector<std::uint32_t>> facesByPlane;
+        std::set<std::pair<const std::vector<std::uint32_t>*, std::uint32_t>> inFace;
         facetT* facet;
         FORALLfacets {
             const std::array<double, 4> plane{facet->normal[0], facet->normal[1],
@@ -111,8 +115,7 @@ Result<ConvexPolygons> computeConvexHull(std::span<const glm::vec3> points,
                 const int id = qh_pointid(qh, vertex->point);
                 auto [it, added] = vertexIndex.try_emplace(id, std::uint32_t(hull.vertices.size()));
                 if (added) hull.vertices.push_back(points[std::size_t(id)]);
-                if (std::find(face.begin(), face.end(), it->second) == face.end())
-                    face.push_back(it->second);
+                if (inFace.emplace(&face, it->second).second) face.push_back(it->second);
             }
         }
         for (auto& [plane, face] : facesByPlane) {

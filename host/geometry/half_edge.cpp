@@ -14,6 +14,12 @@ namespace {
 
 using Polygon = std::vector<std::uint32_t>;
 
+// Small meshes are checked and built by visiting every vertex for every face (V F steps);
+// larger ones by what each face and edge can see (near-linear).
+bool wholeMeshChecks(std::size_t vertices, std::size_t faces) {
+    return double(vertices) * double(faces) <= double(kWholeMeshCheckLimit);
+}
+
 // Largest distance of a vertex from the vertices' centroid: the length that tolerances scale by.
 float boundingRadius(const std::vector<glm::vec3>& vertices) {
     glm::dvec3 centre(0.0);
@@ -88,20 +94,90 @@ std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t f) {
     return f;
 }
 
+// A bound on where a group of faces' vertices lie, kept for groups too large to visit whole:
+// along a unit normal they lie between lo and hi, and all of them within a ball.
+struct SlabBound {
+    glm::dvec3 normal{0.0};
+    double lo = 0.0, hi = 0.0;
+    glm::dvec3 centre{0.0};
+    double radius = 0.0;
+
+    // The range of the vertices along another unit direction n: dot(n, v) = dot(normal, v) +
+    // dot(n - normal, centre) + dot(n - normal, v - centre), the last term at most
+    // |n - normal| radius.
+    std::pair<double, double> along(const glm::dvec3& n) const {
+        const glm::dvec3 tilt = n - normal;
+        const double shift = glm::dot(tilt, centre), spread = glm::length(tilt) * radius;
+        return {lo + shift - spread, hi + shift + spread};
+    }
+};
+
+// The exact bound of a list of vertices along a unit normal.
+SlabBound exactBound(const Polygon& vertices, const std::vector<glm::vec3>& points,
+                     const glm::dvec3& normal) {
+    SlabBound b;
+    b.normal = normal;
+    b.lo = std::numeric_limits<double>::max();
+    b.hi = -b.lo;
+    for (std::uint32_t v : vertices) {
+        const glm::dvec3 p(points[v]);
+        const double d = glm::dot(normal, p);
+        b.lo = std::min(b.lo, d);
+        b.hi = std::max(b.hi, d);
+        b.centre += p;
+    }
+    b.centre /= double(std::max<std::size_t>(vertices.size(), 1));
+    for (std::uint32_t v : vertices)
+        b.radius = std::max(b.radius, glm::length(glm::dvec3(points[v]) - b.centre));
+    return b;
+}
+
+// The bound of two groups' union along the unit normal n: the slab of both ranges along n,
+// the ball holding both balls.
+SlabBound unionBound(const SlabBound& a, const SlabBound& b, const glm::dvec3& n) {
+    SlabBound u;
+    u.normal = n;
+    const auto [aLo, aHi] = a.along(n);
+    const auto [bLo, bHi] = b.along(n);
+    u.lo = std::min(aLo, bLo);
+    u.hi = std::max(aHi, bHi);
+    const double d = glm::length(b.centre - a.centre);
+    if (d + b.radius <= a.radius) {
+        u.centre = a.centre;
+        u.radius = a.radius;
+    } else if (d + a.radius <= b.radius) {
+        u.centre = b.centre;
+        u.radius = b.radius;
+    } else {
+        u.radius = 0.5 * (d + a.radius + b.radius);
+        u.centre = a.centre + (b.centre - a.centre) * ((u.radius - a.radius) / d);
+    }
+    return u;
+}
+
 // Faces grouped where neighbours are coplanar, each group's boundary as one polygon. Returns
 // std::nullopt when a group's boundary is not a single loop (the caller keeps the faces as they
-// are).
+// are). Near-linear in the half-edges: a merge visits the vertices of both groups only while
+// they hold at most kExactMergeVertices together, and otherwise tests their slab bounds, which
+// over-estimate the thickness (so a merge taken is always within kMergeDistance).
 std::optional<ConvexPolygons> mergeCoplanarFaces(const ConvexPolygons& p,
                                                  const std::vector<HalfEdge>& edges, float scale) {
     const std::size_t faceCount = p.faces.size();
     std::vector<std::uint32_t> parent(faceCount);
     std::vector<glm::dvec3> newell(faceCount);
-    std::vector<Polygon> members(faceCount); // vertices of each group, at its root
+    std::vector<Polygon> members(faceCount); // vertices of each small group, at its root
+    std::vector<std::size_t> memberCount(faceCount);
+    std::vector<SlabBound> bound(faceCount);
     for (std::uint32_t f = 0; f < faceCount; ++f) {
         parent[f] = f;
         newell[f] = newellVector(p.faces[f], p.vertices);
         members[f] = p.faces[f];
+        memberCount[f] = members[f].size();
     }
+    auto boundOf = [&](std::uint32_t f) -> SlabBound {
+        return members[f].empty() ? bound[f]
+                                  : exactBound(members[f], p.vertices, glm::normalize(newell[f]));
+    };
     const double cosMerge = std::cos(double(kMergeAngle));
     const double thicknessLimit = double(kMergeDistance) * double(scale);
     for (std::uint32_t h = 0; h < edges.size(); ++h) {
@@ -113,19 +189,37 @@ std::optional<ConvexPolygons> mergeCoplanarFaces(const ConvexPolygons& p,
         if (glm::dot(nf, ng) < cosMerge) continue;
         // Thickness of the union along its area-weighted normal.
         const glm::dvec3 n = glm::normalize(newell[f] + newell[g]);
-        double lo = std::numeric_limits<double>::max(), hi = -lo;
-        for (const Polygon* group : {&members[f], &members[g]})
-            for (std::uint32_t v : *group) {
-                const double d = glm::dot(n, glm::dvec3(p.vertices[v]));
-                lo = std::min(lo, d);
-                hi = std::max(hi, d);
-            }
-        if (hi - lo > thicknessLimit) continue;
+        const std::size_t together = memberCount[f] + memberCount[g];
+        const bool exact = together <= kExactMergeVertices;
+        SlabBound merged;
+        if (exact) {
+            double lo = std::numeric_limits<double>::max(), hi = -lo;
+            for (const Polygon* group : {&members[f], &members[g]})
+                for (std::uint32_t v : *group) {
+                    const double d = glm::dot(n, glm::dvec3(p.vertices[v]));
+                    lo = std::min(lo, d);
+                    hi = std::max(hi, d);
+                }
+            if (hi - lo > thicknessLimit) continue;
+        } else {
+            merged = unionBound(boundOf(f), boundOf(g), n);
+            if (merged.hi - merged.lo > thicknessLimit) continue;
+        }
         if (g < f) std::swap(f, g);
         parent[g] = f;
         newell[f] += newell[g];
-        members[f].insert(members[f].end(), members[g].begin(), members[g].end());
+        memberCount[f] = together;
+        if (exact) {
+            if (members[f].size() < members[g].size()) std::swap(members[f], members[g]);
+            members[f].insert(members[f].end(), members[g].begin(), members[g].end());
+        } else {
+            // Too large to visit again: the group keeps its bound from here on.
+            bound[f] = merged;
+            members[f].clear();
+            members[f].shrink_to_fit();
+        }
         members[g].clear();
+        members[g].shrink_to_fit();
     }
 
     std::vector<std::uint32_t> group(faceCount);
@@ -133,17 +227,23 @@ std::optional<ConvexPolygons> mergeCoplanarFaces(const ConvexPolygons& p,
     auto interior = [&](std::uint32_t h) {
         return group[edges[h].face] == group[edges[edges[h].twin].face];
     };
+    // The boundary half-edges of each group, in index order, by a counting sort on the group.
+    std::vector<std::uint32_t> boundaryStart(faceCount + 1, 0);
+    for (std::uint32_t h = 0; h < edges.size(); ++h)
+        if (!interior(h)) ++boundaryStart[group[edges[h].face] + 1];
+    for (std::size_t f = 0; f < faceCount; ++f) boundaryStart[f + 1] += boundaryStart[f];
+    std::vector<std::uint32_t> boundaryEdges(boundaryStart[faceCount]);
+    std::vector<std::uint32_t> cursor(boundaryStart.begin(), boundaryStart.end() - 1);
+    for (std::uint32_t h = 0; h < edges.size(); ++h)
+        if (!interior(h)) boundaryEdges[cursor[group[edges[h].face]]++] = h;
+
     ConvexPolygons out;
     out.vertices = p.vertices;
     for (std::uint32_t root = 0; root < faceCount; ++root) {
         if (group[root] != root) continue;
-        std::uint32_t start = std::numeric_limits<std::uint32_t>::max(), boundary = 0;
-        for (std::uint32_t h = 0; h < edges.size(); ++h) {
-            if (group[edges[h].face] != root || interior(h)) continue;
-            start = std::min(start, h);
-            ++boundary;
-        }
+        const std::uint32_t boundary = boundaryStart[root + 1] - boundaryStart[root];
         if (boundary < 3) return std::nullopt;
+        const std::uint32_t start = boundaryEdges[boundaryStart[root]];
         // Walk the boundary: after a boundary half-edge, turn about its end vertex across
         // interior edges until the next boundary half-edge.
         Polygon loop;
@@ -261,12 +361,6 @@ Result<HalfEdgeMesh> assemble(const ConvexPolygons& p, const std::string& where)
                                  edgeName(t.origin, m.edges[t.next].origin) +
                                  " belongs to one face only");
         }
-    // Each plane passes through the hull's support point along its normal.
-    for (HalfEdgeFace& face : m.faces) {
-        float best = -std::numeric_limits<float>::max();
-        for (const glm::vec3& v : m.vertices) best = std::max(best, glm::dot(face.normal, v));
-        face.offset = best;
-    }
     m.vertexEdge.assign(m.vertices.size(), kUnset);
     for (std::uint32_t h = 0; h < m.edges.size(); ++h)
         if (m.vertexEdge[m.edges[h].origin] == kUnset) m.vertexEdge[m.edges[h].origin] = h;
@@ -280,6 +374,20 @@ Result<HalfEdgeMesh> assemble(const ConvexPolygons& p, const std::string& where)
             h = twin.next;
         } while (h != m.vertexEdge[v] && ++guard < m.edges.size());
         m.neighbourStart.push_back(std::uint32_t(m.neighbours.size()));
+    }
+    // Each plane passes through the hull's support point along its normal: every vertex tried
+    // on a small mesh, hill climbing from the face's own corner on a large one (exact on a
+    // convex mesh, and the corner is already the support up to rounding).
+    const bool visitAll = wholeMeshChecks(m.vertices.size(), m.faces.size());
+    for (HalfEdgeFace& face : m.faces) {
+        float best = -std::numeric_limits<float>::max();
+        if (visitAll) {
+            for (const glm::vec3& v : m.vertices) best = std::max(best, glm::dot(face.normal, v));
+        } else {
+            const std::uint32_t corner = m.edges[face.edge].origin;
+            best = glm::dot(face.normal, m.vertices[supportVertex(m, face.normal, corner)]);
+        }
+        face.offset = best;
     }
     m.edgeRecords.resize(m.edgeCount());
     for (std::uint32_t k = 0; k < m.edgeCount(); ++k) {
@@ -408,11 +516,31 @@ Status checkHalfEdgeMesh(const HalfEdgeMesh& m, const std::string& where) {
         const glm::vec3 corner = m.vertices[m.edges[face.edge].origin];
         if (!(glm::dot(glm::dvec3(face.normal), centroid - glm::dvec3(corner)) < 0.0))
             return invariant(where, name + " faces inward (wound clockwise seen from outside)");
-        for (std::uint32_t v = 0; v < vCount; ++v)
-            if (glm::dot(face.normal, m.vertices[v]) > face.offset + tol)
-                return invariant(where, "vertex " + std::to_string(v) +
-                                            " lies above the plane of " + name +
-                                            " (the mesh is not convex)");
+        if (wholeMeshChecks(vCount, fCount)) {
+            for (std::uint32_t v = 0; v < vCount; ++v)
+                if (glm::dot(face.normal, m.vertices[v]) > face.offset + tol)
+                    return invariant(where, "vertex " + std::to_string(v) +
+                                                " lies above the plane of " + name +
+                                                " (the mesh is not convex)");
+        } else {
+            // Large meshes: the support along the normal, climbed from the face, is the face
+            // itself, and every neighbouring face's far corner lies below the face's own plane
+            // (every edge convex); with the planar, convex faces and V - E + F = 2 checked here,
+            // the surface is convex.
+            const float own = glm::dot(face.normal, corner);
+            const std::uint32_t top = supportVertex(m, face.normal, m.edges[face.edge].origin);
+            std::uint32_t e = face.edge;
+            do {
+                const HalfEdge& twin = m.edges[m.edges[e].twin];
+                const std::uint32_t far = m.edges[m.edges[twin.next].next].origin;
+                for (const std::uint32_t v : {top, far})
+                    if (glm::dot(face.normal, m.vertices[v]) > std::min(own, face.offset) + tol)
+                        return invariant(where, "vertex " + std::to_string(v) +
+                                                    " lies above the plane of " + name +
+                                                    " (the mesh is not convex)");
+                e = m.edges[e].next;
+            } while (e != face.edge);
+        }
         std::uint32_t h = face.edge;
         do {
             const HalfEdge& e = m.edges[h];

@@ -69,6 +69,12 @@ inline constexpr float kMergeAngle = 0.01f;
 inline constexpr float kMergeDistance = 1e-5f;
 /// The invariant checks allow this fraction of the bounding radius for planarity and convexity.
 inline constexpr float kShapeTolerance = 1e-4f;
+/// Merging visits the vertices of two groups of faces while they hold at most this many
+/// together; larger groups are merged by a bound on their thickness that never under-estimates.
+inline constexpr std::size_t kExactMergeVertices = 256;
+/// Meshes with vertices x faces up to this are checked (and their face planes placed) against
+/// every vertex; larger ones edge by edge and by hill climbing, in near-linear time.
+inline constexpr double kWholeMeshCheckLimit = 4e6;
 
 /// Builds the half-edge mesh of a closed convex polyhedron given as polygons (triangles are
 /// fine) wound counter-clockwise seen from outside. Adjacent coplanar faces are merged (within
@@ -81,7 +87,9 @@ Result<HalfEdgeMesh> buildHalfEdgeMesh(const ConvexPolygons& polygons, const std
 /// Checks a half-edge mesh: twins paired and walking the other way, face loops closed and
 /// covering every half-edge once, V - E + F = 2, faces planar and convex (within kShapeTolerance
 /// of the bounding radius), every face plane a supporting plane with the vertex centroid
-/// strictly below. Errors: BadInput at `where` naming the first broken invariant.
+/// strictly below: tested against every vertex when V F <= kWholeMeshCheckLimit, else against
+/// the far corner of each neighbouring face (every edge convex). Errors: BadInput at `where`
+/// naming the first broken invariant.
 Status checkHalfEdgeMesh(const HalfEdgeMesh& mesh, const std::string& where);
 
 /// The vertex furthest along `direction` (any length), by hill climbing over the edges from

@@ -43,6 +43,32 @@ bool insideTriangles(glm::vec3 point, const std::vector<glm::vec3>& vertices,
     return votes >= 2;
 }
 
+VoxelCost voxelCost(const Shape& shape, float spacing) {
+    if (shape.type == ShapeType::Plane) return {};
+    glm::dvec3 extent(2.0 * double(shape.radius));
+    double triangles = 0;
+    if (shape.type != ShapeType::Sphere) {
+        const bool ownMesh = shape.type == ShapeType::Mesh && !shape.mesh.triangles.empty();
+        const std::vector<glm::vec3>& vertices = ownMesh ? shape.mesh.vertices : shape.hull.vertices;
+        glm::dvec3 lo(vertices.front()), hi(vertices.front());
+        for (const glm::vec3& v : vertices) {
+            lo = glm::min(lo, glm::dvec3(v));
+            hi = glm::max(hi, glm::dvec3(v));
+        }
+        extent = hi - lo;
+        if (ownMesh) {
+            triangles = double(shape.mesh.triangles.size());
+        } else {
+            for (const auto& face : shape.hull.faces) triangles += double(face.size()) - 2.0;
+        }
+    }
+    VoxelCost c;
+    c.cells = 1.0;
+    for (int k = 0; k < 3; ++k) c.cells *= std::max(1.0, std::ceil(extent[k] / double(spacing) - 1e-4));
+    c.rayTests = 3.0 * c.cells * triangles;
+    return c;
+}
+
 std::vector<glm::vec3> voxeliseShape(const Shape& shape, float spacing, bool surfaceOnly) {
     if (shape.type == ShapeType::Plane) return {};
     // The surface to test against, and its bounds.

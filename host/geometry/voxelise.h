@@ -21,6 +21,14 @@ namespace rubble {
 /// gets one particle at its origin. Planes have none.
 std::vector<glm::vec3> voxeliseShape(const Shape& shape, float spacing, bool surfaceOnly);
 
+/// The cost of voxelising a shape at `spacing` (m), known before doing it: the grid's cells and
+/// the ray-triangle tests (cells times the triangles tested, 3 rays each).
+struct VoxelCost {
+    double cells = 0;
+    double rayTests = 0;
+};
+VoxelCost voxelCost(const Shape& shape, float spacing);
+
 /// True when a point (shape frame, m) is inside the closed triangle surface by the ray parity
 /// rule above.
 bool insideTriangles(glm::vec3 point, const std::vector<glm::vec3>& vertices,

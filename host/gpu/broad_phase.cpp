@@ -48,12 +48,9 @@ Status Pipeline::findPairs() {
     const cl_uint count = bodies_.count;
     const cl_uint entries = 8 * count, capacity = sat_.current.capacity;
     // The pair, entry and large-body counters start at zero.
-    const cl_uint zero = 0;
     const std::size_t counters = RUBBLE_STATUS_LARGE - RUBBLE_STATUS_PAIRS + 1;
-    RUBBLE_CL_CHECK(clEnqueueFillBuffer(c.queue(), status_.mem(), &zero, sizeof zero,
-                                        RUBBLE_STATUS_PAIRS * sizeof(cl_uint),
-                                        counters * sizeof(cl_uint), 0, nullptr,
-                                        profile_.transfer(Transfer::Fill, counters * sizeof zero)));
+    RUBBLE_TRY(fillRange(c, status_, 0u, RUBBLE_STATUS_PAIRS * sizeof(cl_uint),
+                         counters * sizeof(cl_uint), &profile_));
     RUBBLE_TRY(fill(c, sat_.bodyCount, 0u, std::size_t(count) * sizeof(cl_uint), &profile_));
 
     // The grid: bounds and mean widths, then each body's cells, sorted by cell.

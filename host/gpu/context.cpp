@@ -2,6 +2,8 @@
 #include "host/gpu/context.h"
 
 #include <algorithm>
+#include <clblast.h>
+
 #include <chrono>
 #include <filesystem>
 
@@ -52,6 +54,9 @@ std::string buildOptionsFor(const WorkSizes& sizes) {
 }
 
 Context::~Context() {
+    // CLBlast keeps the programs it built (lcp-jacobi) in a cache of its own, released at exit
+    // after this context otherwise: Oclgrind then frees them twice and aborts.
+    if (queue_) clblast::ClearCache();
     for (cl_kernel k : kernels_)
         if (k) clReleaseKernel(k);
     if (program_) clReleaseProgram(program_);
@@ -83,7 +88,9 @@ Result<std::shared_ptr<Context>> Context::create(const RunOptions& run) {
     RUBBLE_CL_CHECK(
         (c->program_ = clCreateProgramWithSource(c->context_, 1, &text, &length, &err), err));
     const auto start = std::chrono::steady_clock::now();
-    const std::string options = buildOptionsFor(c->sizes_);
+    const std::string options = run.buildOptions.empty()
+                                    ? buildOptionsFor(c->sizes_)
+                                    : buildOptionsFor(c->sizes_) + " " + run.buildOptions;
     const cl_int built = clBuildProgram(c->program_, 1, &c->device_.id, options.c_str(), nullptr,
                                         nullptr);
     c->buildMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -

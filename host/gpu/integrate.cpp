@@ -16,6 +16,7 @@ Status Pipeline::integrateVelocities(shared::float4 gravity, float dt) {
         .arg(bodies_.flags)
         .arg(bodies_.poses)
         .arg(bodies_.velocities)
+        .arg(bodies_.atStart)
         .arg(g)
         .arg(dt)
         .run(count, RUBBLE_GROUP_BODIES);

@@ -62,7 +62,7 @@ Status Pipeline::buildJacobiRows(const shared::SolverParams& params, bool warmSt
         .arg(status_)
         .arg(contacts_.contacts)
         .arg(bodies_.poses)
-        .arg(bodies_.velocities)
+        .arg(bodies_.atStart)
         .arg(bodies_.jacobi)
         .arg(contacts_.surfaces)
         .arg(contacts_.bodyCount)

@@ -7,7 +7,8 @@ const std::vector<KernelSignature>& kernelSignatures() {
     static const std::vector<KernelSignature> table = {
         {KernelId::IntegrateVelocities,
          "integrateVelocities",
-         {"count", "momenta", "forces", "masses", "flags", "poses", "velocities", "gravity", "dt"}},
+         {"count", "momenta", "forces", "masses", "flags", "poses", "velocities", "atStart",
+          "gravity", "dt"}},
         {KernelId::AbsorbVelocityChange,
          "absorbVelocityChange",
          {"count", "momenta", "before", "after", "masses", "poses"}},
@@ -52,7 +53,7 @@ const std::vector<KernelSignature>& kernelSignatures() {
         {KernelId::LinkPrevious, "linkPrevious", {"count", "previous", "head", "next"}},
         {KernelId::BuildJacobiRows,
          "buildJacobiRows",
-         {"status", "contacts", "poses", "velocities", "jacobiBodies", "surfaces", "bodyCount",
+         {"status", "contacts", "poses", "approach", "jacobiBodies", "surfaces", "bodyCount",
           "params", "warmStart", "head", "next", "previous", "previousRows", "rows"}},
         {KernelId::SolveJacobiRows,
          "solveJacobiRows",
@@ -81,6 +82,9 @@ const std::vector<KernelSignature>& kernelSignatures() {
         {KernelId::GatherObstacleImpulses,
          "gatherObstacleImpulses",
          {"count", "obstacles", "rows", "bodyStart", "bodyList", "impulses"}},
+        {KernelId::WakeTouched,
+         "wakeTouched",
+         {"status", "contacts", "approach", "flags", "slowFor"}},
         {KernelId::MarkRestless,
          "markRestless",
          {"status", "rows", "velocities", "flags", "restless"}},
@@ -153,6 +157,7 @@ const std::vector<KernelSignature>& kernelSignatures() {
           "manifolds",
           "poses",
           "velocities",
+          "approach",
           "bodies",
           "surfaces",
           "baumgarte",
@@ -209,6 +214,7 @@ const std::vector<KernelSignature>& kernelSignatures() {
         {KernelId::WakeJointGroups,
          "wakeJointGroups",
          {"count", "jointBodies", "groupOf", "flags", "slowFor", "groupVotes", "pass", "status"}},
+        {KernelId::FillWords, "fillWords", {"count", "value", "out"}},
     };
     return table;
 }

@@ -37,6 +37,7 @@ enum class KernelId : unsigned {
     ApplyExplosion,
     PlaceObstacles,
     GatherObstacleImpulses,
+    WakeTouched,
     MarkRestless,
     SleepBodies,
     PrepareJacobiBodies,
@@ -66,6 +67,7 @@ enum class KernelId : unsigned {
     VoteJointGroups,
     HoldJointGroups,
     WakeJointGroups,
+    FillWords,
     Count
 };
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "host/collision/particles.h"
+#include "host/core/limits.h"
 #include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
@@ -125,7 +126,12 @@ Status Pipeline::readContactCount() {
                              "contact overflow: " + std::to_string(st->contacts) +
                                  " contacts do not fit the buffer of " +
                                  std::to_string(st->capacity));
-        const std::uint32_t grown = st->contacts + st->contacts / 2;
+        const std::size_t budget = particleContactBudget(particles_.count);
+        if (st->contacts > budget)
+            return limitError("collideParticles", "particle contacts", st->contacts, budget,
+                              0, "bodies overlap each other in large numbers");
+        const auto grown =
+            std::uint32_t(std::min<std::size_t>(st->contacts + st->contacts / 2, budget));
         std::fprintf(stderr, "rubble: contact overflow (%u contacts, room for %u): buffer grown "
                              "to %u and the stage run again\n",
                      st->contacts, st->capacity, grown);

@@ -40,10 +40,8 @@ Status Pipeline::summarizePairs(const StepParams& params) {
                    .arg(bodies_.jacobi)
                    .run(bodies, RUBBLE_GROUP_BODIES));
     RUBBLE_TRY(fill(c, pgs_.pushed, 0u, std::size_t(bodies) * sizeof(cl_uint), &profile_));
-    const cl_uint zero = 0;
-    RUBBLE_CL_CHECK(clEnqueueFillBuffer(c.queue(), status_.mem(), &zero, sizeof zero,
-                                        RUBBLE_STATUS_PUSHED * sizeof(cl_uint), sizeof zero, 0,
-                                        nullptr, profile_.transfer(Transfer::Fill, sizeof zero)));
+    RUBBLE_TRY(fillRange(c, status_, 0u, RUBBLE_STATUS_PUSHED * sizeof(cl_uint), sizeof(cl_uint),
+                         &profile_));
     const SolverOptions& o = params.solver;
     const cl_uint capacity = sat_.current.capacity, previousCapacity = sat_.previous.capacity;
     const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;
@@ -178,6 +176,7 @@ Status Pipeline::buildPgsRows(const StepParams& params) {
                    .arg(sat_.manifolds)
                    .arg(bodies_.poses)
                    .arg(bodies_.velocities)
+                   .arg(bodies_.atStart)
                    .arg(bodies_.jacobi)
                    .arg(contacts_.surfaces)
                    .arg(baumgarte)

@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "host/core/assert.h"
+#include "host/core/limits.h"
 #include "host/core/math.h"
 
 namespace rubble::gpu {
@@ -95,6 +96,8 @@ Status Pipeline::uploadBodies(BodiesView bodies) {
     const Context& c = *context_;
     RUBBLE_TRY(upload(c, bodies_.poses, bodies.poses));
     RUBBLE_TRY(upload(c, bodies_.velocities, bodies.velocities));
+    // Stages run alone (twin tests) see the host's velocities as those before the forces.
+    RUBBLE_TRY(upload(c, bodies_.atStart, bodies.velocities));
     RUBBLE_TRY(upload(c, bodies_.momenta, bodies.momenta));
     return uploadMassesAndFlags(bodies.masses);
 }
@@ -188,15 +191,13 @@ Status Pipeline::finish() {
 Status Pipeline::beginStep(const StepParams& params, const StepInputs& in) {
     RUBBLE_ASSERT(!stepPending_);
     const float dt = params.dt;
-    const bool symplectic = params.symplectic();
     profile_.discard();
     profile_.setStage(DeviceStage::ApplyForces);
     RUBBLE_TRY(resetStatus());
     if (obstacles_.count > 0) RUBBLE_TRY(placeObstacles(in.obstacles));
     for (const EventDesc& e : in.explosions) RUBBLE_TRY(applyExplosion(e));
     profile_.setStage(DeviceStage::IntegrateVelocities);
-    // Explicit Euler moves positions with the velocities the step started with.
-    if (!symplectic) RUBBLE_TRY(copyVelocities(bodies_.atStart));
+    // The velocities before the forces (atStart): restitution's approach, explicit Euler's motion.
     RUBBLE_TRY(integrateVelocities(params.gravity, dt));
     gatherImpulses_ = in.gatherObstacleImpulses && obstacles_.count > 0;
     if (sat_.enabled) {
@@ -272,6 +273,9 @@ Status Pipeline::enqueueFromCollision(const StepParams& params) {
     RUBBLE_TRY(collideParticles());
     if (dense) RUBBLE_TRY(readContactCount());
     if (deterministic_) RUBBLE_TRY(sortContacts());
+    // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
+    profile_.setStage(DeviceStage::Sleep);
+    RUBBLE_TRY(wakeTouched());
     profile_.setStage(DeviceStage::BuildContactRows);
     RUBBLE_TRY(buildJacobiRows(params.rows, solver.warmStart));
     profile_.setStage(DeviceStage::Solve);
@@ -332,7 +336,14 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
                                  " contacts do not fit the buffer of " +
                                  std::to_string(st.capacity));
         }
-        const std::uint32_t grown = st.contacts + st.contacts / 2;
+        if (st.contacts > particleContactBudget(particles_.count)) {
+            profile_.discard();
+            return limitError("collideParticles", "particle contacts", st.contacts,
+                              particleContactBudget(particles_.count), params.step + 1,
+                              "bodies overlap each other in large numbers");
+        }
+        const std::uint32_t grown = std::uint32_t(std::min<std::size_t>(
+            st.contacts + st.contacts / 2, particleContactBudget(particles_.count)));
         std::fprintf(stderr, "rubble: contact overflow (%u contacts, room for %u): buffer grown "
                              "to %u and the step's contact stages run again\n",
                      st.contacts, st.capacity, grown);

@@ -40,7 +40,7 @@ struct BodyBuffers {
     Buffer flags;    ///< RUBBLE_BODY_* per body: the device's own (sleep, kinematic)
     Buffer slowFor;  ///< per body: how long it has been slow, s (sleeping)
     Buffer restless; ///< per body: RUBBLE_RESTLESS_* bits of this step's contacts
-    Buffer atStart;  ///< velocities at the start of the step (explicit Euler)
+    Buffer atStart;  ///< velocities before the step's forces (restitution, explicit Euler)
     Buffer before;   ///< velocities before the solve
     Buffer jacobi;   ///< JacobiBody per body, this step's
 };
@@ -269,6 +269,9 @@ class Pipeline {
     Status applyExplosion(const EventDesc& e);
     /// The obstacles' states for this step (stage applyForces).
     Status placeObstacles(std::span<const shared::ObstacleState> obstacles);
+    /// Stage wakeTouched: the sleeping bodies that this step's contacts touch with a waking body
+    /// wake before the rows (kernels/sleep.cl).
+    Status wakeTouched();
     /// Stage sleepBodies: restless marks from the rows, then each body's sleep.
     Status sleepBodies(float dt);
     /// The summed impulse of the rows on each obstacle.

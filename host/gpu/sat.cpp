@@ -118,11 +118,8 @@ Status Pipeline::narrowPhase(float dt) {
     const Context& c = *context_;
     SatBuffers& s = sat_;
     // The contact count and the largest depth are this stage's.
-    const cl_uint zero = 0;
     for (const cl_uint slot : {RUBBLE_STATUS_CONTACTS, RUBBLE_STATUS_PENETRATION})
-        RUBBLE_CL_CHECK(clEnqueueFillBuffer(c.queue(), status_.mem(), &zero, sizeof zero,
-                                            slot * sizeof(cl_uint), sizeof zero, 0, nullptr,
-                                            profile_.transfer(Transfer::Fill, sizeof zero)));
+        RUBBLE_TRY(fillRange(c, status_, 0u, slot * sizeof(cl_uint), sizeof(cl_uint), &profile_));
     const cl_uint capacity = s.current.capacity, previousCapacity = s.previous.capacity;
     const cl_float step = dt;
     const std::size_t group = c.workSizes().pairGroup;

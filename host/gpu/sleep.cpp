@@ -1,11 +1,22 @@
-// host/gpu/sleep.cpp: dispatch of the device's stage sleepBodies (kernels/sleep.cl): restless
-// marks from this step's rows, then each body's sleep. The CPU twin is sleepBodies in
+// host/gpu/sleep.cpp: dispatch of the device's stages wakeTouched (before the rows: sleeping
+// bodies touched by a waking one wake) and sleepBodies (kernels/sleep.cl): restless marks from
+// this step's rows, then each body's sleep. The CPU twins, of the same names, are in
 // host/dynamics/sleep.cpp. Argument order is the kernel signature's.
 #include <algorithm>
 
 #include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
+
+Status Pipeline::wakeTouched() {
+    return Dispatch(*context_, KernelId::WakeTouched, &profile_)
+        .arg(status_)
+        .arg(contacts_.contacts)
+        .arg(bodies_.atStart)
+        .arg(bodies_.flags)
+        .arg(bodies_.slowFor)
+        .run(strideItems(), RUBBLE_GROUP_CONTACTS);
+}
 
 Status Pipeline::sleepBodies(float dt) {
     // Restless marks from the contacts: the Jacobi rows, or the SAT method's pairs with points.

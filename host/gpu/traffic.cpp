@@ -39,9 +39,10 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
     // SAT: a box, the broad-phase flags and a pair record.
     constexpr std::uint64_t kBox = sizeof(shared::BodyBox), kPair = sizeof(shared::BodyPairRecord);
     switch (id) {
-    case KernelId::IntegrateVelocities: // flags, forces, masses, momenta r/w, pose, velocity
+    case KernelId::IntegrateVelocities: // flags, forces, masses, momenta r/w, pose, velocity r/w,
+                                        // the velocity before the forces
         return n.bodies * (kWord + sizeof(BodyForce) + sizeof(BodyMass) + 2 * sizeof(BodyMomentum) +
-                           sizeof(BodyPose) + sizeof(BodyVelocity));
+                           sizeof(BodyPose) + 3 * sizeof(BodyVelocity));
     case KernelId::AbsorbVelocityChange: // momenta r/w, before, after, masses, pose
         return n.bodies * (2 * sizeof(BodyMomentum) + 2 * sizeof(BodyVelocity) + sizeof(BodyMass) +
                            sizeof(BodyPose));
@@ -86,6 +87,8 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
     case KernelId::GatherJacobiRows: // entry, row, arm written; per body as GatherJacobi
         return entries * (kWord + sizeof(ContactRow) + kVec) +
                n.bodies * (2 * kWord + 2 * sizeof(BodyVelocity) + sizeof(JacobiBody) + kWord);
+    case KernelId::WakeTouched: // a and b of each contact; their flags and approach velocities
+        return n.contacts * (2 * kWord + 2 * kWord + 2 * sizeof(BodyVelocity));
     case KernelId::MarkRestless: // a and b of each row; flags, velocities, restless marks
         return n.contacts * 2 * kWord + n.bodies * (2 * kWord + sizeof(BodyVelocity));
     case KernelId::SleepBodies: // flags, timers, marks; velocities and momenta of sleepers

@@ -2,6 +2,7 @@
 #include "host/io/metrics.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <nlohmann/json.hpp>
 
@@ -57,6 +58,39 @@ Invariants measureInvariants(const World& world) {
     return inv;
 }
 
+TimeHistogram::TimeHistogram()
+    : bins_(std::size_t(std::ceil(std::log(kHighest / kLowest) / std::log(kRatio))), 0u) {}
+
+void TimeHistogram::add(double ms) {
+    ++count_;
+    if (!(ms >= kLowest)) {
+        ++zeros_;
+        return;
+    }
+    const auto bin = std::size_t(std::log(ms / kLowest) / std::log(kRatio));
+    ++bins_[std::min(bin, bins_.size() - 1)];
+}
+
+// The time of the rank-th smallest sample (0-based): the middle of the bin that holds it.
+double TimeHistogram::value(std::int64_t rank) const {
+    if (rank < zeros_) return 0.0;
+    std::int64_t below = zeros_;
+    for (std::size_t k = 0; k < bins_.size(); ++k) {
+        below += bins_[k];
+        if (rank < below) return kLowest * std::pow(kRatio, double(k) + 0.5);
+    }
+    return kHighest;
+}
+
+double TimeHistogram::percentile(double q) const {
+    if (count_ == 0) return 0.0;
+    const double pos = q * double(count_ - 1);
+    const auto lo = std::int64_t(pos);
+    const std::int64_t hi = std::min(lo + 1, count_ - 1);
+    const double low = value(lo), high = hi == lo ? low : value(hi);
+    return low + (high - low) * (pos - double(lo));
+}
+
 void MetricsRecorder::start(const World& world) {
     scene_ = world.sceneName();
     bodies_ = world.bodyCount();
@@ -65,12 +99,14 @@ void MetricsRecorder::start(const World& world) {
 
 void MetricsRecorder::afterStep(const World& world) {
     const StepStats& s = world.lastStep();
-    stepMs_.push_back(s.totalMs);
+    stepMs_.add(s.totalMs);
     for (const StageField<StepStats>& f : kCpuStages) totals_.*f.ms += s.*f.ms;
-    deviceMs_.push_back(s.deviceMs);
-    deviceWaitMs_.push_back(s.deviceWaitMs);
-    deviceHiddenMs_.push_back(s.deviceHiddenMs);
-    hostMs_.push_back(s.hostMs);
+    deviceMs_.add(s.deviceMs);
+    deviceWaitMs_.add(s.deviceWaitMs);
+    deviceHiddenMs_.add(s.deviceHiddenMs);
+    hostMs_.add(s.hostMs);
+    deviceBusyMs_ += s.deviceMs;
+    deviceHiddenTotalMs_ += s.deviceHiddenMs;
     for (const StageField<DeviceStageMs>& f : kDeviceStages)
         deviceStages_.*f.ms += s.deviceStages.*f.ms;
     wallS_ += s.totalMs / 1000.0;
@@ -81,13 +117,16 @@ void MetricsRecorder::afterStep(const World& world) {
     last_ = measureInvariants(world);
 }
 
-double percentile(std::vector<double> v, double q) {
+double percentile(std::vector<double>& v, double q) {
     if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
     const double pos = q * double(v.size() - 1);
     const std::size_t lo = std::size_t(pos);
     const std::size_t hi = std::min(lo + 1, v.size() - 1);
-    return v[lo] + (v[hi] - v[lo]) * (pos - double(lo));
+    // The lo-th smallest, then the smallest of those above it: the hi-th.
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(lo), v.end());
+    const double low = v[lo];
+    const double high = hi == lo ? low : *std::min_element(v.begin() + std::ptrdiff_t(hi), v.end());
+    return low + (high - low) * (pos - double(lo));
 }
 
 namespace {
@@ -107,17 +146,13 @@ nlohmann::ordered_json qualityJson(const QualityReport& q) {
     return j;
 }
 
-double MetricsRecorder::medianMs() const {
-    return percentile(stepMs_, 0.5);
-}
-double MetricsRecorder::p90Ms() const {
-    return percentile(stepMs_, 0.9);
-}
+double MetricsRecorder::medianMs() const { return stepMs_.percentile(0.5); }
+double MetricsRecorder::p90Ms() const { return stepMs_.percentile(0.9); }
 
 std::string MetricsRecorder::toJson(const World& world) const {
     nlohmann::ordered_json j;
     j["scene"] = scene_;
-    j["steps"] = stepMs_.size();
+    j["steps"] = stepMs_.count();
     j["bodies"] = bodies_;
     j["wall_s"] = wallS_;
     j["ms_per_step"] = {{"median", medianMs()}, {"p90", p90Ms()}};
@@ -135,15 +170,13 @@ std::string MetricsRecorder::toJson(const World& world) const {
     j["device"] = world.deviceName();
     if (world.options().backend == Backend::OpenCl) {
         // Medians per step of the device's part, and where its time went over the run.
-        double busy = 0, hidden = 0;
-        for (double v : deviceMs_) busy += v;
-        for (double v : deviceHiddenMs_) hidden += v;
-        j["host_ms_per_step"] = {{"median", percentile(hostMs_, 0.5)},
-                                 {"p90", percentile(hostMs_, 0.9)}};
-        j["device_ms_per_step"] = {{"median", percentile(deviceMs_, 0.5)},
-                                   {"p90", percentile(deviceMs_, 0.9)}};
-        j["device_wait_ms_per_step"] = {{"median", percentile(deviceWaitMs_, 0.5)}};
-        j["device_hidden_ms_per_step"] = {{"median", percentile(deviceHiddenMs_, 0.5)}};
+        const double busy = deviceBusyMs_, hidden = deviceHiddenTotalMs_;
+        j["host_ms_per_step"] = {{"median", hostMs_.percentile(0.5)},
+                                 {"p90", hostMs_.percentile(0.9)}};
+        j["device_ms_per_step"] = {{"median", deviceMs_.percentile(0.5)},
+                                   {"p90", deviceMs_.percentile(0.9)}};
+        j["device_wait_ms_per_step"] = {{"median", deviceWaitMs_.percentile(0.5)}};
+        j["device_hidden_ms_per_step"] = {{"median", deviceHiddenMs_.percentile(0.5)}};
         j["device_hidden_share"] = busy > 0 ? hidden / busy : 0.0;
         j["device_stages_ms"] = stagesJson(deviceStages_, kDeviceStages);
         nlohmann::ordered_json kernels = nlohmann::ordered_json::array();

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <filesystem>
 
+#include <unistd.h>
+
 namespace rubble {
 namespace {
 
@@ -41,16 +43,32 @@ Error ioError(const std::string& path, const std::string& what) {
     return makeError(ErrorKind::Io, path, what + ": " + std::strerror(errno));
 }
 
+// Creates `path.<pid>.partial` (then .<pid>-1.partial, ...) that no other file holds: two runs
+// writing the same output each write their own.
+Result<std::pair<std::FILE*, std::string>> createPartial(const std::string& path) {
+    const std::string stem = path + "." + std::to_string(::getpid());
+    for (int attempt = 0; attempt < 100; ++attempt) {
+        std::string partial = stem;
+        if (attempt > 0) partial.append("-").append(std::to_string(attempt));
+        partial.append(".partial");
+        if (std::FILE* f = std::fopen(partial.c_str(), "wbx")) return std::pair{f, partial};
+        if (errno != EEXIST) return ioError(partial, "cannot open for writing");
+    }
+    return ioError(stem + ".partial", "cannot find a free name for the temporary file");
+}
+
 } // namespace
 
-TrajectoryWriter::TrajectoryWriter(std::string path, TrajectoryFormat format, std::FILE* file)
-    : path_(std::move(path)), format_(format), file_(file), buffer_(new char[kFileBuffer]) {
+TrajectoryWriter::TrajectoryWriter(std::string path, std::string partial,
+                                   TrajectoryFormat format, std::FILE* file)
+    : path_(std::move(path)), partial_(std::move(partial)), format_(format), file_(file),
+      buffer_(new char[kFileBuffer]) {
     std::setvbuf(file_, buffer_.get(), _IOFBF, kFileBuffer);
 }
 
 TrajectoryWriter::TrajectoryWriter(TrajectoryWriter&& o) noexcept
-    : path_(std::move(o.path_)), format_(o.format_), file_(o.file_),
-      buffer_(std::move(o.buffer_)), rows_(std::move(o.rows_)) {
+    : path_(std::move(o.path_)), partial_(std::move(o.partial_)), format_(o.format_),
+      file_(o.file_), buffer_(std::move(o.buffer_)), rows_(std::move(o.rows_)) {
     o.file_ = nullptr;
 }
 
@@ -58,6 +76,7 @@ TrajectoryWriter& TrajectoryWriter::operator=(TrajectoryWriter&& o) noexcept {
     if (this != &o) {
         if (file_) std::fclose(file_);
         path_ = std::move(o.path_);
+        partial_ = std::move(o.partial_);
         format_ = o.format_;
         file_ = o.file_;
         buffer_ = std::move(o.buffer_);
@@ -81,10 +100,10 @@ Result<TrajectoryWriter> TrajectoryWriter::open(const std::string& path) {
     else
         return makeError(ErrorKind::BadInput, "--out " + path,
                          "the trajectory file must end in .csv or .jsonl");
-    const std::string partial = path + ".partial";
-    std::FILE* f = std::fopen(partial.c_str(), "wb");
-    if (!f) return ioError(partial, "cannot open for writing");
-    TrajectoryWriter w(path, format, f);
+    Result<std::pair<std::FILE*, std::string>> partial = createPartial(path);
+    RUBBLE_TRY(partial);
+    std::FILE* f = partial->first;
+    TrajectoryWriter w(path, partial->second, format, f);
     if (format == TrajectoryFormat::Csv)
         std::fputs("step,time,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n", f);
     return w;
@@ -160,13 +179,44 @@ Status TrajectoryWriter::finish() {
 }
 
 Status writeFileAtomically(const std::string& path, const std::string& text) {
-    const std::string partial = path + ".partial";
-    std::FILE* f = std::fopen(partial.c_str(), "wb");
-    if (!f) return ioError(partial, "cannot open for writing");
+    Result<AtomicFile> file = AtomicFile::create(path);
+    RUBBLE_TRY(file);
+    return file->commit(text);
+}
+
+Result<AtomicFile> AtomicFile::create(const std::string& path) {
+    Result<std::pair<std::FILE*, std::string>> partial = createPartial(path);
+    RUBBLE_TRY(partial);
+    AtomicFile a;
+    a.path_ = path;
+    a.partial_ = partial->second;
+    a.file_ = partial->first;
+    return a;
+}
+
+AtomicFile::AtomicFile(AtomicFile&& o) noexcept
+    : path_(std::move(o.path_)), partial_(std::move(o.partial_)), file_(o.file_) {
+    o.file_ = nullptr;
+}
+
+AtomicFile::~AtomicFile() {
+    if (!file_) return;
+    // Never committed: no half-written file stays behind.
+    std::fclose(file_);
+    std::remove(partial_.c_str());
+}
+
+Status AtomicFile::commit(const std::string& text) {
+    std::FILE* f = file_;
+    file_ = nullptr;
     const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    if (std::fclose(f) != 0 || !written) return ioError(partial, "write failed");
-    if (std::rename(partial.c_str(), path.c_str()) != 0)
-        return ioError(path, "cannot rename " + partial + " to it");
+    if (std::fclose(f) != 0 || !written) {
+        const Error e = ioError(partial_, "write failed");
+        std::remove(partial_.c_str());
+        return e;
+    }
+    if (std::rename(partial_.c_str(), path_.c_str()) != 0)
+        return ioError(path_, "cannot rename " + partial_ + " to it");
     return {};
 }
 

@@ -28,12 +28,14 @@ struct TrajectoryRow {
     glm::vec3 angularVelocity{0.0f};
 };
 
-/// Writes one row per body per written step. The file is `path.partial` until finish(); a run
-/// that stops early leaves the partial file, never a truncated file under the final name.
+/// Writes one row per body per written step. The file is `path.<pid>.partial` (a name no other
+/// file has) until finish(); a run that stops early leaves the partial file, never a truncated
+/// file under the final name.
 class TrajectoryWriter {
   public:
-    /// Opens `path.partial` for writing. The format follows the extension (.csv or .jsonl);
-    /// anything else is BadInput at `--out`.
+    /// Creates `path.<pid>.partial` for writing (so that the folder is known to be writable
+    /// before any step). The format follows the extension (.csv or .jsonl); anything else is
+    /// BadInput at `--out`; a folder that is missing or not writable is Io.
     static Result<TrajectoryWriter> open(const std::string& path);
 
     TrajectoryWriter(TrajectoryWriter&&) noexcept;
@@ -49,11 +51,12 @@ class TrajectoryWriter {
     Status finish();
 
     const std::string& path() const { return path_; }
-    std::string partialPath() const { return path_ + ".partial"; }
+    const std::string& partialPath() const { return partial_; }
 
   private:
-    TrajectoryWriter(std::string path, TrajectoryFormat format, std::FILE* file);
-    std::string path_;
+    TrajectoryWriter(std::string path, std::string partial, TrajectoryFormat format,
+                     std::FILE* file);
+    std::string path_, partial_;
     TrajectoryFormat format_;
     std::FILE* file_;
     std::unique_ptr<char[]> buffer_;
@@ -62,5 +65,25 @@ class TrajectoryWriter {
 
 /// Writes `text` to `path` through a temporary file renamed into place.
 Status writeFileAtomically(const std::string& path, const std::string& text);
+
+/// A file written whole at the end, created at the start: `path.<pid>.partial` exists from
+/// create() (so a missing or read-only folder is known before the work that fills it) and is
+/// renamed to `path` by commit(); dropped uncommitted, it is removed.
+class AtomicFile {
+  public:
+    /// Errors: Io naming the temporary file.
+    static Result<AtomicFile> create(const std::string& path);
+    AtomicFile(AtomicFile&&) noexcept;
+    AtomicFile& operator=(AtomicFile&&) = delete;
+    ~AtomicFile();
+    /// Writes `text`, closes and renames. Errors: Io.
+    Status commit(const std::string& text);
+    const std::string& path() const { return path_; }
+
+  private:
+    AtomicFile() = default;
+    std::string path_, partial_;
+    std::FILE* file_ = nullptr;
+};
 
 } // namespace rubble

@@ -2,6 +2,8 @@
 #include "host/scene/json_reader.h"
 
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <set>
 #include <vector>
 
@@ -32,16 +34,22 @@ std::pair<int, int> lineColumn(std::string_view text, std::size_t byte) {
     return {line, column};
 }
 
-// Tracks the JSON path while the parser walks the text, to find keys given twice.
+// Thrown by the parser's callback to stop at a value nested deeper than kMaxJsonDepth, before
+// anything that walks the value recursively (the library's dump, its comparisons) meets it.
+struct NestedTooDeep {};
+
+// Tracks the JSON path while the parser walks the text, to find keys given twice, and stops the
+// parse at a value nested deeper than kMaxJsonDepth.
 class DuplicateKeyFinder {
   public:
     bool onEvent(int depth, Json::parse_event_t event, const Json& parsed) {
-        (void)depth;
         switch (event) {
         case Json::parse_event_t::object_start:
+            if (depth >= int(kMaxJsonDepth)) throw NestedTooDeep{};
             frames_.push_back(Frame{false, 0, {}, {}});
             break;
         case Json::parse_event_t::array_start:
+            if (depth >= int(kMaxJsonDepth)) throw NestedTooDeep{};
             frames_.push_back(Frame{true, 0, {}, {}});
             break;
         case Json::parse_event_t::key: {
@@ -63,10 +71,16 @@ class DuplicateKeyFinder {
     }
     const std::string& duplicatePath() const { return duplicatePath_; }
 
-    // The JSON path the parser is at: the field whose value it is reading.
-    std::string path() const {
+    // The JSON path the parser is at: the field whose value it is reading; at most `frames`
+    // levels of it, then "...".
+    std::string path(std::size_t frames = kMaxJsonDepth) const {
         std::string p;
-        for (const Frame& f : frames_) {
+        for (std::size_t k = 0; k < frames_.size(); ++k) {
+            const Frame& f = frames_[k];
+            if (k == frames) {
+                p += "...";
+                break;
+            }
             if (f.isArray) {
                 p += indexPath(f.index);
             } else if (!f.key.empty()) {
@@ -93,6 +107,12 @@ class DuplicateKeyFinder {
 
 } // namespace
 
+std::string lengthText(double metres) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", metres);
+    return buf;
+}
+
 std::string indexPath(std::size_t i) {
     std::string s(1, '[');
     s += std::to_string(i);
@@ -100,9 +120,47 @@ std::string indexPath(std::size_t i) {
     return s;
 }
 
+namespace {
+
+// Appends the JSON text of a value until `out` holds `limit` characters: each level of nesting
+// writes a bracket first, so the recursion is at most `limit` deep, and a large array costs no
+// more than its first elements.
+void appendBrief(const Json& value, std::string& out, std::size_t limit) {
+    if (out.size() >= limit) return;
+    if (value.is_array()) {
+        out += '[';
+        bool first = true;
+        for (const Json& element : value) {
+            if (out.size() >= limit) return;
+            if (!first) out += ',';
+            first = false;
+            appendBrief(element, out, limit);
+        }
+        out += ']';
+    } else if (value.is_object()) {
+        out += '{';
+        bool first = true;
+        for (const auto& [key, element] : value.items()) {
+            if (out.size() >= limit) return;
+            if (!first) out += ',';
+            first = false;
+            out += Json(key).dump();
+            out += ':';
+            appendBrief(element, out, limit);
+        }
+        out += '}';
+    } else {
+        out += value.dump();
+    }
+}
+
+} // namespace
+
 std::string brief(const Json& value) {
-    std::string s = value.dump();
-    if (s.size() > 40) s = s.substr(0, 37) + "...";
+    constexpr std::size_t kShown = 40;
+    std::string s;
+    appendBrief(value, s, kShown + 1);
+    if (s.size() > kShown) s = s.substr(0, kShown - 3) + "...";
     return s;
 }
 
@@ -116,6 +174,10 @@ Result<Json> parseJsonText(std::string_view text, const std::string& file) {
                 return finder.onEvent(depth, event, parsed);
             },
             true, false);
+    } catch (const NestedTooDeep&) {
+        return makeError(ErrorKind::BadInput, file + ": " + finder.path(4),
+                         "the JSON is nested more than " + std::to_string(kMaxJsonDepth) +
+                             " levels deep (a scene needs at most 6)");
     } catch (const Json::parse_error& e) {
         const auto [line, column] = lineColumn(text, e.byte > 0 ? e.byte - 1 : 0);
         std::string what = e.what();
@@ -151,6 +213,10 @@ Status ObjectReader::checkIsObject() const {
 }
 
 Status ObjectReader::checkKeys(std::initializer_list<std::string_view> allowed) const {
+    return checkKeys(std::span<const std::string_view>(allowed.begin(), allowed.size()));
+}
+
+Status ObjectReader::checkKeys(std::span<const std::string_view> allowed) const {
     for (const auto& [key, value] : json_.items()) {
         bool known = false;
         for (std::string_view a : allowed) known = known || a == key;
@@ -190,19 +256,31 @@ Result<double> numberFromJson(const Json& v, const std::string& where, Range ran
     const double out = v.get<double>();
     if (!std::isfinite(out)) return fail("expected a finite number, got " + brief(v));
     if (!std::isfinite(float(out))) return fail("is too large for single precision: " + brief(v));
+    // The range holds for the float the value becomes: 1e-300 is not greater than 0.
+    const double f = double(float(out));
+    const std::string got = ", got " + brief(v) + (f == 0.0 && out != 0.0 ? " (0 as a float)" : "");
     switch (range) {
     case Range::Finite:
         break;
     case Range::Positive:
-        if (!(out > 0.0)) return fail("must be greater than 0, got " + brief(v));
+        if (!(f > 0.0)) return fail("must be greater than 0" + got);
         break;
     case Range::NonNegative:
-        if (!(out >= 0.0)) return fail("must be 0 or more, got " + brief(v));
+        if (!(f >= 0.0)) return fail("must be 0 or more" + got);
         break;
     case Range::UnitInterval:
-        if (!(out >= 0.0 && out <= 1.0)) return fail("must be between 0 and 1, got " + brief(v));
+        if (!(f >= 0.0 && f <= 1.0)) return fail("must be between 0 and 1" + got);
+        break;
+    case Range::Length:
+        if (!(f >= kMinLength && f <= kMaxLength))
+            return fail("must be between " + lengthText(kMinLength) + " and " +
+                        lengthText(kMaxLength) + " m" + got);
         break;
     }
+    // Within its range or not, a number that is not 0 must not become 0 or lose its digits.
+    if (out != 0.0 && !std::isnormal(float(out)))
+        return fail("is too small for single precision (it would read as " + lengthText(f) +
+                    "): " + brief(v));
     return out;
 }
 
@@ -295,6 +373,59 @@ Status ObjectReader::readDirection(std::string_view key, glm::vec3& out) const {
     if (!(len > 1e-6f)) return fail(key, "a direction must not have zero length, got " + brief(at(key)));
     out = d / len;
     return {};
+}
+
+namespace {
+
+// A JSON value as a value of the option's kind; its range is checked by the table.
+Result<OptionValue> optionValueFromJson(OptionKind kind, const Json& v, const std::string& where) {
+    auto fail = [&](std::string expected) {
+        return makeError(ErrorKind::BadInput, where,
+                         "expected " + expected + ", got " + typeName(v) + " " + brief(v));
+    };
+    switch (kind) {
+    case OptionKind::Number:
+        if (!v.is_number()) return fail("a number");
+        return OptionValue(v.get<double>());
+    case OptionKind::WholeNumber:
+        if (!v.is_number_integer()) return fail("an integer");
+        // Above the int64 range: as large as it gets, for the range check to refuse.
+        if (v.is_number_unsigned() &&
+            v.get<std::uint64_t>() > std::uint64_t(std::numeric_limits<std::int64_t>::max()))
+            return OptionValue(std::numeric_limits<std::int64_t>::max());
+        return OptionValue(v.get<std::int64_t>());
+    case OptionKind::Bool:
+        if (!v.is_boolean()) return fail("true or false");
+        return OptionValue(v.get<bool>());
+    case OptionKind::Choice:
+    case OptionKind::Text:
+        if (!v.is_string()) return fail("a string");
+        return OptionValue(v.get<std::string>());
+    case OptionKind::Vec3: {
+        if (!v.is_array() || v.size() != 3)
+            return makeError(ErrorKind::BadInput, where,
+                             "expected an array of 3 numbers, got " + brief(v));
+        glm::dvec3 r(0.0);
+        for (std::size_t i = 0; i < 3; ++i) {
+            if (!v[i].is_number())
+                return makeError(ErrorKind::BadInput, where + indexPath(i),
+                                 "expected a number, got " + typeName(v[i]) + " " + brief(v[i]));
+            r[int(i)] = v[i].get<double>();
+        }
+        return OptionValue(r);
+    }
+    }
+    return makeError(ErrorKind::Internal, where, "unknown option kind");
+}
+
+} // namespace
+
+Status ObjectReader::readOption(std::string_view key, const Option& option,
+                                OptionTarget target) const {
+    if (!has(key)) return {};
+    Result<OptionValue> v = optionValueFromJson(option.kind, at(key), where(key));
+    RUBBLE_TRY(v);
+    return assignOption(option, *v, where(key), target);
 }
 
 } // namespace rubble

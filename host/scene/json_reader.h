@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -11,22 +12,29 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
+#include "host/core/option_table.h"
+#include "host/core/limits.h"
 #include "rubble/error.h"
+#include "rubble/scene.h"
 
 namespace rubble {
 
 using Json = nlohmann::json;
 
 /// Parses JSON text. Malformed text is BadInput at `file` with the line and column; a key that
-/// appears twice in one object is BadInput at its path (the JSON library would keep only one).
+/// appears twice in one object is BadInput at its path (the JSON library would keep only one);
+/// arrays and objects nested more than kMaxJsonDepth deep are BadInput at the path where the
+/// nesting passes the limit.
 Result<Json> parseJsonText(std::string_view text, const std::string& file);
 
-/// What a number field may hold.
+/// What a number field may hold. Every range also refuses a number that is not zero but too
+/// small for single precision (it would read as 0 or lose its digits: below 1.2e-38).
 enum class Range {
-    Finite,      ///< any finite number
-    Positive,    ///< > 0
-    NonNegative, ///< >= 0
-    UnitInterval ///< 0..1
+    Finite,       ///< any finite number
+    Positive,     ///< > 0
+    NonNegative,  ///< >= 0
+    UnitInterval, ///< 0..1
+    Length,       ///< kMinLength..kMaxLength, m
 };
 
 /// One JSON object of a scene, with its path; reads fields of it with checks.
@@ -38,6 +46,7 @@ class ObjectReader {
     Status checkIsObject() const;
     /// BadInput for the first key not in `allowed` (unknown keys are usually typos).
     Status checkKeys(std::initializer_list<std::string_view> allowed) const;
+    Status checkKeys(std::span<const std::string_view> allowed) const;
 
     bool has(std::string_view key) const;
     const Json& at(std::string_view key) const;
@@ -64,6 +73,9 @@ class ObjectReader {
     Status readQuaternion(std::string_view key, glm::quat& out) const;
     /// A direction; normalised; BadInput when its length is near zero.
     Status readDirection(std::string_view key, glm::vec3& out) const;
+    /// An option of the table (host/core/option_table.h), checked and stored by it; BadInput
+    /// for a value of the wrong JSON type, or out of the option's range.
+    Status readOption(std::string_view key, const Option& option, OptionTarget target) const;
 
     /// BadInput at `key` with the given message.
     Error fail(std::string_view key, std::string message) const;
@@ -78,10 +90,13 @@ class ObjectReader {
 Result<glm::vec3> vec3FromJson(const Json& value, const std::string& where,
                                Range range = Range::Finite);
 
+/// A length as a message writes it (%g: 0.0001, 100000).
+std::string lengthText(double metres);
+
 /// "[i]", the JSON path suffix of an array element.
 std::string indexPath(std::size_t i);
 
-/// The JSON value, shortened for a message.
+/// The JSON value, shortened to 40 characters for a message; only what is shown is visited.
 std::string brief(const Json& value);
 
 } // namespace rubble

@@ -1,5 +1,6 @@
 // host/scene/scene_loader.cpp: scene files (SCENE_FORMAT.md, version 1) into a checked Scene.
 // Every error names the file and the JSON path of the field; nothing falls back silently.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -21,23 +22,11 @@ std::optional<std::uint32_t> Scene::findBody(std::string_view bodyName) const {
 
 namespace {
 
-constexpr std::int64_t kMaxSteps = 1'000'000'000;
-constexpr std::int64_t kMaxIterations = 100'000;
 constexpr std::int64_t kMaxGridCount = 1'000'000;
 constexpr float kMinQuatNorm = 1e-6f;
-
-// Reads an enum field spelled as in the scene format.
-template <class E, class Parse>
-Status readEnum(const ObjectReader& r, std::string_view key, E& out, Parse parse,
-                std::string_view choices) {
-    if (!r.has(key)) return {};
-    std::string s;
-    RUBBLE_TRY(r.read(key, s));
-    const std::optional<E> v = parse(s);
-    if (!v) return r.fail(key, "unknown value \"" + s + "\" (expected " + std::string(choices) + ")");
-    out = *v;
-    return {};
-}
+// A ragdoll from 18 cm to 180 m tall: its thinnest part stays within kMinLength..kMaxLength.
+constexpr double kMinRagdollScale = 0.1;
+constexpr double kMaxRagdollScale = 100.0;
 
 class SceneLoader {
   public:
@@ -78,48 +67,26 @@ class SceneLoader {
         return top.read("name", scene_.name);
     }
 
-    Status readSimulation(const ObjectReader& r) {
-        SimulationOptions& sim = scene_.simulation;
+    // Every key of `simulation` is an option of the table (host/core/option_table.h); a group
+    // (`collision`, `solver`) is an object holding the options whose key starts with it.
+    Status readSimulation(const ObjectReader& r, const std::string& group = "") {
         RUBBLE_TRY(r.checkIsObject());
-        RUBBLE_TRY(r.checkKeys({"dt", "steps", "gravity", "integrator", "backend", "collision",
-                                "solver", "coupling"}));
-        RUBBLE_TRY(r.read("dt", sim.dt, Range::Positive));
-        std::int64_t steps = sim.steps;
-        RUBBLE_TRY(r.read("steps", steps, 0, kMaxSteps));
-        sim.steps = int(steps);
-        RUBBLE_TRY(r.read("gravity", sim.gravity));
-        RUBBLE_TRY(readEnum(r, "integrator", sim.integrator, parseIntegrator, "symplectic or explicit"));
-        RUBBLE_TRY(readEnum(r, "backend", sim.backend, parseBackend, "cpu or opencl"));
-        RUBBLE_TRY(readEnum(r, "coupling", sim.coupling, parseCoupling, "one-way or two-way"));
-        if (r.has("collision")) {
-            ObjectReader c(r.at("collision"), r.pathOf("collision"), file_);
-            RUBBLE_TRY(c.checkIsObject());
-            RUBBLE_TRY(c.checkKeys({"method", "particle_spacing"}));
-            CollisionMethod method = CollisionMethod::Sat;
-            if (c.has("method")) {
-                RUBBLE_TRY(readEnum(c, "method", method, parseCollisionMethod, "sat or particles"));
-                sim.collision.method = method;
-            }
-            RUBBLE_TRY(c.read("particle_spacing", sim.collision.particleSpacing, Range::Positive));
+        std::vector<std::string_view> keys; // this object's keys, in the table's order
+        for (const Option& o : optionTable()) {
+            if (o.scope != OptionScope::Simulation || !o.key.starts_with(group)) continue;
+            const std::string_view rest = o.key.substr(group.size());
+            const std::string_view key = rest.substr(0, rest.find('.'));
+            if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
         }
-        if (r.has("solver")) {
-            ObjectReader s(r.at("solver"), r.pathOf("solver"), file_);
-            SolverOptions& so = sim.solver;
-            RUBBLE_TRY(s.checkIsObject());
-            RUBBLE_TRY(s.checkKeys({"type", "iterations", "baumgarte", "slop", "relaxation",
-                                    "warm_start"}));
-            RUBBLE_TRY(readEnum(s, "type", so.type, parseSolverType,
-                                "pgs, jacobi, lcp-jacobi or lemke"));
-            std::int64_t iterations = so.iterations;
-            RUBBLE_TRY(s.read("iterations", iterations, 1, kMaxIterations));
-            so.iterations = int(iterations);
-            RUBBLE_TRY(s.read("baumgarte", so.baumgarte, Range::UnitInterval));
-            RUBBLE_TRY(s.read("slop", so.slop, Range::NonNegative));
-            RUBBLE_TRY(s.read("relaxation", so.relaxation, Range::Positive));
-            if (so.relaxation >= 2.0f)
-                return s.fail("relaxation", "must be below 2 for the iteration to converge, got " +
-                                                brief(s.at("relaxation")));
-            RUBBLE_TRY(s.read("warm_start", so.warmStart));
+        RUBBLE_TRY(r.checkKeys(keys));
+        for (std::string_view key : keys) {
+            if (!r.has(key)) continue;
+            const std::string path = group + std::string(key);
+            if (const Option* o = findOptionByKey(path))
+                RUBBLE_TRY(r.readOption(key, *o, OptionTarget{&scene_.simulation, nullptr}));
+            else
+                RUBBLE_TRY(readSimulation(ObjectReader(r.at(key), r.pathOf(key), file_),
+                                          path + "."));
         }
         return {};
     }
@@ -161,16 +128,17 @@ class SceneLoader {
                 d.type = ShapeType::Box;
                 RUBBLE_TRY(s.checkKeys({"type", "half_extents"}));
                 RUBBLE_TRY(s.require("half_extents"));
-                RUBBLE_TRY(s.read("half_extents", d.halfExtents, Range::Positive));
+                RUBBLE_TRY(s.read("half_extents", d.halfExtents, Range::Length));
             } else if (type == "sphere") {
                 d.type = ShapeType::Sphere;
                 RUBBLE_TRY(s.checkKeys({"type", "radius"}));
                 RUBBLE_TRY(s.require("radius"));
-                RUBBLE_TRY(s.read("radius", d.radius, Range::Positive));
+                RUBBLE_TRY(s.read("radius", d.radius, Range::Length));
             } else if (type == "convex") {
                 d.type = ShapeType::Convex;
                 RUBBLE_TRY(s.checkKeys({"type", "vertices"}));
                 RUBBLE_TRY(readPoints(s, "vertices", d.points));
+                RUBBLE_TRY(checkExtent(d.points, s.where("vertices"), "vertices"));
             } else if (type == "mesh") {
                 d.type = ShapeType::Mesh;
                 RUBBLE_TRY(s.checkKeys({"type", "file", "scale"}));
@@ -180,6 +148,7 @@ class SceneLoader {
                 d.file = (std::filesystem::path(baseDir_) / d.file).lexically_normal().string();
                 Result<TriangleMesh> mesh = loadObjMesh(d.file, d.scale, s.where("file"));
                 RUBBLE_TRY(mesh);
+                RUBBLE_TRY(checkExtent(mesh->vertices, s.where("scale"), d.file));
                 d.points = std::move(mesh->vertices);
                 d.triangles = std::move(mesh->triangles);
             } else if (type == "plane") {
@@ -201,11 +170,36 @@ class SceneLoader {
         RUBBLE_TRY(s.require(key));
         const Json& v = s.at(key);
         if (!v.is_array()) return s.fail(key, "expected an array of [x, y, z] points, got " + brief(v));
+        if (v.size() > kMaxMeshVertices)
+            return s.fail(key, "has " + std::to_string(v.size()) + " points, more than the " +
+                                   std::to_string(kMaxMeshVertices) +
+                                   " rubble builds a shape from");
         for (std::size_t i = 0; i < v.size(); ++i) {
             Result<glm::vec3> p = vec3FromJson(v[i], s.where(key) + indexPath(i));
             RUBBLE_TRY(p);
             out.push_back(*p);
         }
+        return {};
+    }
+
+    // The points of a convex or mesh shape (after its scale) lie within kMaxLength of the
+    // shape's origin and span at least kMinLength: the range of a box's sizes.
+    static Status checkExtent(const std::vector<glm::vec3>& points, const std::string& where,
+                              const std::string& what) {
+        glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+        for (const glm::vec3& p : points) {
+            if (!(glm::all(glm::lessThanEqual(glm::abs(p), glm::vec3(float(kMaxLength))))))
+                return makeError(ErrorKind::BadInput, where,
+                                 "a point of " + what + " lies farther than " +
+                                     lengthText(kMaxLength) + " m from the shape's origin");
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+        const glm::vec3 extent = hi - lo;
+        if (!points.empty() && std::max({extent.x, extent.y, extent.z}) < float(kMinLength))
+            return makeError(ErrorKind::BadInput, where,
+                             "the points of " + what + " span less than " +
+                                 lengthText(kMinLength) + " m");
         return {};
     }
 
@@ -380,6 +374,10 @@ class SceneLoader {
         RUBBLE_TRY(r.read("name_prefix", spec.prefix));
         RUBBLE_TRY(r.read("position", spec.position));
         RUBBLE_TRY(r.read("scale", spec.scale, Range::Positive));
+        if (!(spec.scale >= kMinRagdollScale && spec.scale <= kMaxRagdollScale))
+            return r.fail("scale", "must be between " + lengthText(kMinRagdollScale) + " and " +
+                                       lengthText(kMaxRagdollScale) + " (the ragdoll's parts are " +
+                                       "sized from it), got " + brief(r.at("scale")));
         RUBBLE_TRY(lookupMaterial(r, spec.material));
         RUBBLE_TRY(r.read("debris", spec.debris));
         RagdollParts parts = buildRagdoll(spec);

@@ -9,6 +9,7 @@
 #include "host/core/integrate.h"
 #include "host/core/step_params.h"
 #include "host/dynamics/forces.h"
+#include "host/world/step_stop.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -42,27 +43,48 @@ Status stepCpu(WorldState& s, StepStats& stats) {
         StageTimer t(stats.applyForcesMs);
         applyDueExplosions(s.events, s.eventFired, p.time, bodies);
     }
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.integrateVelocitiesMs);
-        // Explicit Euler moves positions with the velocities the step started with.
-        if (!p.symplectic())
-            std::copy(bodies.velocities.begin(), bodies.velocities.end(),
-                      s.velocitiesAtStart.begin());
+        // The velocities before the forces: restitution's approach, explicit Euler's motion.
         integrateVelocities(bodies.momenta, bodies.forces, bodies.masses, bodies.poses,
-                            bodies.velocities, p.gravity, p.dt);
+                            bodies.velocities, s.velocitiesAtStart, p.gravity, p.dt);
     }
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.broadPhaseMs);
-        s.collision->broadPhase(collisionScene, bodies, p, contacts);
+        RUBBLE_TRY(s.collision->broadPhase(collisionScene, bodies, p, contacts));
     }
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.narrowPhaseMs);
-        s.collision->narrowPhase(collisionScene, bodies, p, contacts);
+        RUBBLE_TRY(s.collision->narrowPhase(collisionScene, bodies, p, contacts));
     }
+    // Sleeping bodies that this step's contacts, joints or impulses touch wake before the rows,
+    // so that their mass takes part in the solve; pairs not collided while they slept are
+    // collided now (each round wakes at least one body).
+    for (;;) {
+        WakeReport woke;
+        {
+            StageTimer t(stats.islandsMs);
+            woke = s.solver->wake(solverScene, bodies, s.velocitiesAtStart, contacts, p);
+        }
+        if (!woke.collideAgain) break;
+        {
+            StageTimer t(stats.broadPhaseMs);
+            RUBBLE_TRY(s.collision->broadPhase(collisionScene, bodies, p, contacts));
+        }
+        {
+            StageTimer t(stats.narrowPhaseMs);
+            RUBBLE_TRY(s.collision->narrowPhase(collisionScene, bodies, p, contacts));
+        }
+    }
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.buildContactRowsMs);
-        s.solver->buildRows(solverScene, bodies, contacts, p);
+        s.solver->buildRows(solverScene, bodies, s.velocitiesAtStart, contacts, p);
     }
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.solveMs);
         std::copy(bodies.velocities.begin(), bodies.velocities.end(),
@@ -72,15 +94,18 @@ Status stepCpu(WorldState& s, StepStats& stats) {
         absorbVelocityChange(bodies.momenta, s.velocitiesBeforeSolve, bodies.velocities,
                              bodies.masses, bodies.poses);
     }
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.integratePositionsMs);
         integratePositions(bodies.poses, bodies.velocities, s.velocitiesAtStart, bodies.momenta,
                            bodies.masses, p.dt, p.symplectic());
     }
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.solvePositionsMs);
         s.solver->solvePositions(solverScene, bodies, p);
     }
+    RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.islandsMs);
         stats.asleep = s.solver->sleep(solverScene, bodies, contacts, p);

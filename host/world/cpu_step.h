@@ -10,8 +10,10 @@ struct WorldState;
 struct StepStats;
 
 /// Runs the stages on the world's arrays and fills `stats` (stage timings, contacts, residual,
-/// bodies asleep). Errors: those of the solver stage (a contact set a dense solver cannot take,
-/// no solution); the step is then left unfinished.
+/// bodies asleep). Before each stage after the first it checks RunOptions::stop. Errors: Limit
+/// from the collision stages (pairs or contacts past their budget, host/core/limits.h), those
+/// of the solver stage (a contact set a dense solver cannot take, no solution), Interrupted on a
+/// stop request; the step is then left unfinished.
 Status stepCpu(WorldState& s, StepStats& stats);
 
 } // namespace rubble

@@ -12,6 +12,7 @@
 #include "host/dynamics/joints.h"
 #include "host/gpu/pipeline.h"
 #include "host/world/offload.h"
+#include "host/world/step_stop.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -107,6 +108,9 @@ Status attachScene(WorldState& s, const Scene& scene, std::shared_ptr<gpu::Conte
     }
     SimulationOptions options = scene.simulation;
     options.backend = Backend::OpenCl;
+    // The options in effect: SAT feeds PGS, particles the Jacobi family (deviceSolver).
+    options.collision.method = options.collisionMethod();
+    options.solver.type = sat ? SolverType::Pgs : deviceSolver(scene);
     return attachDevice(s, std::move(context), options);
 }
 
@@ -125,6 +129,7 @@ Status beginHostChange(WorldState& s) {
 }
 
 Status stepDevice(WorldState& s, StepStats& stats) {
+    RUBBLE_TRY(checkStop(s));
     const auto start = std::chrono::steady_clock::now();
     gpu::Pipeline& p = *s.device;
     Offload* o = s.offload.get();

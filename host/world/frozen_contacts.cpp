@@ -30,9 +30,9 @@ Result<FrozenContacts> freezeContacts(World& world, std::int64_t step) {
     for (BodyMass& m : bodies.masses) m.flags &= ~RUBBLE_BODY_ASLEEP;
     applyDueExplosions(s.events, s.eventFired, p.time, bodies);
     integrateVelocities(bodies.momenta, bodies.forces, bodies.masses, bodies.poses,
-                        bodies.velocities, p.gravity, p.dt);
-    s.collision->broadPhase(s.collisionScene(), bodies, p, s.contacts);
-    s.collision->narrowPhase(s.collisionScene(), bodies, p, s.contacts);
+                        bodies.velocities, s.velocitiesAtStart, p.gravity, p.dt);
+    RUBBLE_TRY(s.collision->broadPhase(s.collisionScene(), bodies, p, s.contacts));
+    RUBBLE_TRY(s.collision->narrowPhase(s.collisionScene(), bodies, p, s.contacts));
     FrozenContacts set;
     s.collision->contactPoints(s.contacts, set.contacts);
     set.step = step;

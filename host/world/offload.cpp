@@ -15,6 +15,11 @@ bool hasDebrisSet(const Scene& scene) {
                        [](const BodyDesc& b) { return b.debris && !b.isStatic; });
 }
 
+SolverType deviceSolver(const Scene& scene) {
+    const SolverType t = scene.simulation.solverType();
+    return t == SolverType::Pgs && hasDebrisSet(scene) ? SolverType::Jacobi : t;
+}
+
 std::vector<std::uint8_t> deviceBodies(const Scene& scene) {
     const std::size_t n = scene.bodies.size();
     std::vector<std::uint8_t> onDevice(n, 0);

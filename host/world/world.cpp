@@ -2,11 +2,14 @@
 // needs), queries, and forces for a host program.
 #include <chrono>
 #include <cstdio>
+#include <new>
 
 #include "host/core/math.h"
 #include "host/gpu/pipeline.h"
+#include "host/world/blowup_check.h"
 #include "host/world/cpu_step.h"
 #include "host/world/device_step.h"
+#include "host/world/step_stop.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -38,15 +41,28 @@ Status World::step() {
 
     if (s.device) {
         // The device checks its own state for non-finite values.
-        const Status stepped = stepDevice(s, stats);
+        Status stepped;
+        try {
+            stepped = stepDevice(s, stats);
+        } catch (const std::bad_alloc&) {
+            stepped = outOfMemory(s);
+        }
         std::fill(s.bodies.forces.begin(), s.bodies.forces.end(), BodyForce{});
         ++s.step;
         stats.totalMs = std::chrono::duration<double, std::milli>(
                             std::chrono::steady_clock::now() - start).count();
-        return stepped;
+        RUBBLE_TRY(stepped);
+        return checkBlowUp(s);
     }
-    // A stage that could not run (a contact set too large for a dense solver) stops the run.
-    RUBBLE_TRY(stepCpu(s, stats));
+    // A stage that could not run (a budget of host/core/limits.h, a contact set too large for a
+    // dense solver, a stop request) ends the step there and stops the run.
+    Status stepped;
+    try {
+        stepped = stepCpu(s, stats);
+    } catch (const std::bad_alloc&) {
+        stepped = outOfMemory(s);
+    }
+    RUBBLE_TRY(stepped);
     std::fill(s.bodies.forces.begin(), s.bodies.forces.end(), BodyForce{});
     ++s.step;
     stats.totalMs =
@@ -56,13 +72,14 @@ Status World::step() {
         return makeError(ErrorKind::Numerical, "body " + s.names[*bad],
                          "its state is not finite after step " + std::to_string(s.step) +
                              " (t = " + std::to_string(s.time()) + " s)");
-    return {};
+    return checkBlowUp(s);
 }
 
 std::int64_t World::stepIndex() const { return s_->step; }
 double World::time() const { return s_->time(); }
 const SimulationOptions& World::options() const { return s_->options; }
 const std::string& World::sceneName() const { return s_->sceneName; }
+std::span<const Warning> World::warnings() const { return s_->warnings; }
 std::uint32_t World::bodyCount() const { return s_->bodyCount(); }
 const std::string& World::bodyName(std::uint32_t body) const { return s_->names.at(body); }
 
@@ -103,6 +120,7 @@ std::optional<std::uint32_t> cpuBody(const WorldState& s, std::uint32_t i) {
 } // namespace
 
 void World::addForce(std::uint32_t i, glm::vec3 force) {
+    s_->blowUp.rebase = true; // the host puts energy in
     if (const auto c = cpuBody(*s_, i)) return s_->offload->cpu->addForce(*c, force);
     // The device wakes a sleeping body that has a force (kernels/integrate.cl).
     s_->forcesDirty = s_->device != nullptr;
@@ -112,6 +130,7 @@ void World::addForce(std::uint32_t i, glm::vec3 force) {
 }
 
 void World::addTorque(std::uint32_t i, glm::vec3 torque) {
+    s_->blowUp.rebase = true; // the host puts energy in
     if (const auto c = cpuBody(*s_, i)) return s_->offload->cpu->addTorque(*c, torque);
     s_->forcesDirty = s_->device != nullptr;
     shared::BodyForce& f = s_->bodies.forces.at(i);
@@ -125,6 +144,7 @@ void World::addForceAtPoint(std::uint32_t i, glm::vec3 force, glm::vec3 point) {
 }
 
 void World::applyImpulse(std::uint32_t i, glm::vec3 impulse, glm::vec3 point) {
+    s_->blowUp.rebase = true; // the host puts energy in
     WorldState& s = *s_;
     if (s.isStatic(i)) return;
     if (const auto c = cpuBody(s, i)) {

@@ -1,6 +1,8 @@
 // host/world/world_build.cpp: a Scene into a WorldState: shapes built, masses from mass or
 // density, momenta from the initial velocities. Combinations that cannot run are refused here.
 #include "host/world/world_build.h"
+
+#include "host/core/mass_properties.h"
 #include "host/core/math.h"
 #include "host/core/step_params.h"
 #include "host/dynamics/joints.h"
@@ -8,6 +10,7 @@
 #include "host/world/backend_check.h"
 #include "host/world/device_step.h"
 #include "host/world/world_state.h"
+#include <cstdio>
 
 namespace rubble {
 namespace {
@@ -15,7 +18,7 @@ namespace {
 // Lemke's method solves the frictionless contact LCP: two bodies, one of them dynamic, whose
 // materials both have friction would make a contact with friction sqrt(mu_a mu_b) > 0.
 Status checkLemkeFrictionless(const Scene& scene) {
-    if (scene.simulation.solver.type != SolverType::Lemke) return {};
+    if (scene.simulation.solverType() != SolverType::Lemke) return {};
     std::size_t rough = 0;
     std::optional<std::uint32_t> roughDynamic;
     for (const BodyDesc& b : scene.bodies) {
@@ -55,6 +58,42 @@ BodyMass makeMass(const BodyDesc& b, const Shape& shape) {
     return m;
 }
 
+std::string massText(float kg) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g kg", double(kg));
+    return text;
+}
+
+// The lightest and the heaviest dynamic bodies, when they differ more than kStackMassRatio
+// times: stacks past that ratio may sink or tip (docs/dynamics.md, "Mass ratios").
+std::optional<Warning> massRatioWarning(const Scene& scene, const BodyArrays& bodies) {
+    std::optional<std::uint32_t> light, heavy;
+    for (std::uint32_t i = 0; i < bodies.count(); ++i) {
+        if (bodies.isStatic(i)) continue;
+        const float m = bodies.masses[i].mass;
+        if (!light || m < bodies.masses[*light].mass) light = i;
+        if (!heavy || m > bodies.masses[*heavy].mass) heavy = i;
+    }
+    if (!light) return std::nullopt;
+    const float lightKg = bodies.masses[*light].mass, heavyKg = bodies.masses[*heavy].mass;
+    if (double(heavyKg) <= double(kStackMassRatio) * double(lightKg)) return std::nullopt;
+    const BodyDesc& l = scene.bodies[*light];
+    const BodyDesc& h = scene.bodies[*heavy];
+    char ratio[32];
+    std::snprintf(ratio, sizeof ratio, "1:%.3g", double(heavyKg) / double(lightKg));
+    // A body's where is `file: bodies[3]` (or a generator's): the file once, then both fields.
+    auto field = [](const std::string& where) {
+        const std::size_t colon = where.find(": ");
+        return colon == std::string::npos ? where : where.substr(colon + 2);
+    };
+    return Warning{scene.file + ": " + field(l.where) + " and " + field(h.where),
+                   "the masses of dynamic bodies " + l.name + " (" + massText(lightKg) + ") and " +
+                       h.name + " (" + massText(heavyKg) + ") differ " + ratio +
+                       "; stacks stand up to 1:" + std::to_string(int(kStackMassRatio)) +
+                       ", past it a heavy body on a light one may sink or tip (docs/dynamics.md, "
+                       "mass ratios)"};
+}
+
 } // namespace
 
 void appendBodyArrays(BodyArrays& a, const BodyDesc& b, const Shape& shape) {
@@ -89,6 +128,9 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     auto s = std::make_unique<WorldState>();
     s->sceneName = scene.name;
     s->options = scene.simulation;
+    // The options in effect: what the scene leaves out is its backend's default.
+    s->options.collision.method = scene.simulation.collisionMethod();
+    s->options.solver.type = scene.simulation.solverType();
     s->run = run;
     s->materials = scene.materials;
     for (const ShapeDesc& d : scene.shapes) {
@@ -102,7 +144,13 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     s->bodies.poses.reserve(n);
     s->bodies.momenta.reserve(n);
     s->bodies.masses.reserve(n);
-    for (const BodyDesc& b : scene.bodies) appendBody(*s, b);
+    for (const BodyDesc& b : scene.bodies) {
+        appendBody(*s, b);
+        if (!b.isStatic)
+            RUBBLE_TRY(checkMassRange(s->bodies.masses.back(), b.where,
+                                      b.mass ? "mass" : "density"));
+    }
+    if (std::optional<Warning> w = massRatioWarning(scene, s->bodies)) s->warnings.push_back(*w);
     s->joints = scene.joints;
     s->joined = joinedPairs(s->joints);
     s->events = scene.events;
@@ -120,7 +168,7 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     }
     // The CPU pipeline's stages, chosen here once: the solver, and the collision method that
     // delivers the contacts in the form the solver reads.
-    s->solver = makeContactSolver(scene.simulation.solver.type);
+    s->solver = makeContactSolver(scene.simulation.solverType());
     s->collision = makeCollisionStage(scene.simulation.collisionMethod(), s->solver->reads());
     RUBBLE_TRY(s->collision->rebuild(s->collisionScene(), s->bodies.view(),
                                      scene.simulation.collision.particleSpacing));

@@ -55,6 +55,7 @@ std::optional<std::uint32_t> World::findShape(std::string_view name) const {
 }
 
 Result<std::uint32_t> World::addDebris(std::span<const DebrisPiece> pieces) {
+    s_->blowUp.rebase = true; // the bodies change: the energy watch starts again
     WorldState& s = *s_;
     for (std::size_t k = 0; k < pieces.size(); ++k) {
         const DebrisPiece& d = pieces[k];
@@ -100,6 +101,7 @@ Result<std::uint32_t> World::addDebris(std::span<const DebrisPiece> pieces) {
 }
 
 Result<std::uint32_t> World::removeDebrisOutside(glm::vec3 lo, glm::vec3 hi) {
+    s_->blowUp.rebase = true; // the bodies change: the energy watch starts again
     WorldState& s = *s_;
     if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z)
         return makeError(ErrorKind::BadInput, "removeDebrisOutside",

@@ -12,6 +12,7 @@
 
 #include "host/collision/collision_stage.h"
 #include "host/core/bodies.h"
+#include "host/dynamics/blowup_watch.h"
 #include "host/dynamics/contact_solver.h"
 #include "host/geometry/shape.h"
 #include "host/gpu/pipeline_handle.h"
@@ -32,6 +33,7 @@ using shared::BodyVelocity;
 
 struct WorldState {
     std::string sceneName;
+    std::vector<Warning> warnings; ///< found when the world was built
     SimulationOptions options;
     RunOptions run;
 
@@ -57,8 +59,9 @@ struct WorldState {
     std::unique_ptr<CollisionStage> collision;
     std::unique_ptr<ContactSolver> solver;
     StepContacts contacts;
+    BlowUpWatch blowUp; ///< energy since the last reference (the blow-up watch after each step)
     // Scratch reused every step: the velocities before the solve, and at the start of the step
-    // (explicit Euler moves positions with those).
+    // before the forces (restitution's approach speeds; explicit Euler moves positions with them).
     std::vector<BodyVelocity> velocitiesBeforeSolve;
     std::vector<BodyVelocity> velocitiesAtStart;
 

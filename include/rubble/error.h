@@ -8,13 +8,16 @@
 namespace rubble {
 
 /// What went wrong, so that a caller can decide (the command line maps BadInput and
-/// NotSupported to exit status 2).
+/// NotSupported to exit status 2, Numerical to 3, Limit to 4).
 enum class ErrorKind {
     BadInput,     ///< a scene file, mesh, option or API argument is invalid
     NotSupported, ///< the input asks for a feature that is specified but not built
     Io,           ///< a file could not be read or written
     Device,       ///< an OpenCL call or kernel build failed
-    Numerical,    ///< the simulation produced a non-finite state
+    Numerical,    ///< the simulation produced a non-finite state or blew up
+    Limit,        ///< a step needs more than rubble allows it (pairs, contacts, particles,
+                  ///< memory): docs/scene-format.md, "Limits"
+    Interrupted,  ///< a stop was requested (RunOptions::stop) and the step stopped between stages
     Internal,     ///< a broken invariant that escaped the asserts
 };
 

@@ -2,13 +2,17 @@
 // overrides them. Nothing here is global: a World copies its Options at creation.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
 #include <glm/vec3.hpp>
+
+#include "rubble/error.h"
 
 namespace rubble {
 
@@ -44,7 +48,9 @@ enum class Coupling { OneWay, TwoWay };
 
 /// The `simulation.solver` block of a scene.
 struct SolverOptions {
-    SolverType type = SolverType::Pgs;
+    /// When the scene does not say: pgs, except on opencl with particle contacts, where jacobi
+    /// (SimulationOptions::solverType; a world holds the one in effect).
+    std::optional<SolverType> type;
     int iterations = 10;     ///< solver sweeps per step
     float baumgarte = 0.2f;  ///< fraction of the penetration corrected per step, 0..1
     float slop = 0.005f;     ///< penetration left uncorrected, m
@@ -54,8 +60,8 @@ struct SolverOptions {
 
 /// The `simulation.collision` block of a scene.
 struct CollisionOptions {
-    /// When the scene does not say: Sat, except on OpenCL with a solver of the Jacobi family
-    /// (jacobi, lcp-jacobi), which takes particle contacts (SimulationOptions::collisionMethod).
+    /// When the scene does not say: sat on the cpu backend, particles on opencl
+    /// (SimulationOptions::collisionMethod; a world holds the one in effect).
     std::optional<CollisionMethod> method;
     float particleSpacing = 0.1f; ///< voxel size of the particle representation, m
 };
@@ -71,14 +77,19 @@ struct SimulationOptions {
     SolverOptions solver;
     Coupling coupling = Coupling::OneWay;
 
-    /// The collision method in effect: the scene's, else SAT, except on OpenCL with a solver
-    /// other than pgs: particles (the device's PGS takes SAT manifolds, its Jacobi solvers
-    /// particle contacts).
+    /// The collision method in effect: the scene's, else the backend's default (sat on cpu,
+    /// particles on opencl; SAT and PGS on the device are asked for by naming sat).
     CollisionMethod collisionMethod() const {
         if (collision.method) return *collision.method;
-        return backend == Backend::OpenCl && solver.type != SolverType::Pgs
-                   ? CollisionMethod::Particles
-                   : CollisionMethod::Sat;
+        return backend == Backend::OpenCl ? CollisionMethod::Particles : CollisionMethod::Sat;
+    }
+    /// The solver in effect: the scene's, else pgs, except on opencl with particle contacts,
+    /// which the device solves with jacobi.
+    SolverType solverType() const {
+        if (solver.type) return *solver.type;
+        return backend == Backend::OpenCl && collisionMethod() == CollisionMethod::Particles
+                   ? SolverType::Jacobi
+                   : SolverType::Pgs;
     }
 };
 
@@ -87,6 +98,11 @@ struct RunOptions {
     std::string device;    ///< OpenCL device by name fragment or index; empty: the first one
     std::string kernelDir; ///< load kernels/*.cl from here instead of the embedded text
     bool deterministic = false; ///< device rows sorted by key so atomics cannot reorder sums
+    /// Options added to every OpenCL program build (`-cl-opt-disable` for Oclgrind).
+    std::string buildOptions;
+    /// Set to true (by a signal handler, another thread) to stop: World::step checks it between
+    /// its stages and returns ErrorKind::Interrupted. Must outlive the World.
+    const std::atomic<bool>* stop = nullptr;
     /// An OpenCL context with its program built (rubble::openDevice), shared by the worlds made
     /// with it so that the kernels compile once; empty: the world opens the device itself.
     std::shared_ptr<gpu::Context> context;
@@ -105,5 +121,21 @@ std::optional<Backend> parseBackend(std::string_view s);
 std::optional<CollisionMethod> parseCollisionMethod(std::string_view s);
 std::optional<SolverType> parseSolverType(std::string_view s);
 std::optional<Coupling> parseCoupling(std::string_view s);
+
+/// Sets the option with this command-line name (`dt`, `particle-spacing`, `device`) from text, as
+/// `--name TEXT` would: the one parser and range check that scene files, the command line and
+/// `rubble compare` share (docs/scene-format.md's table of simulation options). Errors: BadInput
+/// at `where` for a value that does not read or is out of range; NotSupported at `where` for a
+/// name that is not an option of the command line.
+Status setOptionText(std::string_view name, std::string_view text, const std::string& where,
+                     SimulationOptions& simulation, RunOptions& run);
+
+/// Every scene-file spelling of an enum's values, indexed by the value (help texts, errors).
+template <class E> std::span<const std::string_view> spellings();
+template <> std::span<const std::string_view> spellings<Integrator>();
+template <> std::span<const std::string_view> spellings<Backend>();
+template <> std::span<const std::string_view> spellings<CollisionMethod>();
+template <> std::span<const std::string_view> spellings<SolverType>();
+template <> std::span<const std::string_view> spellings<Coupling>();
 
 } // namespace rubble

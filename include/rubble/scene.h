@@ -24,6 +24,12 @@ struct MaterialDesc {
     float restitution = 0.0f; ///< 0..1
 };
 
+/// Shortest and longest sizes a scene may give (half extents, radii, the extent of a convex or
+/// mesh shape, the particle spacing), m: within them a body's volume, mass and inertia and the
+/// products the narrow phase forms stay normal single-precision numbers.
+inline constexpr double kMinLength = 1e-4;
+inline constexpr double kMaxLength = 1e5;
+
 enum class ShapeType { Box, Sphere, Convex, Mesh, Plane };
 
 /// A named shape as the file gives it. Vertices are still in the file's frame: the centre of

@@ -39,6 +39,19 @@ struct BodyState {
     bool asleep = false;
 };
 
+/// Stacks stand with masses up to this ratio between their bodies (heavy on light), with the
+/// reference solver at its default settings; World::warnings names the bodies past it.
+inline constexpr float kStackMassRatio = 100.0f;
+
+/// Something a scene asks that rubble does not promise to handle well (World::warnings).
+struct Warning {
+    std::string where;   ///< the file, and the bodies or fields concerned
+    std::string message; ///< what may go wrong, and where the limit is documented
+
+    /// The warning as one line, `where: message`.
+    std::string describe() const { return where.empty() ? message : where + ": " + message; }
+};
+
 /// One contact point of the last step, world frame.
 struct ContactInfo {
     std::uint32_t a = 0, b = 0;         ///< the bodies; the normal points from a to b
@@ -117,6 +130,27 @@ struct DebrisPiece {
 /// OpenCL platform exists, Device for a failed build (with its log).
 Result<std::shared_ptr<gpu::Context>> openDevice(const RunOptions& run);
 
+/// The world summed up now (World::metrics): over the dynamic bodies unless said otherwise,
+/// world frame, SI units; the last step's figures are those of World::lastStep.
+struct WorldMetrics {
+    double time = 0;                  ///< s
+    std::int64_t step = 0;            ///< steps taken
+    std::uint32_t bodies = 0;         ///< every body, static ones included
+    std::uint32_t dynamicBodies = 0;
+    std::uint32_t asleepBodies = 0;   ///< dynamic bodies asleep
+    double kineticEnergy = 0;         ///< J, translational plus rotational
+    double potentialEnergy = 0;       ///< J, -sum m g.x (zero at the world origin)
+    glm::dvec3 linearMomentum{0.0};   ///< kg m/s
+    glm::dvec3 angularMomentum{0.0};  ///< kg m^2/s, about the world origin
+    double maxSpeed = 0;              ///< m/s, the fastest centre of mass
+    glm::dvec3 centreOfMass{0.0};     ///< m; the origin when there is no dynamic body
+    glm::vec3 lo{0.0f}, hi{0.0f};     ///< box around the centres of mass, m
+    std::uint32_t contacts = 0;       ///< contact points of the last step (both populations)
+    float largestPenetration = 0;     ///< m, in the last step
+    float solverResidual = 0;         ///< N s, the last step's last sweep
+    double stepMs = 0;                ///< wall time of the last step
+};
+
 /// A simulated world. Move-only.
 class World {
   public:
@@ -139,6 +173,11 @@ class World {
 
     const SimulationOptions& options() const;
     const std::string& sceneName() const;
+    /// What the scene asks past rubble's promises, found when the world was built; the world
+    /// runs anyway. Each names the file and the bodies (`where`) and says what may go wrong:
+    /// dynamic bodies whose masses differ more than kStackMassRatio times (stacks past that may
+    /// sink or tip, docs/dynamics.md "Mass ratios"). The command prints them on stderr.
+    std::span<const Warning> warnings() const;
 
     /// Bodies are indexed 0..bodyCount()-1 in scene order.
     std::uint32_t bodyCount() const;
@@ -182,6 +221,40 @@ class World {
     /// body; Device.
     Status readTransforms(std::uint32_t first, std::span<BodyTransform> out) const;
 
+    /// Copies the centres of mass (world, m) of bodies first .. first + out.size() / 3 - 1 into
+    /// `out`, three floats (x, y, z) a body, so that a caller's array is filled in one pass.
+    /// Bodies on the OpenCL device are read back once for this and the other reads.
+    /// Errors: BadInput for a size that is not a multiple of 3 or a range past the last body;
+    /// Device.
+    Status readPositions(std::uint32_t first, std::span<float> out) const;
+    /// As readPositions, the orientations (body to world), four floats a body: w, x, y, z.
+    Status readOrientations(std::uint32_t first, std::span<float> out) const;
+    /// As readPositions, the linear velocities of the centres of mass (world, m/s).
+    Status readLinearVelocities(std::uint32_t first, std::span<float> out) const;
+    /// As readPositions, the angular velocities (world, rad/s).
+    Status readAngularVelocities(std::uint32_t first, std::span<float> out) const;
+
+    /// Sets a dynamic body's linear (m/s) and angular (rad/s) velocity, world frame, now, and
+    /// wakes it; its momenta follow (P = m v, L = I_w w). Errors: BadInput for a body index past
+    /// the last, a static body or a velocity that is not finite; Device.
+    Status setVelocity(std::uint32_t body, glm::vec3 linear, glm::vec3 angular);
+
+    /// Index of the scene material with that name, if any; 0 is "default".
+    std::optional<std::uint32_t> findMaterial(std::string_view name) const;
+
+    /// Adds an explosion now: at the start of the next step every dynamic body within `radius`
+    /// (m) of `centre` (world, m) receives impulse * (1 - d / radius) N s away from the centre,
+    /// as a scene's explosion event (SCENE_FORMAT.md, Events). Errors: BadInput naming the
+    /// argument for a negative or non-finite impulse, a radius that is not > 0, or a centre
+    /// that is not finite.
+    Status explode(glm::vec3 centre, float impulse, float radius);
+
+
+    /// The world summed up now (energies, momenta, speed, extent, sleep) with the last step's
+    /// contact figures. Bodies on the OpenCL device are read back first; a failed read is
+    /// reported on stderr and the last copy is used, as World::body does.
+    WorldMetrics metrics() const;
+
     /// The OpenCL device's name, or "cpu".
     std::string deviceName() const;
     /// Device time of each kernel and transfer over the steps so far (empty on the cpu backend).
@@ -199,8 +272,10 @@ class World {
     bool onDevice(std::uint32_t body) const;
     /// The scene's joints, bodies by index.
     std::span<const JointDesc> joints() const;
-    /// The contact points of the last step that the host computed: every contact on the cpu
-    /// backend, those of the CPU bodies of an offloaded world (the device keeps its own).
+    /// The contact points of the last step that the host found: every contact on the cpu
+    /// backend, and those of the CPU bodies of an offloaded scene on the opencl backend (the
+    /// device's own contacts stay on the device; their number is lastStep().deviceContactCount).
+    /// Empty before the first step.
     std::vector<ContactInfo> contacts() const;
     /// The linear impulse (N s, world frame) that the debris on the OpenCL device put on the
     /// CPU bodies of an offloaded world in the last step, which they take at the start of the

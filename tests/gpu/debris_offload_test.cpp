@@ -214,10 +214,12 @@ TEST_F(DebrisOffload, ExplosionReachesBothPopulationsOnce) {
     }
 }
 
-// The combinations on opencl: particle contacts take jacobi, with or without a debris set, and
-// never pgs or lemke (no solver is put in place of the one the scene names); pgs takes SAT,
-// every body on the device, and is what a scene that names no collision method gets.
-TEST(DebrisSolver, PgsOnTheDeviceTakesSatAndNothingIsSubstituted) {
+// The combinations on opencl, as the scene format's contract has them: a scene that names no
+// collision method collides with particles, and solves them with jacobi when it names no
+// solver; a debris set runs with particles and jacobi whatever solver it names (pgs names the
+// CPU half); pgs with particles and no debris set is refused naming collision.method and the
+// two ways out; naming sat gives SAT and PGS, every body on the device.
+TEST(DebrisSolver, OpenClDefaultsToParticlesAndJacobiAndSatIsNamed) {
     std::string text = scene("", std::string(kFloor) + R"(, {"name": "box", "shape": "block",
         "mass": 4, "position": [3, 0.5, 0]}, {"name": "d", "shape": "crate", "mass": 1,
         "debris": true, "position": [0, 0.25, 0]})",
@@ -225,22 +227,45 @@ TEST(DebrisSolver, PgsOnTheDeviceTakesSatAndNothingIsSubstituted) {
     Result<Scene> withSet = parseScene(text, "inline.json", ".");
     ASSERT_TRUE(withSet.ok());
     withSet->simulation.backend = Backend::OpenCl;
-    EXPECT_TRUE(checkBackendCombination(*withSet).ok()); // particles and jacobi
+    EXPECT_TRUE(checkBackendCombination(*withSet).ok()); // particles and jacobi, as named
 
-    Scene pgs = *withSet;
+    // Nothing named: particles and jacobi, with or without a debris set.
+    Scene unnamed = *withSet;
+    unnamed.simulation.collision.method.reset();
+    unnamed.simulation.solver.type.reset();
+    EXPECT_EQ(unnamed.simulation.collisionMethod(), CollisionMethod::Particles);
+    EXPECT_EQ(unnamed.simulation.solverType(), SolverType::Jacobi);
+    EXPECT_EQ(deviceSolver(unnamed), SolverType::Jacobi);
+    EXPECT_TRUE(checkBackendCombination(unnamed).ok());
+    Scene unnamedWithoutSet = unnamed;
+    for (BodyDesc& b : unnamedWithoutSet.bodies) b.debris = false;
+    EXPECT_EQ(deviceSolver(unnamedWithoutSet), SolverType::Jacobi);
+    EXPECT_TRUE(checkBackendCombination(unnamedWithoutSet).ok());
+
+    // pgs named with a debris set: the CPU half's solver, the set takes jacobi.
+    Scene pgs = unnamed;
     pgs.simulation.solver.type = SolverType::Pgs;
-    const Status refused = checkBackendCombination(pgs);
+    EXPECT_EQ(deviceSolver(pgs), SolverType::Jacobi);
+    EXPECT_TRUE(checkBackendCombination(pgs).ok());
+
+    // Without a debris set, pgs on particles is refused, naming the method and both ways out.
+    Scene pgsWithoutSet = pgs;
+    for (BodyDesc& b : pgsWithoutSet.bodies) b.debris = false;
+    const Status refused = checkBackendCombination(pgsWithoutSet);
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().where, "inline.json: simulation.solver.type");
+    EXPECT_EQ(refused.error().where, "inline.json: simulation.collision.method");
     EXPECT_NE(refused.error().message.find("--collision sat"), std::string::npos)
         << refused.error().message;
+    EXPECT_NE(refused.error().message.find("--solver jacobi"), std::string::npos)
+        << refused.error().message;
 
-    // The same with SAT runs, and so does naming no collision method at all.
-    pgs.simulation.collision.method = CollisionMethod::Sat;
-    EXPECT_TRUE(checkBackendCombination(pgs).ok());
-    pgs.simulation.collision.method.reset();
-    EXPECT_EQ(pgs.simulation.collisionMethod(), CollisionMethod::Sat);
-    EXPECT_TRUE(checkBackendCombination(pgs).ok());
+    // Naming sat gives SAT and PGS (its default there), with or without a debris set.
+    Scene sat = unnamed;
+    sat.simulation.collision.method = CollisionMethod::Sat;
+    EXPECT_EQ(sat.simulation.solverType(), SolverType::Pgs);
+    EXPECT_TRUE(checkBackendCombination(sat).ok());
+    pgsWithoutSet.simulation.collision.method = CollisionMethod::Sat;
+    EXPECT_TRUE(checkBackendCombination(pgsWithoutSet).ok());
 
     // SAT with the Jacobi family is refused on the device, and lemke everywhere on it.
     Scene satJacobi = *withSet;

@@ -53,13 +53,17 @@ TEST_F(IntegrateTwin, IntegrateVelocitiesMatchesCpu) {
     ASSERT_TRUE(p.uploadForces(s.forces).ok());
     const float4 g = toFloat4(d.in.scene.simulation.gravity);
     ASSERT_TRUE(p.integrateVelocities(g, 0.01f).ok());
-    integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities, g, 0.01f);
+    std::vector<BodyVelocity> beforeForces(s.count());
+    integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities, beforeForces, g,
+                        0.01f);
     std::vector<BodyMomentum> momenta(s.count());
-    std::vector<BodyVelocity> velocities(s.count());
+    std::vector<BodyVelocity> velocities(s.count()), atStart(s.count());
     ASSERT_TRUE(gpu::download(p.context(), p.bodies().momenta, std::span(momenta)).ok());
     ASSERT_TRUE(gpu::download(p.context(), p.bodies().velocities, std::span(velocities)).ok());
+    ASSERT_TRUE(gpu::download(p.context(), p.bodies().atStart, std::span(atStart)).ok());
     test::expectNearRel(momenta, s.momenta, 1e-5f);
     test::expectNearRel(velocities, s.velocities, 1e-5f);
+    test::expectNearRel(atStart, beforeForces, 1e-5f);
 }
 
 void checkPositions(test::DeviceStage& d, bool symplectic) {

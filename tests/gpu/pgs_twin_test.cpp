@@ -84,12 +84,15 @@ TEST_F(PgsTwin, RowsAreTheCpuRowsBitForBit) {
     // The CPU: its collision and rows on the state as loaded.
     SatCollision collision(ContactForm::Manifolds);
     StepContacts contacts;
-    collision.broadPhase(in.collisionScene(), in.bodies.view(), params, contacts);
-    collision.narrowPhase(in.collisionScene(), in.bodies.view(), params, contacts);
+    ASSERT_TRUE(collision.broadPhase(in.collisionScene(), in.bodies.view(), params, contacts).ok());
+    ASSERT_TRUE(
+        collision.narrowPhase(in.collisionScene(), in.bodies.view(), params, contacts).ok());
     PgsSolver cpu;
     const SolverScene solverScene{in.shapes,       in.scene.materials, in.surfaces,
                                   in.scene.joints, in.joined,          in.names};
-    cpu.buildRows(solverScene, in.bodies.view(), contacts, params);
+    // Stages run alone take the loaded velocities as those before the forces, on both sides
+    // (the device's uploadBodies writes them to its atStart).
+    cpu.buildRows(solverScene, in.bodies.view(), in.bodies.velocities, contacts, params);
     const ContactRows& rows = cpu.cache().contacts;
 
     // The device: the same stages on the same arrays.
@@ -136,6 +139,9 @@ TEST_F(PgsTwin, RowsAreTheCpuRowsBitForBit) {
         EXPECT_TRUE(sameBits(n.targetSpeed, dn.speeds.x))
             << where << ": target " << n.targetSpeed << " vs " << dn.speeds.x;
         EXPECT_TRUE(sameBits(n.pushSpeed, dn.speeds.y)) << where;
+        EXPECT_TRUE(sameBits(n.bounceSpeed, dn.mass.y) && sameBits(n.bounceLift, dn.mass.z))
+            << where << ": bounce " << n.bounceSpeed << ", " << n.bounceLift << " vs "
+            << dn.mass.y << ", " << dn.mass.z;
         for (int d = 0; d < 2; ++d) {
             EXPECT_TRUE(sameBits(f.tangent[d], df.tangent[d])) << where << " tangent " << d;
             EXPECT_TRUE(sameBits(f.turnA[d], df.turnA[d]) && sameBits(f.turnB[d], df.turnB[d]))
@@ -143,7 +149,7 @@ TEST_F(PgsTwin, RowsAreTheCpuRowsBitForBit) {
         }
         EXPECT_TRUE(sameBits(f.mass[0], df.mass.x) && sameBits(f.mass[1], df.mass.y)) << where;
         pushing += n.pushSpeed > 0.0f;
-        bouncing += n.targetSpeed > 0.0f;
+        bouncing += n.bounceSpeed > 0.0f && n.bounceLift > 0.0f;
         gaps += n.targetSpeed < 0.0f;
         sliding += std::abs(f.tangent[0][1]) < 0.5f && f.tangent[0][0] > 0.9f;
     }

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "physics/physics_util.h"
+#include "support/physics_cases.h"
 #include "support/test_util.h"
 
 namespace rubble {
@@ -150,6 +151,23 @@ TEST(Contacts, FrictionAndRestitutionCombinePerContact) {
     EXPECT_NEAR((v0 - v1) / 0.4f, 0.2f * 9.81f, 0.05f * 0.2f * 9.81f);
     // It hits at sqrt(2 g 1 m) = 4.43 m/s and leaves at 0.8 of that.
     EXPECT_NEAR(ballUp, 0.8f * std::sqrt(2.0f * 9.81f), 0.3f);
+}
+
+// A ball dropped from 5.987 m at 60 Hz rebounds to e^2 of that within 1 mm: the approach speed
+// before the step's gravity, carried to the contact, and the rebound leaving from it.
+TEST(Contacts, ElasticBallReboundsToItsDropHeight) {
+    World world = test::worldFromText(test::dropScene(1.0f));
+    test::expectReboundHeight(world, 1.0f, 0.001f, 0.001f);
+}
+TEST(Contacts, HalfElasticBallReboundsToAQuarterOfItsDropHeight) {
+    World world = test::worldFromText(test::dropScene(0.5f));
+    test::expectReboundHeight(world, 0.5f, 0.001f, 0.001f);
+}
+
+TEST(Contacts, RestitutionThresholdIsHalfAMetrePerSecond) {
+    World above = test::worldFromText(test::approachScene(0.75f));
+    World below = test::worldFromText(test::approachScene(0.35f));
+    test::expectRestitutionThreshold(above, below);
 }
 
 } // namespace

@@ -1,8 +1,10 @@
-// tests/physics/integrator_test.cpp: free fall, projectile and an undamped oscillator against
-// closed forms, for symplectic and explicit Euler.
+// tests/physics/integrator_test.cpp: free fall, projectile, an undamped oscillator and a constant
+// spin against closed forms, for symplectic and explicit Euler.
 #include <numbers>
+
 #include <gtest/gtest.h>
 
+#include "support/physics_cases.h"
 #include "support/test_util.h"
 
 namespace rubble {
@@ -102,6 +104,16 @@ TEST(Integrators, SymplecticEulerKeepsOscillatorEnergyBounded) {
     // The modified energy is conserved: the true energy oscillates by about omega dt / 2.
     EXPECT_LT(maxError, 0.04);
     EXPECT_NEAR(ratio, 1.0, 0.04);
+}
+
+// A ball spinning at a constant 10 rad/s turns by 10 rad in 1 s (tests/support/physics_cases.h).
+TEST(Integrators, SymplecticSpinTurnsByOmegaTimesT) {
+    World world = test::worldFromText(test::spinScene("symplectic"));
+    test::expectSpinTurnsByOmegaTimesT(world);
+}
+TEST(Integrators, ExplicitSpinTurnsByOmegaTimesT) {
+    World world = test::worldFromText(test::spinScene("explicit"));
+    test::expectSpinTurnsByOmegaTimesT(world);
 }
 
 } // namespace

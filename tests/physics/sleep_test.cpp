@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "physics/physics_util.h"
+#include "support/physics_cases.h"
 #include "support/test_util.h"
 
 namespace rubble {
@@ -74,6 +75,21 @@ TEST(Sleep, AwakeBodyTouchingASleepingIslandWakesIt) {
         woke = noneAsleep(world, 1, 3);
     }
     EXPECT_TRUE(woke) << "the ball's hit wakes the stack";
+}
+
+// A body hit while asleep wakes before the solve of that step, with its island, and its mass
+// takes part in that solve (tests/support/physics_cases.h).
+TEST(Sleep, SleepingRowTakesTheHitWithItsMomentum) {
+    World world = test::worldFromText(test::sleepingRowScene());
+    test::expectSleepingRowTakesTheHit(world, 1e-3);
+}
+TEST(Sleep, ElasticBallHittingASleepingOneStopsAndPassesItsVelocityOn) {
+    World world = test::worldFromText(test::cradleScene());
+    test::expectCradleExchange(world, 1e-3f);
+}
+TEST(Sleep, ExplosionIntoASleepingRowKeepsItsMomentum) {
+    World world = test::worldFromText(test::explodedRowScene());
+    test::expectExplodedRowKeepsItsMomentum(world, 1e-3);
 }
 
 TEST(Sleep, FallingBodyIsNotPutToSleepAtItsApex) {

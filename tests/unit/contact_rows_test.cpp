@@ -21,6 +21,7 @@ struct Fixture {
     std::vector<BodyMass> masses;
     std::vector<BodyPose> poses;
     std::vector<BodyVelocity> velocities;
+    std::vector<BodyVelocity> beforeForces; ///< the same as velocities unless a test sets them
     std::vector<MaterialDesc> materials{{"default", 0.5f, 0.0f}};
     std::vector<std::uint32_t> materialOf{0, 0, 0};
     SolverBodies bodies;
@@ -40,15 +41,19 @@ struct Fixture {
                  {shared::vec4(0, 0.5f, 0), identity},
                  {shared::vec4(3, 0.5f, 0), identity}};
         velocities.assign(3, BodyVelocity{});
+        beforeForces.assign(3, BodyVelocity{});
     }
-    void setVelocity(std::uint32_t i, glm::vec3 v) { velocities[i].linear = toFloat4(v); }
+    void setVelocity(std::uint32_t i, glm::vec3 v) {
+        velocities[i].linear = toFloat4(v);
+        beforeForces[i].linear = toFloat4(v);
+    }
     ContactRows build(const std::vector<Manifold>& manifolds, std::span<const BodyPair> joined = {},
                       std::span<const ContactImpulse> last = {}) {
         gatherSolverMasses(masses, poses, bodies);
         gatherSolverVelocities(velocities, bodies);
         ContactRows rows;
-        buildContactRows(manifolds, poses, bodies, materials, materialOf, joined, last, settings,
-                         rows);
+        buildContactRows(manifolds, poses, bodies, beforeForces, materials, materialOf, joined,
+                         last, settings, rows);
         return rows;
     }
 };
@@ -79,16 +84,38 @@ TEST(ContactRows, RowMassIsTheInverseOfJMinvJt) {
     EXPECT_NEAR(glm::length(crossB - glm::vec3(0.5f, 0.0f, -0.5f)), 0.0f, 1e-6f);
 }
 
-TEST(ContactRows, TargetsBounceStopOrCloseTheGap) {
+TEST(ContactRows, TargetsStopOrCloseTheGapAndBouncesLeaveAtETimesTheContactSpeed) {
     Fixture f;
     f.materials[0].restitution = 0.5f;
+    // Touching at 2 m/s: the solve stops it, the bounce leaves at e 2 m/s.
     f.setVelocity(1, {0, -2, 0});
-    EXPECT_NEAR(f.build({floorContact(1, 0, 0.001f)}).normals[0].targetSpeed, 1.0f, 1e-5f);
+    ContactRows rows = f.build({floorContact(1, 0, 0.001f)});
+    EXPECT_EQ(rows.normals[0].targetSpeed, 0.0f);
+    EXPECT_NEAR(rows.normals[0].bounceSpeed, 1.0f, 1e-5f);
     // Below the restitution threshold a contact only stops.
     f.setVelocity(1, {0, -0.3f, 0});
-    EXPECT_EQ(f.build({floorContact(1, 0, 0.001f)}).normals[0].targetSpeed, 0.0f);
+    EXPECT_EQ(f.build({floorContact(1, 0, 0.001f)}).normals[0].bounceSpeed, 0.0f);
     // A 1 cm gap that 0.3 m/s does not close in 1/60 s: approach up to 0.6 m/s is allowed.
     EXPECT_NEAR(f.build({floorContact(1, 0, -0.01f)}).normals[0].targetSpeed, -0.6f, 1e-5f);
+    // A gap of 2 cm closed at 2 m/s before this step's gravity and 2 + g dt after it: the gap
+    // closes exactly in the solve, and the bounce leaves from the contact. On the path the
+    // symplectic steps sample (2 + g dt / 2 m/s at the step's start) the box meets the floor at
+    // t_c with u_c = sqrt(u0^2 + 2 g gap), leaves at e u_c, and ends the step at e u_c tau -
+    // g tau^2 / 2 (the split pass's lift) with the stored velocity e u_c - g (dt / 2 - t_c).
+    const double g = 9.81, dt = 1.0 / 60.0, gap = 0.02, e = 0.5;
+    f.setVelocity(1, {0, float(-2.0 - g * dt), 0});
+    f.beforeForces[1].linear = toFloat4(glm::vec3(0, -2, 0));
+    rows = f.build({floorContact(1, 0, -float(gap))});
+    const double u0 = 2.0 + 0.5 * g * dt, uc = std::sqrt(u0 * u0 + 2.0 * g * gap);
+    const double tc = 2.0 * gap / (u0 + uc), tau = dt - tc;
+    EXPECT_NEAR(rows.normals[0].targetSpeed, -gap / dt, 1e-4);
+    EXPECT_NEAR(rows.normals[0].bounceSpeed, e * uc - g * (0.5 * dt - tc), 1e-4);
+    EXPECT_NEAR(rows.normals[0].bounceLift, (e * uc * tau - 0.5 * g * tau * tau) / dt, 1e-4);
+    // At rest before the forces, whatever gravity adds within the step: no bounce (at 10 Hz
+    // gravity alone adds 0.98 m/s, above the threshold).
+    f.setVelocity(1, {0, -0.981f, 0});
+    f.beforeForces[1].linear = toFloat4(glm::vec3(0.0f));
+    EXPECT_EQ(f.build({floorContact(1, 0, 0.001f)}).normals[0].bounceSpeed, 0.0f);
 }
 
 TEST(ContactRows, BaumgarteSpeedGoesToThePositionPassAboveTheSlop) {
@@ -107,7 +134,7 @@ TEST(ContactRows, MaterialsCombineAsSqrtAndMax) {
     f.setVelocity(1, {0, -3, 0});
     const ContactRows rows = f.build({floorContact(1, 0, 0.001f, 1)});
     EXPECT_NEAR(rows.frictions[0].friction, 0.5f, 1e-6f);
-    EXPECT_NEAR(rows.normals[0].targetSpeed, 0.7f * 3.0f, 1e-5f);
+    EXPECT_NEAR(rows.normals[0].bounceSpeed, 0.7f * 3.0f, 1e-5f);
 }
 
 TEST(ContactRows, TangentsFollowTheSlidingDirection) {

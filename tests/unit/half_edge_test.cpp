@@ -1,6 +1,8 @@
 // tests/unit/half_edge_test.cpp: host/geometry/half_edge: merging, invariants, hill climbing.
 #include "host/geometry/half_edge.h"
 
+#include <array>
+#include <map>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -210,6 +212,103 @@ TEST(HalfEdge, ConcaveObjTrianglesAreBadInput) {
         EXPECT_EQ(m.error().where, file);
         EXPECT_NE(m.error().message.find("convex"), std::string::npos) << m.error().message;
     }
+}
+
+// A UV sphere of radius 1 as triangles wound outward: rings x segments vertices and poles.
+ConvexPolygons uvSphere(std::uint32_t rings, std::uint32_t segments) {
+    ConvexPolygons p;
+    p.vertices.push_back({0.0f, 1.0f, 0.0f});
+    for (std::uint32_t i = 1; i < rings; ++i) {
+        const double theta = 3.14159265358979 * double(i) / double(rings);
+        for (std::uint32_t j = 0; j < segments; ++j) {
+            const double phi = 2.0 * 3.14159265358979 * double(j) / double(segments);
+            p.vertices.push_back(glm::vec3(glm::dvec3(std::sin(theta) * std::cos(phi),
+                                                      std::cos(theta),
+                                                      std::sin(theta) * std::sin(phi))));
+        }
+    }
+    p.vertices.push_back({0.0f, -1.0f, 0.0f});
+    const auto south = std::uint32_t(p.vertices.size() - 1);
+    auto at = [&](std::uint32_t ring, std::uint32_t j) { return 1 + ring * segments + j % segments; };
+    for (std::uint32_t j = 0; j < segments; ++j) p.faces.push_back({0, at(0, j + 1), at(0, j)});
+    for (std::uint32_t i = 0; i + 2 < rings; ++i)
+        for (std::uint32_t j = 0; j < segments; ++j) {
+            p.faces.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+            p.faces.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+        }
+    for (std::uint32_t j = 0; j < segments; ++j)
+        p.faces.push_back({south, at(rings - 2, j), at(rings - 2, j + 1)});
+    return p;
+}
+
+// A mesh beyond kWholeMeshCheckLimit is built and checked edge by edge and by hill climbing:
+// each face plane is still the support plane every vertex agrees with.
+TEST(HalfEdge, LargeMeshPlanesAreSupportPlanes) {
+    const ConvexPolygons sphere = uvSphere(60, 120);
+    ASSERT_GT(double(sphere.vertices.size()) * double(sphere.faces.size()), kWholeMeshCheckLimit);
+    Result<HalfEdgeMesh> m = buildHalfEdgeMesh(sphere, "sphere");
+    ASSERT_TRUE(m.ok()) << m.error().describe();
+    float worst = 0.0f;
+    for (const HalfEdgeFace& f : m->faces) {
+        float best = -1e30f;
+        for (const glm::vec3& v : m->vertices) best = std::max(best, glm::dot(f.normal, v));
+        worst = std::max(worst, std::fabs(best - f.offset));
+    }
+    // Merged faces are planar within kMergeDistance of the radius (1): hill climbing over them
+    // may stop that close to the true support.
+    EXPECT_LT(worst, kMergeDistance);
+}
+
+// The edge-by-edge check still refuses a large mesh that is not convex: one vertex pushed out
+// (a spike) or in (a dent).
+TEST(HalfEdge, LargeNonConvexMeshIsRefused) {
+    for (const float push : {1.05f, 0.95f}) {
+        ConvexPolygons sphere = uvSphere(60, 120);
+        sphere.vertices[1000] *= push;
+        Result<HalfEdgeMesh> m = buildHalfEdgeMesh(sphere, "sphere");
+        ASSERT_FALSE(m.ok()) << "push " << push;
+        EXPECT_NE(m.error().message.find("the mesh is not convex"), std::string::npos)
+            << m.error().message;
+    }
+}
+
+// Large coplanar regions merge in near-linear time with the same result as the exact test: a
+// box whose faces are each a grid of triangles becomes six quads.
+TEST(HalfEdge, LargeCoplanarGroupsMergeToOneFace) {
+    const std::uint32_t n = 40; // cells a side: 2 n^2 triangles a face, > kExactMergeVertices
+    ConvexPolygons box;
+    std::map<std::array<int, 3>, std::uint32_t> index;
+    auto vertex = [&](std::array<int, 3> c) {
+        const auto [it, added] = index.try_emplace(c, std::uint32_t(box.vertices.size()));
+        if (added) box.vertices.push_back(glm::vec3(c[0], c[1], c[2]) / float(n) - 0.5f);
+        return it->second;
+    };
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side)
+            for (std::uint32_t i = 0; i < n; ++i)
+                for (std::uint32_t j = 0; j < n; ++j) {
+                    auto corner = [&](std::uint32_t a, std::uint32_t b) {
+                        std::array<int, 3> c{};
+                        c[axis] = side ? int(n) : 0;
+                        c[(axis + 1) % 3] = int(a);
+                        c[(axis + 2) % 3] = int(b);
+                        return vertex(c);
+                    };
+                    const std::uint32_t q[4] = {corner(i, j), corner(i + 1, j),
+                                                corner(i + 1, j + 1), corner(i, j + 1)};
+                    // Outward: counter-clockwise seen from the side the face looks at.
+                    if (side) {
+                        box.faces.push_back({q[0], q[1], q[2]});
+                        box.faces.push_back({q[0], q[2], q[3]});
+                    } else {
+                        box.faces.push_back({q[0], q[2], q[1]});
+                        box.faces.push_back({q[0], q[3], q[2]});
+                    }
+                }
+    Result<HalfEdgeMesh> m = buildHalfEdgeMesh(box, "grid box");
+    ASSERT_TRUE(m.ok()) << m.error().describe();
+    EXPECT_EQ(m->faceCount(), 6u);
+    EXPECT_EQ(m->vertexCount(), 8u);
 }
 
 } // namespace

@@ -46,6 +46,12 @@ struct Sleepers {
             r = updateSleep(manifolds, joints, radii, masses, velocities, momenta, 0.1f, state);
         return r;
     }
+    // Stage wake with the velocities as the approach, over the joints' pairs.
+    std::uint32_t wake() {
+        std::vector<BodyPair> joined;
+        for (const Joint& j : joints) joined.push_back({std::min(j.a, j.b), std::max(j.a, j.b)});
+        return wakeIslands(manifolds, joined, radii, masses, velocities, state);
+    }
     bool asleep(std::uint32_t i) const { return (masses[i].flags & RUBBLE_BODY_ASLEEP) != 0; }
 };
 
@@ -148,6 +154,46 @@ TEST(Islands, BodyWokenFromOutsideStartsItsSlowTimeAgain) {
     EXPECT_FALSE(s.asleep(0)) << "half a second again before it sleeps";
     s.step(5);
     EXPECT_TRUE(s.asleep(0));
+}
+
+// Stage wake, before the rows: the group of a sleeping body that a restless one touches wakes
+// whole, before the solve; a slow one wakes nothing.
+TEST(Islands, WakeBeforeTheSolveTakesTheWholeGroupTouchedByAMovingBody) {
+    Sleepers s(5);
+    s.touch(0, 1);
+    s.touch(1, 2);
+    s.step(6);
+    ASSERT_TRUE(s.asleep(0) && s.asleep(1) && s.asleep(2) && s.asleep(3));
+    s.manifolds.clear();
+    s.touch(2, 3);
+    s.masses[3].flags &= ~RUBBLE_BODY_ASLEEP;
+    s.state.wasAsleep[3] = 0; // awake for long, and slow: it wakes nothing
+    s.move(3, {-0.01f, 0, 0});
+    EXPECT_EQ(s.wake(), 0u);
+    EXPECT_TRUE(s.asleep(0) && s.asleep(1) && s.asleep(2));
+    s.move(3, {-1, 0, 0}); // moving: it wakes the group of the body it touches, 0, 1 and 2
+    EXPECT_EQ(s.wake(), 3u);
+    EXPECT_FALSE(s.asleep(0) || s.asleep(1) || s.asleep(2));
+    EXPECT_EQ(s.wake(), 0u) << "nothing left asleep to wake";
+}
+
+TEST(Islands, WakeBeforeTheSolveTakesTheGroupOfABodyWokenFromOutside) {
+    Sleepers s(4);
+    s.touch(0, 1);
+    s.touch(1, 2);
+    Joint j;
+    j.a = 2;
+    j.b = 0;
+    s.joints.push_back(j);
+    s.step(6);
+    ASSERT_TRUE(s.asleep(0) && s.asleep(1) && s.asleep(2));
+    s.manifolds.clear();
+    s.masses[2].flags &= ~RUBBLE_BODY_ASLEEP; // an explosion, or the API
+    EXPECT_EQ(s.wake(), 2u);
+    EXPECT_FALSE(s.asleep(0) || s.asleep(1));
+    // updateSleep sees them all as woken from outside: half a second again before they sleep.
+    s.step(1);
+    EXPECT_FALSE(s.asleep(0) || s.asleep(1) || s.asleep(2));
 }
 
 } // namespace

@@ -22,7 +22,8 @@ struct Landing {
     ContactRows rows;
     SolverOptions options;
 
-    explicit Landing(glm::vec3 velocity, float depth = 0.001f) {
+    explicit Landing(glm::vec3 velocity, float depth = 0.001f, float restitution = 0.0f) {
+        materials[0].restitution = restitution;
         shared::BodyMass ground{}, cube{};
         ground.flags = RUBBLE_BODY_STATIC;
         cube.mass = 2.0f;
@@ -44,8 +45,8 @@ struct Landing {
             m.points[k] = ContactPoint{{c[k].x, 0.0f, c[k].y}, depth, k, m.normal};
         gatherSolverMasses(masses, poses, bodies);
         gatherSolverVelocities(velocities, bodies);
-        buildContactRows(std::vector<Manifold>{m}, poses, bodies, materials, materialOf, {}, {},
-                         ContactRowSettings{}, rows);
+        buildContactRows(std::vector<Manifold>{m}, poses, bodies, velocities, materials, materialOf,
+                         {}, {}, ContactRowSettings{}, rows);
     }
     glm::vec3 linear() const { return fromLanes(bodies.velocity[1].linear); }
     glm::vec3 angular() const { return fromLanes(bodies.velocity[1].angular); }
@@ -69,6 +70,28 @@ TEST(Pgs, LandingBoxStopsWithImpulsesThatAddUp) {
     for (const NormalRow& r : l.rows.normals) EXPECT_GE(r.impulse, 0.0f);
     // It converges: the last sweep changes far less than the first.
     EXPECT_LT(residuals.back(), 1e-3f * residuals.front());
+}
+
+TEST(Pgs, RestitutionPassGivesTheStoppedApproachBackTimesE) {
+    // Restitution 0.8 at 2 m/s: the solve stops the box, the pass sends it up at 1.6 m/s, flat
+    // (the four corners share it), and the momenta take m 1.6 m/s.
+    Landing l({0, -2, 0}, 0.001f, 0.8f);
+    std::vector<float> residuals;
+    l.options.iterations = 30;
+    solvePgs(l.rows, {}, l.bodies, l.options, residuals);
+    EXPECT_NEAR(l.linear().y, 0.0f, 1e-4f);
+    ASSERT_TRUE(solveRestitution(l.rows, l.bodies, 30));
+    EXPECT_NEAR(l.linear().y, 1.6f, 1e-4f);
+    EXPECT_NEAR(glm::length(l.angular()), 0.0f, 1e-4f);
+    std::vector<shared::BodyMomentum> momenta(2);
+    addBounceImpulses(l.rows, momenta);
+    EXPECT_NEAR(momenta[1].linear.y, 2.0f * 1.6f, 1e-4f);
+    EXPECT_NEAR(glm::length(toVec3(momenta[1].angular)), 0.0f, 1e-4f);
+    EXPECT_EQ(toVec3(momenta[0].linear), glm::vec3(0.0f)); // the static ground takes nothing
+    // A contact that does not bounce leaves the pass with nothing to do.
+    Landing slow({0, -0.3f, 0}, 0.001f, 0.8f);
+    solvePgs(slow.rows, {}, slow.bodies, slow.options, residuals);
+    EXPECT_FALSE(solveRestitution(slow.rows, slow.bodies, 30));
 }
 
 TEST(Pgs, SeparatingBoxGetsNoImpulse) {

@@ -17,9 +17,13 @@ namespace {
 // The SAT stages on a scene's bodies, with their contacts.
 struct Sat {
     explicit Sat(const std::string& text) : in(test::stageInput(text)) {}
-    void broadPhase() { stage.broadPhase(in.collisionScene(), in.bodies.view(), in.params(), c); }
+    void broadPhase() {
+        const Status st = stage.broadPhase(in.collisionScene(), in.bodies.view(), in.params(), c);
+        ASSERT_TRUE(st.ok()) << st.error().describe();
+    }
     void narrowPhase() {
-        stage.narrowPhase(in.collisionScene(), in.bodies.view(), in.params(), c);
+        const Status st = stage.narrowPhase(in.collisionScene(), in.bodies.view(), in.params(), c);
+        ASSERT_TRUE(st.ok()) << st.error().describe();
     }
     test::StageInput in;
     SatCollision stage{ContactForm::Manifolds};

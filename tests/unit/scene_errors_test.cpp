@@ -46,10 +46,22 @@ const BadCase kCases[] = {
     {"ZeroMass", "\"mass\": 1.0", "\"mass\": 0", "bodies[1].mass", "greater than 0"},
     {"NegativeMass", "\"mass\": 1.0", "\"mass\": -2", "bodies[1].mass", "greater than 0"},
     {"NegativeDensity", "\"density\": 500", "\"density\": -500", "bodies[2].density", "greater than 0"},
-    {"NegativeExtent", "[0.5, 0.5, 0.5]", "[0.5, -0.5, 0.5]", "shapes.crate.half_extents[1]", "greater than 0"},
-    {"ZeroRadius", "\"radius\": 0.25", "\"radius\": 0", "shapes.ball.radius", "greater than 0"},
+    {"NegativeExtent", "[0.5, 0.5, 0.5]", "[0.5, -0.5, 0.5]", "shapes.crate.half_extents[1]", "between 0.0001 and 100000 m, got -0.5"},
+    {"ZeroRadius", "\"radius\": 0.25", "\"radius\": 0", "shapes.ball.radius", "between 0.0001 and 100000 m, got 0"},
     {"ZeroDt", "\"dt\": 0.01", "\"dt\": 0", "simulation.dt", "greater than 0"},
     {"NegativeDt", "\"dt\": 0.01", "\"dt\": -0.01", "simulation.dt", "greater than 0"},
+    {"DtZeroAsFloat", "\"dt\": 0.01", "\"dt\": 1e-300", "simulation.dt", "must be greater than 0, got 1e-300 (0 as a float)"},
+    {"DtBelowFloat", "\"dt\": 0.01", "\"dt\": 1e-40", "simulation.dt", "too small for single precision"},
+    {"SlopBelowFloat", "\"dt\": 0.01", "\"dt\": 0.01, \"solver\": {\"slop\": 1e-300}", "simulation.solver.slop", "too small for single precision"},
+    {"ExtentBelowRange", "[0.5, 0.5, 0.5]", "[1e-20, 0.5, 0.5]", "shapes.crate.half_extents[0]", "between 0.0001 and 100000 m"},
+    {"ExtentAboveRange", "[0.5, 0.5, 0.5]", "[0.5, 1e15, 0.5]", "shapes.crate.half_extents[1]", "between 0.0001 and 100000 m"},
+    {"RadiusAboveRange", "\"radius\": 0.25", "\"radius\": 1e6", "shapes.ball.radius", "between 0.0001 and 100000 m"},
+    {"SpacingBelowRange", "\"steps\": 10", "\"steps\": 10, \"collision\": {\"particle_spacing\": 1e-9}", "simulation.collision.particle_spacing", "must be between 0.0001 and 100000, got 1e-09"},
+    {"HullBeyondRange", "\"type\": \"sphere\", \"radius\": 0.25", "\"type\": \"convex\", \"vertices\": [[0,0,0],[1e6,0,0],[0,1,0],[0,0,1]]", "shapes.ball.vertices", "farther than 100000 m"},
+    {"HullBelowRange", "\"type\": \"sphere\", \"radius\": 0.25", "\"type\": \"convex\", \"vertices\": [[0,0,0],[1e-6,0,0],[0,1e-6,0],[0,0,1e-6]]", "shapes.ball.vertices", "span less than 0.0001 m"},
+    {"MassBeyondFloat", "\"mass\": 1.0", "\"mass\": 3e38", "bodies[1]", "single precision cannot hold"},
+    {"DensityBeyondFloat", "\"density\": 500", "\"density\": 1e-37", "bodies[2]", "its density gives"},
+    {"RagdollScale", "\"bodies\": [", "\"generators\": [{\"type\": \"ragdoll\", \"position\": [0, 3, 0], \"scale\": 1e-9}], \"bodies\": [", "generators[0].scale", "between 0.1 and 100"},
     {"UnknownShape", "\"shape\": \"crate\"", "\"shape\": \"crat\"", "bodies[1].shape", "no shape named \"crat\""},
     {"UnknownMaterial", "\"material\": \"ice\"", "\"material\": \"snow\"", "bodies[2].material", "no material named \"snow\""},
     {"UnknownShapeType", "\"type\": \"sphere\"", "\"type\": \"ellipsoid\"", "shapes.ball.type", "unknown shape type"},
@@ -91,6 +103,8 @@ TEST_P(SceneErrors, ExitTwoAndNameTheField) {
     const std::string where = std::string(c.where).empty() ? file : file + ": " + c.where;
     EXPECT_NE(r.output.find(where), std::string::npos) << "expected \"" << where << "\" in: " << r.output;
     EXPECT_NE(r.output.find(c.message), std::string::npos) << "expected \"" << c.message << "\" in: " << r.output;
+    ASSERT_FALSE(r.output.empty());
+    EXPECT_EQ(r.output.back(), '\n') << "the message does not end its line: " << r.output;
 }
 
 INSTANTIATE_TEST_SUITE_P(BadInput, SceneErrors, ::testing::ValuesIn(kCases),
@@ -102,6 +116,34 @@ TEST(SceneErrorsBase, TheBaseSceneIsValid) {
     const test::CommandResult r = test::runRubble("validate '" + dir + "/scene.json'");
     EXPECT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("bodies: 3 (1 static, 2 dynamic)"), std::string::npos) << r.output;
+}
+
+// JSON nested far deeper than any scene is refused while parsing, naming where it happens; the
+// error message does not walk the value (a 100,000-deep array overflowed the stack there).
+TEST(SceneErrorsBase, DeeplyNestedJsonIsRefused) {
+    for (const std::size_t depth : {65, 100'000}) {
+        std::string text = kBase;
+        const std::string nested = std::string(depth, '[') + std::string(depth, ']');
+        text.replace(text.find("\"version\": 1,"), 13, "\"version\": 1, \"name\": " + nested + ",");
+        const std::string dir = test::tempDir("bad_deep");
+        test::writeText(dir + "/scene.json", text);
+        const test::CommandResult r = test::runRubble("validate '" + dir + "/scene.json'");
+        EXPECT_EQ(r.exitCode, 2) << r.output.substr(0, 400);
+        EXPECT_NE(r.output.find("scene.json: name[0][0][0]...: the JSON is nested more than 64 levels"),
+                  std::string::npos)
+            << r.output.substr(0, 400);
+    }
+    // 64 levels parse, and the type error shows the value shortened.
+    std::string text = kBase;
+    text.replace(text.find("\"version\": 1,"), 13,
+                 "\"version\": 1, \"name\": " + std::string(63, '[') + std::string(63, ']') + ",");
+    const std::string dir = test::tempDir("bad_deep64");
+    test::writeText(dir + "/scene.json", text);
+    const test::CommandResult r = test::runRubble("validate '" + dir + "/scene.json'");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("name: expected a string, got an array [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[..."),
+              std::string::npos)
+        << r.output;
 }
 
 TEST(SceneErrorsBase, MissingSceneFile) {
@@ -124,6 +166,12 @@ TEST(SceneErrorsBase, BadCommandLineValueIsExitTwo) {
     EXPECT_NE(r.output.find(".csv or .jsonl"), std::string::npos) << r.output;
     r = test::runRubble("run '" + dir + "/scene.json' --steps banana");
     EXPECT_EQ(r.exitCode, 2) << r.output;
+    r = test::runRubble("run '" + dir + "/scene.json' --dt 1e-40");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("--dt: is too small for single precision"), std::string::npos) << r.output;
+    r = test::runRubble("run '" + dir + "/scene.json' --particle-spacing 1e-9");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("--particle-spacing: must be between"), std::string::npos) << r.output;
 }
 
 } // namespace

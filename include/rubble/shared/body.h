@@ -93,6 +93,16 @@ RUBBLE_FN BodyMomentum integrateMomentumItem(BodyMomentum p, BodyForce f, BodyMa
     return r;
 }
 
+// A body's velocities at the start of the step, before its forces: v = P / m (an explosion or an
+// impulse from the host may have changed P since the velocities were derived; neither changes
+// L) and the angular velocity as derived.
+RUBBLE_FN BodyVelocity beforeForcesItem(BodyMomentum p, BodyMass m, BodyVelocity v) {
+    BodyVelocity r;
+    r.linear = scale4(p.linear, m.inverseMass);
+    r.angular = v.angular;
+    return r;
+}
+
 // Derived velocities: v = P / m, omega = I_w^-1 L.
 RUBBLE_FN BodyVelocity velocityFromMomentumItem(BodyMomentum p, BodyMass m, float4 orientation) {
     BodyVelocity v;

@@ -60,6 +60,12 @@
 // contacts there are: this many work-groups per compute unit.
 #define RUBBLE_STRIDE_GROUPS_PER_UNIT 32u
 
+// Contacts whose bodies approach slower than this (m/s, the relative normal velocity before the
+// step's forces) do not bounce, whatever their restitution: resting and slowly settling contacts
+// stay put. One value for the CPU rows (host/dynamics/contact_rows.cpp) and the kernels' rows
+// (rubble/shared/contact_row.h).
+#define RUBBLE_RESTITUTION_THRESHOLD 0.5f
+
 // Sleeping on the device (shared/sleep.h): a body slower than both speeds for
 // RUBBLE_SLEEP_TIME, none of whose neighbours is faster, falls asleep; a body faster than
 // RUBBLE_WAKE_SPEED wakes the sleeping bodies it touches.

@@ -46,11 +46,9 @@ RUBBLE_FN float particleSlopItem(float slop, float particleSpacing) {
 }
 
 // Projected Gauss-Seidel's normal row (host/dynamics/contact_rows.cpp on the CPU, buildPgsRows
-// on the device; both call pgsNormalTargetItem, so that a change of the rule lands in both).
-// Approach speeds at or below this do not bounce (resting contacts stay at rest), m/s.
-#define RUBBLE_RESTITUTION_THRESHOLD 0.5f
-// The split position pass pushes at most this fast, m/s: a deep penetration (a fast body caught
-// a step late) is undone over a few steps instead of throwing the bodies apart.
+// on the device; both call pgsNormalTargetItem and bounceItem, so that a change of the rule lands
+// in both). The split position pass pushes at most this fast, m/s: a deep penetration (a fast
+// body caught a step late) is undone over a few steps instead of throwing the bodies apart.
 #define RUBBLE_MAX_PUSH_SPEED 2.0f
 
 // 8 bytes, not stored: what a PGS normal row aims at.
@@ -59,27 +57,64 @@ typedef struct NormalTarget {
     float push;   // Baumgarte speed of the split position pass, m/s (>= 0)
 } NormalTarget;
 
-// The target of a contact point's normal row from its normal speed (J v, m/s; negative when
-// the bodies approach) and depth (m; negative: a gap): bounce a fast approach (e v_approach
-// above RUBBLE_RESTITUTION_THRESHOLD), stop a touching one, or let a gap close within the step
-// and no further; the penetration beyond the slop goes to the split position pass, at
-// min(beta/dt (depth - slop), RUBBLE_MAX_PUSH_SPEED) (Catto, "Fast and Simple Physics using
-// Sequential Impulses", GDC 2006).
-RUBBLE_FN NormalTarget pgsNormalTargetItem(float normalSpeed, float depth, float restitution,
-                                           float baumgarte, float slop, float dt) {
+// The target of a contact point's normal row from its depth (m; negative: a gap): stop a
+// touching approach (0), or let a gap close within the step and no further (depth / dt); the
+// penetration beyond the slop goes to the split position pass, at min(beta/dt (depth - slop),
+// RUBBLE_MAX_PUSH_SPEED) (Catto, "Fast and Simple Physics using Sequential Impulses", GDC 2006).
+// A bounce is not the velocity solve's: see bounceItem.
+RUBBLE_FN NormalTarget pgsNormalTargetItem(float depth, float baumgarte, float slop, float dt) {
     NormalTarget t;
-    const float approach = -normalSpeed;
-    const int bounces = restitution > 0.0f && approach > RUBBLE_RESTITUTION_THRESHOLD;
     if (depth >= 0.0f) {
-        const float push = baumgarte / dt * fmax(depth - slop, 0.0f);
-        t.push = fmin(push, RUBBLE_MAX_PUSH_SPEED);
-        t.target = bounces ? restitution * approach : 0.0f;
+        const float beyond = depth - slop;
+        const float push = baumgarte / dt * (beyond < 0.0f ? 0.0f : beyond); // std::max
+        t.push = RUBBLE_MAX_PUSH_SPEED < push ? RUBBLE_MAX_PUSH_SPEED : push; // std::min
+        t.target = 0.0f;
     } else {
-        const int closes = approach * dt > -depth;
         t.push = 0.0f;
-        t.target = bounces && closes ? restitution * approach : depth / dt;
+        t.target = depth / dt;
     }
     return t;
+}
+
+// 8 bytes, not stored: a contact point's bounce, for the restitution pass after the positions
+// moved.
+typedef struct Bounce {
+    float speed; // normal velocity to leave with, m/s (0: no bounce)
+    float lift;  // the split pass's speed that lifts the bodies off the contact, m/s
+} Bounce;
+
+// A bounce from the contact, for a point whose bodies approach at `before` m/s before this
+// step's forces and `after` after them (positive: closing) across `gap` m. The forces'
+// acceleration a = (after - before) / dt carries the approach over the gap, and only a meeting
+// faster than RUBBLE_RESTITUTION_THRESHOLD bounces (at rest before the forces, nothing does,
+// whatever dt). Symplectic Euler's positions are samples at the steps of the path whose velocity
+// at the step's start is the stored one plus half a step of a, u0 = before + a dt / 2: on it the
+// bodies meet at t_c = 2 gap / (u0 + u_c) with u_c = sqrt(u0^2 + 2 a gap), leave at e u_c, and at
+// the step's end are e u_c tau - a tau^2 / 2 apart (tau = dt - t_c) with the stored velocity
+// e u_c - a (dt / 2 - t_c). So the rebound keeps e^2 of the drop height to round-off. The
+// comparisons are std::max's (the same signed zeros and NaNs on the host and the device).
+RUBBLE_FN Bounce bounceItem(float restitution, float before, float after, float gap, float dt) {
+    Bounce none;
+    none.speed = 0.0f;
+    none.lift = 0.0f;
+    if (restitution <= 0.0f) return none;
+    const float closing = before < 0.0f ? 0.0f : before;
+    const float a = (after - before) / dt;
+    const float meeting = closing * closing + 2.0f * a * gap;
+    if (meeting <= RUBBLE_RESTITUTION_THRESHOLD * RUBBLE_RESTITUTION_THRESHOLD) return none;
+    const float u0 = closing + 0.5f * a * dt;
+    const float reach = u0 * u0 + 2.0f * a * gap;
+    if (u0 <= 0.0f || reach <= 0.0f) return none;
+    const float uc = sqrt(reach);
+    const float tc = 2.0f * gap / (u0 + uc);
+    const float left = dt - tc;
+    const float tau = left < 0.0f ? 0.0f : left;
+    Bounce b;
+    b.speed = restitution * uc - a * (0.5f * dt - tc);
+    if (b.speed <= 0.0f) return none;
+    const float rise = restitution * uc * tau - 0.5f * a * tau * tau;
+    b.lift = (rise < 0.0f ? 0.0f : rise) / dt;
+    return b;
 }
 
 // A unit vector perpendicular to n (Catto's basis: the larger of two candidate axes).
@@ -107,9 +142,10 @@ RUBBLE_FN float4 relativeVelocityItem(ContactRow r, BodyVelocity va, BodyVelocit
 
 // A row for a contact at `point` (world, m) with penetration `depth` (m) and normal from a to b.
 // Baumgarte bias corrects beta (depth - slop) / dt; restitution asks for -e vn when the bodies
-// approach faster than 1 m/s. `warm` holds impulses to start from (x, y, z as in lambda).
-// xA, xB are the bodies' centres of mass (world, m), invMassA/B their inverse masses (1/kg) and
-// invIA/B their inverse inertia in the world frame.
+// approach faster than RUBBLE_RESTITUTION_THRESHOLD, vn measured with va, vb: the bodies'
+// velocities before this step's forces. `warm` holds impulses to start from (x, y, z as in
+// lambda). xA, xB are the bodies' centres of mass (world, m), invMassA/B their inverse masses
+// (1/kg) and invIA/B their inverse inertia in the world frame.
 RUBBLE_FN ContactRow makeContactRowItem(float4 point, float4 normal, float depth, uint a, uint b,
                                         float4 xA, float4 xB, BodyVelocity va, BodyVelocity vb,
                                         float invMassA, float invMassB, Mat3 invIA, Mat3 invIB,
@@ -133,7 +169,7 @@ RUBBLE_FN ContactRow makeContactRowItem(float4 point, float4 normal, float depth
     const float penetration = depth - p.slop;
     r.bias = penetration > 0.0f ? -p.baumgarte * p.inverseDt * penetration : 0.0f;
     const float vn = dot3(relativeVelocityItem(r, va, vb), r.normal);
-    if (vn < -1.0f && restitution * vn < r.bias) r.bias = restitution * vn;
+    if (vn < -RUBBLE_RESTITUTION_THRESHOLD && restitution * vn < r.bias) r.bias = restitution * vn;
     r.lambda = vec4(warm.x, warm.y, warm.z);
     return r;
 }
@@ -174,9 +210,9 @@ RUBBLE_FN JacobiBody jacobiBodyItem(BodyMass m, float4 orientation) {
     return j;
 }
 
-// A row for a contact point from the bodies' positions, velocities and JacobiBody records:
-// materials combine as sqrt(mu_a mu_b) and max(e_a, e_b) (surface x = friction, y =
-// restitution); each body's mass is split among its `count` rows.
+// A row for a contact point from the bodies' positions, velocities before the step's forces and
+// JacobiBody records: materials combine as sqrt(mu_a mu_b) and max(e_a, e_b) (surface x =
+// friction, y = restitution); each body's mass is split among its `count` rows.
 RUBBLE_FN ContactRow contactRowFromJacobiItem(ParticleContact c, float4 xA, float4 xB,
                                               BodyVelocity va, BodyVelocity vb, JacobiBody ja,
                                               JacobiBody jb, float4 surfaceA, float4 surfaceB,

@@ -17,6 +17,12 @@ RUBBLE_SHARED_BEGIN
 // (kReuseDistance, m; kReuseRotation, per rotation-matrix entry).
 #define RUBBLE_REUSE_DISTANCE 1e-3f
 #define RUBBLE_REUSE_ROTATION 0.01f
+// A cached edge pair's axis may turn by about 0.5 degrees (cosine) before the full test runs
+// again, as much as a face normal under RUBBLE_REUSE_ROTATION; support points along it this far
+// (m) below its edges' points mean the axis has left the pair's Gauss-map arcs
+// (host/collision/hull_contact.cpp: kReuseAxisCosine, kSupportTolerance).
+#define RUBBLE_REUSE_AXIS_COSINE 0.99996f
+#define RUBBLE_SUPPORT_TOLERANCE 1e-4f
 
 // The contacts of two hulls, or the axis that separates them (HullContact).
 typedef struct HullContact {
@@ -284,12 +290,41 @@ RUBBLE_FN int poseCloseItem(RigidTransform bInA, RigidTransform reference) {
     return c2 <= RUBBLE_REUSE_ROTATION;
 }
 
+// The axis of an edge pair (undirected edge indices of a and b) at b's pose in a's frame
+// (edgePairAxis): the unit cross product of the two edges turned out of a; not valid when the
+// edges are closer to parallel than RUBBLE_PARALLEL_SINE.
+RUBBLE_FN EdgeAxis edgePairAxisItem(Hull a, uint edgeA, Hull b, uint edgeB, RigidTransform bInA) {
+    const HullEdge ea = a.edgeRecords[edgeA];
+    return edgeAxisItem(ea.origin, ea.direction,
+                        transformRotate(bInA, b.edgeRecords[edgeB].direction), a.centroid);
+}
+
+// True while a cached edge pair's axis at this pose is within RUBBLE_REUSE_AXIS_COSINE of its
+// axis at the reference, and the pair still spans a face of the Minkowski difference: along its
+// axis the edges' own points are the support points (edgeAxisHolds).
+RUBBLE_FN int edgeAxisHoldsItem(Hull a, Hull b, RigidTransform bInA, RigidTransform reference,
+                                SatHint edges) {
+    const EdgeAxis now = edgePairAxisItem(a, edges.indexA, b, edges.indexB, bInA);
+    const EdgeAxis then = edgePairAxisItem(a, edges.indexA, b, edges.indexB, reference);
+    if (!now.valid || !then.valid || dot3(now.axis, then.axis) < RUBBLE_REUSE_AXIS_COSINE)
+        return 0;
+    const float byEdges = dot3(now.axis, sub4(transformApply(bInA, b.edgeRecords[edges.indexB].origin),
+                                              a.edgeRecords[edges.indexA].origin));
+    return separationAlongItem(a, b, bInA, now.axis) >= byEdges - RUBBLE_SUPPORT_TOLERANCE;
+}
+
 // Collides with the pair's cache (collideHullsCached): the feature is reused while the pose
-// stays close to the reference, else the full test runs and becomes the new reference.
+// stays close to the reference (and a cached edge pair's axis holds: edgeAxisHoldsItem), else
+// the full test runs and becomes the new reference.
 RUBBLE_FN HullContact collideHullsCachedItem(Hull a, Hull b, RigidTransform bInA, PairCache* cache,
                                              float margin) {
-    const int close = cache->reusable && cache->feature.feature != RUBBLE_SAT_NONE &&
-                      poseCloseItem(bInA, cache->reference);
+    int close = cache->reusable && cache->feature.feature != RUBBLE_SAT_NONE &&
+                poseCloseItem(bInA, cache->reference);
+    // The axis of two nearly parallel edges swings with the slightest turn (by the turn over
+    // the sine of their angle): it is the same axis only while it points the same way and the
+    // edges are still the support features along it.
+    if (close && cache->feature.feature == RUBBLE_SAT_EDGES)
+        close = edgeAxisHoldsItem(a, b, bInA, cache->reference, cache->feature);
     if (close) {
         const HullContact r = collideHullsFromFeatureItem(a, b, bInA, cache->feature, margin);
         if (r.separated || r.contacts.count > 0u) {

@@ -55,10 +55,42 @@ RUBBLE_FN float4 quatRotate(float4 q, float4 v) {
 }
 // q^-1 v q: a world vector in the body frame.
 RUBBLE_FN float4 quatRotateInverse(float4 q, float4 v) { return quatRotate(quatConj(q), v); }
-// One explicit step of dq/dt = 1/2 (omega, 0) q, then renormalised (Baraff 1997, eq. 4-4).
+// The half angles (rad) up to which quatExp sums the series directly; larger ones are halved
+// first and the result squared back. Past 0.5 rad the series' error stays below 1e-9.
+#define RUBBLE_SERIES_HALF_ANGLE 0.5f
+#define RUBBLE_MAX_SQUARINGS 24
+
+// exp((v, 0)) = (sin|v| v/|v|, cos|v|): the unit quaternion that turns by 2|v| about v. sin(x)/x
+// and cos(x) by their Taylor series to x^8, in the same operations on the host and in the
+// kernels (the device's sin and cos may differ from the host's in the last bit, and a tumbling
+// body grows that to 1e-4 within 200 steps); a half angle above RUBBLE_SERIES_HALF_ANGLE is
+// halved k times and the quaternion squared k times (exp(2u) = exp(u)^2).
+RUBBLE_FN float4 quatExp(float4 v) {
+    float x = length3(v), scale = 1.0f;
+    int squarings = 0;
+    while (x > RUBBLE_SERIES_HALF_ANGLE && squarings < RUBBLE_MAX_SQUARINGS) {
+        x *= 0.5f;
+        scale *= 0.5f;
+        ++squarings;
+    }
+    const float x2 = x * x;
+    const float sinc =
+        1.0f - x2 / 6.0f * (1.0f - x2 / 20.0f * (1.0f - x2 / 42.0f * (1.0f - x2 / 72.0f)));
+    const float c =
+        1.0f - x2 / 2.0f * (1.0f - x2 / 12.0f * (1.0f - x2 / 30.0f * (1.0f - x2 / 56.0f)));
+    const float k = scale * sinc;
+    float4 q = make4(v.x * k, v.y * k, v.z * k, c);
+    for (int i = 0; i < squarings; ++i) q = quatMul(q, q);
+    return q;
+}
+
+// dq/dt = 1/2 (omega, 0) q over dt for a constant omega (world frame, rad/s), solved exactly: q
+// turned by the angle |omega| dt about omega (the exponential map), renormalised against
+// round-off. The first-order step normalise(q + dt/2 (omega, 0) q) turns by 2 atan(|omega| dt /
+// 2) instead: 0.23% short at 10 rad/s and 60 Hz.
 RUBBLE_FN float4 quatIntegrate(float4 q, float4 omega, float dt) {
-    const float4 w = vec4(omega.x, omega.y, omega.z);
-    return quatNormalize(add4(q, scale4(quatMul(w, q), 0.5f * dt)));
+    const float4 halfTurn = scale4(vec4(omega.x, omega.y, omega.z), 0.5f * dt);
+    return quatNormalize(quatMul(quatExp(halfTurn), q));
 }
 
 RUBBLE_FN float4 mat3MulVec(Mat3 m, float4 v) { return vec4(dot3(m.r0, v), dot3(m.r1, v), dot3(m.r2, v)); }

@@ -76,7 +76,7 @@ typedef struct PgsNormalRow {
     float4 crossA, crossB; // r_a x n, r_b x n (zero for a body that does not move), m
     float4 turnA, turnB;   // I_a^-1 (r_a x n), I_b^-1 (r_b x n), 1/(kg m)
     float4 speeds;         // x: target speed, y: push speed (m/s); z, w: 1/m_a, 1/m_b (1/kg)
-    float4 mass;           // x: effective mass, kg; y, z, w: 0
+    float4 mass;           // x: effective mass, kg; y: bounce speed, z: bounce lift (m/s); w: 0
 } PgsNormalRow;
 RUBBLE_STATIC_ASSERT_SIZE(PgsNormalRow, 112);
 
@@ -99,22 +99,26 @@ RUBBLE_STATIC_ASSERT_SIZE(PgsContactRow, 304);
 
 // The rows of a manifold point at `point` (world, m) with penetration `depth` (m) along the
 // manifold's unit normal n (from a to b), for bodies at xA, xB (centres of mass) with velocities
-// va, vb, inverse masses (0: does not move) and world inverse inertias; friction sqrt(mu_a mu_b)
-// and restitution max(e_a, e_b) already combined. The normal row's target is pgsNormalTargetItem's;
-// the first tangent follows the sliding direction when there is one, else fixedTangent (the
+// va, vb (after this step's forces), velocities vaBefore, vbBefore before them, inverse masses
+// (0: does not move) and world inverse inertias; friction sqrt(mu_a mu_b) and restitution
+// max(e_a, e_b) already combined. The normal row's target and push are pgsNormalTargetItem's,
+// its bounce bounceItem's from the approach before and after the forces across the gap; the
+// first tangent follows the sliding direction when there is one, else fixedTangent (the
 // manifold's perpendicularItem(n)). (Catto, "Iterative Dynamics with Temporal Coherence",
 // GDC 2005; "Modeling and Solving Constraints", GDC 2009.)
 RUBBLE_FN PgsContactRow pgsContactRowItem(float4 point, float depth, float4 n, float4 xA, float4 xB,
-                                          BodyVelocity va, BodyVelocity vb, float inverseMassA,
-                                          float inverseMassB, Mat3 ia, Mat3 ib, float friction,
-                                          float restitution, float baumgarte, float slop, float dt,
-                                          float4 fixedTangent) {
+                                          BodyVelocity va, BodyVelocity vb,
+                                          BodyVelocity vaBefore, BodyVelocity vbBefore,
+                                          float inverseMassA, float inverseMassB, Mat3 ia, Mat3 ib,
+                                          float friction, float restitution, float baumgarte,
+                                          float slop, float dt, float4 fixedTangent) {
     PgsContactRow r;
     const float4 p = vec4(point.x, point.y, point.z);
     const float4 rA = sub4(p, vec4(xA.x, xA.y, xA.z));
     const float4 rB = sub4(p, vec4(xB.x, xB.y, xB.z));
     const float4 relative = pointRelativeVelocityItem(va, vb, rA, rB);
     const float normalSpeed = dot3(relative, n);
+    const float4 relativeBefore = pointRelativeVelocityItem(vaBefore, vbBefore, rA, rB);
 
     const RowJacobian jn = rowJacobianItem(n, rA, rB, inverseMassA, inverseMassB, ia, ib);
     r.normal.normal = vec4(n.x, n.y, n.z);
@@ -122,10 +126,12 @@ RUBBLE_FN PgsContactRow pgsContactRowItem(float4 point, float depth, float4 n, f
     r.normal.crossB = jn.crossB;
     r.normal.turnA = jn.turnA;
     r.normal.turnB = jn.turnB;
-    const NormalTarget t =
-        pgsNormalTargetItem(normalSpeed, depth, restitution, baumgarte, slop, dt);
+    const NormalTarget t = pgsNormalTargetItem(depth, baumgarte, slop, dt);
     r.normal.speeds = make4(t.target, t.push, inverseMassA, inverseMassB);
-    r.normal.mass = make4(jn.mass, 0.0f, 0.0f, 0.0f);
+    const float gap = -depth < 0.0f ? 0.0f : -depth; // std::max(-depth, 0)
+    const Bounce bounce =
+        bounceItem(restitution, -dot3(relativeBefore, n), -normalSpeed, gap, dt);
+    r.normal.mass = make4(jn.mass, bounce.speed, bounce.lift, 0.0f);
 
     // Tangents: along the sliding velocity when there is one, else the fixed basis.
     const float4 sliding = sub4(relative, scale4(n, normalSpeed));

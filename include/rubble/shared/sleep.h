@@ -34,6 +34,16 @@ RUBBLE_FN uint restlessFromContactItem(uint selfFlags, uint otherFlags, BodyVelo
     return slowBodyItem(other) ? 0u : RUBBLE_RESTLESS_NEIGHBOUR;
 }
 
+// Whether a contact wakes its body `self` before this step's rows: `self` is asleep and the
+// other body is awake and waking (wakingBodyItem) with `otherApproach`, its velocity before this
+// step's forces (so that the step's gravity does not count as motion). Woken then, the body's
+// mass takes part in the solve instead of meeting the hit as a wall.
+RUBBLE_FN int wakesBeforeSolveItem(uint selfFlags, uint otherFlags, BodyVelocity otherApproach) {
+    if (!(selfFlags & RUBBLE_BODY_ASLEEP)) return 0;
+    if (otherFlags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP | RUBBLE_BODY_ABSENT)) return 0;
+    return wakingBodyItem(otherApproach, otherFlags);
+}
+
 // 8 bytes, not stored: a body's flags and how long it has been slow, s.
 typedef struct SleepRecord {
     uint flags;
