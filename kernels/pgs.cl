@@ -26,11 +26,15 @@ static uint previousPairIndex(const BodyPairRecord pair, const uint count,
 // for the next step's warm start when it gets no rows: a pair whose bodies both stand still
 // keeps last step's impulses as they were (an island woken later starts from them), a pair
 // without points none. A point deep enough to push marks its pair's moving bodies for the split
-// position pass, and the status block, so that the host knows before it enqueues the pass.
+// position pass, and the status block, so that the host knows before it enqueues the pass; a
+// point that will have a bounce speed (pointBounceItem, as its row will) marks the status block
+// for the restitution pass.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 summarizePairs(const uint capacity, __global const uint* pairCount,
                __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
-               __global const JacobiBody* bodies, const float baumgarte, const float slop,
+               __global const JacobiBody* bodies, __global const BodyPose* poses,
+               __global const BodyVelocity* velocities, __global const BodyVelocity* approach,
+               __global const float4* surfaces, const float baumgarte, const float slop,
                const float dt, const uint warmStart, const uint previousCapacity,
                __global const uint* previousCount, __global const BodyPairRecord* previousPairs,
                __global const uint* previousImpulseCount,
@@ -56,6 +60,22 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
                 if (movesA) pushed[pair.a] = 1u;
                 if (movesB) pushed[pair.b] = 1u;
                 status[RUBBLE_STATUS_PUSHED] = 1u;
+            }
+            const float restitution = fmax(surfaces[pair.a].y, surfaces[pair.b].y);
+            if (restitution > 0.0f) {
+                const float4 xA = poses[pair.a].position, xB = poses[pair.b].position;
+                const BodyVelocity va = velocities[pair.a], vb = velocities[pair.b];
+                const BodyVelocity aa = approach[pair.a], ab = approach[pair.b];
+                const float4 normal = manifolds[p].normal;
+                int bounces = 0;
+                for (uint k = 0; k < count; ++k) {
+                    const float4 point = manifolds[p].points[k];
+                    const Bounce b =
+                        pointBounceItem(pgsArmItem(point, xA), pgsArmItem(point, xB), normal,
+                                        point.w, va, vb, aa, ab, restitution, dt);
+                    bounces |= b.speed > 0.0f;
+                }
+                if (bounces) status[RUBBLE_STATUS_BOUNCES] = 1u;
             }
             continue;
         }
@@ -285,6 +305,7 @@ static float pushElement(const PgsElement e, __global const PgsNormalRow* normal
     float residual = 0.0f;
     for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
         const PgsNormalRow r = normalRows[row + k];
+        // A row that bounces aims at its lift too (markBounces wrote the target).
         if (r.speeds.y <= 0.0f && !touched) continue;
         float4 l = impulses[row + k];
         const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.y, l.w, relaxation);
@@ -328,6 +349,128 @@ solvePgs(const uint first, const uint count, const uint serial,
     }
     if (lastSweep && residual > 0.0f) atomic_max(&status[RUBBLE_STATUS_RESIDUAL], as_uint(residual));
     if (pushResidual > 0.0f) atomic_max(&sweepResidual[pushSweep], as_uint(pushResidual));
+}
+
+// When a row may bounce (the non-fused path: the push sweeps run after the velocity sweeps), one
+// work-item per element after the velocity sweeps: each row that bounces (pgsBouncesItem, from
+// its accumulated normal impulse) aims the split pass at pgsPushTargetItem, written over its
+// push speed, and when that is above zero marks its moving bodies as pushed and the status block
+// (so that applyPushes moves them), as solvePushes marks its rows' bodies.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+markBounces(const uint count, __global const PgsElement* elements,
+            __global PgsNormalRow* normalRows, __global const float4* impulses,
+            __global uint* pushed, __global uint* status) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const PgsElement e = elements[i];
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) return;
+    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+    int lifts = 0;
+    for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
+        const PgsNormalRow r = normalRows[row + k];
+        const float impulse = impulses[row + k].x;
+        if (!pgsBouncesItem(r, impulse)) continue;
+        const float target = pgsPushTargetItem(r, impulse);
+        normalRows[row + k].speeds.y = target;
+        lifts |= target > 0.0f;
+    }
+    if (!lifts) return;
+    if (e.rows & RUBBLE_PGS_MOVES_A) atomic_or(&pushed[e.a], 1u);
+    if (e.rows & RUBBLE_PGS_MOVES_B) atomic_or(&pushed[e.b], 1u);
+    atomic_or(&status[RUBBLE_STATUS_PUSHED], 1u);
+}
+
+// One sweep of the split position pass alone, one color (or the serial tail): the non-fused
+// path, after the velocity sweeps (and markBounces). A sweep after one whose largest change was
+// within RUBBLE_PUSH_TOLERANCE does nothing.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+pushPgs(const uint first, const uint count, const uint serial,
+        __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+        __global float4* impulses, __global const uint* pushed, __global BodyVelocity* push,
+        const float relaxation, const uint sweep, __global uint* sweepResidual) {
+    if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
+    const uint end = elementsEnd(count, serial);
+    float residual = 0.0f;
+    for (uint i = elementsBegin(count, serial); i < end; ++i)
+        residual = fmax(residual, pushElement(elements[first + i], normalRows, impulses, pushed,
+                                              push, relaxation));
+    if (residual > 0.0f) atomic_max(&sweepResidual[sweep], as_uint(residual));
+}
+
+// One sweep of the restitution pass, one color (or the serial tail), after integratePositions
+// (solveRestitution): each row that bounces gives its bodies back its bounce speed along the
+// normal (solvePgsBounceItem) on the velocities, its impulse accumulated in `bounce` (from zero
+// at sweep 0). A sweep after one whose largest change was within RUBBLE_PUSH_TOLERANCE does
+// nothing.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+bouncePgs(const uint first, const uint count, const uint serial,
+          __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+          __global const float4* impulses, __global float* bounce,
+          __global BodyVelocity* velocities, const uint sweep, __global uint* sweepResidual) {
+    if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
+    const uint end = elementsEnd(count, serial);
+    float residual = 0.0f;
+    for (uint i = elementsBegin(count, serial); i < end; ++i) {
+        const PgsElement e = elements[first + i];
+        if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
+        const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+        BodyVelocityPair v = loadPair(e.a, e.b, velocities);
+        int changed = 0;
+        for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
+            const PgsNormalRow r = normalRows[row + k];
+            const float impulse = impulses[row + k].x;
+            if (!pgsBouncesItem(r, impulse)) continue;
+            const float start = sweep == 0u ? 0.0f : bounce[row + k];
+            const PgsUpdate u = solvePgsBounceItem(r, v, start, impulse);
+            v = u.v;
+            bounce[row + k] = u.accumulated;
+            residual = fmax(residual, fabs(u.applied));
+            changed = 1;
+        }
+        if (changed) storePair(v, e.a, e.b, e.rows, velocities);
+    }
+    if (residual > 0.0f) atomic_max(&sweepResidual[sweep], as_uint(residual));
+}
+
+// After the restitution pass's sweeps, one color (or the serial tail): each bouncing row's
+// impulse goes into its moving bodies' momenta (P += lambda_b n, L += lambda_b (r x n) on b, the
+// opposite on a: addBounceImpulses), and those bodies' velocities follow from their momenta at
+// their orientations (PgsSolver::solvePositions).
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+bounceMomenta(const uint first, const uint count, const uint serial,
+              __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+              __global const float4* impulses, __global const float* bounce,
+              __global BodyMomentum* momenta, __global const BodyMass* masses,
+              __global const BodyPose* poses, __global BodyVelocity* velocities) {
+    const uint end = elementsEnd(count, serial);
+    for (uint i = elementsBegin(count, serial); i < end; ++i) {
+        const PgsElement e = elements[first + i];
+        if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
+        const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+        int bounced = 0;
+        for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
+            const PgsNormalRow r = normalRows[row + k];
+            if (!pgsBouncesItem(r, impulses[row + k].x)) continue;
+            const float l = bounce[row + k];
+            const float4 linear = scale4(r.normal, l);
+            if (r.speeds.z > 0.0f) {
+                momenta[e.a].linear = sub4(momenta[e.a].linear, linear);
+                momenta[e.a].angular = sub4(momenta[e.a].angular, scale4(r.crossA, l));
+            }
+            if (r.speeds.w > 0.0f) {
+                momenta[e.b].linear = add4(momenta[e.b].linear, linear);
+                momenta[e.b].angular = add4(momenta[e.b].angular, scale4(r.crossB, l));
+            }
+            bounced = 1;
+        }
+        if (!bounced) continue;
+        if (e.rows & RUBBLE_PGS_MOVES_A)
+            velocities[e.a] =
+                velocityFromMomentumItem(momenta[e.a], masses[e.a], poses[e.a].orientation);
+        if (e.rows & RUBBLE_PGS_MOVES_B)
+            velocities[e.b] =
+                velocityFromMomentumItem(momenta[e.b], masses[e.b], poses[e.b].orientation);
+    }
 }
 
 // After integratePositions, when some row pushed: every body that moved in the solve is moved

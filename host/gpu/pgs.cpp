@@ -40,8 +40,11 @@ Status Pipeline::summarizePairs(const StepParams& params) {
                    .arg(bodies_.jacobi)
                    .run(bodies, RUBBLE_GROUP_BODIES));
     RUBBLE_TRY(fill(c, pgs_.pushed, 0u, std::size_t(bodies) * sizeof(cl_uint), &profile_));
+    // The marks of this round of the collision (a pair overflow runs it again).
     RUBBLE_TRY(fillRange(c, status_, 0u, RUBBLE_STATUS_PUSHED * sizeof(cl_uint), sizeof(cl_uint),
                          &profile_));
+    RUBBLE_TRY(fillRange(c, status_, 0u, RUBBLE_STATUS_BOUNCES * sizeof(cl_uint),
+                         2 * sizeof(cl_uint), &profile_));
     const SolverOptions& o = params.solver;
     const cl_uint capacity = sat_.current.capacity, previousCapacity = sat_.previous.capacity;
     const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;
@@ -56,6 +59,10 @@ Status Pipeline::summarizePairs(const StepParams& params) {
                    .arg(sat_.current.pairs)
                    .arg(sat_.manifolds)
                    .arg(bodies_.jacobi)
+                   .arg(bodies_.poses)
+                   .arg(bodies_.velocities)
+                   .arg(bodies_.atStart)
+                   .arg(contacts_.surfaces)
                    .arg(baumgarte)
                    .arg(slop)
                    .arg(dt)
@@ -233,20 +240,24 @@ Status Pipeline::solvePgs(const StepParams& params) {
             profile_.setLastBytes(sweepBytes(l.count, l.points, rowBytes));
         }
     }
-    // The split position pass, when a row pushes (the coloring read the status after the
-    // summaries), on push velocities that start at zero: its sweep k runs in the launches of
-    // velocity sweep k.
-    const bool pushes =
-        o.iterations > 0 && !g.launches.empty() && statusHost_[RUBBLE_STATUS_PUSHED] != 0;
+    // The split position pass, when a row pushes or may bounce (the coloring read the status
+    // after the summaries), on push velocities that start at zero: its sweep k runs in the
+    // launches of velocity sweep k, unless a row may bounce, whose target the velocity sweeps
+    // decide (markBounces): then it runs after them.
+    g.bounces = o.iterations > 0 && !g.launches.empty() && statusHost_[RUBBLE_STATUS_BOUNCES] != 0;
+    const bool pushes = o.iterations > 0 && !g.launches.empty() &&
+                        (statusHost_[RUBBLE_STATUS_PUSHED] != 0 || g.bounces);
+    const bool fused = pushes && !g.bounces;
+    const std::size_t sweeps = std::size_t(std::max(o.iterations, 0));
     if (pushes) {
-        const std::size_t n = bodies_.count, sweeps = std::size_t(o.iterations);
+        const std::size_t n = bodies_.count;
         RUBBLE_TRY(fill(c, g.push, 0u, n * sizeof(shared::BodyVelocity), &profile_));
         RUBBLE_TRY(g.sweepResidual.reserve(c.context(), sweeps * sizeof(cl_uint)));
         RUBBLE_TRY(fill(c, g.sweepResidual, 0u, sweeps * sizeof(cl_uint), &profile_));
     }
     for (int it = 0; it < o.iterations; ++it) {
         const cl_uint last = it + 1 == o.iterations ? 1u : 0u;
-        const cl_uint pushSweep = pushes ? cl_uint(it) : RUBBLE_PGS_NO_PUSH;
+        const cl_uint pushSweep = fused ? cl_uint(it) : RUBBLE_PGS_NO_PUSH;
         for (const PgsLaunch& l : g.launches) {
             RUBBLE_TRY(Dispatch(c, KernelId::SolvePgs, &profile_)
                            .arg(l.first)
@@ -272,12 +283,100 @@ Status Pipeline::solvePgs(const StepParams& params) {
             // The push sweep reads the normal rows again (from cache), its velocities and
             // impulses, and both bodies' push marks.
             const std::uint64_t push =
-                pushes ? l.count * (4 * sizeof(shared::BodyVelocity) + 8) + l.points * 32 : 0;
+                fused ? l.count * (4 * sizeof(shared::BodyVelocity) + 8) + l.points * 32 : 0;
             profile_.setLastBytes(sweepBytes(l.count, l.points, rowBytes) + push +
                                   (last ? l.points * sizeof(shared::PgsImpulse) : 0));
         }
     }
+    if (pushes && !fused) {
+        // The rows that bounce aim the pass at their lift, then the pass on its own.
+        const cl_uint count = cl_uint(g.elementsHost.size());
+        RUBBLE_TRY(Dispatch(c, KernelId::MarkBounces, &profile_)
+                       .arg(count)
+                       .arg(g.elements)
+                       .arg(g.normalRows)
+                       .arg(g.impulses)
+                       .arg(g.pushed)
+                       .arg(status_)
+                       .run(count, group));
+        profile_.setLastBytes(count * sizeof(shared::PgsElement) +
+                              g.rowCount * (sizeof(shared::PgsNormalRow) + sizeof(shared::float4)));
+        for (cl_uint sweep = 0; sweep < sweeps; ++sweep) {
+            for (const PgsLaunch& l : g.launches) {
+                RUBBLE_TRY(Dispatch(c, KernelId::PushPgs, &profile_)
+                               .arg(l.first)
+                               .arg(l.count)
+                               .arg(l.serial)
+                               .arg(g.elements)
+                               .arg(g.normalRows)
+                               .arg(g.impulses)
+                               .arg(g.pushed)
+                               .arg(g.push)
+                               .arg(relaxation)
+                               .arg(sweep)
+                               .arg(g.sweepResidual)
+                               .run(items(l), group));
+                profile_.setLastBytes(
+                    l.count * (sizeof(shared::PgsElement) + 4 * sizeof(shared::BodyVelocity) + 8) +
+                    l.points * (sizeof(shared::PgsNormalRow) + 2 * sizeof(shared::float4)));
+            }
+        }
+    }
     return absorbVelocityChange();
+}
+
+Status Pipeline::bouncePgs(const StepParams& params) {
+    PgsBuffers& g = pgs_;
+    if (!g.bounces) return {};
+    const Context& c = *context_;
+    const std::size_t group = c.workSizes().pairGroup;
+    const std::size_t sweeps = std::size_t(std::max(params.solver.iterations, 0));
+    auto items = [&](const PgsLaunch& l) -> std::size_t { return l.serial ? group : l.count; };
+    RUBBLE_TRY(g.bounce.reserve(c.context(), std::max<std::size_t>(1, g.rowCount) * sizeof(float)));
+    RUBBLE_TRY(g.bounceResidual.reserve(c.context(), sweeps * sizeof(cl_uint)));
+    RUBBLE_TRY(fill(c, g.bounceResidual, 0u, sweeps * sizeof(cl_uint), &profile_));
+    // Per launch: each element's record and bodies' velocities read and written, each point's
+    // normal row and impulses read, its bounce impulse read and written.
+    auto bytes = [](const PgsLaunch& l) -> std::uint64_t {
+        return l.count * (sizeof(shared::PgsElement) + 4 * sizeof(shared::BodyVelocity)) +
+               l.points * (sizeof(shared::PgsNormalRow) + sizeof(shared::float4) + 8);
+    };
+    for (cl_uint sweep = 0; sweep < sweeps; ++sweep) {
+        for (const PgsLaunch& l : g.launches) {
+            RUBBLE_TRY(Dispatch(c, KernelId::BouncePgs, &profile_)
+                           .arg(l.first)
+                           .arg(l.count)
+                           .arg(l.serial)
+                           .arg(g.elements)
+                           .arg(g.normalRows)
+                           .arg(g.impulses)
+                           .arg(g.bounce)
+                           .arg(bodies_.velocities)
+                           .arg(sweep)
+                           .arg(g.bounceResidual)
+                           .run(items(l), group));
+            profile_.setLastBytes(bytes(l));
+        }
+    }
+    for (const PgsLaunch& l : g.launches) {
+        RUBBLE_TRY(Dispatch(c, KernelId::BounceMomenta, &profile_)
+                       .arg(l.first)
+                       .arg(l.count)
+                       .arg(l.serial)
+                       .arg(g.elements)
+                       .arg(g.normalRows)
+                       .arg(g.impulses)
+                       .arg(g.bounce)
+                       .arg(bodies_.momenta)
+                       .arg(bodies_.masses)
+                       .arg(bodies_.poses)
+                       .arg(bodies_.velocities)
+                       .run(items(l), group));
+        profile_.setLastBytes(bytes(l) + l.count * 2 * (2 * sizeof(shared::BodyMomentum) +
+                                                        sizeof(shared::BodyMass) +
+                                                        sizeof(shared::BodyPose)));
+    }
+    return {};
 }
 
 Status Pipeline::applyPushes(float dt) {

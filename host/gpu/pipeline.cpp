@@ -243,6 +243,8 @@ Status Pipeline::enqueueSatSolve(const StepParams& params) {
     RUBBLE_TRY(solvePgs(params));
     profile_.setStage(DeviceStage::IntegratePositions);
     RUBBLE_TRY(integratePositions(dt, params.symplectic()));
+    // As PgsSolver::solvePositions: bounces from the contact, the pushes, the joints.
+    RUBBLE_TRY(bouncePgs(params));
     RUBBLE_TRY(applyPushes(dt));
     RUBBLE_TRY(projectJoints());
     // Forces hold for one step.

@@ -141,6 +141,9 @@ struct PgsBuffers {
     Buffer pushed;              ///< per body: a pushing row moves it
     Buffer push;                ///< per body: the push velocities (BodyVelocity)
     Buffer sweepResidual;       ///< per push sweep: the largest change, float bits
+    Buffer bounce;              ///< per point: the restitution pass's impulse, N s
+    Buffer bounceResidual;      ///< per restitution sweep: the largest change, float bits
+    bool bounces = false;       ///< this step: a row may bounce (the non-fused path runs)
     std::uint32_t rowCount = 0; ///< points with rows this step
     // Joints: in body frames (once per world), their rows and impulses (kept between steps),
     // the jointed bodies, and the joints colored once over the dynamic bodies for the position
@@ -330,9 +333,16 @@ class Pipeline {
     /// warm-started.
     Status buildPgsRows(const StepParams& params);
     /// Stage solve: warm start, `iterations` velocity sweeps and the split position pass, one
-    /// launch per color each; the momenta take up the velocity change.
+    /// launch per color each; the momenta take up the velocity change. The pass's sweep k runs in
+    /// the launches of velocity sweep k, unless a row may bounce (the status block read after
+    /// the summaries): then the bouncing rows' lifts are marked (markBounces) after the velocity
+    /// sweeps and the pass follows in launches of its own, as the CPU orders them.
     Status solvePgs(const StepParams& params);
-    /// After integratePositions: the split position pass moves the bodies.
+    /// After integratePositions, when a row may bounce: the restitution pass (PgsSolver's
+    /// solveRestitution, up to `iterations` sweeps, one launch per color), then the bounces'
+    /// impulses into the momenta and those bodies' velocities from them.
+    Status bouncePgs(const StepParams& params);
+    /// After the restitution pass: the split position pass moves the bodies.
     Status applyPushes(float dt);
     /// After the pushes: the joints projected onto their constraints (a group of at most
     /// RUBBLE_JOINT_DIRECT_ROWS rows as one, up to RUBBLE_JOINT_POSITION_ITERATIONS Newton

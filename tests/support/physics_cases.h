@@ -18,6 +18,10 @@ inline const char* kDeviceSimulation =
     R"(, "collision": {"method": "particles", "particle_spacing": 0.1},
        "solver": {"type": "jacobi", "iterations": 10})";
 
+/// The keys a device run with SAT and PGS adds (every body on the device, the CPU's algorithms).
+inline const char* kDeviceSatSimulation =
+    R"(, "collision": {"method": "sat"}, "solver": {"type": "pgs", "iterations": 10})";
+
 /// A free ball spinning at 10 rad/s about (1, 2, 2)/3 in the world (a sphere: its angular
 /// velocity stays constant), 60 Hz, no gravity.
 inline std::string spinScene(const std::string& integrator, const std::string& simulation = "") {

@@ -53,8 +53,12 @@
 #define RUBBLE_STATUS_PAIRS 8u        // SAT: body pairs found by the broad phase (may exceed room)
 #define RUBBLE_STATUS_GRID_ENTRIES 9u // SAT: (cell, body) entries of the broad phase's grid
 #define RUBBLE_STATUS_LARGE 10u       // SAT: bodies too large for the grid, tested against all
-#define RUBBLE_STATUS_SPARE2 11u      // keeps the block a multiple of 16 bytes
-#define RUBBLE_STATUS_COUNT 12u
+#define RUBBLE_STATUS_BOUNCES 11u     // PGS: some row may bounce (the restitution pass runs)
+#define RUBBLE_STATUS_LAYERS 12u      // PGS: moving bodies 10 times apart in mass touch (layers)
+#define RUBBLE_STATUS_SPARE3 13u      // keep the block a multiple of 16 bytes
+#define RUBBLE_STATUS_SPARE4 14u
+#define RUBBLE_STATUS_SPARE5 15u
+#define RUBBLE_STATUS_COUNT 16u
 
 // Stages over contacts run a fixed number of work-items that stride through however many
 // contacts there are: this many work-groups per compute unit.

@@ -69,6 +69,24 @@ RUBBLE_FN float4 pointRelativeVelocityItem(BodyVelocity va, BodyVelocity vb, flo
     return sub4(add4(vb.linear, cross3(vb.angular, rB)), add4(va.linear, cross3(va.angular, rA)));
 }
 
+// A contact point's arm from a body's centre of mass x, world, m.
+RUBBLE_FN float4 pgsArmItem(float4 point, float4 x) {
+    return sub4(vec4(point.x, point.y, point.z), vec4(x.x, x.y, x.z));
+}
+
+// A contact point's bounce (bounceItem) at arms rA, rB with penetration `depth` along the unit
+// normal n, from the bodies' velocities after this step's forces (va, vb) and before them
+// (vaBefore, vbBefore). pgsContactRowItem stores it in its normal row; summarizePairs asks it
+// before the rows are built, to know whether the restitution pass will run.
+RUBBLE_FN Bounce pointBounceItem(float4 rA, float4 rB, float4 n, float depth, BodyVelocity va,
+                                 BodyVelocity vb, BodyVelocity vaBefore, BodyVelocity vbBefore,
+                                 float restitution, float dt) {
+    const float normalSpeed = dot3(pointRelativeVelocityItem(va, vb, rA, rB), n);
+    const float4 relativeBefore = pointRelativeVelocityItem(vaBefore, vbBefore, rA, rB);
+    const float gap = -depth < 0.0f ? 0.0f : -depth; // std::max(-depth, 0)
+    return bounceItem(restitution, -dot3(relativeBefore, n), -normalSpeed, gap, dt);
+}
+
 // 112 bytes: a contact point's normal row (the CPU's NormalRow). It acts on body b with +J and
 // on body a with -J.
 typedef struct PgsNormalRow {
@@ -113,12 +131,9 @@ RUBBLE_FN PgsContactRow pgsContactRowItem(float4 point, float depth, float4 n, f
                                           float friction, float restitution, float baumgarte,
                                           float slop, float dt, float4 fixedTangent) {
     PgsContactRow r;
-    const float4 p = vec4(point.x, point.y, point.z);
-    const float4 rA = sub4(p, vec4(xA.x, xA.y, xA.z));
-    const float4 rB = sub4(p, vec4(xB.x, xB.y, xB.z));
+    const float4 rA = pgsArmItem(point, xA), rB = pgsArmItem(point, xB);
     const float4 relative = pointRelativeVelocityItem(va, vb, rA, rB);
     const float normalSpeed = dot3(relative, n);
-    const float4 relativeBefore = pointRelativeVelocityItem(vaBefore, vbBefore, rA, rB);
 
     const RowJacobian jn = rowJacobianItem(n, rA, rB, inverseMassA, inverseMassB, ia, ib);
     r.normal.normal = vec4(n.x, n.y, n.z);
@@ -128,9 +143,8 @@ RUBBLE_FN PgsContactRow pgsContactRowItem(float4 point, float depth, float4 n, f
     r.normal.turnB = jn.turnB;
     const NormalTarget t = pgsNormalTargetItem(depth, baumgarte, slop, dt);
     r.normal.speeds = make4(t.target, t.push, inverseMassA, inverseMassB);
-    const float gap = -depth < 0.0f ? 0.0f : -depth; // std::max(-depth, 0)
     const Bounce bounce =
-        bounceItem(restitution, -dot3(relativeBefore, n), -normalSpeed, gap, dt);
+        pointBounceItem(rA, rB, n, depth, va, vb, vaBefore, vbBefore, restitution, dt);
     r.normal.mass = make4(jn.mass, bounce.speed, bounce.lift, 0.0f);
 
     // Tangents: along the sliding velocity when there is one, else the fixed basis.
@@ -201,6 +215,37 @@ RUBBLE_FN PgsUpdate solvePgsNormalItem(PgsNormalRow r, BodyVelocityPair v, float
     const float speed = pgsRowSpeedItem(v.a, v.b, r.normal, r.crossA, r.crossB);
     const float sum = accumulated + r.mass.x * (target - speed) * relaxation;
     const float total = sum < 0.0f ? 0.0f : sum; // std::max's choice between signed zeros
+    PgsUpdate u;
+    u.applied = total - accumulated;
+    u.accumulated = total;
+    u.v = applyPgsRowItem(v, r.normal, r.turnA, r.turnB, r.speeds.z, r.speeds.w, u.applied);
+    u.pad0 = u.pad1 = 0.0f;
+    return u;
+}
+
+// Whether a normal row bounces in the restitution pass: it has a bounce speed and stopped its
+// bodies in this step's solve (`impulse`, its accumulated normal impulse, > 0), so that they
+// reached the contact (pgs.cpp, isBouncing).
+RUBBLE_FN int pgsBouncesItem(PgsNormalRow r, float impulse) {
+    return r.mass.y > 0.0f && impulse > 0.0f;
+}
+
+// The split pass's target of a row: its push speed, or for a row that bounces the larger of
+// that and its bounce's lift, which carries the bodies from the contact to where the rebound has
+// taken them by the step's end (solvePushes).
+RUBBLE_FN float pgsPushTargetItem(PgsNormalRow r, float impulse) {
+    if (!pgsBouncesItem(r, impulse)) return r.speeds.y;
+    return r.speeds.y < r.mass.z ? r.mass.z : r.speeds.y; // std::max
+}
+
+// One update of the restitution pass on a row that bounces (solveRestitution): lambda_b =
+// max(lambda_b + m_eff (bounceSpeed - J v), -lambda), with `impulse` lambda the solve's
+// accumulated normal impulse, so that the two stay >= 0 together; applied to both bodies.
+RUBBLE_FN PgsUpdate solvePgsBounceItem(PgsNormalRow r, BodyVelocityPair v, float accumulated,
+                                       float impulse) {
+    const float speed = pgsRowSpeedItem(v.a, v.b, r.normal, r.crossA, r.crossB);
+    const float sum = accumulated + r.mass.x * (r.mass.y - speed);
+    const float total = sum < -impulse ? -impulse : sum; // std::max(sum, -impulse)
     PgsUpdate u;
     u.applied = total - accumulated;
     u.accumulated = total;
