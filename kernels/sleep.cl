@@ -114,7 +114,9 @@ holdJointGroups(const uint count, __global const uint* jointBodies, __global con
 }
 
 // After sleepBodies: pass 0 marks the groups with an awake member (bit 2), pass 1 wakes the
-// sleeping members of those groups, so that a group wakes as one.
+// sleeping members of those groups, so that a group wakes as one. Before the solve (SAT, after
+// wakeTouchedPairs) pass 2 wakes them as pass 1 does, without the asleep count, which is the
+// step's end's.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
 wakeJointGroups(const uint count, __global const uint* jointBodies, __global const uint* groupOf,
                 __global uint* flags, __global float* slowFor, __global uint* groupVotes,
@@ -130,6 +132,6 @@ wakeJointGroups(const uint count, __global const uint* jointBodies, __global con
     if (!(f & RUBBLE_BODY_ASLEEP) || !(groupVotes[g] & 2u)) return;
     flags[i] = f & ~RUBBLE_BODY_ASLEEP;
     slowFor[i] = 0.0f;
-    atomic_dec(&status[RUBBLE_STATUS_ASLEEP]);
+    if (pass == 1u) atomic_dec(&status[RUBBLE_STATUS_ASLEEP]);
     atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
 }

@@ -58,6 +58,7 @@ enum class KernelId : unsigned {
     WarmStartPgs,
     SolvePgs,
     ApplyPushes,
+    WakeTouchedPairs,
     MarkBounces,
     PushPgs,
     BouncePgs,

@@ -215,18 +215,35 @@ Status Pipeline::beginStep(const StepParams& params, const StepInputs& in) {
 }
 
 Status Pipeline::enqueueSatCollision(const StepParams& params) {
+    std::uint32_t woken = 0;
     for (;;) {
         profile_.setStage(DeviceStage::BroadPhase);
         RUBBLE_TRY(broadPhase(params.dt));
         profile_.setStage(DeviceStage::NarrowPhase);
         RUBBLE_TRY(narrowPhase(params.dt));
+        // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
+        profile_.setStage(DeviceStage::Sleep);
+        RUBBLE_TRY(wakeTouchedPairs());
         profile_.setStage(DeviceStage::BuildContactRows);
         RUBBLE_TRY(summarizePairs(params));
         Result<DeviceStatus> st = readStatus();
         RUBBLE_TRY(st);
-        if (st->pairs <= sat_.current.capacity) break;
-        // Nothing after the broad phase has touched the bodies: grow and find them again.
-        const std::uint32_t grown = st->pairs + st->pairs / 2;
+        if (st->pairs <= sat_.current.capacity) {
+            // The woken bodies' pairs with other sleeping bodies were not found: collide again
+            // (a body woken here wakes nobody, so the next round wakes none).
+            if (st->woken == woken) break;
+            woken = st->woken;
+            continue;
+        }
+        // Nothing has moved (the wake only woke bodies): grow and find them again, within the
+        // step's pair budget (host/core/limits.h), as the CPU's broad phase is held to it.
+        woken = st->woken;
+        const std::size_t budget = pairBudget(bodies_.count);
+        if (st->pairs > budget)
+            return limitError("broadPhase", "broad-phase pairs", st->pairs, budget,
+                              params.step + 1, "bodies overlap each other in large numbers");
+        const auto grown =
+            std::uint32_t(std::min<std::size_t>(st->pairs + st->pairs / 2, budget));
         std::fprintf(stderr,
                      "rubble: pair overflow (%u pairs, room for %u): buffers grown to %u "
                      "and the step's collision run again\n",

@@ -275,6 +275,10 @@ class Pipeline {
     /// Stage wakeTouched: the sleeping bodies that this step's contacts touch with a waking body
     /// wake before the rows (kernels/sleep.cl).
     Status wakeTouched();
+    /// Stage wake for SAT, after the narrow phase: the sleeping bodies that a pair with points
+    /// joins to a waking body wake (kernels/pgs.cl, wakeTouchedPairs), and with them the joint
+    /// groups of woken members.
+    Status wakeTouchedPairs();
     /// Stage sleepBodies: restless marks from the rows, then each body's sleep.
     Status sleepBodies(float dt);
     /// The summed impulse of the rows on each obstacle.

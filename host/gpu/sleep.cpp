@@ -18,6 +18,42 @@ Status Pipeline::wakeTouched() {
         .run(strideItems(), RUBBLE_GROUP_CONTACTS);
 }
 
+Status Pipeline::wakeTouchedPairs() {
+    const Context& c = *context_;
+    const cl_uint capacity = sat_.current.capacity;
+    const std::size_t group = c.workSizes().pairGroup;
+    const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
+    const std::size_t items =
+        std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
+    RUBBLE_TRY(Dispatch(c, KernelId::WakeTouchedPairs, &profile_)
+                   .arg(capacity)
+                   .arg(sat_.current.count)
+                   .arg(sat_.current.pairs)
+                   .arg(sat_.manifolds)
+                   .arg(bodies_.atStart)
+                   .arg(bodies_.flags)
+                   .arg(bodies_.slowFor)
+                   .arg(status_)
+                   .run(items, group));
+    const PgsBuffers& g = pgs_;
+    if (g.jointGroupCount == 0) return {};
+    // A joint group wakes as one: the members of a group with an awake member.
+    const cl_uint members = g.jointBodyCount;
+    RUBBLE_TRY(fill(c, g.groupVotes, 0u, g.jointGroupCount * sizeof(cl_uint), &profile_));
+    for (const cl_uint pass : {0u, 2u})
+        RUBBLE_TRY(Dispatch(c, KernelId::WakeJointGroups, &profile_)
+                       .arg(members)
+                       .arg(g.jointBodies)
+                       .arg(g.jointGroupOf)
+                       .arg(bodies_.flags)
+                       .arg(bodies_.slowFor)
+                       .arg(g.groupVotes)
+                       .arg(pass)
+                       .arg(status_)
+                       .run(members, RUBBLE_GROUP_BODIES));
+    return {};
+}
+
 Status Pipeline::sleepBodies(float dt) {
     // Restless marks from the contacts: the Jacobi rows, or the SAT method's pairs with points.
     if (sat_.enabled) {

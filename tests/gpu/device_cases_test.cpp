@@ -98,6 +98,22 @@ TEST_F(DeviceCases, SatSymplecticSpinTurnsByOmegaTimesT) {
     test::expectSpinTurnsByOmegaTimesT(w);
 }
 
+// Waking before the solve with SAT (kernels/pgs.cl, wakeTouchedPairs): the sleeping bodies a
+// pair joins to a waking one wake before the rows and the collision runs again, so that their
+// mass takes part, to the reference's bounds.
+TEST_F(DeviceCases, SatSleepingRowTakesTheHitWithItsMomentum) {
+    World w = deviceWorld(test::sleepingRowScene(test::kDeviceSatSimulation));
+    test::expectSleepingRowTakesTheHit(w, 1e-3);
+}
+TEST_F(DeviceCases, SatElasticBallHittingASleepingOneStopsAndPassesItsVelocityOn) {
+    World w = deviceWorld(test::cradleScene(test::kDeviceSatSimulation));
+    test::expectCradleExchange(w, 1e-3f);
+}
+TEST_F(DeviceCases, SatExplosionIntoASleepingRowKeepsItsMomentum) {
+    World w = deviceWorld(test::explodedRowScene(test::kDeviceSatSimulation));
+    test::expectExplodedRowKeepsItsMomentum(w, 1e-3);
+}
+
 // The drop on the device follows the CPU reference step by step: one pair, so the sweep order
 // is the same, and the bounce lands within 1e-4 m of it at every step (measured: 0, the same
 // bits on PoCL).
