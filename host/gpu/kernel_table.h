@@ -61,6 +61,7 @@ enum class KernelId : unsigned {
     WakeTouchedPairs,
     MarkBounces,
     PushPgs,
+    LayerPgs,
     BouncePgs,
     BounceMomenta,
     MarkRestlessPairs,

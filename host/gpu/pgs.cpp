@@ -322,6 +322,42 @@ Status Pipeline::solvePgs(const StepParams& params) {
             }
         }
     }
+    // The layer pass, when the summaries found moving bodies that far apart in mass.
+    if (!g.launches.empty() && statusHost_[RUBBLE_STATUS_LAYERS] != 0) {
+        const std::size_t n = bodies_.count;
+        const std::size_t rows = std::max<std::size_t>(1, g.rowCount);
+        RUBBLE_TRY(g.layer.reserve(c.context(), n * sizeof(cl_uint)));
+        RUBBLE_TRY(g.loaded.reserve(c.context(), n * sizeof(cl_uint)));
+        RUBBLE_TRY(g.layerHistogram.reserve(c.context(), (n + 1) * sizeof(cl_uint)));
+        RUBBLE_TRY(g.layerRows.reserve(c.context(), rows * sizeof(cl_uint)));
+        RUBBLE_TRY(g.layerSorted.reserve(c.context(), rows * sizeof(cl_uint)));
+        const cl_uint count = cl_uint(g.elementsHost.size()), bodyCount = bodies_.count;
+        const cl_uint joints = g.jointCount, pushPass = pushes ? 1u : 0u;
+        RUBBLE_TRY(Dispatch(c, KernelId::LayerPgs, &profile_)
+                       .arg(count)
+                       .arg(g.elements)
+                       .arg(g.normalRows)
+                       .arg(g.impulses)
+                       .arg(bodies_.jacobi)
+                       .arg(bodyCount)
+                       .arg(g.joints)
+                       .arg(joints)
+                       .arg(bodies_.velocities)
+                       .arg(pushPass)
+                       .arg(g.pushed)
+                       .arg(g.push)
+                       .arg(status_)
+                       .arg(g.layer)
+                       .arg(g.loaded)
+                       .arg(g.layerRows)
+                       .arg(g.layerSorted)
+                       .arg(g.layerHistogram)
+                       .run(1, 1));
+        // At least: every element and row read once, each body's layer and marks.
+        profile_.setLastBytes(count * sizeof(shared::PgsElement) +
+                              g.rowCount * sizeof(shared::PgsNormalRow) +
+                              n * (sizeof(shared::JacobiBody) + 2 * sizeof(cl_uint)));
+    }
     return absorbVelocityChange();
 }
 

@@ -144,6 +144,9 @@ struct PgsBuffers {
     Buffer bounce;              ///< per point: the restitution pass's impulse, N s
     Buffer bounceResidual;      ///< per restitution sweep: the largest change, float bits
     bool bounces = false;       ///< this step: a row may bounce (the non-fused path runs)
+    // The layer pass's scratch (layerPgs): per body its layer and marks, the rows' lists, the
+    // histogram of lower layers.
+    Buffer layer, loaded, layerRows, layerSorted, layerHistogram;
     std::uint32_t rowCount = 0; ///< points with rows this step
     // Joints: in body frames (once per world), their rows and impulses (kept between steps),
     // the jointed bodies, and the joints colored once over the dynamic bodies for the position

@@ -114,6 +114,23 @@ TEST_F(DeviceCases, SatExplosionIntoASleepingRowKeepsItsMomentum) {
     test::expectExplodedRowKeepsItsMomentum(w, 1e-3);
 }
 
+// The layer pass on the device (kernels/pgs.cl, layerPgs): 100 kg on 1 kg, and on two 1 kg
+// boxes, stand at 10 iterations and sleep, to the reference's bounds; 1:10 closer still.
+TEST_F(DeviceCases, SatHeavyBoxOnALightOneStands) {
+    World w = deviceWorld(test::massStackScene({1.0, 100.0}, test::kDeviceSatSimulation));
+    test::expectStackStands(w, 0.01f, 0.05f);
+}
+TEST_F(DeviceCases, SatHeavyBoxOnTwoLightOnesStands) {
+    World w = deviceWorld(test::massStackScene({1.0, 1.0, 100.0}, test::kDeviceSatSimulation));
+    test::expectStackStands(w, 0.01f, 0.08f);
+}
+TEST_F(DeviceCases, SatSmallerRatiosStand) {
+    World even = deviceWorld(test::massStackScene({1.0, 1.0}, test::kDeviceSatSimulation));
+    test::expectStackStands(even, 0.001f, 0.005f);
+    World ten = deviceWorld(test::massStackScene({1.0, 10.0}, test::kDeviceSatSimulation));
+    test::expectStackStands(ten, 0.002f, 0.005f);
+}
+
 // The drop on the device follows the CPU reference step by step: one pair, so the sweep order
 // is the same, and the bounce lands within 1e-4 m of it at every step (measured: 0, the same
 // bits on PoCL).

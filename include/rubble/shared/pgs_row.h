@@ -254,6 +254,49 @@ RUBBLE_FN PgsUpdate solvePgsBounceItem(PgsNormalRow r, BodyVelocityPair v, float
     return u;
 }
 
+// The layer pass (host/dynamics/pgs.cpp, solveLayers): a row's upper body is this many times as
+// heavy as its lower one before the pass takes it (kLayerMassRatio).
+#define RUBBLE_LAYER_MASS_RATIO 10.0f
+// "No layer": a body that nothing links to a body that does not move.
+#define RUBBLE_NO_LAYER 0xffffffffu
+
+// Whether a body of inverse mass upInverse sits on one of downInverse as the layer pass takes it:
+// both move, and the upper one is RUBBLE_LAYER_MASS_RATIO times as heavy.
+RUBBLE_FN int heavyOverItem(float upInverse, float downInverse) {
+    return upInverse > 0.0f && downInverse >= RUBBLE_LAYER_MASS_RATIO * upInverse;
+}
+
+// One update of a normal row that moves only the body on the upper side (b when upperIsB), the
+// other held as if it did not move, from the accumulated impulse `total` toward `target`, the
+// sum clamped >= 0 (solveNormalRowOnto); `applied` 0 and nothing moved when the upper body
+// cannot move.
+RUBBLE_FN PgsUpdate solvePgsNormalOntoItem(PgsNormalRow r, BodyVelocityPair v, int upperIsB,
+                                           float target, float total) {
+    PgsUpdate u;
+    u.v = v;
+    u.accumulated = total;
+    u.applied = 0.0f;
+    u.pad0 = u.pad1 = 0.0f;
+    const float speed = pgsRowSpeedItem(v.a, v.b, r.normal, r.crossA, r.crossB);
+    const float k = upperIsB ? r.speeds.w + (r.crossB.x * r.turnB.x + r.crossB.y * r.turnB.y +
+                                             r.crossB.z * r.turnB.z)
+                             : r.speeds.z + (r.crossA.x * r.turnA.x + r.crossA.y * r.turnA.y +
+                                             r.crossA.z * r.turnA.z);
+    if (k <= 0.0f) return u;
+    const float sum = total + (target - speed) / k;
+    const float next = sum < 0.0f ? 0.0f : sum; // std::max(sum, 0)
+    u.applied = next - total;
+    u.accumulated = next;
+    if (upperIsB) {
+        u.v.b.linear = add4(v.b.linear, scale4(r.normal, r.speeds.w * u.applied));
+        u.v.b.angular = add4(v.b.angular, scale4(r.turnB, u.applied));
+    } else {
+        u.v.a.linear = sub4(v.a.linear, scale4(r.normal, r.speeds.z * u.applied));
+        u.v.a.angular = sub4(v.a.angular, scale4(r.turnA, u.applied));
+    }
+    return u;
+}
+
 // 80 bytes, not stored: the velocities after a point's friction update, with the two new
 // accumulated impulses (x, y) and the larger |change| (z), N s.
 typedef struct PgsFrictionUpdate {
