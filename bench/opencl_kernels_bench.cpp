@@ -2,7 +2,9 @@
 // the CPU in CI), on a debris pile stepped until it has contacts; bytes processed are the
 // kernels' counted traffic (host/gpu/traffic.h), so the figures read as bytes/s. Flags before
 // Google Benchmark's own: --scene=FILE (default scenes/bench/debris_16k.json), --steps=N (120),
-// --spacing=M (0.5). Figures and commands are in docs/opencl.md.
+// --spacing=M (0.5). The SAT method's kernels (benchSatKernel, one per kernel, device time from
+// the profiling events) run on the same scene stepped on the CPU reference. Figures and
+// commands are in docs/opencl.md.
 #include <cstdio>
 #include <cstdlib>
 #include <initializer_list>
@@ -14,11 +16,15 @@
 
 #include <benchmark/benchmark.h>
 
+#include "host/collision/sat_collision.h"
 #include "host/core/math.h"
 #include "host/core/step_params.h"
+#include "host/gpu/hull_data.h"
 #include "host/gpu/pipeline.h"
 #include "host/gpu/traffic.h"
 #include "rubble/scene.h"
+#include "rubble/shared/broad_phase.h"
+#include "rubble/shared/narrow_phase.h"
 #include "rubble/world.h"
 #include "support/device_stage.h"
 
@@ -242,8 +248,247 @@ void benchSolveLcpJacobi(benchmark::State& state) {
     state.counters["rows"] = rows;
 }
 
+// The SAT method on the same scene: stepped `steps` times on the CPU reference (sat, pgs), its
+// state on two pipelines made for SAT whose pairs were found and collided once; "warm" also
+// keeps those features, so that its narrow phase reuses them (the poses do not move), while
+// "cold" runs the full test for every pair.
+struct SatBenchWorld {
+    std::optional<test::StageInput> in;
+    gpu::PipelineHandle cold, warm;
+    gpu::TrafficCounts counts;
+    std::string error;
+};
+
+Status prepareSat(const BenchSettings& settings, SatBenchWorld& b) {
+    Result<Scene> scene = loadScene(settings.scene);
+    RUBBLE_TRY(scene);
+    scene->simulation.backend = Backend::Cpu;
+    scene->simulation.collision.method = CollisionMethod::Sat;
+    scene->simulation.solver.type = SolverType::Pgs;
+    Result<World> world = World::create(*scene);
+    RUBBLE_TRY(world);
+    for (int i = 0; i < settings.steps; ++i) RUBBLE_TRY(world->step());
+    Result<std::shared_ptr<gpu::Context>> context = openDevice(RunOptions{});
+    RUBBLE_TRY(context);
+    b.in.emplace(test::stageInput(*scene));
+    test::takeState(*world, *b.in);
+    const float dt = b.in->params().dt;
+    for (gpu::PipelineHandle* p : {&b.cold, &b.warm}) {
+        Result<gpu::PipelineHandle> made = test::satPipeline(*context, *b.in);
+        RUBBLE_TRY(made);
+        *p = std::move(*made);
+        RUBBLE_TRY((*p)->resetStatus());
+        RUBBLE_TRY((*p)->broadPhase(dt));
+        Result<std::uint32_t> pairs = (*p)->readPairCount();
+        RUBBLE_TRY(pairs);
+        RUBBLE_TRY((*p)->narrowPhase(dt));
+        RUBBLE_TRY((*p)->finish());
+    }
+    // The warm pipeline keeps its features and finds the same pairs again.
+    RUBBLE_TRY(b.warm->keepPairFeatures());
+    RUBBLE_TRY(b.warm->findPairs());
+    RUBBLE_TRY(b.warm->narrowPhase(dt));
+    Result<gpu::DeviceStatus> st = b.warm->readStatus();
+    RUBBLE_TRY(st);
+    gpu::TrafficCounts& n = b.counts;
+    n.bodies = b.in->bodies.count();
+    n.pairs = st->pairs;
+    n.previousPairs = st->pairs;
+    n.gridEntries = st->gridEntries;
+    n.largeBodies = st->largeBodies;
+    n.planes = b.warm->sat().planeCount;
+    n.sortItems = b.warm->context().workSizes().sortItems;
+    n.contacts = st->contacts;
+    std::fprintf(stderr, "SAT bench: %u bodies, %u pairs, %u contacts, %u grid entries, %u large\n",
+                 b.in->bodies.count(), st->pairs, st->contacts, st->gridEntries, st->largeBodies);
+    for (gpu::Pipeline* p : {b.cold.get(), b.warm.get()})
+        RUBBLE_TRY(p->collectProfile(n));
+    return {};
+}
+
+BenchSettings& benchSettings() {
+    static BenchSettings settings;
+    return settings;
+}
+
+SatBenchWorld& satWorld() {
+    static SatBenchWorld w = [] {
+        SatBenchWorld b;
+        if (Status s = prepareSat(benchSettings(), b); !s) b.error = s.error().describe();
+        return b;
+    }();
+    return w;
+}
+
+// The device time of one kernel per iteration (profiling events; manual time), running the
+// stage that launches it; bytes are the kernel's counted traffic. `warm` picks the pipeline that
+// reuses its features. A fixed count of iterations: each runs the whole stage, however short
+// the kernel.
+void benchSatKernel(benchmark::State& state, gpu::KernelId kernel, bool warm) {
+    SatBenchWorld& b = satWorld();
+    if (!b.in) return state.SkipWithError(b.error.c_str());
+    gpu::Pipeline& p = warm ? *b.warm : *b.cold;
+    const float dt = b.in->params().dt;
+    auto deviceMs = [&] {
+        for (const gpu::CommandTotals& t : p.profileTotals())
+            if (t.name == gpu::signatureOf(kernel).name) return t.ms;
+        return 0.0;
+    };
+    for (auto _ : state) {
+        const double before = deviceMs();
+        Status s = kernel == gpu::KernelId::ComputeAabbs   ? p.computeAabbs(dt)
+                   : kernel == gpu::KernelId::CollideShapes ? p.narrowPhase(dt)
+                                                            : p.findPairs();
+        if (s) s = p.finish();
+        if (s) s = p.collectProfile(b.counts).status();
+        if (!s) return state.SkipWithError(s.error().describe().c_str());
+        state.SetIterationTime((deviceMs() - before) * 1e-3);
+    }
+    state.SetBytesProcessed(std::int64_t(gpu::kernelBytes(kernel, b.counts)) * state.iterations());
+    state.counters["pairs"] = double(b.counts.pairs);
+    state.counters["MB"] = double(gpu::kernelBytes(kernel, b.counts)) * 1e-6;
+}
+
+// The whole stages, wall time: broadPhase (boxes, grid, sort, pairs) and narrowPhase.
+void benchSatBroadPhase(benchmark::State& state) {
+    SatBenchWorld& b = satWorld();
+    if (!b.in) return state.SkipWithError(b.error.c_str());
+    gpu::Pipeline& p = *b.cold;
+    const float dt = b.in->params().dt;
+    for (auto _ : state) {
+        Status s = p.broadPhase(dt);
+        if (s) s = p.finish();
+        if (s) s = p.collectProfile(b.counts).status();
+        if (!s) return state.SkipWithError(s.error().describe().c_str());
+    }
+    state.counters["pairs"] = double(b.counts.pairs);
+}
+
+void benchSatNarrowPhase(benchmark::State& state) {
+    SatBenchWorld& b = satWorld();
+    if (!b.in) return state.SkipWithError(b.error.c_str());
+    gpu::Pipeline& p = state.range(0) ? *b.warm : *b.cold;
+    const float dt = b.in->params().dt;
+    for (auto _ : state) {
+        Status s = p.narrowPhase(dt);
+        if (s) s = p.finish();
+        if (s) s = p.collectProfile(b.counts).status();
+        if (!s) return state.SkipWithError(s.error().describe().c_str());
+    }
+    state.counters["pairs"] = double(b.counts.pairs);
+    state.counters["contacts"] = double(b.counts.contacts);
+}
+
+// The CPU reference on the same state, for the ratio: SatCollision's broadPhase, and its
+// narrowPhase with an empty cache (range 0: every pair runs the full test) or with the features
+// of a first run kept (range 1).
+void benchCpuSatBroadPhase(benchmark::State& state) {
+    SatBenchWorld& b = satWorld();
+    if (!b.in) return state.SkipWithError(b.error.c_str());
+    SatCollision cpu(ContactForm::Manifolds);
+    StepContacts out;
+    const StepParams params = b.in->params();
+    for (auto _ : state)
+        if (!cpu.broadPhase(b.in->collisionScene(), b.in->bodies.view(), params, out).ok())
+            return state.SkipWithError("the broad phase failed");
+    state.counters["pairs"] = double(out.pairs.size());
+}
+
+void benchCpuSatNarrowPhase(benchmark::State& state) {
+    SatBenchWorld& b = satWorld();
+    if (!b.in) return state.SkipWithError(b.error.c_str());
+    SatCollision warm(ContactForm::Manifolds);
+    StepContacts out;
+    const StepParams params = b.in->params();
+    const CollisionScene scene = b.in->collisionScene();
+    if (!warm.broadPhase(scene, b.in->bodies.view(), params, out).ok() ||
+        !warm.narrowPhase(scene, b.in->bodies.view(), params, out).ok())
+        return state.SkipWithError("the collision stages failed");
+    for (auto _ : state) {
+        if (state.range(0)) {
+            if (!warm.narrowPhase(scene, b.in->bodies.view(), params, out).ok())
+                return state.SkipWithError("the narrow phase failed");
+            continue;
+        }
+        state.PauseTiming();
+        SatCollision cold(ContactForm::Manifolds);
+        const bool found = cold.broadPhase(scene, b.in->bodies.view(), params, out).ok();
+        state.ResumeTiming();
+        if (!found || !cold.narrowPhase(scene, b.in->bodies.view(), params, out).ok())
+            return state.SkipWithError("the collision stages failed");
+    }
+    state.counters["pairs"] = double(out.pairs.size());
+    state.counters["contacts"] = double(out.contactCount);
+}
+
+// The device's narrow phase code (rubble/shared/narrow_phase.h) compiled for the host, on the
+// same pairs, one thread, with an empty cache (range 0) or last run's (range 1): how much of
+// the kernel's time is the code and how much the OpenCL compiler and runtime.
+void benchSharedNarrowPhaseOnHost(benchmark::State& state) {
+    SatBenchWorld& b = satWorld();
+    if (!b.in) return state.SkipWithError(b.error.c_str());
+    Result<std::vector<BodyPair>> pairs = b.cold->downloadPairs();
+    Result<gpu::HullData> hulls = gpu::flattenShapes(b.in->shapes);
+    if (!pairs || !hulls) return state.SkipWithError("pairs or hulls");
+    const shared::HullArrays arrays = gpu::hullArraysOf(*hulls);
+    const BodyArrays& bodies = b.in->bodies;
+    const float dt = b.in->params().dt;
+    std::vector<shared::PairCache> caches(pairs->size(), shared::emptyPairCacheItem());
+    std::uint32_t contacts = 0;
+    auto run = [&] {
+        contacts = 0;
+        for (std::size_t i = 0; i < pairs->size(); ++i) {
+            const BodyPair pair = (*pairs)[i];
+            if (!state.range(0)) caches[i] = shared::emptyPairCacheItem();
+            const shared::BodyVelocity va = bodies.velocities[pair.a], vb = bodies.velocities[pair.b];
+            const float spinA = shared::spinItem(
+                va, hulls->shapes[bodies.shapeOf[pair.a]].boundingRadius, dt);
+            const float spinB = shared::spinItem(
+                vb, hulls->shapes[bodies.shapeOf[pair.b]].boundingRadius, dt);
+            const shared::ContactManifold m = shared::collideShapesItem(
+                arrays, hulls->shapes[bodies.shapeOf[pair.a]],
+                shared::transformOfPose(bodies.poses[pair.a]), hulls->shapes[bodies.shapeOf[pair.b]],
+                shared::transformOfPose(bodies.poses[pair.b]), &caches[i],
+                shared::pairMarginItem(va, vb, spinA, spinB, dt));
+            contacts += m.count;
+        }
+    };
+    run();
+    for (auto _ : state) run();
+    state.counters["pairs"] = double(pairs->size());
+    state.counters["contacts"] = double(contacts);
+}
+
 } // namespace
 } // namespace rubble
+
+BENCHMARK(rubble::benchSharedNarrowPhaseOnHost)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(rubble::benchCpuSatBroadPhase)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(rubble::benchCpuSatNarrowPhase)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+using rubble::benchSatKernel;
+#define RUBBLE_SAT_KERNEL(kernel, warm)                                                            \
+    BENCHMARK_CAPTURE(benchSatKernel, kernel, rubble::gpu::KernelId::kernel, warm)                 \
+        ->Unit(benchmark::kMillisecond)                                                            \
+        ->Iterations(30)                                                                           \
+        ->UseManualTime()
+RUBBLE_SAT_KERNEL(ComputeAabbs, false);
+RUBBLE_SAT_KERNEL(GridBounds, false);
+RUBBLE_SAT_KERNEL(GridSetup, false);
+RUBBLE_SAT_KERNEL(GridEntries, false);
+RUBBLE_SAT_KERNEL(GatherCellBoxes, false);
+RUBBLE_SAT_KERNEL(FindCellPairs, false);
+RUBBLE_SAT_KERNEL(FindLargePairs, false);
+RUBBLE_SAT_KERNEL(CountPairs, false);
+RUBBLE_SAT_KERNEL(PlacePairs, false);
+RUBBLE_SAT_KERNEL(SortPairLists, false);
+RUBBLE_SAT_KERNEL(CollideShapes, false);
+BENCHMARK_CAPTURE(benchSatKernel, CollideShapesCached, rubble::gpu::KernelId::CollideShapes, true)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(30)
+    ->UseManualTime();
+BENCHMARK(rubble::benchSatBroadPhase)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(rubble::benchSatNarrowPhase)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK(rubble::benchTransformParticles)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(rubble::benchBuildGrid)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -256,7 +501,7 @@ BENCHMARK(rubble::benchIntegratePositions)->Unit(benchmark::kMillisecond)->UseRe
 BENCHMARK(rubble::benchSolveLcpJacobi)->Arg(10)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 int main(int argc, char** argv) {
-    rubble::BenchSettings settings;
+    rubble::BenchSettings& settings = rubble::benchSettings();
     std::vector<char*> rest{argv[0]};
     for (int i = 1; i < argc; ++i) {
         const std::string_view a = argv[i];

@@ -84,3 +84,54 @@ __kernel void sleepBodies(const uint count, __global uint* status, __global uint
         if (woken) atomic_add(&status[RUBBLE_STATUS_WOKEN], woken);
     }
 }
+
+// Jointed bodies sleep and wake by joint group (bodies joined through dynamic bodies), as the
+// CPU's islands do: a body alone at the end of a joint would otherwise fall asleep under a
+// restless neighbour's momentary pause and leave it pulling at a wall. Before sleepBodies, each
+// member votes whether it would stay awake (bit 1 of its group's word); then every member of
+// such a group is marked restless, so that none falls asleep.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+voteJointGroups(const uint count, __global const uint* jointBodies, __global const uint* groupOf,
+                __global const uint* flags, __global const float* slowFor,
+                __global const uint* restless, __global const BodyVelocity* velocities,
+                const float dt, __global uint* groupVotes) {
+    const uint k = get_global_id(0);
+    if (k >= count || groupOf[k] == RUBBLE_NO_GROUP) return;
+    const uint i = jointBodies[k];
+    SleepRecord s;
+    s.flags = flags[i];
+    s.slowFor = slowFor[i];
+    const SleepRecord next = sleepItem(s, restless[i], slowBodyItem(velocities[i]), dt);
+    if (!(next.flags & RUBBLE_BODY_ASLEEP)) atomic_or(&groupVotes[groupOf[k]], 1u);
+}
+
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+holdJointGroups(const uint count, __global const uint* jointBodies, __global const uint* groupOf,
+                __global const uint* groupVotes, __global uint* restless) {
+    const uint k = get_global_id(0);
+    if (k >= count || groupOf[k] == RUBBLE_NO_GROUP) return;
+    if (groupVotes[groupOf[k]] & 1u) atomic_or(&restless[jointBodies[k]], RUBBLE_RESTLESS_NEIGHBOUR);
+}
+
+// After sleepBodies: pass 0 marks the groups with an awake member (bit 2), pass 1 wakes the
+// sleeping members of those groups, so that a group wakes as one. Before the solve (SAT, after
+// wakeTouchedPairs) pass 2 wakes them as pass 1 does, without the asleep count, which is the
+// step's end's.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+wakeJointGroups(const uint count, __global const uint* jointBodies, __global const uint* groupOf,
+                __global uint* flags, __global float* slowFor, __global uint* groupVotes,
+                const uint pass, __global uint* status) {
+    const uint k = get_global_id(0);
+    if (k >= count || groupOf[k] == RUBBLE_NO_GROUP) return;
+    const uint i = jointBodies[k], g = groupOf[k];
+    const uint f = flags[i];
+    if (pass == 0u) {
+        if (!(f & RUBBLE_BODY_ASLEEP)) atomic_or(&groupVotes[g], 2u);
+        return;
+    }
+    if (!(f & RUBBLE_BODY_ASLEEP) || !(groupVotes[g] & 2u)) return;
+    flags[i] = f & ~RUBBLE_BODY_ASLEEP;
+    slowFor[i] = 0.0f;
+    if (pass == 1u) atomic_dec(&status[RUBBLE_STATUS_ASLEEP]);
+    atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
+}

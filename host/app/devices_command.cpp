@@ -34,6 +34,9 @@ GpuCommands::GpuCommands(CLI::App& app) {
                          "report each kernel's bytes/s against the copy bandwidth");
     devices_->add_option("--steps", d.steps, "Steps of the scene's run");
     addOverrideFlag(devices_, "particle-spacing", d.overrides);
+    devices_->add_flag("--sat", d.sat,
+                       "The scene's run collides with SAT and solves with PGS (every body on the "
+                       "device) instead of particles and jacobi");
     addRunFlag(devices_, "device", d.run);
 
     compare_ = app.add_subcommand(
@@ -95,8 +98,8 @@ int kernelShares(const DevicesArgs& args, double deviceCopy) {
     if (!scene) return report(scene.error());
     SimulationOptions& sim = scene->simulation;
     sim.backend = Backend::OpenCl;
-    sim.collision.method = CollisionMethod::Particles;
-    sim.solver.type = SolverType::Jacobi;
+    sim.collision.method = args.sat ? CollisionMethod::Sat : CollisionMethod::Particles;
+    sim.solver.type = args.sat ? SolverType::Pgs : SolverType::Jacobi;
     if (Status s = applyOverrides(args.overrides, *scene); !s) return report(s.error());
     Result<World> world = World::create(*scene, args.run);
     if (!world) return report(world.error());
@@ -105,9 +108,14 @@ int kernelShares(const DevicesArgs& args, double deviceCopy) {
     std::vector<DeviceCommandTime> kernels = world->deviceProfile();
     std::sort(kernels.begin(), kernels.end(),
               [](const DeviceCommandTime& a, const DeviceCommandTime& b) { return a.ms > b.ms; });
-    std::printf("\n%s, %d steps, particle spacing %.2f m: device time per step and bytes moved "
-                "(each element a kernel touches, once)\n",
-                args.scene.c_str(), args.steps, double(sim.collision.particleSpacing));
+    if (args.sat)
+        std::printf("\n%s, %d steps, sat and pgs: device time per step and bytes moved (each "
+                    "element a kernel touches, once)\n",
+                    args.scene.c_str(), args.steps);
+    else
+        std::printf("\n%s, %d steps, particle spacing %.2f m: device time per step and bytes "
+                    "moved (each element a kernel touches, once)\n",
+                    args.scene.c_str(), args.steps, double(sim.collision.particleSpacing));
     std::printf("%-24s %10s %9s %12s %10s %9s\n", "kernel", "ms/step", "launches", "MB/launch",
                 "GB/s", "of copy");
     double ms = 0, bytes = 0;

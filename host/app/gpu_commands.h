@@ -23,6 +23,7 @@ struct DevicesArgs {
     std::string scene;      ///< with --bandwidth: run it and set each kernel against them
     int steps = 120;
     Overrides overrides; ///< --particle-spacing for the scene's run; else the scene's
+    bool sat = false; ///< the scene's run with SAT and PGS instead of particles and jacobi
     RunOptions run;
 };
 

@@ -53,7 +53,7 @@ int validateCommand(const ValidateArgs& args) {
                 std::string(toString(scene->simulation.integrator)).c_str(),
                 std::string(toString(scene->simulation.backend)).c_str(),
                 std::string(toString(scene->simulation.collisionMethod())).c_str(),
-                std::string(toString(scene->simulation.solver.type)).c_str(),
+                std::string(toString(scene->simulation.solverType())).c_str(),
                 scene->simulation.solver.iterations);
     return kExitOk;
 }

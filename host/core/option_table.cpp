@@ -160,7 +160,9 @@ const std::vector<Option>& table() {
         simulationOption<&S::solver, &SolverOptions::type>({.key = "solver.type",
                                                             .name = "solver",
                                                             .uses = kEverywhere,
-                                                            .help = "Contact and joint solver"}),
+                                                            .help = "Contact and joint solver",
+                                                            .unsetText = "pgs; jacobi on opencl "
+                                                                         "with particles"}),
         simulationOption<&S::solver, &SolverOptions::iterations>(
             {.key = "solver.iterations",
              .name = "iterations",

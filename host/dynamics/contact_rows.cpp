@@ -7,13 +7,10 @@
 
 #include "host/core/assert.h"
 #include "host/core/math.h"
+#include "rubble/shared/pgs_row.h"
 
 namespace rubble {
 namespace {
-
-// Tangential speeds above this pick the sliding direction as the first tangent, m/s: the two
-// friction rows are bounded separately, and a box bound is only exact along its axes.
-constexpr float kSlidingSpeed = 1e-3f;
 
 bool keyLess(const ContactImpulse& x, std::uint32_t a, std::uint32_t b, std::uint32_t feature) {
     if (x.a != a) return x.a < a;
@@ -21,22 +18,14 @@ bool keyLess(const ContactImpulse& x, std::uint32_t a, std::uint32_t b, std::uin
     return x.feature < feature;
 }
 
-// One row's Jacobian along d at offsets ra, rb: r x d and I^-1 (r x d) for each body, and
-// 1 / (J M^-1 J^T) (0 when nothing can move).
-struct RowJacobian {
-    Lanes crossA, crossB, turnA, turnB;
-    float mass;
-};
-RowJacobian rowJacobian(glm::vec3 d, glm::vec3 ra, glm::vec3 rb, float inverseMassA,
-                        float inverseMassB, const glm::mat3& ia, const glm::mat3& ib) {
-    // A body that does not move has no velocity to read and takes no impulse: zeros.
-    const glm::vec3 crossA = inverseMassA > 0.0f ? glm::cross(ra, d) : glm::vec3(0.0f);
-    const glm::vec3 crossB = inverseMassB > 0.0f ? glm::cross(rb, d) : glm::vec3(0.0f);
-    const glm::vec3 turnA = inverseMassA > 0.0f ? ia * crossA : glm::vec3(0.0f);
-    const glm::vec3 turnB = inverseMassB > 0.0f ? ib * crossB : glm::vec3(0.0f);
-    const float k = inverseMassA + inverseMassB + glm::dot(crossA, turnA) + glm::dot(crossB, turnB);
-    return RowJacobian{toLanes(crossA), toLanes(crossB), toLanes(turnA), toLanes(turnB),
-                       k > 0.0f ? 1.0f / k : 0.0f};
+shared::float4 toFloat4(Lanes v) {
+    return shared::float4{v[0], v[1], v[2], v[3]};
+}
+Lanes toLanes(shared::float4 v) {
+    return Lanes{v.x, v.y, v.z, v.w};
+}
+shared::BodyVelocity sharedVelocity(const SolverVelocity& v) {
+    return shared::BodyVelocity{toFloat4(v.linear), toFloat4(v.angular)};
 }
 
 // Hands last step's impulses to one manifold's new points (rows [first, first + count)): the
@@ -84,44 +73,6 @@ void warmStart(ContactRows& rows, std::size_t first, std::size_t count,
     }
 }
 
-// Velocity of the point at offset r from a body's centre of mass, world.
-glm::vec3 pointVelocity(const shared::BodyVelocity& v, glm::vec3 r) {
-    return toVec3(v.linear) + glm::cross(toVec3(v.angular), r);
-}
-
-struct Bounce {
-    float speed = 0.0f; ///< normal velocity to leave with, m/s (0: no bounce)
-    float lift = 0.0f;  ///< the split pass's speed that lifts the bodies off the contact, m/s
-};
-
-// A bounce from the contact, for a point whose bodies approach at `before` m/s before this
-// step's forces and `after` after them (positive: closing) across `gap` m. The forces'
-// acceleration a = (after - before) / dt carries the approach over the gap, and only a meeting
-// faster than kRestitutionThreshold bounces (at rest before the forces, nothing does, whatever
-// dt). Symplectic Euler's positions are samples at the steps of the path whose velocity at the
-// step's start is the stored one plus half a step of a, u0 = before + a dt / 2: on it the bodies
-// meet at t_c = 2 gap / (u0 + u_c) with u_c = sqrt(u0^2 + 2 a gap), leave at e u_c, and at the
-// step's end are e u_c tau - a tau^2 / 2 apart (tau = dt - t_c) with the stored velocity
-// e u_c - a (dt / 2 - t_c). So the rebound keeps e^2 of the drop height to round-off.
-Bounce bounceOf(float restitution, float before, float after, float gap, float dt) {
-    if (restitution <= 0.0f) return {};
-    const float closing = std::max(before, 0.0f);
-    const float a = (after - before) / dt;
-    const float meeting = closing * closing + 2.0f * a * gap;
-    if (meeting <= kRestitutionThreshold * kRestitutionThreshold) return {};
-    const float u0 = closing + 0.5f * a * dt;
-    const float reach = u0 * u0 + 2.0f * a * gap;
-    if (u0 <= 0.0f || reach <= 0.0f) return {};
-    const float uc = std::sqrt(reach);
-    const float tc = 2.0f * gap / (u0 + uc);
-    const float tau = std::max(dt - tc, 0.0f);
-    Bounce b;
-    b.speed = restitution * uc - a * (0.5f * dt - tc);
-    if (b.speed <= 0.0f) return {};
-    b.lift = std::max(restitution * uc * tau - 0.5f * a * tau * tau, 0.0f) / dt;
-    return b;
-}
-
 } // namespace
 
 bool isJoinedPair(std::span<const BodyPair> joined, std::uint32_t a, std::uint32_t b) {
@@ -132,10 +83,7 @@ bool isJoinedPair(std::span<const BodyPair> joined, std::uint32_t a, std::uint32
 
 void tangentBasis(glm::vec3 n, glm::vec3& t1, glm::vec3& t2) {
     // Cross with the axis least aligned with n (Catto, "Computing a basis", 2014).
-    if (std::abs(n.x) >= 0.57735f)
-        t1 = glm::normalize(glm::vec3(n.y, -n.x, 0.0f));
-    else
-        t1 = glm::normalize(glm::vec3(0.0f, n.z, -n.y));
+    t1 = toVec3(shared::perpendicularItem(toFloat4(n)));
     t2 = glm::cross(n, t1);
 }
 
@@ -157,81 +105,63 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
         const MaterialDesc& matB = materials[materialOf[m.b]];
         const float friction = std::sqrt(matA.friction * matB.friction);
         const float restitution = std::max(matA.restitution, matB.restitution);
-        const glm::vec3 xa = toVec3(poses[m.a].position), xb = toVec3(poses[m.b].position);
+        const glm::vec3 xa = toVec3(poses[m.a].position);
         const SolverVelocity& bodyA = bodies.velocity[m.a];
         const SolverVelocity& bodyB = bodies.velocity[m.b];
         const float ima = bodies.inverseMass[m.a], imb = bodies.inverseMass[m.b];
         const glm::mat3& ia = bodies.inverseInertia[m.a];
         const glm::mat3& ib = bodies.inverseInertia[m.b];
         const glm::vec3 n = m.normal;
-        glm::vec3 fixedTangent[2];
-        tangentBasis(n, fixedTangent[0], fixedTangent[1]);
         const std::size_t first = rows.size();
+
+        const shared::float4 normal = toFloat4(n);
+        const shared::float4 positionA = poses[m.a].position, positionB = poses[m.b].position;
+        const shared::BodyVelocity velocityA = sharedVelocity(bodyA),
+                                   velocityB = sharedVelocity(bodyB);
+        const shared::Mat3 inertiaA = toShared(ia), inertiaB = toShared(ib);
+        const shared::float4 fixedTangent = shared::perpendicularItem(normal);
 
         for (std::uint32_t k = 0; k < m.count; ++k) {
             const ContactPoint& p = m.points[k];
-            const glm::vec3 ra = p.position - xa, rb = p.position - xb;
-            const glm::vec3 relative =
-                (fromLanes(bodyB.linear) + glm::cross(fromLanes(bodyB.angular), rb)) -
-                (fromLanes(bodyA.linear) + glm::cross(fromLanes(bodyA.angular), ra));
-            const float normalSpeed = glm::dot(relative, n);
-            const glm::vec3 relativeBefore =
-                pointVelocity(beforeForces[m.b], rb) - pointVelocity(beforeForces[m.a], ra);
+            const glm::vec3 ra = p.position - xa;
+            // The rows themselves come from the code the device runs (rubble/shared/pgs_row.h).
+            const shared::PgsContactRow row = shared::pgsContactRowItem(
+                toFloat4(p.position), p.depth, normal, positionA, positionB, velocityA, velocityB,
+                beforeForces[m.a], beforeForces[m.b], ima, imb, inertiaA, inertiaB, friction,
+                restitution, settings.baumgarte, settings.slop, dt, fixedTangent);
 
+            const shared::PgsNormalRow& rn = row.normal;
             NormalRow nr;
             nr.a = m.a;
             nr.b = m.b;
-            const RowJacobian jn = rowJacobian(n, ra, rb, ima, imb, ia, ib);
-            nr.normal = toLanes(n);
-            nr.crossA = jn.crossA;
-            nr.crossB = jn.crossB;
-            nr.turnA = jn.turnA;
-            nr.turnB = jn.turnB;
+            nr.normal = toLanes(rn.normal);
+            nr.crossA = toLanes(rn.crossA);
+            nr.crossB = toLanes(rn.crossB);
+            nr.turnA = toLanes(rn.turnA);
+            nr.turnB = toLanes(rn.turnB);
             nr.inverseMassA = ima;
             nr.inverseMassB = imb;
-            nr.mass = jn.mass;
-            // Target: stop a touching approach, or let a gap close and no more; the penetration
-            // beyond the slop is pushed out by the position pass.
-            if (p.depth >= 0.0f) {
-                const float push =
-                    settings.baumgarte / dt * std::max(p.depth - settings.slop, 0.0f);
-                nr.pushSpeed = std::min(push, kMaxPushSpeed);
-                nr.targetSpeed = 0.0f;
-            } else {
-                nr.targetSpeed = p.depth / dt;
-            }
-            // A bounce leaves the contact at e times the speed the bodies meet it with.
-            const Bounce bounce = bounceOf(restitution, -glm::dot(relativeBefore, n), -normalSpeed,
-                                           std::max(-p.depth, 0.0f), dt);
-            nr.bounceSpeed = bounce.speed;
-            nr.bounceLift = bounce.lift;
+            nr.mass = rn.mass.x;
+            nr.targetSpeed = rn.speeds.x;
+            nr.pushSpeed = rn.speeds.y;
+            nr.bounceSpeed = rn.mass.y;
+            nr.bounceLift = rn.mass.z;
             rows.normals.push_back(nr);
 
-            // Tangents: along the sliding velocity when there is one, else a fixed basis.
+            const shared::PgsFrictionRows& rf = row.friction;
             FrictionRows fr;
             fr.a = m.a;
             fr.b = m.b;
             fr.inverseMassA = ima;
             fr.inverseMassB = imb;
             fr.friction = friction;
-            const glm::vec3 sliding = relative - n * normalSpeed;
-            const float slidingSpeed = glm::length(sliding);
-            glm::vec3 tangent[2];
-            if (slidingSpeed > kSlidingSpeed) {
-                tangent[0] = sliding / slidingSpeed;
-                tangent[1] = glm::cross(n, tangent[0]);
-            } else {
-                tangent[0] = fixedTangent[0];
-                tangent[1] = fixedTangent[1];
-            }
             for (int d = 0; d < 2; ++d) {
-                const RowJacobian jt = rowJacobian(tangent[d], ra, rb, ima, imb, ia, ib);
-                fr.tangent[d] = toLanes(tangent[d]);
-                fr.crossA[d] = jt.crossA;
-                fr.crossB[d] = jt.crossB;
-                fr.turnA[d] = jt.turnA;
-                fr.turnB[d] = jt.turnB;
-                fr.mass[d] = jt.mass;
+                fr.tangent[d] = toLanes(rf.tangent[d]);
+                fr.crossA[d] = toLanes(rf.crossA[d]);
+                fr.crossB[d] = toLanes(rf.crossB[d]);
+                fr.turnA[d] = toLanes(rf.turnA[d]);
+                fr.turnB[d] = toLanes(rf.turnB[d]);
+                fr.mass[d] = d == 0 ? rf.mass.x : rf.mass.y;
             }
             rows.frictions.push_back(fr);
 

@@ -13,6 +13,7 @@
 #include "host/dynamics/solver_bodies.h"
 #include "rubble/scene.h"
 #include "rubble/shared/body.h"
+#include "rubble/shared/pgs_row.h"
 
 namespace rubble {
 
@@ -110,31 +111,33 @@ inline constexpr float kRestitutionThreshold = RUBBLE_RESTITUTION_THRESHOLD;
 
 /// The Baumgarte push-out speed is at most this, m/s: a deep penetration (a fast body caught a
 /// step late) is undone over a few steps instead of throwing the bodies apart.
-inline constexpr float kMaxPushSpeed = 2.0f;
+inline constexpr float kMaxPushSpeed = RUBBLE_MAX_PUSH_SPEED;
 
 /// A point whose feature id is new takes over the impulses of last step's unmatched point of
 /// the same pair nearest to it in a's frame, if within this distance, m: clipping can renumber
 /// the features of a resting box whose corners sit exactly on another's edges.
-inline constexpr float kWarmStartMatchDistance = 0.02f;
+inline constexpr float kWarmStartMatchDistance = RUBBLE_WARM_START_MATCH_DISTANCE;
 
 /// True when the (unordered) pair of bodies is in `joined`, which is sorted with a < b.
 bool isJoinedPair(std::span<const BodyPair> joined, std::uint32_t a, std::uint32_t b);
 
 /// Stage buildContactRows for contacts (Catto, "Iterative Dynamics with Temporal Coherence",
-/// GDC 2005; "Modeling and Solving Constraints", GDC 2009). Manifolds between two bodies that do
-/// not move in the solve, or between joined bodies, are skipped. The normal row's velocity
-/// target is 0, or for a gap (depth < 0) the speed that closes it within the step and no
-/// further. A bounce is left to the restitution pass after the positions moved
+/// GDC 2005; "Modeling and Solving Constraints", GDC 2009). Each point's rows come from
+/// shared::pgsContactRowItem, the function the device's buildPgsRows calls. Manifolds between two
+/// bodies that do not move in the solve, or between joined bodies, are skipped. The normal row's
+/// velocity target is 0, or for a gap (depth < 0) the speed that closes it within the step and
+/// no further. A bounce is left to the restitution pass after the positions moved
 /// (solveRestitution), from the contact: its speed is e v_contact, v_contact the approach
 /// speed before this step's forces (`beforeForces`) carried over the gap by the forces'
 /// acceleration, when v_contact exceeds kRestitutionThreshold (as Box2D v3 keeps the relative
-/// velocity of its contact prepare, before gravity, and applies restitution last). Its Baumgarte
-/// speed min(beta/dt max(depth - slop, 0), kMaxPushSpeed) goes to the split position pass (Catto,
-/// "Fast and Simple Physics using Sequential Impulses", GDC 2006: split impulses), where it moves
-/// the bodies out without adding to their velocities. The first tangent follows the sliding
-/// direction when there is one. Friction is sqrt(mu_a mu_b), restitution max(e_a, e_b). Warm
-/// start: last step's impulses of the same (pair, feature), else of the nearest unmatched point
-/// (see kWarmStartMatchDistance), the friction impulse projected on the new tangents.
+/// velocity of its contact prepare, before gravity, and applies restitution last;
+/// shared::bounceItem). Its Baumgarte speed min(beta/dt max(depth - slop, 0), kMaxPushSpeed) goes
+/// to the split position pass (Catto, "Fast and Simple Physics using Sequential Impulses",
+/// GDC 2006: split impulses), where it moves the bodies out without adding to their velocities.
+/// The first tangent follows the sliding direction when there is one. Friction is
+/// sqrt(mu_a mu_b), restitution max(e_a, e_b). Warm start: last step's impulses of the same
+/// (pair, feature), else of the nearest unmatched point (see kWarmStartMatchDistance), the
+/// friction impulse projected on the new tangents.
 /// reads: manifolds, poses, bodies (velocities and inverse masses), velocities before the forces,
 /// materials, last impulses (sorted by pair)   writes: rows
 void buildContactRows(std::span<const Manifold> manifolds, std::span<const shared::BodyPose> poses,

@@ -7,21 +7,23 @@
 
 #include "host/core/assert.h"
 #include "host/core/math.h"
+#include "rubble/shared/pgs_joint.h"
 
 namespace rubble {
 namespace {
 
-// A group is done when every point row is within this, m, and every hinge row within
-// kAngularTolerance (the cosine between the axis and a perpendicular, about the angle in rad).
-constexpr float kLinearTolerance = 1e-5f;
-constexpr float kAngularTolerance = 1e-5f;
-// One projection moves an anchor by at most this, m: a joint torn far apart by a violent step
-// comes back over several steps instead of throwing its bodies.
-constexpr float kMaxLinearCorrection = 0.2f;
-// One projection turns a body by at most this, rad.
-constexpr float kMaxAngularCorrection = 0.25f;
-// Pivots below this fraction of the largest diagonal entry are redundant rows: left out.
-constexpr double kPivotTolerance = 1e-9;
+// The tolerances and limits are the device's too (rubble/shared/pgs_joint.h): a group is done
+// when every point row is within the linear tolerance, m, and every hinge row within the
+// angular one (the cosine between the axis and a perpendicular, about the angle in rad); one
+// projection moves an anchor by at most the linear correction, m, and turns a body by at most
+// the angular one, rad; pivots below the pivot tolerance's fraction of the largest diagonal entry
+// are redundant rows, left out.
+constexpr float kLinearTolerance = RUBBLE_JOINT_LINEAR_TOLERANCE;
+constexpr float kAngularTolerance = RUBBLE_JOINT_ANGULAR_TOLERANCE;
+constexpr float kMaxLinearCorrection = RUBBLE_JOINT_MAX_LINEAR_CORRECTION;
+constexpr float kMaxAngularCorrection = RUBBLE_JOINT_MAX_ANGULAR_CORRECTION;
+constexpr double kPivotTolerance =
+    1e-9; // in double here; RUBBLE_JOINT_PIVOT_TOLERANCE on the device
 
 glm::vec3 rotate(const shared::BodyPose& pose, glm::vec3 v) {
     return toVec3(shared::quatRotate(pose.orientation, toFloat4(v)));

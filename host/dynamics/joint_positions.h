@@ -11,6 +11,7 @@
 
 #include "host/dynamics/joints.h"
 #include "rubble/shared/body.h"
+#include "rubble/shared/pgs_joint.h"
 
 namespace rubble {
 
@@ -50,7 +51,8 @@ struct JointPositionReport {
 };
 
 /// Groups with more rows than this are corrected joint by joint (non-linear Gauss-Seidel).
-inline constexpr std::size_t kDirectRowLimit = 200;
+/// (RUBBLE_JOINT_DIRECT_ROWS: the device draws the line in the same place.)
+inline constexpr std::size_t kDirectRowLimit = RUBBLE_JOINT_DIRECT_ROWS;
 
 /// Position correction after integratePositions (Catto, "Modeling and Solving Constraints",
 /// GDC 2009, position projection; the whole group at once as in Baraff, "Linear-Time Dynamics

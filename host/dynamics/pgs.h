@@ -10,6 +10,7 @@
 #include "host/dynamics/solver_bodies.h"
 #include "rubble/options.h"
 #include "rubble/shared/body.h"
+#include "rubble/shared/pgs_row.h"
 
 namespace rubble {
 
@@ -32,7 +33,7 @@ void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodi
 
 /// A contact's upper body is this many times as heavy as its lower one before the layer pass
 /// takes it (solveLayers).
-inline constexpr float kLayerMassRatio = 10.0f;
+inline constexpr float kLayerMassRatio = RUBBLE_LAYER_MASS_RATIO;
 
 /// The layer pass (shock propagation, Guendelman, Bridson and Fedkiw, "Nonconvex rigid bodies
 /// with stacking", SIGGRAPH 2003, section 7, on velocities), after the sweeps of solvePgs: with a

@@ -12,11 +12,13 @@
 #include "host/dynamics/joint_positions.h"
 #include "host/dynamics/joints.h"
 #include "host/dynamics/solver_bodies.h"
+#include "rubble/shared/pgs_joint.h"
 
 namespace rubble {
 
-/// Newton steps of the joint position correction per step (it stops once every joint holds).
-inline constexpr int kJointPositionIterations = 20;
+/// Newton steps of the joint position correction per step (it stops once every joint holds);
+/// the device's projection takes as many sweeps.
+inline constexpr int kJointPositionIterations = RUBBLE_JOINT_POSITION_ITERATIONS;
 
 /// What the solver keeps between steps (impulses for warm starting, joints, sleep timers) and
 /// the buffers it reuses. Ordered containers only: the reference path is deterministic.

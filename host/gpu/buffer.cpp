@@ -34,20 +34,29 @@ Status Buffer::reserve(cl_context context, std::size_t bytes) {
 
 Status fill(const Context& c, const Buffer& b, cl_uint value, std::size_t bytes,
             Profile* profile) {
+    return fillRange(c, b, value, 0, bytes, profile);
+}
+
+Status fillRange(const Context& c, const Buffer& b, cl_uint value, std::size_t offset,
+                 std::size_t bytes, Profile* profile) {
     if (bytes == 0) return {};
-    RUBBLE_ASSERT(bytes % sizeof value == 0 && bytes <= b.bytes());
+    RUBBLE_ASSERT(bytes % sizeof value == 0 && offset % sizeof value == 0 &&
+                  offset + bytes <= b.bytes());
     cl_event* event = profile ? profile->transfer(Transfer::Fill, bytes) : nullptr;
     // kernels/grid.cl fillWords, whose writes every checker sees (clEnqueueFillBuffer's are
-    // invisible to Oclgrind).
+    // invisible to Oclgrind). A range from a word other than 0 runs at that global offset, the
+    // kernel's count being where it ends.
     cl_kernel k = c.kernel(KernelId::FillWords);
-    const cl_uint count = cl_uint(bytes / sizeof value);
+    const std::size_t first = offset / sizeof value;
+    const cl_uint count = cl_uint(first + bytes / sizeof value);
     const cl_mem out = b.mem();
     RUBBLE_CL_CHECK(clSetKernelArg(k, 0, sizeof count, &count));
     RUBBLE_CL_CHECK(clSetKernelArg(k, 1, sizeof value, &value));
     RUBBLE_CL_CHECK(clSetKernelArg(k, 2, sizeof out, &out));
-    const std::size_t local = 64, global = (std::size_t(count) + local - 1) / local * local;
+    const std::size_t local = 64, global = (bytes / sizeof value + local - 1) / local * local;
+    const std::size_t* at = first > 0 ? &first : nullptr;
     RUBBLE_CL_CHECK(
-        clEnqueueNDRangeKernel(c.queue(), k, 1, nullptr, &global, &local, 0, nullptr, event));
+        clEnqueueNDRangeKernel(c.queue(), k, 1, at, &global, &local, 0, nullptr, event));
     return {};
 }
 

@@ -57,6 +57,11 @@ Status download(const Context& c, const Buffer& b, std::span<T> data) {
 Status fill(const Context& c, const Buffer& b, cl_uint value, std::size_t bytes,
             Profile* profile = nullptr);
 
+/// Fills `bytes` of a buffer from byte `offset` (both multiples of 4) with a repeated 32-bit
+/// value: the status block's counters.
+Status fillRange(const Context& c, const Buffer& b, cl_uint value, std::size_t offset,
+                 std::size_t bytes, Profile* profile = nullptr);
+
 /// The smallest multiple of `group` that holds `count`, at least one group.
 inline std::size_t roundUp(std::size_t count, std::size_t group) {
     return count == 0 ? group : (count + group - 1) / group * group;

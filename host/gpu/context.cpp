@@ -1,6 +1,7 @@
 // host/gpu/context.cpp: creating the context, queue, program and kernels of one device.
 #include "host/gpu/context.h"
 
+#include <algorithm>
 #include <clblast.h>
 
 #include <chrono>
@@ -30,6 +31,28 @@ Result<std::string> programSource(const RunOptions& run) {
     return text;
 }
 
+WorkSizes workSizesFor(const DeviceInfo& device) {
+    auto floorPow2 = [](std::uint64_t x) {
+        std::uint32_t p = 1;
+        while (std::uint64_t(p) * 2 <= x && p < (1u << 30)) p *= 2;
+        return p;
+    };
+    WorkSizes w;
+    const std::uint32_t group =
+        std::min<std::uint32_t>(64, floorPow2(std::max<std::uint64_t>(1, device.maxWorkGroupSize)));
+    w.broadGroup = group;
+    w.pairGroup = group;
+    const std::uint64_t lanes = std::uint64_t(std::max<std::uint32_t>(1, device.computeUnits)) * 64;
+    w.sortItems = std::clamp<std::uint32_t>(floorPow2(2 * lanes - 1), 256, 4096);
+    return w;
+}
+
+std::string buildOptionsFor(const WorkSizes& sizes) {
+    return std::string(kBuildOptions) + " -DRUBBLE_SORT_ITEMS=" + std::to_string(sizes.sortItems) +
+           "u -DRUBBLE_GROUP_BROAD=" + std::to_string(sizes.broadGroup) +
+           "u -DRUBBLE_GROUP_PAIRS=" + std::to_string(sizes.pairGroup) + "u";
+}
+
 Context::~Context() {
     // CLBlast keeps the programs it built (lcp-jacobi) in a cache of its own, released at exit
     // after this context otherwise: Oclgrind then frees them twice and aborts.
@@ -49,6 +72,7 @@ Result<std::shared_ptr<Context>> Context::create(const RunOptions& run) {
 
     std::shared_ptr<Context> c(new Context());
     c->device_ = *device;
+    c->sizes_ = workSizesFor(c->device_);
     cl_int err = CL_SUCCESS;
     const cl_context_properties props[] = {
         CL_CONTEXT_PLATFORM, reinterpret_cast<cl_context_properties>(c->device_.platformId), 0};
@@ -65,8 +89,8 @@ Result<std::shared_ptr<Context>> Context::create(const RunOptions& run) {
         (c->program_ = clCreateProgramWithSource(c->context_, 1, &text, &length, &err), err));
     const auto start = std::chrono::steady_clock::now();
     const std::string options = run.buildOptions.empty()
-                                    ? std::string(kBuildOptions)
-                                    : std::string(kBuildOptions) + " " + run.buildOptions;
+                                    ? buildOptionsFor(c->sizes_)
+                                    : buildOptionsFor(c->sizes_) + " " + run.buildOptions;
     const cl_int built = clBuildProgram(c->program_, 1, &c->device_.id, options.c_str(), nullptr,
                                         nullptr);
     c->buildMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -

@@ -12,11 +12,31 @@
 #include "host/gpu/kernel_table.h"
 #include "rubble/error.h"
 #include "rubble/options.h"
+#include "rubble/shared/constants.h"
 
 namespace rubble::gpu {
 
-/// Options every build of the program uses (the same text and options hit PoCL's binary cache).
+/// Options every build of the program uses (the same text and options hit PoCL's binary cache);
+/// the work sizes of the device follow them (buildOptionsFor).
 inline constexpr const char* kBuildOptions = "-cl-kernel-arg-info -cl-std=CL1.2";
+
+/// Work sizes and per-device constants that the kernels are built with (-D) and the host
+/// dispatches with, derived from the device's limits (workSizesFor).
+struct WorkSizes {
+    std::uint32_t sortItems = RUBBLE_SORT_ITEMS;   ///< work-items of a radix sort pass
+    std::uint32_t broadGroup = RUBBLE_GROUP_BROAD; ///< work-group of the SAT broad phase
+    std::uint32_t pairGroup = RUBBLE_GROUP_PAIRS;  ///< work-group of the SAT narrow phase, pairs
+};
+
+/// The work sizes for a device: work-groups of 64 (or the device's largest, if smaller: a
+/// wavefront on AMD, two warps on NVIDIA, one vector loop of PoCL's CPU device), and a sort pass
+/// of 64 work-items per compute unit, between 256 (what PoCL's two cores get) and 4096 (a
+/// discrete GPU with 64 units), a power of two. None of these kernels uses local memory, so
+/// CL_DEVICE_LOCAL_MEM_SIZE sets no limit yet.
+WorkSizes workSizesFor(const DeviceInfo& device);
+
+/// kBuildOptions followed by the work sizes as -D definitions.
+std::string buildOptionsFor(const WorkSizes& sizes);
 
 class Context {
   public:
@@ -34,6 +54,8 @@ class Context {
     cl_command_queue queue() const { return queue_; }
     cl_program program() const { return program_; }
     const DeviceInfo& device() const { return device_; }
+    /// The work sizes the program was built with.
+    const WorkSizes& workSizes() const { return sizes_; }
     cl_kernel kernel(KernelId id) const { return kernels_[static_cast<unsigned>(id)]; }
     /// Wall time of clBuildProgram, ms (PoCL's cache makes a second build much faster).
     double buildMs() const { return buildMs_; }
@@ -43,6 +65,7 @@ class Context {
   private:
     Context() = default;
     DeviceInfo device_;
+    WorkSizes sizes_;
     cl_context context_ = nullptr;
     cl_command_queue queue_ = nullptr;
     cl_program program_ = nullptr;

@@ -75,9 +75,17 @@ Result<std::vector<DeviceInfo>> listDevices() {
                                             nullptr));
             RUBBLE_CL_CHECK(clGetDeviceInfo(id, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof allocation,
                                             &allocation, nullptr));
+            std::size_t group = 0;
+            cl_ulong local = 0;
+            RUBBLE_CL_CHECK(clGetDeviceInfo(id, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof group,
+                                            &group, nullptr));
+            RUBBLE_CL_CHECK(clGetDeviceInfo(id, CL_DEVICE_LOCAL_MEM_SIZE, sizeof local, &local,
+                                            nullptr));
             d.computeUnits = units;
             d.globalMemory = memory;
             d.maxAllocation = allocation;
+            d.maxWorkGroupSize = group;
+            d.localMemory = local;
             devices.push_back(std::move(d));
         }
     }

@@ -22,6 +22,8 @@ struct DeviceInfo {
     std::uint32_t computeUnits = 0;
     std::uint64_t globalMemory = 0; ///< bytes
     std::uint64_t maxAllocation = 0; ///< bytes, largest single buffer
+    std::uint64_t maxWorkGroupSize = 0; ///< CL_DEVICE_MAX_WORK_GROUP_SIZE, work-items
+    std::uint64_t localMemory = 0;      ///< CL_DEVICE_LOCAL_MEM_SIZE, bytes per work-group
     cl_platform_id platformId = nullptr;
     cl_device_id id = nullptr;
 };

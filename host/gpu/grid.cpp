@@ -20,7 +20,8 @@ Status Pipeline::exclusiveScan(const Buffer& in, Buffer& out, std::uint32_t coun
 Status Pipeline::radixSort(Buffer& keys, Buffer& values, Buffer& keysAlt, Buffer& valuesAlt,
                            std::uint32_t count, std::uint32_t bits, std::uint32_t countSlot) {
     const cl_uint n = count, slot = countSlot;
-    const cl_uint buckets = RUBBLE_SORT_BUCKETS * RUBBLE_SORT_ITEMS;
+    const cl_uint items = context_->workSizes().sortItems;
+    const cl_uint buckets = RUBBLE_SORT_BUCKETS * items;
     for (cl_uint shift = 0; shift < bits; shift += RUBBLE_SORT_DIGIT_BITS) {
         RUBBLE_TRY(Dispatch(*context_, KernelId::SortHistogram, &profile_)
                        .arg(n)
@@ -29,7 +30,7 @@ Status Pipeline::radixSort(Buffer& keys, Buffer& values, Buffer& keysAlt, Buffer
                        .arg(shift)
                        .arg(keys)
                        .arg(particles_.histogram)
-                       .run(RUBBLE_SORT_ITEMS, RUBBLE_GROUP_SCAN));
+                       .run(items, RUBBLE_GROUP_SCAN));
         RUBBLE_TRY(exclusiveScan(particles_.histogram, particles_.offsets, buckets));
         RUBBLE_TRY(Dispatch(*context_, KernelId::SortScatter, &profile_)
                        .arg(n)
@@ -41,7 +42,7 @@ Status Pipeline::radixSort(Buffer& keys, Buffer& values, Buffer& keysAlt, Buffer
                        .arg(particles_.offsets)
                        .arg(keysAlt)
                        .arg(valuesAlt)
-                       .run(RUBBLE_SORT_ITEMS, RUBBLE_GROUP_SCAN));
+                       .run(items, RUBBLE_GROUP_SCAN));
         std::swap(keys, keysAlt);
         std::swap(values, valuesAlt);
     }

@@ -30,7 +30,7 @@ Status Pipeline::uploadParticles(const ParticleSet* set, BodiesView bodyArrays,
     for (Buffer* b : {&particles_.keys, &particles_.values, &particles_.keysAlt,
                       &particles_.valuesAlt, &particles_.sortedTags, &contacts_.head})
         RUBBLE_TRY(b->reserve(c.context(), words));
-    const std::size_t histogram = RUBBLE_SORT_BUCKETS * RUBBLE_SORT_ITEMS;
+    const std::size_t histogram = RUBBLE_SORT_BUCKETS * c.workSizes().sortItems;
     RUBBLE_TRY(particles_.histogram.reserve(c.context(), histogram * sizeof(cl_uint)));
     RUBBLE_TRY(particles_.offsets.reserve(c.context(), (histogram + 1) * sizeof(cl_uint)));
     const std::size_t cells = std::size_t(1) << particles_.bits;

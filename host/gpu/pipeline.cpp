@@ -56,6 +56,7 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
     RUBBLE_TRY(p->status_.reserve(c.context(), RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
     RUBBLE_TRY(p->uploadBodies(bodies));
     RUBBLE_TRY(p->uploadParticles(in.particles, bodies, in.surfaces));
+    if (in.collision == CollisionMethod::Sat) RUBBLE_TRY(p->createSat(in));
 
     // The host's bodies, in index order: the order of each step's obstacle states.
     std::vector<cl_uint> obstacles;
@@ -150,7 +151,8 @@ std::size_t Pipeline::strideItems() const {
 Status Pipeline::resetStatus() {
     statusInit_ = {};
     statusInit_[RUBBLE_STATUS_NONFINITE] = 0xffffffffu;
-    statusInit_[RUBBLE_STATUS_CAPACITY] = contacts_.capacity;
+    // The SAT method's manifolds live per pair: its contacts never overflow.
+    statusInit_[RUBBLE_STATUS_CAPACITY] = sat_.enabled ? 0xffffffffu : contacts_.capacity;
     // Non-blocking: statusInit_ stays put until the step is met.
     RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_FALSE, 0,
                                          sizeof statusInit_, statusInit_.data(), 0, nullptr,
@@ -168,6 +170,9 @@ DeviceStatus Pipeline::statusFromSlots() const {
     d.capacity = slots[RUBBLE_STATUS_CAPACITY];
     d.asleep = slots[RUBBLE_STATUS_ASLEEP];
     d.woken = slots[RUBBLE_STATUS_WOKEN];
+    d.pairs = slots[RUBBLE_STATUS_PAIRS];
+    d.gridEntries = slots[RUBBLE_STATUS_GRID_ENTRIES];
+    d.largeBodies = slots[RUBBLE_STATUS_LARGE];
     return d;
 }
 
@@ -194,12 +199,86 @@ Status Pipeline::beginStep(const StepParams& params, const StepInputs& in) {
     profile_.setStage(DeviceStage::IntegrateVelocities);
     // The velocities before the forces (atStart): restitution's approach, explicit Euler's motion.
     RUBBLE_TRY(integrateVelocities(params.gravity, dt));
-    profile_.setStage(DeviceStage::BroadPhase);
-    RUBBLE_TRY(transformParticles());
-    RUBBLE_TRY(buildGrid());
     gatherImpulses_ = in.gatherObstacleImpulses && obstacles_.count > 0;
-    RUBBLE_TRY(enqueueFromCollision(params));
+    if (sat_.enabled) {
+        // SAT and PGS: the host waits once, after the rows, to color them.
+        RUBBLE_TRY(enqueueSatCollision(params));
+        RUBBLE_TRY(enqueueSatSolve(params));
+    } else {
+        profile_.setStage(DeviceStage::BroadPhase);
+        RUBBLE_TRY(transformParticles());
+        RUBBLE_TRY(buildGrid());
+        RUBBLE_TRY(enqueueFromCollision(params));
+    }
     stepPending_ = true;
+    return {};
+}
+
+Status Pipeline::enqueueSatCollision(const StepParams& params) {
+    std::uint32_t woken = 0;
+    for (;;) {
+        profile_.setStage(DeviceStage::BroadPhase);
+        RUBBLE_TRY(broadPhase(params.dt));
+        profile_.setStage(DeviceStage::NarrowPhase);
+        RUBBLE_TRY(narrowPhase(params.dt));
+        // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
+        profile_.setStage(DeviceStage::Sleep);
+        RUBBLE_TRY(wakeTouchedPairs());
+        profile_.setStage(DeviceStage::BuildContactRows);
+        RUBBLE_TRY(summarizePairs(params));
+        Result<DeviceStatus> st = readStatus();
+        RUBBLE_TRY(st);
+        if (st->pairs <= sat_.current.capacity) {
+            // The woken bodies' pairs with other sleeping bodies were not found: collide again
+            // (a body woken here wakes nobody, so the next round wakes none).
+            if (st->woken == woken) break;
+            woken = st->woken;
+            continue;
+        }
+        // Nothing has moved (the wake only woke bodies): grow and find them again, within the
+        // step's pair budget (host/core/limits.h), as the CPU's broad phase is held to it.
+        woken = st->woken;
+        const std::size_t budget = pairBudget(bodies_.count);
+        if (st->pairs > budget)
+            return limitError("broadPhase", "broad-phase pairs", st->pairs, budget,
+                              params.step + 1, "bodies overlap each other in large numbers");
+        const auto grown =
+            std::uint32_t(std::min<std::size_t>(st->pairs + st->pairs / 2, budget));
+        std::fprintf(stderr,
+                     "rubble: pair overflow (%u pairs, room for %u): buffers grown to %u "
+                     "and the step's collision run again\n",
+                     st->pairs, sat_.current.capacity, grown);
+        RUBBLE_TRY(setPairCapacity(grown));
+    }
+    RUBBLE_TRY(colorPgs());
+    return buildPgsRows(params);
+}
+
+Status Pipeline::enqueueSatSolve(const StepParams& params) {
+    const float dt = params.dt;
+    profile_.setStage(DeviceStage::Solve);
+    RUBBLE_TRY(solvePgs(params));
+    profile_.setStage(DeviceStage::IntegratePositions);
+    RUBBLE_TRY(integratePositions(dt, params.symplectic()));
+    // As PgsSolver::solvePositions: bounces from the contact, the pushes, the joints.
+    RUBBLE_TRY(bouncePgs(params));
+    RUBBLE_TRY(applyPushes(dt));
+    RUBBLE_TRY(projectJoints());
+    // Forces hold for one step.
+    if (forcesOnDevice_) {
+        RUBBLE_TRY(fill(*context_, bodies_.forces, 0u,
+                        std::size_t(bodies_.count) * sizeof(shared::BodyForce), &profile_));
+        forcesOnDevice_ = false;
+    }
+    profile_.setStage(DeviceStage::Sleep);
+    RUBBLE_TRY(sleepBodies(dt));
+    // This step's pairs, features and impulses are the next step's.
+    RUBBLE_TRY(keepPairFeatures());
+    warmSwapped_ = false;
+    RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), status_.mem(), CL_FALSE, 0,
+                                        sizeof statusHost_, statusHost_.data(), 0, nullptr,
+                                        profile_.transfer(Transfer::Read, sizeof statusHost_)));
+    RUBBLE_CL_CHECK(clFlush(context_->queue()));
     return {};
 }
 
@@ -306,6 +385,15 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
     traffic.cells = std::uint64_t(1) << particles_.bits;
     traffic.contacts = st.contacts;
     traffic.previous = params.solver.warmStart ? contacts_.previousCount : 0u;
+    traffic.sortItems = context_->workSizes().sortItems;
+    if (sat_.enabled) {
+        traffic.pairs = st.pairs;
+        traffic.previousPairs = sat_.previousPairCount;
+        traffic.gridEntries = st.gridEntries;
+        traffic.largeBodies = st.largeBodies;
+        traffic.planes = sat_.planeCount;
+        sat_.previousPairCount = st.pairs;
+    }
     contacts_.count = st.contacts;
     if (warmSwapped_) contacts_.previousCount = st.contacts;
     Result<DeviceTimes> times = profile_.collect(traffic);

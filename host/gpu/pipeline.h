@@ -12,17 +12,23 @@
 #include <string>
 #include <vector>
 
+#include "host/collision/contact.h"
 #include "host/collision/particles.h"
 #include "host/core/bodies.h"
 #include "host/core/step_params.h"
+#include "host/geometry/shape.h"
 #include "host/gpu/buffer.h"
+#include "host/gpu/coloring.h"
 #include "host/gpu/context.h"
 #include "host/gpu/lcp_jacobi.h"
 #include "host/gpu/pipeline_handle.h"
 #include "host/gpu/profile.h"
 #include "rubble/scene.h"
+#include "rubble/shared/broad_phase.h"
 #include "rubble/shared/contact_row.h"
+#include "rubble/shared/hull_contact.h"
 #include "rubble/shared/obstacle.h"
+#include "rubble/shared/pgs_joint.h"
 #include "rubble/world.h"
 
 namespace rubble::gpu {
@@ -76,6 +82,96 @@ struct ObstacleBuffers {
     Buffer impulses; ///< BodyImpulse per obstacle, gathered after the solve
 };
 
+/// One step's body pairs of the SAT method with what each keeps for the next step: this step's
+/// set and last step's swap at the end of a step (Pipeline::keepPairFeatures).
+struct PairSet {
+    std::uint32_t capacity = 0; ///< pairs the buffers hold
+    Buffer pairs;               ///< BodyPairRecord, sorted by (a, b)
+    Buffer count;               ///< one uint: the pairs found (may exceed capacity)
+    Buffer features;            ///< PairCache per pair, in pair order
+    /// PGS: each pair's contact impulses at the end of its step (4 PgsImpulse slots per pair),
+    /// and how many of its slots hold one; the next step's rows warm-start from them.
+    Buffer impulses, impulseCount;
+};
+
+/// The SAT collision method on the device, made only for a world that collides with SAT: the
+/// shapes' hulls (host/gpu/hull_data.h), per-body boxes and flags, the broad phase's grid, the
+/// pairs, and the manifolds (ContactManifold, one per pair in pair order; count 0: no contact).
+struct SatBuffers {
+    bool enabled = false;
+    std::uint32_t planeCount = 0, joinedCount = 0;
+    std::uint32_t gridBits = 0; ///< the grid's cell keys are below 2^gridBits
+    std::uint32_t previousPairCount = 0; ///< pairs of the last step met (byte counts)
+    // Hulls, once per world.
+    Buffer shapes, shapeOf, vertices, vertexEdges, neighbourStart, neighbours, halfEdges, faces,
+        faceEdges, edges;
+    Buffer planes; ///< indices of the plane bodies
+    Buffer joined; ///< joined body pairs (min, max), sorted: they do not collide
+    // Per body, each step.
+    Buffer boxes;      ///< BodyBox (a plane body: its world plane in min)
+    Buffer spin;       ///< the part of the reach due to turning, m
+    Buffer broadFlags; ///< RUBBLE_BROAD_*
+    // The grid.
+    Buffer partials, grid;
+    Buffer keys, values, keysAlt, valuesAlt; ///< (cell, body) entries, 8 per body at most
+    Buffer cellBoxes;                        ///< each sorted entry's box
+    Buffer large;                            ///< bodies too large for the grid
+    // Pairs: found in any order, then sorted into current.pairs.
+    Buffer found, bodyCount, bodyStart, cursor;
+    PairSet current, previous;
+    Buffer manifolds; ///< ContactManifold per pair of `current`, in pair order
+};
+
+/// One launch of the device's sweeps: a color's elements [first, first + count) of the
+/// step's order, or, serial, the last colors together on one work-item.
+struct PgsLaunch {
+    cl_uint first = 0, count = 0, serial = 0;
+    std::uint32_t points = 0; ///< rows, for the byte counts
+};
+
+/// Projected Gauss-Seidel on the device (host/gpu/pgs.cpp, kernels/pgs.cl), for a world that
+/// collides with SAT: the rows of this step's pairs (4 slots per pair), the coloring's order,
+/// and the split position pass's per-body state.
+struct PgsBuffers {
+    Buffer pairRows;            ///< per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
+    Buffer elements;            ///< this step's PgsElement records, color by color
+    Buffer normalRows;          ///< PgsNormalRow per point, packed in element order
+    Buffer frictionRows;        ///< PgsFrictionRows per point, in the same order
+    Buffer impulses;            ///< per point: normal, two friction and push impulses, N s
+    Buffer pushed;              ///< per body: a pushing row moves it
+    Buffer push;                ///< per body: the push velocities (BodyVelocity)
+    Buffer sweepResidual;       ///< per push sweep: the largest change, float bits
+    Buffer bounce;              ///< per point: the restitution pass's impulse, N s
+    Buffer bounceResidual;      ///< per restitution sweep: the largest change, float bits
+    bool bounces = false;       ///< this step: a row may bounce (the non-fused path runs)
+    // The layer pass's scratch (layerPgs): per body its layer and marks, the rows' lists, the
+    // histogram of lower layers.
+    Buffer layer, loaded, layerRows, layerSorted, layerHistogram;
+    std::uint32_t rowCount = 0; ///< points with rows this step
+    // Joints: in body frames (once per world), their rows and impulses (kept between steps),
+    // the jointed bodies, and the joints colored once over the dynamic bodies for the position
+    // projection.
+    std::uint32_t jointCount = 0, jointBodyCount = 0, jointGroupCount = 0;
+    Buffer joints, jointRows, jointBodies, jointOrder, jointMoved;
+    Buffer jointGroupOf; ///< per jointed body: its joint group (RUBBLE_NO_GROUP: not dynamic)
+    Buffer groupVotes;   ///< per joint group: a member stays awake (1), a member is awake (2)
+    // The position projection: joint groups of at most RUBBLE_JOINT_DIRECT_ROWS rows solved
+    // as one (JointGroup records, their members, and their scratch), the joints of larger
+    // groups joint by joint over jointColoring (jointOrder).
+    std::uint32_t directGroupCount = 0;
+    Buffer directGroups, groupMembers, positionRows, positionMatrix, positionSolution;
+    Buffer deltaPosition, deltaRotation; ///< per body, zero between uses
+    std::vector<shared::PgsJoint> jointsHost;
+    std::vector<std::uint8_t> jointDynamicA, jointDynamicB;
+    Coloring jointColoring;
+    Coloring coloring;
+    std::vector<cl_uint> pairRowsHost;
+    std::vector<shared::BodyPairRecord> pairsHost;
+    std::vector<shared::PgsElement> elementsHost;
+    std::vector<std::uint32_t> colorPoints; ///< rows (points) of each color, for the byte counts
+    std::vector<PgsLaunch> launches;        ///< this step's launches of each sweep
+};
+
 /// What the host reads at the end of a step (RUBBLE_STATUS_* slots).
 struct DeviceStatus {
     std::uint32_t contacts = 0;
@@ -84,6 +180,8 @@ struct DeviceStatus {
     float solverResidual = 0;                   ///< N s
     std::uint32_t capacity = 0;
     std::uint32_t asleep = 0, woken = 0;
+    std::uint32_t pairs = 0; ///< SAT: body pairs the broad phase found (may exceed the room)
+    std::uint32_t gridEntries = 0, largeBodies = 0; ///< SAT: the broad phase's grid
 };
 
 /// What a pipeline is made from: the bodies (uploaded at creation, kept on the device), their
@@ -96,6 +194,12 @@ struct PipelineInput {
     /// device, placed by each step's obstacles, whose list is these bodies' indices in order.
     std::span<const std::uint8_t> kinematic;
     bool deterministic = false; ///< contacts sorted by key so that atomics cannot reorder sums
+    /// The world's collision method: with Sat the SAT buffers are made (and `shapes` must hold
+    /// every shape the bodies use); with Particles nothing of SAT is.
+    CollisionMethod collision = CollisionMethod::Particles;
+    std::span<const Shape> shapes;  ///< indexed by bodies.shapeOf
+    std::span<const BodyPair> joined; ///< joined bodies (min, max), sorted: they do not collide
+    std::span<const shared::PgsJoint> joints; ///< SAT: the joints, in body frames
 };
 
 /// What a step takes from the host besides its parameters.
@@ -174,6 +278,10 @@ class Pipeline {
     /// Stage wakeTouched: the sleeping bodies that this step's contacts touch with a waking body
     /// wake before the rows (kernels/sleep.cl).
     Status wakeTouched();
+    /// Stage wake for SAT, after the narrow phase: the sleeping bodies that a pair with points
+    /// joins to a waking body wake (kernels/pgs.cl, wakeTouchedPairs), and with them the joint
+    /// groups of woken members.
+    Status wakeTouchedPairs();
     /// Stage sleepBodies: restless marks from the rows, then each body's sleep.
     Status sleepBodies(float dt);
     /// The summed impulse of the rows on each obstacle.
@@ -186,6 +294,75 @@ class Pipeline {
                      std::uint32_t countSlot = RUBBLE_STATUS_COUNT);
     /// out[i] = sum of in[0..i-1] for i <= count.
     Status exclusiveScan(const Buffer& in, Buffer& out, std::uint32_t count);
+
+    // The SAT method (host/gpu/broad_phase.cpp, host/gpu/sat.cpp), for a world made with
+    // CollisionMethod::Sat; each the twin of SatCollision's stage of the same name. They only
+    // enqueue; the pair count and the manifolds' contact count and largest depth are in the
+    // status block (RUBBLE_STATUS_PAIRS, _CONTACTS, _PENETRATION).
+    /// Stage broadPhase: computeAabbs, then findPairs.
+    Status broadPhase(float dt);
+    /// Each body's box grown by the margin and its reach this step, its spin and flags.
+    Status computeAabbs(float dt);
+    /// The grid, the candidate pairs (no two inactive bodies, none joined), sorted by (a, b).
+    Status findPairs();
+    /// Waits and reads the pair count; past the capacity the pair buffers grow and findPairs
+    /// runs again. Returns the count. Errors: Device.
+    Result<std::uint32_t> readPairCount();
+    /// Stage narrowPhase: one manifold per pair, with last step's features (collideShapes).
+    Status narrowPhase(float dt);
+    /// This step's pairs and features become last step's (at the end of a step, after the
+    /// manifolds were used; a step run again after an overflow calls it once). Errors: Device.
+    Status keepPairFeatures();
+    /// Replaces this step's pairs (twin tests feed both paths the same pairs); sorted, a < b.
+    Status uploadPairs(std::span<const BodyPair> pairs);
+    /// Reads this step's pairs (readPairCount's count of them). Errors: Device.
+    Result<std::vector<BodyPair>> downloadPairs();
+    /// Reads this step's manifolds, one per pair. Errors: Device.
+    Result<std::vector<shared::ContactManifold>> downloadManifolds();
+    /// Reads the features of this step's pairs. Errors: Device.
+    Result<std::vector<shared::PairCache>> downloadPairFeatures();
+    /// Reads the bodies' boxes. Errors: Device.
+    Result<std::vector<shared::BodyBox>> downloadBoxes();
+    const SatBuffers& sat() const { return sat_; }
+
+    // Projected Gauss-Seidel (host/gpu/pgs.cpp) for a world made with CollisionMethod::Sat; the
+    // twin of PgsSolver's stages.
+    /// Stage buildContactRows, before the host's coloring: each body's inverse mass and world
+    /// inverse inertia (0 when it does not move), each pair's summary for the coloring (and the
+    /// impulses kept by pairs that get no rows), the marks of the split position pass, the
+    /// joints' rows.
+    Status summarizePairs(const StepParams& params);
+    /// Reads each pair's summary and colors the step's elements into PgsElement records with
+    /// their rows packed in color order; the status block must have been read after the
+    /// summaries (readStatus), and the pairs must fit their buffers. Errors: Device.
+    Status colorPgs();
+    /// Stage buildContactRows, after the coloring: the rows of every element's manifold points,
+    /// warm-started.
+    Status buildPgsRows(const StepParams& params);
+    /// Stage solve: warm start, `iterations` velocity sweeps and the split position pass, one
+    /// launch per color each; the momenta take up the velocity change. The pass's sweep k runs in
+    /// the launches of velocity sweep k, unless a row may bounce (the status block read after
+    /// the summaries): then the bouncing rows' lifts are marked (markBounces) after the velocity
+    /// sweeps and the pass follows in launches of its own, as the CPU orders them.
+    Status solvePgs(const StepParams& params);
+    /// After integratePositions, when a row may bounce: the restitution pass (PgsSolver's
+    /// solveRestitution, up to `iterations` sweeps, one launch per color), then the bounces'
+    /// impulses into the momenta and those bodies' velocities from them.
+    Status bouncePgs(const StepParams& params);
+    /// After the restitution pass: the split position pass moves the bodies.
+    Status applyPushes(float dt);
+    /// After the pushes: the joints projected onto their constraints (a group of at most
+    /// RUBBLE_JOINT_DIRECT_ROWS rows as one, up to RUBBLE_JOINT_POSITION_ITERATIONS Newton
+    /// steps; larger groups joint by joint, color by color, as many sweeps); the jointed
+    /// bodies' velocities follow.
+    Status projectJoints();
+    /// Reads the joints' rows and impulses. Errors: Device.
+    Result<std::vector<shared::PgsJointRow>> downloadJointRows();
+    /// Reads this step's rows and their impulses, packed in element order. Errors: Device.
+    Result<std::vector<shared::PgsNormalRow>> downloadPgsNormalRows();
+    Result<std::vector<shared::PgsFrictionRows>> downloadPgsFrictionRows();
+    Result<std::vector<shared::float4>> downloadPgsImpulses();
+    const PgsBuffers& pgs() const { return pgs_; }
 
     const ParticleBuffers& particles() const { return particles_; }
     const ContactBuffers& contacts() const { return contacts_; }
@@ -202,6 +379,12 @@ class Pipeline {
     Status finish();
     /// Device time of each kernel and transfer over the steps so far.
     std::vector<CommandTotals> profileTotals() const { return profile_.totals(); }
+    /// Adds the device times of the commands enqueued since the last step was met (or the last
+    /// call; all must have completed) to the totals, kernels' bytes from `counts`: for
+    /// benchmarks of single stages. Errors: Device.
+    Result<DeviceTimes> collectProfile(const TrafficCounts& counts) {
+        return profile_.collect(counts);
+    }
     /// Carries another pipeline's totals on (a world's device arrays built again).
     void keepProfileOf(const Pipeline& old) { profile_.addTotals(old.profile_); }
 
@@ -210,6 +393,18 @@ class Pipeline {
     Status uploadParticles(const ParticleSet* set, BodiesView bodies,
                            std::span<const shared::float4> surfaces);
     Status uploadMassesAndFlags(std::span<const shared::BodyMass> masses);
+    /// The SAT buffers: hulls, planes, joined pairs, per-body and pair arrays. Errors:
+    /// NotSupported for a hull the device cannot clip (flattenShapes), Device.
+    Status createSat(const PipelineInput& in);
+    /// The SAT step's collision and rows: broad phase, narrow phase, PGS rows; then waits for
+    /// the pair count, and when the pairs overflowed grows the buffers and runs them again.
+    Status enqueueSatCollision(const StepParams& params);
+    /// The SAT step from the solve to the end.
+    Status enqueueSatSolve(const StepParams& params);
+    /// The joints' buffers and the coloring of their position projection.
+    Status createJoints(const PipelineInput& in);
+    /// Sizes this step's pair buffers (and the manifolds) for `capacity` pairs.
+    Status setPairCapacity(std::uint32_t capacity);
     /// The stages from collision to the end of the step, and the status read.
     Status enqueueFromCollision(const StepParams& params);
     /// Puts back last step's contacts as the warm start after a step whose contacts overflowed.
@@ -223,6 +418,8 @@ class Pipeline {
     ParticleBuffers particles_;
     ContactBuffers contacts_;
     ObstacleBuffers obstacles_;
+    SatBuffers sat_;
+    PgsBuffers pgs_;
     Buffer status_;
     Profile profile_;
     LcpBuffers lcp_;

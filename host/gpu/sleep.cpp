@@ -2,6 +2,8 @@
 // bodies touched by a waking one wake) and sleepBodies (kernels/sleep.cl): restless marks from
 // this step's rows, then each body's sleep. The CPU twins, of the same names, are in
 // host/dynamics/sleep.cpp. Argument order is the kernel signature's.
+#include <algorithm>
+
 #include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
@@ -16,25 +18,130 @@ Status Pipeline::wakeTouched() {
         .run(strideItems(), RUBBLE_GROUP_CONTACTS);
 }
 
-Status Pipeline::sleepBodies(float dt) {
-    RUBBLE_TRY(Dispatch(*context_, KernelId::MarkRestless, &profile_)
-                   .arg(status_)
-                   .arg(contacts_.rows)
-                   .arg(bodies_.velocities)
+Status Pipeline::wakeTouchedPairs() {
+    const Context& c = *context_;
+    const cl_uint capacity = sat_.current.capacity;
+    const std::size_t group = c.workSizes().pairGroup;
+    const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
+    const std::size_t items =
+        std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
+    RUBBLE_TRY(Dispatch(c, KernelId::WakeTouchedPairs, &profile_)
+                   .arg(capacity)
+                   .arg(sat_.current.count)
+                   .arg(sat_.current.pairs)
+                   .arg(sat_.manifolds)
+                   .arg(bodies_.atStart)
                    .arg(bodies_.flags)
-                   .arg(bodies_.restless)
-                   .run(strideItems(), RUBBLE_GROUP_CONTACTS));
+                   .arg(bodies_.slowFor)
+                   .arg(status_)
+                   .run(items, group));
+    const PgsBuffers& g = pgs_;
+    if (g.jointGroupCount == 0) return {};
+    // A joint group wakes as one: the members of a group with an awake member.
+    const cl_uint members = g.jointBodyCount;
+    RUBBLE_TRY(fill(c, g.groupVotes, 0u, g.jointGroupCount * sizeof(cl_uint), &profile_));
+    for (const cl_uint pass : {0u, 2u})
+        RUBBLE_TRY(Dispatch(c, KernelId::WakeJointGroups, &profile_)
+                       .arg(members)
+                       .arg(g.jointBodies)
+                       .arg(g.jointGroupOf)
+                       .arg(bodies_.flags)
+                       .arg(bodies_.slowFor)
+                       .arg(g.groupVotes)
+                       .arg(pass)
+                       .arg(status_)
+                       .run(members, RUBBLE_GROUP_BODIES));
+    return {};
+}
+
+Status Pipeline::sleepBodies(float dt) {
+    // Restless marks from the contacts: the Jacobi rows, or the SAT method's pairs with points.
+    if (sat_.enabled) {
+        const Context& c = *context_;
+        const cl_uint capacity = sat_.current.capacity;
+        const std::size_t group = c.workSizes().pairGroup;
+        const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
+        const std::size_t items =
+            std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
+        RUBBLE_TRY(Dispatch(c, KernelId::MarkRestlessPairs, &profile_)
+                       .arg(capacity)
+                       .arg(sat_.current.count)
+                       .arg(sat_.current.pairs)
+                       .arg(sat_.manifolds)
+                       .arg(bodies_.velocities)
+                       .arg(bodies_.flags)
+                       .arg(bodies_.restless)
+                       .run(items, group));
+        if (pgs_.jointCount > 0) {
+            const cl_uint joints = pgs_.jointCount;
+            RUBBLE_TRY(Dispatch(c, KernelId::MarkRestlessJoints, &profile_)
+                           .arg(joints)
+                           .arg(pgs_.joints)
+                           .arg(bodies_.velocities)
+                           .arg(bodies_.flags)
+                           .arg(bodies_.restless)
+                           .run(joints, RUBBLE_GROUP_BODIES));
+        }
+    } else {
+        RUBBLE_TRY(Dispatch(*context_, KernelId::MarkRestless, &profile_)
+                       .arg(status_)
+                       .arg(contacts_.rows)
+                       .arg(bodies_.velocities)
+                       .arg(bodies_.flags)
+                       .arg(bodies_.restless)
+                       .run(strideItems(), RUBBLE_GROUP_CONTACTS));
+    }
+    // Joint groups sleep as one: a member that would stay awake holds the others.
+    const Context& c = *context_;
+    const PgsBuffers& g = pgs_;
+    const cl_uint members = g.jointBodyCount;
+    const bool groups = sat_.enabled && g.jointGroupCount > 0;
+    if (groups) {
+        RUBBLE_TRY(fill(c, g.groupVotes, 0u, g.jointGroupCount * sizeof(cl_uint), &profile_));
+        RUBBLE_TRY(Dispatch(c, KernelId::VoteJointGroups, &profile_)
+                       .arg(members)
+                       .arg(g.jointBodies)
+                       .arg(g.jointGroupOf)
+                       .arg(bodies_.flags)
+                       .arg(bodies_.slowFor)
+                       .arg(bodies_.restless)
+                       .arg(bodies_.velocities)
+                       .arg(dt)
+                       .arg(g.groupVotes)
+                       .run(members, RUBBLE_GROUP_BODIES));
+        RUBBLE_TRY(Dispatch(c, KernelId::HoldJointGroups, &profile_)
+                       .arg(members)
+                       .arg(g.jointBodies)
+                       .arg(g.jointGroupOf)
+                       .arg(g.groupVotes)
+                       .arg(bodies_.restless)
+                       .run(members, RUBBLE_GROUP_BODIES));
+    }
     const cl_uint count = bodies_.count;
-    return Dispatch(*context_, KernelId::SleepBodies, &profile_)
-        .arg(count)
-        .arg(status_)
-        .arg(bodies_.flags)
-        .arg(bodies_.velocities)
-        .arg(bodies_.momenta)
-        .arg(bodies_.slowFor)
-        .arg(bodies_.restless)
-        .arg(dt)
-        .run(count, RUBBLE_GROUP_BODIES);
+    RUBBLE_TRY(Dispatch(*context_, KernelId::SleepBodies, &profile_)
+                   .arg(count)
+                   .arg(status_)
+                   .arg(bodies_.flags)
+                   .arg(bodies_.velocities)
+                   .arg(bodies_.momenta)
+                   .arg(bodies_.slowFor)
+                   .arg(bodies_.restless)
+                   .arg(dt)
+                   .run(count, RUBBLE_GROUP_BODIES));
+    if (!groups) return {};
+    // A group with an awake member wakes as one.
+    for (const cl_uint pass : {0u, 1u})
+        RUBBLE_TRY(Dispatch(c, KernelId::WakeJointGroups, &profile_)
+                       .arg(members)
+                       .arg(g.jointBodies)
+                       .arg(g.jointGroupOf)
+                       .arg(bodies_.flags)
+                       .arg(bodies_.slowFor)
+                       .arg(g.groupVotes)
+                       .arg(pass)
+                       .arg(status_)
+                       .run(members, RUBBLE_GROUP_BODIES));
+    return {};
 }
 
 } // namespace rubble::gpu

@@ -9,7 +9,9 @@
 
 #include "host/gpu/buffer.h"
 #include "host/gpu/context.h"
+#include "rubble/shared/broad_phase.h"
 #include "rubble/shared/contact_row.h"
+#include "rubble/shared/hull_contact.h"
 #include "rubble/shared/particle.h"
 
 namespace rubble::gpu {
@@ -26,14 +28,16 @@ using shared::Particle;
 using shared::ParticleContact;
 
 constexpr std::uint64_t kWord = 4, kVec = 16;
-// The radix sort's digit-major histogram (and its scan), read or written whole by each pass.
-constexpr std::uint64_t kHistogram = RUBBLE_SORT_BUCKETS * RUBBLE_SORT_ITEMS * kWord;
 
 } // namespace
 
 std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
     // Body list entries: one per side of a contact (an upper bound: the static side has none).
     const std::uint64_t entries = 2 * n.contacts;
+    // The radix sort's digit-major histogram (and its scan), read or written whole by each pass.
+    const std::uint64_t kHistogram = RUBBLE_SORT_BUCKETS * n.sortItems * kWord;
+    // SAT: a box, the broad-phase flags and a pair record.
+    constexpr std::uint64_t kBox = sizeof(shared::BodyBox), kPair = sizeof(shared::BodyPairRecord);
     switch (id) {
     case KernelId::IntegrateVelocities: // flags, forces, masses, momenta r/w, pose, velocity r/w,
                                         // the velocity before the forces
@@ -89,6 +93,43 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
         return n.contacts * 2 * kWord + n.bodies * (2 * kWord + sizeof(BodyVelocity));
     case KernelId::SleepBodies: // flags, timers, marks; velocities and momenta of sleepers
         return n.bodies * (4 * kWord + sizeof(BodyVelocity) + sizeof(BodyMomentum));
+    case KernelId::ComputeAabbs: // shape index, flags, pose, velocity; box, spin, flags written
+        return n.bodies * (2 * kWord + sizeof(BodyPose) + sizeof(BodyVelocity) + kBox + 2 * kWord);
+    case KernelId::GridBounds: // box and flags of each body; one partial per work-item
+        return n.bodies * (kBox + kWord) + n.sortItems * sizeof(shared::GridPartial);
+    case KernelId::GridSetup: // the partials; the grid
+        return n.sortItems * sizeof(shared::GridPartial) + sizeof(shared::GridParams);
+    case KernelId::GridEntries: // flags and box of each body; entries (key, value), large list
+        return n.bodies * (kWord + kBox) + n.gridEntries * 2 * kWord +
+               n.largeBodies * 2 * kWord + sizeof(shared::GridParams);
+    case KernelId::GatherCellBoxes: // value, the body's box; the box written
+        return n.gridEntries * (kWord + 2 * kBox);
+    case KernelId::FindCellPairs: // key, value and box per entry; pairs
+        return n.gridEntries * (2 * kWord + kBox) + n.pairs * kPair;
+    case KernelId::FindLargePairs: // flags and box of each body, the planes and large lists
+        return (n.bodies + n.planes + n.largeBodies) * (kWord + kBox) +
+               (n.planes + n.largeBodies) * kWord + n.pairs * kPair;
+    case KernelId::CountPairs: // pairs; counters read and written
+        return n.pairs * kPair + n.bodies * 2 * kWord;
+    case KernelId::PlacePairs: // pairs read and written; cursors read and written
+        return n.pairs * 2 * kPair + n.bodies * 2 * kWord;
+    case KernelId::SortPairLists: // starts; pairs read and written
+        return (n.bodies + 1) * kWord + n.pairs * 2 * kPair;
+    case KernelId::CollideShapes: // per pair: the pair, last step's pair and cache, both bodies'
+                                  // shape index, pose, velocity, spin; manifold and cache written
+        return n.pairs * (kPair + kPair + sizeof(shared::PairCache) +
+                          2 * (kWord + sizeof(BodyPose) + sizeof(BodyVelocity) + kWord) +
+                          sizeof(shared::ContactManifold) + sizeof(shared::PairCache));
+    case KernelId::SummarizePairs: // pair, the manifold's count and depths, both bodies'
+        // inverse mass (a JacobiBody row), the summary and the kept count written
+        return n.pairs * (kPair + 5 * kWord + 2 * kVec + 2 * kWord);
+    case KernelId::ApplyPushes: // status, the JacobiBody row, push velocity, momentum, mass,
+        // pose read and written, velocity written
+        return n.bodies * (kVec + sizeof(BodyVelocity) + sizeof(BodyMomentum) + sizeof(BodyMass) +
+                           2 * sizeof(BodyPose) + sizeof(BodyVelocity));
+    case KernelId::MarkRestlessPairs: // the manifold's count, pair, both flags and velocities,
+        // the marks
+        return n.pairs * (kWord + kPair + 2 * kWord + 2 * sizeof(BodyVelocity) + 2 * kWord);
     default:
         return 0;
     }

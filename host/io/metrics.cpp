@@ -142,6 +142,7 @@ nlohmann::ordered_json qualityJson(const QualityReport& q) {
     j["mean_drift"] = q.meanDrift;
     j["kinetic_energy"] = q.kineticEnergy;
     j["max_speed"] = q.maxSpeed;
+    j["moving"] = q.moving;
     return j;
 }
 

@@ -41,6 +41,7 @@ QualityReport assessQuality(std::span<const QualityBody> bodies,
         const glm::dmat3 inertiaWorld = rot * b.inertia * glm::transpose(rot);
         q.kineticEnergy += 0.5 * b.mass * glm::dot(v, v) + 0.5 * glm::dot(w, inertiaWorld * w);
         q.maxSpeed = std::max(q.maxSpeed, glm::length(v));
+        if (glm::length(v) > kMovingSpeed) ++q.moving;
         if (!before.empty() && interval > 0.0)
             q.meanDrift += glm::length(glm::dvec3(r.position) - glm::dvec3(before[i].position)) / interval;
         for (std::size_t j = 0; j < bodies.size(); ++j) {

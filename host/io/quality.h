@@ -26,7 +26,11 @@ struct QualityReport {
     double meanDrift = 0.0;         ///< mean speed of the centres over the interval, m/s
     double kineticEnergy = 0.0;     ///< J, at the end
     double maxSpeed = 0.0;          ///< m/s, at the end
+    std::size_t moving = 0;         ///< bodies faster than kMovingSpeed at the end
 };
+
+/// A body still moving at the end of a run: its centre faster than this, m/s.
+inline constexpr double kMovingSpeed = 0.5;
 
 /// Assesses `now` (one row per body, in the same order as `bodies`) against `before`, taken
 /// `interval` seconds earlier (the drift is 0 when `before` is empty).

@@ -10,34 +10,50 @@ namespace rubble {
 Status checkBackendCombination(const Scene& scene) {
     const SimulationOptions& sim = scene.simulation;
     const std::string field = scene.file + ": simulation.";
-    // Joint rows live in PGS; the other solvers take contact rows only. On the cpu backend every
-    // body steps with the scene's solver, so a joint there needs pgs (on opencl jointed bodies
-    // step on the CPU with PGS whatever the device's solver is).
-    if (sim.backend != Backend::OpenCl && sim.solver.type != SolverType::Pgs &&
+    const SolverType solver = sim.solverType();
+    // Joint rows live in PGS; the other solvers take contact rows only. On the cpu backend, and
+    // on opencl with SAT, every body steps with the scene's solver, so a joint needs pgs (on
+    // opencl with particles jointed bodies step on the CPU with PGS).
+    const bool deviceSat =
+        sim.backend == Backend::OpenCl && sim.collisionMethod() == CollisionMethod::Sat;
+    if ((sim.backend != Backend::OpenCl || deviceSat) && solver != SolverType::Pgs &&
         !scene.joints.empty()) {
         std::string first = scene.joints.front().where;
         if (first.rfind(scene.file + ": ", 0) == 0) first.erase(0, scene.file.size() + 2);
         return makeError(ErrorKind::NotSupported, field + "solver.type",
-                         "the " + std::string(toString(sim.solver.type)) +
+                         "the " + std::string(toString(solver)) +
                              " solver has no joint rows, and the scene has " +
                              std::to_string(scene.joints.size()) + " joints (the first: " + first +
                              "): solve with pgs (it takes particle contacts too: "
-                             "--collision particles --solver pgs), or step on opencl, where "
-                             "jointed bodies step on the CPU with pgs");
+                             "--collision particles --solver pgs), or step on opencl with "
+                             "particles, where jointed bodies step on the CPU with pgs");
     }
     if (sim.backend != Backend::OpenCl) return {};
-    if (sim.collisionMethod() == CollisionMethod::Sat)
-        return makeError(ErrorKind::NotSupported, field + "collision.method",
-                         "sat collision runs on the cpu backend only; the opencl backend finds "
-                         "contacts with particles (--collision particles)");
-    // With a debris set, pgs is the CPU bodies' solver and the set takes jacobi (offload.h).
-    const SolverType device = deviceSolver(scene);
-    if (device == SolverType::Pgs || device == SolverType::Lemke)
+    // SAT on the device feeds projected Gauss-Seidel, with every body on the device.
+    if (deviceSat) {
+        if (solver == SolverType::Pgs) return {};
         return makeError(ErrorKind::NotSupported, field + "solver.type",
-                         "the " + std::string(toString(device)) +
-                             " solver runs on the cpu backend only; the opencl backend solves "
-                             "with jacobi or lcp-jacobi (--solver jacobi), or, in a scene with "
-                             "a debris set, steps the set with jacobi and the rest with pgs");
+                         "sat collision on the opencl backend solves with pgs (--solver pgs); "
+                         "the " +
+                             std::string(toString(solver)) +
+                             " solver takes particle contacts there (--collision particles)");
+    }
+    // Particle contacts on the device feed the Jacobi family. With a debris set, pgs is the CPU
+    // bodies' solver and the set takes jacobi (deviceSolver).
+    const SolverType device = deviceSolver(scene);
+    if (device == SolverType::Pgs)
+        return makeError(ErrorKind::NotSupported, field + "collision.method",
+                         "the opencl backend collides with particles unless the scene names a "
+                         "method, and the device solves particle contacts with jacobi or "
+                         "lcp-jacobi, not pgs: name sat for SAT and PGS on the device "
+                         "(--collision sat, every body on the device, jointed ones too), or "
+                         "solve the particles with jacobi (--solver jacobi)");
+    if (device == SolverType::Lemke)
+        return makeError(ErrorKind::NotSupported, field + "solver.type",
+                         "the lemke solver does not take particle contacts on the opencl "
+                         "backend: solve them with jacobi or lcp-jacobi (--solver jacobi), or "
+                         "step with pgs on sat contacts (--collision sat --solver pgs), which "
+                         "puts every body, jointed ones too, on the device");
     // Jointed bodies stay on the CPU; a joint on a debris body cannot.
     const std::vector<std::uint8_t> onDevice = deviceBodies(scene);
     for (const JointDesc& j : scene.joints) {
@@ -46,7 +62,8 @@ Status checkBackendCombination(const Scene& scene) {
         return makeError(ErrorKind::NotSupported, j.where,
                          "joins debris body \"" + scene.bodies[d].name +
                              "\": the debris set steps on the OpenCL device, which has no joint "
-                             "rows (leave the body out of the debris set)");
+                             "rows (leave the body out of the debris set, or collide with sat: "
+                             "--collision sat puts every body, jointed ones too, on the device)");
     }
     return {};
 }

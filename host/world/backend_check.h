@@ -7,13 +7,14 @@
 
 namespace rubble {
 
-/// {sat, particles} x {pgs, jacobi, lcp-jacobi, lemke} on the cpu backend; particles with jacobi
-/// or lcp-jacobi on opencl, where jointed bodies step on the CPU (host/world/offload.h); pgs on
-/// opencl in a scene with a debris set (its CPU bodies step with PGS, the set with jacobi).
-/// Joints need pgs on the cpu backend: jacobi, lcp-jacobi and lemke have contact rows only.
+/// {sat, particles} x {pgs, jacobi, lcp-jacobi, lemke} on the cpu backend; on opencl, sat with
+/// pgs (every body on the device, joints too; asked for by naming sat) and particles with jacobi
+/// or lcp-jacobi (jointed bodies, or those outside a debris set, step on the CPU:
+/// host/world/offload.h; a debris set's pgs is the CPU bodies' and the set takes jacobi). Joints
+/// need pgs wherever their bodies step with the scene's solver.
 /// Errors: NotSupported naming the scene field of the option that cannot run with the others
-/// (SAT and PGS are CPU stages; a joint with a solver that has no joint rows), or a joint on a
-/// body of the debris set (the device has no joint rows).
+/// (particles with pgs named on opencl without a debris set: collision.method, with the fix),
+/// or a joint on a body of the debris set (the device's particle path has no joint rows).
 Status checkBackendCombination(const Scene& scene);
 
 } // namespace rubble

@@ -6,8 +6,10 @@
 #include <chrono>
 
 #include "host/collision/particles.h"
+#include "host/core/math.h"
 #include "host/core/step_params.h"
 #include "host/dynamics/forces.h"
+#include "host/dynamics/joints.h"
 #include "host/gpu/pipeline.h"
 #include "host/world/offload.h"
 #include "host/world/step_stop.h"
@@ -15,6 +17,25 @@
 
 namespace rubble {
 namespace {
+
+// The CPU's joints in body frames (makeJoints) as the device's records.
+std::vector<shared::PgsJoint> deviceJointsOf(std::span<const Joint> joints) {
+    std::vector<shared::PgsJoint> out;
+    out.reserve(joints.size());
+    for (const Joint& j : joints) {
+        shared::PgsJoint d{};
+        d.anchorA = toFloat4(j.anchorA);
+        d.anchorB = toFloat4(j.anchorB);
+        d.axisA = toFloat4(j.axisA);
+        d.perpB[0] = toFloat4(j.perpB[0]);
+        d.perpB[1] = toFloat4(j.perpB[1]);
+        d.type = j.type == JointType::Hinge ? RUBBLE_JOINT_HINGE : RUBBLE_JOINT_BALL;
+        d.a = j.a;
+        d.b = j.b;
+        out.push_back(d);
+    }
+    return out;
+}
 
 double msSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
@@ -40,13 +61,26 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
                     const SimulationOptions& options) {
     s.options = options;
     s.options.backend = Backend::OpenCl;
-    const Result<ParticleSet> particles = buildParticleSet(
-        s.shapes, s.materials, s.bodies.view(), s.options.collision.particleSpacing);
-    RUBBLE_TRY(particles);
     gpu::PipelineInput in;
     in.bodies = s.bodies.view();
-    in.particles = &*particles;
     in.surfaces = s.surfaces;
+    // SAT collides the shapes' hulls on the device; only particles need the voxelised shapes.
+    Result<ParticleSet> particles = ParticleSet{};
+    if (s.options.collisionMethod() == CollisionMethod::Sat) {
+        in.collision = CollisionMethod::Sat;
+        in.shapes = s.shapes;
+        in.joined = s.joined;
+        if (!s.deviceJointsMade) {
+            s.deviceJoints = deviceJointsOf(makeJoints(s.joints, s.bodies.poses));
+            s.deviceJointsMade = true;
+        }
+        in.joints = s.deviceJoints;
+    } else {
+        particles = buildParticleSet(s.shapes, s.materials, s.bodies.view(),
+                                     s.options.collision.particleSpacing);
+        RUBBLE_TRY(particles);
+        in.particles = &*particles;
+    }
     if (s.offload) in.kinematic = s.offload->kinematic;
     in.deterministic = s.run.deterministic;
     Result<gpu::PipelineHandle> p = gpu::Pipeline::create(std::move(context), in);
@@ -61,8 +95,11 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
 Status attachScene(WorldState& s, const Scene& scene, std::shared_ptr<gpu::Context> context,
                    const RunOptions& run) {
     s.offload.reset();
+    // With SAT every body steps on the device (PGS has joint rows there); with particles the
+    // bodies the device does not step get a CPU world.
+    const bool sat = scene.simulation.collisionMethod() == CollisionMethod::Sat;
     const std::vector<std::uint8_t> onDevice = deviceBodies(scene);
-    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    for (std::size_t i = 0; i < scene.bodies.size() && !sat; ++i) {
         if (scene.bodies[i].isStatic || onDevice[i]) continue;
         Result<std::unique_ptr<Offload>> offload = makeOffload(scene, onDevice, run);
         RUBBLE_TRY(offload);
@@ -71,7 +108,9 @@ Status attachScene(WorldState& s, const Scene& scene, std::shared_ptr<gpu::Conte
     }
     SimulationOptions options = scene.simulation;
     options.backend = Backend::OpenCl;
-    options.solver.type = deviceSolver(scene);
+    // The options in effect: SAT feeds PGS, particles the Jacobi family (deviceSolver).
+    options.collision.method = options.collisionMethod();
+    options.solver.type = sat ? SolverType::Pgs : deviceSolver(scene);
     return attachDevice(s, std::move(context), options);
 }
 

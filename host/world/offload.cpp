@@ -16,7 +16,7 @@ bool hasDebrisSet(const Scene& scene) {
 }
 
 SolverType deviceSolver(const Scene& scene) {
-    const SolverType t = scene.simulation.solver.type;
+    const SolverType t = scene.simulation.solverType();
     return t == SolverType::Pgs && hasDebrisSet(scene) ? SolverType::Jacobi : t;
 }
 

@@ -38,13 +38,15 @@ struct Offload {
 /// Whether the scene marks a debris set: some dynamic body has `debris: true`.
 bool hasDebrisSet(const Scene& scene);
 
-/// The solver the device runs for a scene on the opencl backend. A scene with a debris set steps
-/// its CPU bodies with PGS whatever it names, and the set with Jacobi (docs/debris.md), so `pgs`
-/// there names the CPU half and the device takes jacobi; any other scene keeps its solver.
+/// The solver the device runs for a scene on the opencl backend with particles. A scene with a
+/// debris set steps its CPU bodies with PGS whatever it names, and the set with Jacobi
+/// (docs/debris.md), so `pgs` there names the CPU half and the device takes jacobi; any other
+/// scene keeps its solver (SimulationOptions::solverType: jacobi when it names none).
 SolverType deviceSolver(const Scene& scene);
 
-/// Per body of the scene: whether the device steps it on the opencl backend. The debris set when
-/// the scene has one, else every dynamic body that no joint joins; never a static body.
+/// Per body of the scene: whether the device steps it on the opencl backend with particles. The
+/// debris set when the scene has one, else every dynamic body that no joint joins; never a
+/// static body. (With SAT the device steps every body.)
 std::vector<std::uint8_t> deviceBodies(const Scene& scene);
 
 /// The CPU world of the bodies the device does not step (and every static body), with their

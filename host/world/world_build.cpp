@@ -18,7 +18,7 @@ namespace {
 // Lemke's method solves the frictionless contact LCP: two bodies, one of them dynamic, whose
 // materials both have friction would make a contact with friction sqrt(mu_a mu_b) > 0.
 Status checkLemkeFrictionless(const Scene& scene) {
-    if (scene.simulation.solver.type != SolverType::Lemke) return {};
+    if (scene.simulation.solverType() != SolverType::Lemke) return {};
     std::size_t rough = 0;
     std::optional<std::uint32_t> roughDynamic;
     for (const BodyDesc& b : scene.bodies) {
@@ -128,6 +128,9 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     auto s = std::make_unique<WorldState>();
     s->sceneName = scene.name;
     s->options = scene.simulation;
+    // The options in effect: what the scene leaves out is its backend's default.
+    s->options.collision.method = scene.simulation.collisionMethod();
+    s->options.solver.type = scene.simulation.solverType();
     s->run = run;
     s->materials = scene.materials;
     for (const ShapeDesc& d : scene.shapes) {
@@ -165,7 +168,7 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     }
     // The CPU pipeline's stages, chosen here once: the solver, and the collision method that
     // delivers the contacts in the form the solver reads.
-    s->solver = makeContactSolver(scene.simulation.solver.type);
+    s->solver = makeContactSolver(scene.simulation.solverType());
     s->collision = makeCollisionStage(scene.simulation.collisionMethod(), s->solver->reads());
     RUBBLE_TRY(s->collision->rebuild(s->collisionScene(), s->bodies.view(),
                                      scene.simulation.collision.particleSpacing));

@@ -143,6 +143,10 @@ Result<std::uint32_t> World::removeDebrisOutside(glm::vec3 lo, glm::vec3 hi) {
         j.b = newIndex[j.b];
     }
     s.joined = joinedPairs(s.joints);
+    for (shared::PgsJoint& j : s.deviceJoints) {
+        j.a = newIndex[j.a];
+        j.b = newIndex[j.b];
+    }
     if (s.offload) {
         Offload& o = *s.offload;
         for (std::uint32_t& w : o.cpuToWorld) w = newIndex[w];

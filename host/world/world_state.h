@@ -20,6 +20,7 @@
 #include "rubble/options.h"
 #include "rubble/scene.h"
 #include "rubble/shared/body.h"
+#include "rubble/shared/pgs_joint.h"
 #include "rubble/world.h"
 
 namespace rubble {
@@ -76,6 +77,11 @@ struct WorldState {
     /// every moving body.
     std::unique_ptr<Offload> offload;
     std::vector<EventDesc> dueEvents; ///< scratch: the events the device applies this step
+    /// SAT on the device: the joints in their bodies' frames, made at the poses of the first
+    /// attach (as the CPU solver makes them at its first step) and kept when the device arrays
+    /// are built again.
+    std::vector<shared::PgsJoint> deviceJoints;
+    bool deviceJointsMade = false;
 
     std::uint32_t bodyCount() const { return bodies.count(); }
     bool isStatic(std::uint32_t i) const { return bodies.isStatic(i); }

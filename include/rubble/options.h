@@ -48,7 +48,9 @@ enum class Coupling { OneWay, TwoWay };
 
 /// The `simulation.solver` block of a scene.
 struct SolverOptions {
-    SolverType type = SolverType::Pgs;
+    /// When the scene does not say: pgs, except on opencl with particle contacts, where jacobi
+    /// (SimulationOptions::solverType; a world holds the one in effect).
+    std::optional<SolverType> type;
     int iterations = 10;     ///< solver sweeps per step
     float baumgarte = 0.2f;  ///< fraction of the penetration corrected per step, 0..1
     float slop = 0.005f;     ///< penetration left uncorrected, m
@@ -58,7 +60,8 @@ struct SolverOptions {
 
 /// The `simulation.collision` block of a scene.
 struct CollisionOptions {
-    /// Sat on the CPU and Particles on OpenCL when the scene does not say.
+    /// When the scene does not say: sat on the cpu backend, particles on opencl
+    /// (SimulationOptions::collisionMethod; a world holds the one in effect).
     std::optional<CollisionMethod> method;
     float particleSpacing = 0.1f; ///< voxel size of the particle representation, m
 };
@@ -74,10 +77,19 @@ struct SimulationOptions {
     SolverOptions solver;
     Coupling coupling = Coupling::OneWay;
 
-    /// The collision method in effect: the scene's, else the backend's default.
+    /// The collision method in effect: the scene's, else the backend's default (sat on cpu,
+    /// particles on opencl; SAT and PGS on the device are asked for by naming sat).
     CollisionMethod collisionMethod() const {
         if (collision.method) return *collision.method;
         return backend == Backend::OpenCl ? CollisionMethod::Particles : CollisionMethod::Sat;
+    }
+    /// The solver in effect: the scene's, else pgs, except on opencl with particle contacts,
+    /// which the device solves with jacobi.
+    SolverType solverType() const {
+        if (solver.type) return *solver.type;
+        return backend == Backend::OpenCl && collisionMethod() == CollisionMethod::Particles
+                   ? SolverType::Jacobi
+                   : SolverType::Pgs;
     }
 };
 

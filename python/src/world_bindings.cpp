@@ -179,7 +179,7 @@ py::dict optionsDict(const SimulationOptions& o) {
     d["backend"] = std::string(toString(o.backend));
     d["collision"] = std::string(toString(o.collisionMethod()));
     d["particle_spacing"] = double(o.collision.particleSpacing);
-    d["solver"] = std::string(toString(o.solver.type));
+    d["solver"] = std::string(toString(o.solverType()));
     d["iterations"] = o.solver.iterations;
     d["coupling"] = std::string(toString(o.coupling));
     return d;

@@ -187,8 +187,7 @@ TEST_F(DebrisOffload, OffloadingChangesNothingOnTheCpuBackend) {
 
 // An explosion reaches both populations once: a CPU crate and a debris crate in free fall, each
 // 1 m from the centre of a 4 N s blast of radius 2 m, get 2 N s straight away from it in the
-// first step (1 kg: 2 m/s) and keep it; a crate beyond the radius gets nothing. The file names
-// pgs, which in a scene with a debris set is the CPU bodies' solver (the device takes jacobi).
+// first step (1 kg: 2 m/s) and keep it; a crate beyond the radius gets nothing.
 TEST_F(DebrisOffload, ExplosionReachesBothPopulationsOnce) {
     std::string text = scene("", R"({"name": "cpu", "shape": "crate", "mass": 1,
         "position": [-1, 5, 0]}, {"name": "far", "shape": "crate", "mass": 1,
@@ -196,10 +195,8 @@ TEST_F(DebrisOffload, ExplosionReachesBothPopulationsOnce) {
         "position": [1, 5, 0]})",
                              "", R"(, "events": [{"type": "explosion", "time": 0.0,
         "centre": [0, 5, 0], "impulse": 4, "radius": 2}])");
-    text.replace(text.find("\"jacobi\""), 8, "\"pgs\"");
     World w = deviceWorld(text);
     ASSERT_FALSE(w.onDevice(*w.findBody("cpu")));
-    EXPECT_EQ(w.options().solver.type, SolverType::Jacobi);
     const std::uint32_t cpu = *w.findBody("cpu"), far = *w.findBody("far"),
                         debris = *w.findBody("debris");
     const float fall = -9.81f * 0.016666667f;
@@ -217,29 +214,82 @@ TEST_F(DebrisOffload, ExplosionReachesBothPopulationsOnce) {
     }
 }
 
-// The combinations: on opencl a scene with a debris set may name pgs (its CPU bodies' solver),
-// one without may not; lemke is refused either way.
-TEST(DebrisSolver, PgsNamesTheCpuHalfOnlyWithADebrisSet) {
+// The combinations on opencl, as the scene format's contract has them: a scene that names no
+// collision method collides with particles, and solves them with jacobi when it names no
+// solver; a debris set runs with particles and jacobi whatever solver it names (pgs names the
+// CPU half); pgs with particles and no debris set is refused naming collision.method and the
+// two ways out; naming sat gives SAT and PGS, every body on the device.
+TEST(DebrisSolver, OpenClDefaultsToParticlesAndJacobiAndSatIsNamed) {
+    std::string text = scene("", std::string(kFloor) + R"(, {"name": "box", "shape": "block",
+        "mass": 4, "position": [3, 0.5, 0]}, {"name": "d", "shape": "crate", "mass": 1,
+        "debris": true, "position": [0, 0.25, 0]})",
+                             "");
+    Result<Scene> withSet = parseScene(text, "inline.json", ".");
+    ASSERT_TRUE(withSet.ok());
+    withSet->simulation.backend = Backend::OpenCl;
+    EXPECT_TRUE(checkBackendCombination(*withSet).ok()); // particles and jacobi, as named
+
+    // Nothing named: particles and jacobi, with or without a debris set.
+    Scene unnamed = *withSet;
+    unnamed.simulation.collision.method.reset();
+    unnamed.simulation.solver.type.reset();
+    EXPECT_EQ(unnamed.simulation.collisionMethod(), CollisionMethod::Particles);
+    EXPECT_EQ(unnamed.simulation.solverType(), SolverType::Jacobi);
+    EXPECT_EQ(deviceSolver(unnamed), SolverType::Jacobi);
+    EXPECT_TRUE(checkBackendCombination(unnamed).ok());
+    Scene unnamedWithoutSet = unnamed;
+    for (BodyDesc& b : unnamedWithoutSet.bodies) b.debris = false;
+    EXPECT_EQ(deviceSolver(unnamedWithoutSet), SolverType::Jacobi);
+    EXPECT_TRUE(checkBackendCombination(unnamedWithoutSet).ok());
+
+    // pgs named with a debris set: the CPU half's solver, the set takes jacobi.
+    Scene pgs = unnamed;
+    pgs.simulation.solver.type = SolverType::Pgs;
+    EXPECT_EQ(deviceSolver(pgs), SolverType::Jacobi);
+    EXPECT_TRUE(checkBackendCombination(pgs).ok());
+
+    // Without a debris set, pgs on particles is refused, naming the method and both ways out.
+    Scene pgsWithoutSet = pgs;
+    for (BodyDesc& b : pgsWithoutSet.bodies) b.debris = false;
+    const Status refused = checkBackendCombination(pgsWithoutSet);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().where, "inline.json: simulation.collision.method");
+    EXPECT_NE(refused.error().message.find("--collision sat"), std::string::npos)
+        << refused.error().message;
+    EXPECT_NE(refused.error().message.find("--solver jacobi"), std::string::npos)
+        << refused.error().message;
+
+    // Naming sat gives SAT and PGS (its default there), with or without a debris set.
+    Scene sat = unnamed;
+    sat.simulation.collision.method = CollisionMethod::Sat;
+    EXPECT_EQ(sat.simulation.solverType(), SolverType::Pgs);
+    EXPECT_TRUE(checkBackendCombination(sat).ok());
+    pgsWithoutSet.simulation.collision.method = CollisionMethod::Sat;
+    EXPECT_TRUE(checkBackendCombination(pgsWithoutSet).ok());
+
+    // SAT with the Jacobi family is refused on the device, and lemke everywhere on it.
+    Scene satJacobi = *withSet;
+    satJacobi.simulation.collision.method = CollisionMethod::Sat;
+    EXPECT_FALSE(checkBackendCombination(satJacobi).ok());
+    withSet->simulation.solver.type = SolverType::Lemke;
+    EXPECT_FALSE(checkBackendCombination(*withSet).ok());
+}
+
+// With SAT the device steps every body, the debris set's and the others alike: no CPU world.
+TEST_F(DebrisOffload, SatPutsEveryBodyOnTheDevice) {
     std::string text = scene("", std::string(kFloor) + R"(, {"name": "box", "shape": "block",
         "mass": 4, "position": [3, 0.5, 0]}, {"name": "d", "shape": "crate", "mass": 1,
         "debris": true, "position": [0, 0.25, 0]})",
                              "");
     text.replace(text.find("\"jacobi\""), 8, "\"pgs\"");
-    Result<Scene> withSet = parseScene(text, "inline.json", ".");
-    ASSERT_TRUE(withSet.ok());
-    withSet->simulation.backend = Backend::OpenCl;
-    EXPECT_TRUE(checkBackendCombination(*withSet).ok());
-    EXPECT_EQ(deviceSolver(*withSet), SolverType::Jacobi);
-
-    Scene withoutSet = *withSet;
-    for (BodyDesc& b : withoutSet.bodies) b.debris = false;
-    const Status refused = checkBackendCombination(withoutSet);
-    ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().where, "inline.json: simulation.solver.type");
-    EXPECT_EQ(deviceSolver(withoutSet), SolverType::Pgs);
-
-    withSet->simulation.solver.type = SolverType::Lemke;
-    EXPECT_FALSE(checkBackendCombination(*withSet).ok());
+    text.replace(text.find("\"particles\""), 11, "\"sat\"");
+    World w = deviceWorld(text);
+    EXPECT_TRUE(w.onDevice(*w.findBody("box")));
+    EXPECT_TRUE(w.onDevice(*w.findBody("d")));
+    for (int i = 0; i < 30; ++i) ASSERT_TRUE(w.step().ok());
+    // Both rest on the floor: the crate's centre at its half height, 0.25 m, within the slop.
+    EXPECT_NEAR(w.body(*w.findBody("d")).position.y, 0.25f, 0.01f);
+    EXPECT_NEAR(w.body(*w.findBody("box")).position.y, 0.5f, 0.01f);
 }
 
 // The explosion kernel against forces.cpp on the same bodies: the same momenta, bit for bit

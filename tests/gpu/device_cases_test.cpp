@@ -77,5 +77,78 @@ TEST_F(DeviceCases, SleepingRowWakesAsItsCpuTwinDoes) {
     EXPECT_TRUE(woke) << "the last box of the row woke";
 }
 
+// SAT and PGS on the device: the CPU's rows (pgsContactRowItem, bounce speed and lift from the
+// approach before the forces), the restitution pass after the positions moved (bouncePgs) and
+// the lift in the split pass, so the rebound meets the reference's bound (1 mm).
+TEST_F(DeviceCases, SatElasticBallReboundsToItsDropHeight) {
+    World w = deviceWorld(test::dropScene(1.0f, test::kDeviceSatSimulation));
+    test::expectReboundHeight(w, 1.0f, 0.001f, 0.001f);
+}
+TEST_F(DeviceCases, SatHalfElasticBallReboundsToAQuarterOfItsDropHeight) {
+    World w = deviceWorld(test::dropScene(0.5f, test::kDeviceSatSimulation));
+    test::expectReboundHeight(w, 0.5f, 0.001f, 0.001f);
+}
+TEST_F(DeviceCases, SatRestitutionThresholdIsHalfAMetrePerSecond) {
+    World above = deviceWorld(test::approachScene(0.75f, test::kDeviceSatSimulation));
+    World below = deviceWorld(test::approachScene(0.35f, test::kDeviceSatSimulation));
+    test::expectRestitutionThreshold(above, below);
+}
+TEST_F(DeviceCases, SatSymplecticSpinTurnsByOmegaTimesT) {
+    World w = deviceWorld(test::spinScene("symplectic", test::kDeviceSatSimulation));
+    test::expectSpinTurnsByOmegaTimesT(w);
+}
+
+// Waking before the solve with SAT (kernels/pgs.cl, wakeTouchedPairs): the sleeping bodies a
+// pair joins to a waking one wake before the rows and the collision runs again, so that their
+// mass takes part, to the reference's bounds.
+TEST_F(DeviceCases, SatSleepingRowTakesTheHitWithItsMomentum) {
+    World w = deviceWorld(test::sleepingRowScene(test::kDeviceSatSimulation));
+    test::expectSleepingRowTakesTheHit(w, 1e-3);
+}
+TEST_F(DeviceCases, SatElasticBallHittingASleepingOneStopsAndPassesItsVelocityOn) {
+    World w = deviceWorld(test::cradleScene(test::kDeviceSatSimulation));
+    test::expectCradleExchange(w, 1e-3f);
+}
+TEST_F(DeviceCases, SatExplosionIntoASleepingRowKeepsItsMomentum) {
+    World w = deviceWorld(test::explodedRowScene(test::kDeviceSatSimulation));
+    test::expectExplodedRowKeepsItsMomentum(w, 1e-3);
+}
+
+// The layer pass on the device (kernels/pgs.cl, layerPgs): 100 kg on 1 kg, and on two 1 kg
+// boxes, stand at 10 iterations and sleep, to the reference's bounds; 1:10 closer still.
+TEST_F(DeviceCases, SatHeavyBoxOnALightOneStands) {
+    World w = deviceWorld(test::massStackScene({1.0, 100.0}, test::kDeviceSatSimulation));
+    test::expectStackStands(w, 0.01f, 0.05f);
+}
+TEST_F(DeviceCases, SatHeavyBoxOnTwoLightOnesStands) {
+    World w = deviceWorld(test::massStackScene({1.0, 1.0, 100.0}, test::kDeviceSatSimulation));
+    test::expectStackStands(w, 0.01f, 0.08f);
+}
+TEST_F(DeviceCases, SatSmallerRatiosStand) {
+    World even = deviceWorld(test::massStackScene({1.0, 1.0}, test::kDeviceSatSimulation));
+    test::expectStackStands(even, 0.001f, 0.005f);
+    World ten = deviceWorld(test::massStackScene({1.0, 10.0}, test::kDeviceSatSimulation));
+    test::expectStackStands(ten, 0.002f, 0.005f);
+}
+
+// The drop on the device follows the CPU reference step by step: one pair, so the sweep order
+// is the same, and the bounce lands within 1e-4 m of it at every step (measured: 0, the same
+// bits on PoCL).
+TEST_F(DeviceCases, SatDropFollowsTheCpu) {
+    const std::string scene = test::dropScene(0.5f, test::kDeviceSatSimulation);
+    World device = deviceWorld(scene, true);
+    World cpu = test::worldFromText(scene);
+    float worst = 0.0f;
+    for (int i = 0; i < 150; ++i) {
+        ASSERT_TRUE(cpu.step().ok());
+        ASSERT_TRUE(device.step().ok());
+        const float d = glm::length(cpu.body(1).position - device.body(1).position);
+        worst = std::max(worst, d);
+        ASSERT_LT(d, 1e-4f) << "step " << i;
+    }
+    std::printf("[ drop, cpu against sat+pgs on the device ] largest distance %.3g m\n",
+                double(worst));
+}
+
 } // namespace
 } // namespace rubble

@@ -52,6 +52,35 @@ TEST_F(KernelsBuild, TheProgramHasNoKernelOutsideTheTable) {
     EXPECT_EQ(inProgram, inTable);
 }
 
+TEST_F(KernelsBuild, TheProgramIsBuiltWithTheDevicesWorkSizes) {
+    const gpu::Context& c = *context();
+    std::size_t size = 0;
+    ASSERT_EQ(clGetProgramBuildInfo(c.program(), c.device().id, CL_PROGRAM_BUILD_OPTIONS, 0,
+                                    nullptr, &size),
+              CL_SUCCESS);
+    std::string options(size, '\0');
+    ASSERT_EQ(clGetProgramBuildInfo(c.program(), c.device().id, CL_PROGRAM_BUILD_OPTIONS, size,
+                                    options.data(), nullptr),
+              CL_SUCCESS);
+    EXPECT_NE(options.find("-DRUBBLE_SORT_ITEMS=" + std::to_string(c.workSizes().sortItems) + "u"),
+              std::string::npos)
+        << options;
+    EXPECT_NE(options.find("-DRUBBLE_GROUP_PAIRS=" + std::to_string(c.workSizes().pairGroup)),
+              std::string::npos)
+        << options;
+    const gpu::WorkSizes expected = gpu::workSizesFor(c.device());
+    EXPECT_EQ(c.workSizes().sortItems, expected.sortItems);
+    EXPECT_EQ(c.workSizes().broadGroup, expected.broadGroup);
+    // Every kernel of the SAT path takes its group on this device.
+    for (const gpu::KernelId id : {gpu::KernelId::CollideShapes, gpu::KernelId::FindCellPairs}) {
+        std::size_t most = 0;
+        ASSERT_EQ(clGetKernelWorkGroupInfo(c.kernel(id), c.device().id, CL_KERNEL_WORK_GROUP_SIZE,
+                                           sizeof most, &most, nullptr),
+                  CL_SUCCESS);
+        EXPECT_GE(most, c.workSizes().pairGroup) << gpu::signatureOf(id).name;
+    }
+}
+
 TEST_F(KernelsBuild, TheKernelFolderOfTheSourceTreeBuildsLikeTheEmbeddedText) {
     RunOptions run;
     run.kernelDir = std::string(RUBBLE_SOURCE_DIR) + "/kernels";

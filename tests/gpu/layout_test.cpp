@@ -46,6 +46,12 @@ TEST_F(Layout, EverySharedStructMatchesTheDevice) {
     // The sizes written above the structs.
     EXPECT_EQ(sizeof(shared::Particle), 32u);
     EXPECT_EQ(sizeof(shared::ContactRow), 128u);
+    EXPECT_EQ(sizeof(shared::HullShape), 112u);
+    EXPECT_EQ(sizeof(shared::HullEdge), 80u);
+    EXPECT_EQ(sizeof(shared::ContactManifold), 112u);
+    EXPECT_EQ(sizeof(shared::PairCache), 96u);
+    EXPECT_EQ(sizeof(shared::BodyBox), 32u);
+    EXPECT_EQ(sizeof(shared::BodyPairRecord), 8u);
 }
 
 } // namespace

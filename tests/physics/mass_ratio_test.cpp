@@ -6,47 +6,19 @@
 
 #include <gtest/gtest.h>
 
+#include "support/physics_cases.h"
 #include "support/test_util.h"
 
 namespace rubble {
 namespace {
 
-// Unit boxes stacked on a floor (friction 0.5), box i of mass masses[i] with its centre at
-// i + 0.5 m, the resting height; 60 Hz, 10 iterations (the defaults).
 std::string stack(const std::vector<double>& masses) {
-    std::string bodies = R"({"name": "floor", "shape": "ground", "static": true})";
-    for (std::size_t i = 0; i < masses.size(); ++i) {
-        char body[160];
-        std::snprintf(
-            body, sizeof body,
-            R"(, {"name": "b%zu", "shape": "crate", "mass": %.9g, "position": [0, %g, 0]})", i,
-            masses[i], double(i) + 0.5);
-        bodies += body;
-    }
-    return R"({"format": "rubble-scene", "version": 1,
-      "shapes": {"ground": {"type": "plane"}, "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
-      "bodies": [)" +
-           bodies + "]}";
+    return test::massStackScene(masses);
 }
 
-// For 10 s every box stays within `down` of its resting height (i + 0.5 m) and `sideways` of
-// the axis it started on, and then the whole stack sleeps.
 void expectStackStands(const std::vector<double>& masses, float down, float sideways) {
     World world = test::worldFromText(stack(masses));
-    ASSERT_EQ(world.options().solver.iterations, 10);
-    float worstDown = 0.0f, worstSideways = 0.0f;
-    for (int step = 0; step < 600; ++step) {
-        ASSERT_TRUE(world.step().ok());
-        for (std::uint32_t i = 1; i < world.bodyCount(); ++i) {
-            const glm::vec3 p = world.body(i).position;
-            worstDown = std::max(worstDown, float(i) - 0.5f - p.y);
-            worstSideways = std::max(worstSideways, std::hypot(p.x, p.z));
-        }
-    }
-    EXPECT_LT(worstDown, down) << "m below the resting heights";
-    EXPECT_LT(worstSideways, sideways) << "m off the stack's axis";
-    for (std::uint32_t i = 1; i < world.bodyCount(); ++i)
-        EXPECT_TRUE(world.body(i).asleep) << world.bodyName(i) << " settles";
+    test::expectStackStands(world, down, sideways);
 }
 
 // 100 kg on 1 kg. With Gauss-Seidel alone the light box passes the weight down by 1 % a sweep:

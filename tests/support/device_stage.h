@@ -42,4 +42,17 @@ inline Result<DeviceStage> deviceStage(std::shared_ptr<gpu::Context> context, St
     return d;
 }
 
+/// The input's bodies on a new pipeline of `context` made for the SAT method (hulls, boxes,
+/// pairs, manifolds; no particles). Errors: those of Pipeline::create.
+inline Result<gpu::PipelineHandle> satPipeline(std::shared_ptr<gpu::Context> context,
+                                               const StageInput& in) {
+    gpu::PipelineInput input;
+    input.bodies = in.bodies.view();
+    input.surfaces = in.surfaces;
+    input.collision = CollisionMethod::Sat;
+    input.shapes = in.shapes;
+    input.joined = in.joined;
+    return gpu::Pipeline::create(std::move(context), input);
+}
+
 } // namespace rubble::test

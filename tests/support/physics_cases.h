@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cmath>
+#include <cstdio>
 #include <string>
+#include <vector>
 
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
@@ -17,6 +19,10 @@ namespace rubble::test {
 inline const char* kDeviceSimulation =
     R"(, "collision": {"method": "particles", "particle_spacing": 0.1},
        "solver": {"type": "jacobi", "iterations": 10})";
+
+/// The keys a device run with SAT and PGS adds (every body on the device, the CPU's algorithms).
+inline const char* kDeviceSatSimulation =
+    R"(, "collision": {"method": "sat"}, "solver": {"type": "pgs", "iterations": 10})";
 
 /// A free ball spinning at 10 rad/s about (1, 2, 2)/3 in the world (a sphere: its angular
 /// velocity stays constant), 60 Hz, no gravity.
@@ -236,6 +242,46 @@ inline void expectExplodedRowKeepsItsMomentum(World& world, double tolerance) {
     }
     EXPECT_LT(worst, tolerance) << "kg m/s away from the explosion's " << expected;
     EXPECT_GT(world.body(5).position.x, 4.04f + 0.1f) << "the last box of the row moves";
+}
+
+/// Unit boxes stacked on a floor (friction 0.5), box i of mass masses[i] with its centre at
+/// i + 0.5 m, the resting height; 60 Hz, 10 iterations (the defaults).
+inline std::string massStackScene(const std::vector<double>& masses,
+                                  const std::string& simulation = "") {
+    std::string bodies = R"({"name": "floor", "shape": "ground", "static": true})";
+    for (std::size_t i = 0; i < masses.size(); ++i) {
+        char body[160];
+        std::snprintf(
+            body, sizeof body,
+            R"(, {"name": "b%zu", "shape": "crate", "mass": %.9g, "position": [0, %g, 0]})", i,
+            masses[i], double(i) + 0.5);
+        bodies += body;
+    }
+    return R"({"format": "rubble-scene", "version": 1,
+      "simulation": {"dt": 0.016666667)" +
+           simulation + R"(},
+      "shapes": {"ground": {"type": "plane"}, "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
+      "bodies": [)" +
+           bodies + "]}";
+}
+
+/// For 10 s every box of the mass stack stays within `down` of its resting height (i + 0.5 m)
+/// and `sideways` of the axis it started on, and then the whole stack sleeps.
+inline void expectStackStands(World& world, float down, float sideways) {
+    ASSERT_EQ(world.options().solver.iterations, 10);
+    float worstDown = 0.0f, worstSideways = 0.0f;
+    for (int step = 0; step < 600; ++step) {
+        ASSERT_TRUE(world.step().ok());
+        for (std::uint32_t i = 1; i < world.bodyCount(); ++i) {
+            const glm::vec3 p = world.body(i).position;
+            worstDown = std::max(worstDown, float(i) - 0.5f - p.y);
+            worstSideways = std::max(worstSideways, std::hypot(p.x, p.z));
+        }
+    }
+    EXPECT_LT(worstDown, down) << "m below the resting heights";
+    EXPECT_LT(worstSideways, sideways) << "m off the stack's axis";
+    for (std::uint32_t i = 1; i < world.bodyCount(); ++i)
+        EXPECT_TRUE(world.body(i).asleep) << world.bodyName(i) << " settles";
 }
 
 } // namespace rubble::test

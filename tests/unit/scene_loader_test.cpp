@@ -23,7 +23,8 @@ TEST(SceneLoader, DefaultsMatchTheFormat) {
     EXPECT_EQ(s.simulation.backend, Backend::Cpu);
     EXPECT_EQ(s.simulation.collisionMethod(), CollisionMethod::Sat);
     EXPECT_FLOAT_EQ(s.simulation.collision.particleSpacing, 0.1f);
-    EXPECT_EQ(s.simulation.solver.type, SolverType::Pgs);
+    EXPECT_FALSE(s.simulation.solver.type.has_value());
+    EXPECT_EQ(s.simulation.solverType(), SolverType::Pgs);
     EXPECT_EQ(s.simulation.solver.iterations, 10);
     EXPECT_FLOAT_EQ(s.simulation.solver.baumgarte, 0.2f);
     EXPECT_FLOAT_EQ(s.simulation.solver.slop, 0.005f);
@@ -36,10 +37,25 @@ TEST(SceneLoader, DefaultsMatchTheFormat) {
     EXPECT_FLOAT_EQ(s.materials[0].restitution, 0.0f);
 }
 
-TEST(SceneLoader, OpenClBackendDefaultsToParticles) {
+// On opencl a scene that names no collision method collides with particles (the scene format's
+// contract), and one that names no solver then solves with jacobi; naming sat gives SAT, with
+// pgs its default solver; a solver named is kept.
+TEST(SceneLoader, OpenClBackendDefaultsToParticlesWithJacobi) {
     const Scene s = parse(R"({"format": "rubble-scene", "version": 1,
         "simulation": {"backend": "opencl"}})");
     EXPECT_EQ(s.simulation.collisionMethod(), CollisionMethod::Particles);
+    EXPECT_EQ(s.simulation.solverType(), SolverType::Jacobi);
+    const Scene sat = parse(R"({"format": "rubble-scene", "version": 1,
+        "simulation": {"backend": "opencl", "collision": {"method": "sat"}}})");
+    EXPECT_EQ(sat.simulation.collisionMethod(), CollisionMethod::Sat);
+    EXPECT_EQ(sat.simulation.solverType(), SolverType::Pgs);
+    const Scene named = parse(R"({"format": "rubble-scene", "version": 1,
+        "simulation": {"backend": "opencl", "solver": {"type": "lcp-jacobi"}}})");
+    EXPECT_EQ(named.simulation.collisionMethod(), CollisionMethod::Particles);
+    EXPECT_EQ(named.simulation.solverType(), SolverType::LcpJacobi);
+    const Scene cpu = parse(R"({"format": "rubble-scene", "version": 1,
+        "simulation": {"collision": {"method": "particles"}}})");
+    EXPECT_EQ(cpu.simulation.solverType(), SolverType::Pgs);
 }
 
 TEST(SceneLoader, GridGeneratorNamesAndOrdersXFastest) {

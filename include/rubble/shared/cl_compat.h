@@ -11,6 +11,8 @@
 #define RUBBLE_SHARED_BEGIN
 #define RUBBLE_SHARED_END
 #define RUBBLE_STATIC_ASSERT_SIZE(type, bytes)
+// A pointer into device memory (the flattened hulls read by the narrow phase); plain on the host.
+#define RUBBLE_GLOBAL __global
 
 #else
 
@@ -26,6 +28,7 @@ struct alignas(16) float4 {
 typedef std::uint32_t uint;
 using std::fabs;
 using std::floor;
+using std::isfinite;
 using std::fmax;
 using std::fmin;
 using std::sqrt;
@@ -41,5 +44,6 @@ using std::sqrt;
     }
 #define RUBBLE_STATIC_ASSERT_SIZE(type, bytes)                                                     \
     static_assert(sizeof(type) == (bytes), #type " must match its OpenCL layout")
+#define RUBBLE_GLOBAL
 
 #endif

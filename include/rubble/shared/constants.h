@@ -8,15 +8,32 @@
 #define RUBBLE_GROUP_CONTACTS 64u  // contact rows of the Jacobi solver
 #define RUBBLE_GROUP_SCAN 64u      // the serial chunks of the radix sort
 
-// Radix sort: 4-bit digits, and the number of work-items that each own a contiguous chunk.
+// Radix sort: 4-bit digits.
 #define RUBBLE_SORT_DIGIT_BITS 4u
 #define RUBBLE_SORT_BUCKETS 16u
+
+// Work sizes chosen per device: host/gpu/context.cpp derives them from the device's limits
+// (workSizesFor) and passes them to the program as build options (-D); the host dispatches with
+// the context's values, never with these defaults, which are what PoCL's CPU device gets.
+// Work-items of a radix sort pass (and of the broad phase's bounds), each owning a chunk.
+#ifndef RUBBLE_SORT_ITEMS
 #define RUBBLE_SORT_ITEMS 256u
+#endif
+// Work-group size of the SAT broad phase's per-body and per-entry kernels.
+#ifndef RUBBLE_GROUP_BROAD
+#define RUBBLE_GROUP_BROAD 64u
+#endif
+// Work-group size of the SAT narrow phase and the pair kernels.
+#ifndef RUBBLE_GROUP_PAIRS
+#define RUBBLE_GROUP_PAIRS 64u
+#endif
 
 // An empty cell of the particle grid (cellStart / cellEnd).
 #define RUBBLE_EMPTY_CELL 0xffffffffu
 // "No body" in a contact row's body b (the static world: planes, static boxes).
 #define RUBBLE_NO_BODY 0xffffffffu
+// "No group": a body that no joint ties to another dynamic body (sleeping by joint group).
+#define RUBBLE_NO_GROUP 0xffffffffu
 
 // A particle meets at most this many static shapes (planes and static boxes) per step.
 #define RUBBLE_MAX_STATIC_SHAPES 64u
@@ -32,8 +49,16 @@
 #define RUBBLE_STATUS_CAPACITY 4u    // room in the contact buffer, written with the reset
 #define RUBBLE_STATUS_ASLEEP 5u      // bodies asleep after the step
 #define RUBBLE_STATUS_WOKEN 6u       // bodies woken in the step
-#define RUBBLE_STATUS_SPARE 7u       // keeps the block at 32 bytes
-#define RUBBLE_STATUS_COUNT 8u
+#define RUBBLE_STATUS_PUSHED 7u      // PGS: some row pushes (the split position pass runs)
+#define RUBBLE_STATUS_PAIRS 8u        // SAT: body pairs found by the broad phase (may exceed room)
+#define RUBBLE_STATUS_GRID_ENTRIES 9u // SAT: (cell, body) entries of the broad phase's grid
+#define RUBBLE_STATUS_LARGE 10u       // SAT: bodies too large for the grid, tested against all
+#define RUBBLE_STATUS_BOUNCES 11u     // PGS: some row may bounce (the restitution pass runs)
+#define RUBBLE_STATUS_LAYERS 12u      // PGS: moving bodies 10 times apart in mass touch (layers)
+#define RUBBLE_STATUS_SPARE3 13u      // keep the block a multiple of 16 bytes
+#define RUBBLE_STATUS_SPARE4 14u
+#define RUBBLE_STATUS_SPARE5 15u
+#define RUBBLE_STATUS_COUNT 16u
 
 // Stages over contacts run a fixed number of work-items that stride through however many
 // contacts there are: this many work-groups per compute unit.

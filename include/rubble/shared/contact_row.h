@@ -45,6 +45,78 @@ RUBBLE_FN float particleSlopItem(float slop, float particleSpacing) {
     return fmax(slop, RUBBLE_PARTICLE_SLOP_FRACTION * particleSpacing);
 }
 
+// Projected Gauss-Seidel's normal row (host/dynamics/contact_rows.cpp on the CPU, buildPgsRows
+// on the device; both call pgsNormalTargetItem and bounceItem, so that a change of the rule lands
+// in both). The split position pass pushes at most this fast, m/s: a deep penetration (a fast
+// body caught a step late) is undone over a few steps instead of throwing the bodies apart.
+#define RUBBLE_MAX_PUSH_SPEED 2.0f
+
+// 8 bytes, not stored: what a PGS normal row aims at.
+typedef struct NormalTarget {
+    float target; // normal velocity the velocity solve aims at, m/s
+    float push;   // Baumgarte speed of the split position pass, m/s (>= 0)
+} NormalTarget;
+
+// The target of a contact point's normal row from its depth (m; negative: a gap): stop a
+// touching approach (0), or let a gap close within the step and no further (depth / dt); the
+// penetration beyond the slop goes to the split position pass, at min(beta/dt (depth - slop),
+// RUBBLE_MAX_PUSH_SPEED) (Catto, "Fast and Simple Physics using Sequential Impulses", GDC 2006).
+// A bounce is not the velocity solve's: see bounceItem.
+RUBBLE_FN NormalTarget pgsNormalTargetItem(float depth, float baumgarte, float slop, float dt) {
+    NormalTarget t;
+    if (depth >= 0.0f) {
+        const float beyond = depth - slop;
+        const float push = baumgarte / dt * (beyond < 0.0f ? 0.0f : beyond); // std::max
+        t.push = RUBBLE_MAX_PUSH_SPEED < push ? RUBBLE_MAX_PUSH_SPEED : push; // std::min
+        t.target = 0.0f;
+    } else {
+        t.push = 0.0f;
+        t.target = depth / dt;
+    }
+    return t;
+}
+
+// 8 bytes, not stored: a contact point's bounce, for the restitution pass after the positions
+// moved.
+typedef struct Bounce {
+    float speed; // normal velocity to leave with, m/s (0: no bounce)
+    float lift;  // the split pass's speed that lifts the bodies off the contact, m/s
+} Bounce;
+
+// A bounce from the contact, for a point whose bodies approach at `before` m/s before this
+// step's forces and `after` after them (positive: closing) across `gap` m. The forces'
+// acceleration a = (after - before) / dt carries the approach over the gap, and only a meeting
+// faster than RUBBLE_RESTITUTION_THRESHOLD bounces (at rest before the forces, nothing does,
+// whatever dt). Symplectic Euler's positions are samples at the steps of the path whose velocity
+// at the step's start is the stored one plus half a step of a, u0 = before + a dt / 2: on it the
+// bodies meet at t_c = 2 gap / (u0 + u_c) with u_c = sqrt(u0^2 + 2 a gap), leave at e u_c, and at
+// the step's end are e u_c tau - a tau^2 / 2 apart (tau = dt - t_c) with the stored velocity
+// e u_c - a (dt / 2 - t_c). So the rebound keeps e^2 of the drop height to round-off. The
+// comparisons are std::max's (the same signed zeros and NaNs on the host and the device).
+RUBBLE_FN Bounce bounceItem(float restitution, float before, float after, float gap, float dt) {
+    Bounce none;
+    none.speed = 0.0f;
+    none.lift = 0.0f;
+    if (restitution <= 0.0f) return none;
+    const float closing = before < 0.0f ? 0.0f : before;
+    const float a = (after - before) / dt;
+    const float meeting = closing * closing + 2.0f * a * gap;
+    if (meeting <= RUBBLE_RESTITUTION_THRESHOLD * RUBBLE_RESTITUTION_THRESHOLD) return none;
+    const float u0 = closing + 0.5f * a * dt;
+    const float reach = u0 * u0 + 2.0f * a * gap;
+    if (u0 <= 0.0f || reach <= 0.0f) return none;
+    const float uc = sqrt(reach);
+    const float tc = 2.0f * gap / (u0 + uc);
+    const float left = dt - tc;
+    const float tau = left < 0.0f ? 0.0f : left;
+    Bounce b;
+    b.speed = restitution * uc - a * (0.5f * dt - tc);
+    if (b.speed <= 0.0f) return none;
+    const float rise = restitution * uc * tau - 0.5f * a * tau * tau;
+    b.lift = (rise < 0.0f ? 0.0f : rise) / dt;
+    return b;
+}
+
 // A unit vector perpendicular to n (Catto's basis: the larger of two candidate axes).
 RUBBLE_FN float4 perpendicularItem(float4 n) {
     if (fabs(n.x) >= 0.57735f) return normalize3(vec4(n.y, -n.x, 0.0f));

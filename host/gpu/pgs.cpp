@@ -1,0 +1,517 @@
+// host/gpu/pgs.cpp: dispatch of projected Gauss-Seidel on the device (kernels/pgs.cl): the rows
+// of each pair's manifold, the host's coloring of the step's elements, then warm start,
+// velocity sweeps and the split position pass, one launch per color, and the pushes after
+// integratePositions. The CPU twin is PgsSolver (host/dynamics/pgs_solver.cpp).
+#include <algorithm>
+
+#include "host/core/assert.h"
+#include "host/gpu/pipeline.h"
+
+namespace rubble::gpu {
+namespace {
+
+// The last colors of a step go to one serial launch once together they hold no more elements
+// than this: on PoCL's two threads a launch costs some 30 - 50 us in the loaded machine's
+// measurements (device busy time against wall time), more than a hundred elements do.
+constexpr std::uint32_t kSerialElements = 128;
+
+// Bytes one launch of a sweep kernel moves for a color of `elements` elements with `points`
+// rows: each element's record, both bodies' velocities read and written, and per point its
+// rows (`rowBytes`) and its impulses read and written.
+std::uint64_t sweepBytes(std::uint64_t elements, std::uint64_t points, std::uint64_t rowBytes) {
+    constexpr std::uint64_t kVelocity = sizeof(shared::BodyVelocity);
+    return elements * (sizeof(shared::PgsElement) + 4 * kVelocity) +
+           points * (rowBytes + 2 * sizeof(shared::float4));
+}
+
+} // namespace
+
+Status Pipeline::summarizePairs(const StepParams& params) {
+    RUBBLE_ASSERT(sat_.enabled);
+    const Context& c = *context_;
+    const cl_uint bodies = bodies_.count;
+    // What each body is to the rows: its inverse mass and world inverse inertia, zero for a
+    // body that does not move (static, asleep, kinematic).
+    RUBBLE_TRY(Dispatch(c, KernelId::PrepareJacobiBodies, &profile_)
+                   .arg(bodies)
+                   .arg(bodies_.masses)
+                   .arg(bodies_.flags)
+                   .arg(bodies_.poses)
+                   .arg(bodies_.jacobi)
+                   .run(bodies, RUBBLE_GROUP_BODIES));
+    RUBBLE_TRY(fill(c, pgs_.pushed, 0u, std::size_t(bodies) * sizeof(cl_uint), &profile_));
+    // The marks of this round of the collision (a pair overflow runs it again).
+    RUBBLE_TRY(fillRange(c, status_, 0u, RUBBLE_STATUS_PUSHED * sizeof(cl_uint), sizeof(cl_uint),
+                         &profile_));
+    RUBBLE_TRY(fillRange(c, status_, 0u, RUBBLE_STATUS_BOUNCES * sizeof(cl_uint),
+                         2 * sizeof(cl_uint), &profile_));
+    const SolverOptions& o = params.solver;
+    const cl_uint capacity = sat_.current.capacity, previousCapacity = sat_.previous.capacity;
+    const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;
+    const cl_uint warm = o.warmStart ? 1u : 0u;
+    const std::size_t group = c.workSizes().pairGroup;
+    const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
+    const std::size_t items =
+        std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
+    RUBBLE_TRY(Dispatch(c, KernelId::SummarizePairs, &profile_)
+                   .arg(capacity)
+                   .arg(sat_.current.count)
+                   .arg(sat_.current.pairs)
+                   .arg(sat_.manifolds)
+                   .arg(bodies_.jacobi)
+                   .arg(bodies_.poses)
+                   .arg(bodies_.velocities)
+                   .arg(bodies_.atStart)
+                   .arg(contacts_.surfaces)
+                   .arg(baumgarte)
+                   .arg(slop)
+                   .arg(dt)
+                   .arg(warm)
+                   .arg(previousCapacity)
+                   .arg(sat_.previous.count)
+                   .arg(sat_.previous.pairs)
+                   .arg(sat_.previous.impulseCount)
+                   .arg(sat_.previous.impulses)
+                   .arg(pgs_.pairRows)
+                   .arg(sat_.current.impulseCount)
+                   .arg(sat_.current.impulses)
+                   .arg(pgs_.pushed)
+                   .arg(status_)
+                   .run(items, group));
+    if (pgs_.jointCount == 0) return {};
+    const cl_uint joints = pgs_.jointCount;
+    return Dispatch(c, KernelId::PrepareJoints, &profile_)
+        .arg(joints)
+        .arg(pgs_.joints)
+        .arg(bodies_.poses)
+        .arg(bodies_.jacobi)
+        .arg(warm)
+        .arg(pgs_.jointRows)
+        .run(joints, RUBBLE_GROUP_BODIES);
+}
+
+Status Pipeline::colorPgs() {
+    const Context& c = *context_;
+    PgsBuffers& g = pgs_;
+    // The status block was read after the summaries (readStatus waited for them).
+    const std::uint32_t pairs = std::min(statusFromSlots().pairs, sat_.current.capacity);
+    g.pairRowsHost.resize(pairs);
+    g.pairsHost.resize(pairs);
+    RUBBLE_TRY(download(c, g.pairRows, std::span(g.pairRowsHost)));
+    RUBBLE_TRY(download(c, sat_.current.pairs, std::span(g.pairsHost)));
+    // Greedy: the joints first (the CPU's sweep solves them before the contacts), then the
+    // pairs in pair order.
+    Coloring& coloring = g.coloring;
+    coloring.begin(bodies_.count);
+    for (std::uint32_t j = 0; j < g.jointCount; ++j)
+        coloring.add(RUBBLE_PGS_JOINT_ELEMENT | j, g.jointsHost[j].a, g.jointsHost[j].b,
+                     g.jointDynamicA[j], g.jointDynamicB[j]);
+    for (std::uint32_t p = 0; p < pairs; ++p) {
+        const cl_uint summary = g.pairRowsHost[p];
+        if ((summary & RUBBLE_PGS_POINTS) == 0) continue;
+        coloring.add(p, g.pairsHost[p].a, g.pairsHost[p].b, summary & RUBBLE_PGS_MOVES_A,
+                     summary & RUBBLE_PGS_MOVES_B);
+    }
+    coloring.finish();
+    // The elements in color order, each pair's rows packed after the last one's, so that a
+    // color's sweep reads its rows front to back.
+    const std::span<const std::uint32_t> order = coloring.order(), start = coloring.start();
+    g.elementsHost.resize(order.size());
+    g.colorPoints.assign(coloring.colors(), 0);
+    std::uint32_t rows = 0;
+    for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
+        for (std::uint32_t i = start[k]; i < start[k + 1]; ++i) {
+            const std::uint32_t id = order[i];
+            shared::PgsElement& e = g.elementsHost[i];
+            e.id = id;
+            if (id & RUBBLE_PGS_JOINT_ELEMENT) {
+                const shared::PgsJoint& joint = g.jointsHost[id & ~RUBBLE_PGS_JOINT_ELEMENT];
+                e.a = joint.a;
+                e.b = joint.b;
+                e.rows = 0;
+                continue;
+            }
+            const cl_uint summary = g.pairRowsHost[id];
+            const std::uint32_t points = summary & RUBBLE_PGS_POINTS;
+            e.a = g.pairsHost[id].a;
+            e.b = g.pairsHost[id].b;
+            e.rows = (rows << RUBBLE_PGS_FIRST_SHIFT) | summary;
+            rows += points;
+            g.colorPoints[k] += points;
+        }
+    }
+    g.rowCount = rows;
+    // One launch per color, but the last colors, once together they hold no more than
+    // kSerialElements, in one launch on one work-item (a launch costs more than they do).
+    std::uint32_t tail = coloring.colors();
+    while (tail > 0 && start[coloring.colors()] - start[tail - 1] <= kSerialElements) --tail;
+    if (coloring.colors() - tail < 2) tail = coloring.colors(); // nothing to merge
+    g.launches.clear();
+    for (std::uint32_t k = 0; k < tail; ++k)
+        g.launches.push_back({start[k], start[k + 1] - start[k], 0u, g.colorPoints[k]});
+    if (tail < coloring.colors()) {
+        PgsLaunch serial{start[tail], start[coloring.colors()] - start[tail], 1u, 0};
+        for (std::uint32_t k = tail; k < coloring.colors(); ++k) serial.points += g.colorPoints[k];
+        g.launches.push_back(serial);
+    }
+    if (order.empty()) return {};
+    RUBBLE_TRY(g.normalRows.reserve(c.context(), rows * sizeof(shared::PgsNormalRow)));
+    RUBBLE_TRY(g.frictionRows.reserve(c.context(), rows * sizeof(shared::PgsFrictionRows)));
+    RUBBLE_TRY(g.impulses.reserve(c.context(), rows * sizeof(shared::float4)));
+    const std::size_t bytes = g.elementsHost.size() * sizeof(shared::PgsElement);
+    RUBBLE_TRY(g.elements.reserve(c.context(), bytes));
+    // Non-blocking: the elements stay put until the next step's coloring, which waits for this
+    // step first.
+    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), g.elements.mem(), CL_FALSE, 0, bytes,
+                                         g.elementsHost.data(), 0, nullptr,
+                                         profile_.transfer(Transfer::Write, bytes)));
+    return {};
+}
+
+Status Pipeline::buildPgsRows(const StepParams& params) {
+    const Context& c = *context_;
+    PgsBuffers& g = pgs_;
+    const cl_uint count = cl_uint(g.elementsHost.size());
+    if (count == 0) return {};
+    const SolverOptions& o = params.solver;
+    const cl_uint previousCapacity = sat_.previous.capacity;
+    const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;
+    const cl_uint warm = o.warmStart ? 1u : 0u;
+    RUBBLE_TRY(Dispatch(c, KernelId::BuildPgsRows, &profile_)
+                   .arg(count)
+                   .arg(g.elements)
+                   .arg(sat_.manifolds)
+                   .arg(bodies_.poses)
+                   .arg(bodies_.velocities)
+                   .arg(bodies_.atStart)
+                   .arg(bodies_.jacobi)
+                   .arg(contacts_.surfaces)
+                   .arg(baumgarte)
+                   .arg(slop)
+                   .arg(dt)
+                   .arg(warm)
+                   .arg(previousCapacity)
+                   .arg(sat_.previous.count)
+                   .arg(sat_.previous.pairs)
+                   .arg(sat_.previous.impulseCount)
+                   .arg(sat_.previous.impulses)
+                   .arg(g.normalRows)
+                   .arg(g.frictionRows)
+                   .arg(g.impulses)
+                   .arg(sat_.current.impulses)
+                   .run(count, c.workSizes().pairGroup));
+    // Per element its record, manifold, both bodies' poses, velocities, JacobiBody and surfaces,
+    // last step's run of impulses; per point its rows, impulses and key written.
+    const std::uint64_t perElement = sizeof(shared::PgsElement) + sizeof(shared::ContactManifold) +
+                                     2 * (sizeof(shared::BodyPose) + sizeof(shared::BodyVelocity) +
+                                          sizeof(shared::JacobiBody) + sizeof(shared::float4)) +
+                                     4 * sizeof(shared::PgsImpulse);
+    const std::uint64_t perPoint = sizeof(shared::PgsNormalRow) + sizeof(shared::PgsFrictionRows) +
+                                   sizeof(shared::float4) + sizeof(shared::PgsImpulse);
+    profile_.setLastBytes(count * perElement + g.rowCount * perPoint);
+    return {};
+}
+
+Status Pipeline::solvePgs(const StepParams& params) {
+    const Context& c = *context_;
+    PgsBuffers& g = pgs_;
+    const SolverOptions& o = params.solver;
+    const std::size_t group = c.workSizes().pairGroup;
+    const cl_float relaxation = o.relaxation;
+    const std::uint64_t rowBytes = sizeof(shared::PgsNormalRow) + sizeof(shared::PgsFrictionRows);
+    RUBBLE_TRY(copyVelocities(bodies_.before));
+    // A serial launch runs on one work-item.
+    auto items = [&](const PgsLaunch& l) -> std::size_t { return l.serial ? group : l.count; };
+    if (o.warmStart) {
+        for (const PgsLaunch& l : g.launches) {
+            RUBBLE_TRY(Dispatch(c, KernelId::WarmStartPgs, &profile_)
+                           .arg(l.first)
+                           .arg(l.count)
+                           .arg(l.serial)
+                           .arg(g.elements)
+                           .arg(g.normalRows)
+                           .arg(g.frictionRows)
+                           .arg(g.impulses)
+                           .arg(g.joints)
+                           .arg(g.jointRows)
+                           .arg(bodies_.jacobi)
+                           .arg(bodies_.velocities)
+                           .run(items(l), group));
+            profile_.setLastBytes(sweepBytes(l.count, l.points, rowBytes));
+        }
+    }
+    // The split position pass, when a row pushes or may bounce (the coloring read the status
+    // after the summaries), on push velocities that start at zero: its sweep k runs in the
+    // launches of velocity sweep k, unless a row may bounce, whose target the velocity sweeps
+    // decide (markBounces): then it runs after them.
+    g.bounces = o.iterations > 0 && !g.launches.empty() && statusHost_[RUBBLE_STATUS_BOUNCES] != 0;
+    const bool pushes = o.iterations > 0 && !g.launches.empty() &&
+                        (statusHost_[RUBBLE_STATUS_PUSHED] != 0 || g.bounces);
+    const bool fused = pushes && !g.bounces;
+    const std::size_t sweeps = std::size_t(std::max(o.iterations, 0));
+    if (pushes) {
+        const std::size_t n = bodies_.count;
+        RUBBLE_TRY(fill(c, g.push, 0u, n * sizeof(shared::BodyVelocity), &profile_));
+        RUBBLE_TRY(g.sweepResidual.reserve(c.context(), sweeps * sizeof(cl_uint)));
+        RUBBLE_TRY(fill(c, g.sweepResidual, 0u, sweeps * sizeof(cl_uint), &profile_));
+    }
+    for (int it = 0; it < o.iterations; ++it) {
+        const cl_uint last = it + 1 == o.iterations ? 1u : 0u;
+        const cl_uint pushSweep = fused ? cl_uint(it) : RUBBLE_PGS_NO_PUSH;
+        for (const PgsLaunch& l : g.launches) {
+            RUBBLE_TRY(Dispatch(c, KernelId::SolvePgs, &profile_)
+                           .arg(l.first)
+                           .arg(l.count)
+                           .arg(l.serial)
+                           .arg(g.elements)
+                           .arg(g.normalRows)
+                           .arg(g.frictionRows)
+                           .arg(g.impulses)
+                           .arg(g.joints)
+                           .arg(g.jointRows)
+                           .arg(bodies_.jacobi)
+                           .arg(bodies_.velocities)
+                           .arg(relaxation)
+                           .arg(last)
+                           .arg(sat_.current.impulses)
+                           .arg(status_)
+                           .arg(pushSweep)
+                           .arg(g.pushed)
+                           .arg(g.push)
+                           .arg(g.sweepResidual)
+                           .run(items(l), group));
+            // The push sweep reads the normal rows again (from cache), its velocities and
+            // impulses, and both bodies' push marks.
+            const std::uint64_t push =
+                fused ? l.count * (4 * sizeof(shared::BodyVelocity) + 8) + l.points * 32 : 0;
+            profile_.setLastBytes(sweepBytes(l.count, l.points, rowBytes) + push +
+                                  (last ? l.points * sizeof(shared::PgsImpulse) : 0));
+        }
+    }
+    if (pushes && !fused) {
+        // The rows that bounce aim the pass at their lift, then the pass on its own.
+        const cl_uint count = cl_uint(g.elementsHost.size());
+        RUBBLE_TRY(Dispatch(c, KernelId::MarkBounces, &profile_)
+                       .arg(count)
+                       .arg(g.elements)
+                       .arg(g.normalRows)
+                       .arg(g.impulses)
+                       .arg(g.pushed)
+                       .arg(status_)
+                       .run(count, group));
+        profile_.setLastBytes(count * sizeof(shared::PgsElement) +
+                              g.rowCount * (sizeof(shared::PgsNormalRow) + sizeof(shared::float4)));
+        for (cl_uint sweep = 0; sweep < sweeps; ++sweep) {
+            for (const PgsLaunch& l : g.launches) {
+                RUBBLE_TRY(Dispatch(c, KernelId::PushPgs, &profile_)
+                               .arg(l.first)
+                               .arg(l.count)
+                               .arg(l.serial)
+                               .arg(g.elements)
+                               .arg(g.normalRows)
+                               .arg(g.impulses)
+                               .arg(g.pushed)
+                               .arg(g.push)
+                               .arg(relaxation)
+                               .arg(sweep)
+                               .arg(g.sweepResidual)
+                               .run(items(l), group));
+                profile_.setLastBytes(
+                    l.count * (sizeof(shared::PgsElement) + 4 * sizeof(shared::BodyVelocity) + 8) +
+                    l.points * (sizeof(shared::PgsNormalRow) + 2 * sizeof(shared::float4)));
+            }
+        }
+    }
+    // The layer pass, when the summaries found moving bodies that far apart in mass.
+    if (!g.launches.empty() && statusHost_[RUBBLE_STATUS_LAYERS] != 0) {
+        const std::size_t n = bodies_.count;
+        const std::size_t rows = std::max<std::size_t>(1, g.rowCount);
+        RUBBLE_TRY(g.layer.reserve(c.context(), n * sizeof(cl_uint)));
+        RUBBLE_TRY(g.loaded.reserve(c.context(), n * sizeof(cl_uint)));
+        RUBBLE_TRY(g.layerHistogram.reserve(c.context(), (n + 1) * sizeof(cl_uint)));
+        RUBBLE_TRY(g.layerRows.reserve(c.context(), rows * sizeof(cl_uint)));
+        RUBBLE_TRY(g.layerSorted.reserve(c.context(), rows * sizeof(cl_uint)));
+        const cl_uint count = cl_uint(g.elementsHost.size()), bodyCount = bodies_.count;
+        const cl_uint joints = g.jointCount, pushPass = pushes ? 1u : 0u;
+        RUBBLE_TRY(Dispatch(c, KernelId::LayerPgs, &profile_)
+                       .arg(count)
+                       .arg(g.elements)
+                       .arg(g.normalRows)
+                       .arg(g.impulses)
+                       .arg(bodies_.jacobi)
+                       .arg(bodyCount)
+                       .arg(g.joints)
+                       .arg(joints)
+                       .arg(bodies_.velocities)
+                       .arg(pushPass)
+                       .arg(g.pushed)
+                       .arg(g.push)
+                       .arg(status_)
+                       .arg(g.layer)
+                       .arg(g.loaded)
+                       .arg(g.layerRows)
+                       .arg(g.layerSorted)
+                       .arg(g.layerHistogram)
+                       .run(1, 1));
+        // At least: every element and row read once, each body's layer and marks.
+        profile_.setLastBytes(count * sizeof(shared::PgsElement) +
+                              g.rowCount * sizeof(shared::PgsNormalRow) +
+                              n * (sizeof(shared::JacobiBody) + 2 * sizeof(cl_uint)));
+    }
+    return absorbVelocityChange();
+}
+
+Status Pipeline::bouncePgs(const StepParams& params) {
+    PgsBuffers& g = pgs_;
+    if (!g.bounces) return {};
+    const Context& c = *context_;
+    const std::size_t group = c.workSizes().pairGroup;
+    const std::size_t sweeps = std::size_t(std::max(params.solver.iterations, 0));
+    auto items = [&](const PgsLaunch& l) -> std::size_t { return l.serial ? group : l.count; };
+    RUBBLE_TRY(g.bounce.reserve(c.context(), std::max<std::size_t>(1, g.rowCount) * sizeof(float)));
+    RUBBLE_TRY(g.bounceResidual.reserve(c.context(), sweeps * sizeof(cl_uint)));
+    RUBBLE_TRY(fill(c, g.bounceResidual, 0u, sweeps * sizeof(cl_uint), &profile_));
+    // Per launch: each element's record and bodies' velocities read and written, each point's
+    // normal row and impulses read, its bounce impulse read and written.
+    auto bytes = [](const PgsLaunch& l) -> std::uint64_t {
+        return l.count * (sizeof(shared::PgsElement) + 4 * sizeof(shared::BodyVelocity)) +
+               l.points * (sizeof(shared::PgsNormalRow) + sizeof(shared::float4) + 8);
+    };
+    for (cl_uint sweep = 0; sweep < sweeps; ++sweep) {
+        for (const PgsLaunch& l : g.launches) {
+            RUBBLE_TRY(Dispatch(c, KernelId::BouncePgs, &profile_)
+                           .arg(l.first)
+                           .arg(l.count)
+                           .arg(l.serial)
+                           .arg(g.elements)
+                           .arg(g.normalRows)
+                           .arg(g.impulses)
+                           .arg(g.bounce)
+                           .arg(bodies_.velocities)
+                           .arg(sweep)
+                           .arg(g.bounceResidual)
+                           .run(items(l), group));
+            profile_.setLastBytes(bytes(l));
+        }
+    }
+    for (const PgsLaunch& l : g.launches) {
+        RUBBLE_TRY(Dispatch(c, KernelId::BounceMomenta, &profile_)
+                       .arg(l.first)
+                       .arg(l.count)
+                       .arg(l.serial)
+                       .arg(g.elements)
+                       .arg(g.normalRows)
+                       .arg(g.impulses)
+                       .arg(g.bounce)
+                       .arg(bodies_.momenta)
+                       .arg(bodies_.masses)
+                       .arg(bodies_.poses)
+                       .arg(bodies_.velocities)
+                       .run(items(l), group));
+        profile_.setLastBytes(bytes(l) + l.count * 2 * (2 * sizeof(shared::BodyMomentum) +
+                                                        sizeof(shared::BodyMass) +
+                                                        sizeof(shared::BodyPose)));
+    }
+    return {};
+}
+
+Status Pipeline::applyPushes(float dt) {
+    const cl_uint count = bodies_.count;
+    const cl_float step = dt;
+    return Dispatch(*context_, KernelId::ApplyPushes, &profile_)
+        .arg(count)
+        .arg(status_)
+        .arg(bodies_.jacobi)
+        .arg(pgs_.push)
+        .arg(bodies_.momenta)
+        .arg(bodies_.masses)
+        .arg(bodies_.poses)
+        .arg(bodies_.velocities)
+        .arg(step)
+        .run(count, RUBBLE_GROUP_BODIES);
+}
+
+Status Pipeline::projectJoints() {
+    PgsBuffers& g = pgs_;
+    if (g.jointCount == 0) return {};
+    const Context& c = *context_;
+    RUBBLE_TRY(
+        fill(c, g.jointMoved, 0u, RUBBLE_JOINT_POSITION_ITERATIONS * sizeof(cl_uint), &profile_));
+    if (g.directGroupCount > 0) {
+        const cl_uint groups = g.directGroupCount;
+        const cl_int iterations = RUBBLE_JOINT_POSITION_ITERATIONS;
+        RUBBLE_TRY(Dispatch(c, KernelId::ProjectJointGroups, &profile_)
+                       .arg(groups)
+                       .arg(g.directGroups)
+                       .arg(g.groupMembers)
+                       .arg(g.joints)
+                       .arg(bodies_.masses)
+                       .arg(bodies_.flags)
+                       .arg(bodies_.poses)
+                       .arg(g.positionRows)
+                       .arg(g.positionMatrix)
+                       .arg(g.positionSolution)
+                       .arg(g.deltaPosition)
+                       .arg(g.deltaRotation)
+                       .arg(iterations)
+                       .run(groups, 1));
+    }
+    const Coloring& coloring = g.jointColoring;
+    const std::span<const std::uint32_t> start = coloring.start();
+    for (cl_uint sweep = 0; sweep < RUBBLE_JOINT_POSITION_ITERATIONS && coloring.colors() > 0;
+         ++sweep) {
+        for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
+            const cl_uint first = start[k], count = start[k + 1] - start[k];
+            RUBBLE_TRY(Dispatch(c, KernelId::ProjectJoints, &profile_)
+                           .arg(first)
+                           .arg(count)
+                           .arg(g.jointOrder)
+                           .arg(g.joints)
+                           .arg(bodies_.masses)
+                           .arg(bodies_.flags)
+                           .arg(bodies_.poses)
+                           .arg(sweep)
+                           .arg(g.jointMoved)
+                           .run(count, RUBBLE_GROUP_BODIES));
+            // The joint, both bodies' masses, flags and poses (read and written).
+            profile_.setLastBytes(count * (sizeof(shared::PgsJoint) + 2 * sizeof(shared::BodyMass) +
+                                           2 * sizeof(cl_uint) + 4 * sizeof(shared::BodyPose)));
+        }
+    }
+    const cl_uint bodies = g.jointBodyCount;
+    return Dispatch(c, KernelId::JointVelocities, &profile_)
+        .arg(bodies)
+        .arg(g.jointBodies)
+        .arg(bodies_.masses)
+        .arg(bodies_.flags)
+        .arg(bodies_.poses)
+        .arg(bodies_.momenta)
+        .arg(bodies_.velocities)
+        .run(bodies, RUBBLE_GROUP_BODIES);
+}
+
+Result<std::vector<shared::PgsJointRow>> Pipeline::downloadJointRows() {
+    std::vector<shared::PgsJointRow> rows(pgs_.jointCount);
+    RUBBLE_TRY(download(*context_, pgs_.jointRows, std::span(rows)));
+    return rows;
+}
+
+Result<std::vector<shared::PgsNormalRow>> Pipeline::downloadPgsNormalRows() {
+    std::vector<shared::PgsNormalRow> rows(pgs_.rowCount);
+    RUBBLE_TRY(download(*context_, pgs_.normalRows, std::span(rows)));
+    return rows;
+}
+
+Result<std::vector<shared::PgsFrictionRows>> Pipeline::downloadPgsFrictionRows() {
+    std::vector<shared::PgsFrictionRows> rows(pgs_.rowCount);
+    RUBBLE_TRY(download(*context_, pgs_.frictionRows, std::span(rows)));
+    return rows;
+}
+
+Result<std::vector<shared::float4>> Pipeline::downloadPgsImpulses() {
+    std::vector<shared::float4> impulses(pgs_.rowCount);
+    RUBBLE_TRY(download(*context_, pgs_.impulses, std::span(impulses)));
+    return impulses;
+}
+
+} // namespace rubble::gpu

@@ -1,0 +1,322 @@
+// host/gpu/sat.cpp: the SAT method's device arrays (hulls flattened once per world, per-body and
+// pair arrays) and the dispatch of its narrow phase (kernels/sat.cl, collideShapes), with the
+// per-pair feature cache kept between steps. The CPU twin is SatCollision::narrowPhase
+// (host/collision/sat_collision.cpp).
+#include <algorithm>
+
+#include "host/gpu/hull_data.h"
+#include "host/core/assert.h"
+#include "host/gpu/pipeline.h"
+
+namespace rubble::gpu {
+namespace {
+
+template <class T> std::span<const T> view(const std::vector<T>& v) { return {v.data(), v.size()}; }
+
+// The bits of a grid of at least 4096 cells and two per body, so that cells of two mean box
+// widths rarely have to be widened.
+std::uint32_t gridBitsFor(std::uint32_t bodies) {
+    const std::uint64_t cells = std::max<std::uint64_t>(4096, 2 * std::uint64_t(bodies));
+    std::uint32_t bits = 1;
+    while ((std::uint64_t(1) << bits) < cells) ++bits;
+    return bits;
+}
+
+} // namespace
+
+Status Pipeline::createSat(const PipelineInput& in) {
+    const Context& c = *context_;
+    SatBuffers& s = sat_;
+    Result<HullData> hulls = flattenShapes(in.shapes);
+    RUBBLE_TRY(hulls);
+    RUBBLE_TRY(upload(c, s.shapes, view(hulls->shapes)));
+    RUBBLE_TRY(upload(c, s.vertices, view(hulls->vertices)));
+    RUBBLE_TRY(upload(c, s.vertexEdges, view(hulls->vertexEdges)));
+    RUBBLE_TRY(upload(c, s.neighbourStart, view(hulls->neighbourStart)));
+    RUBBLE_TRY(upload(c, s.neighbours, view(hulls->neighbours)));
+    RUBBLE_TRY(upload(c, s.halfEdges, view(hulls->halfEdges)));
+    RUBBLE_TRY(upload(c, s.faces, view(hulls->faces)));
+    RUBBLE_TRY(upload(c, s.faceEdges, view(hulls->faceEdges)));
+    RUBBLE_TRY(upload(c, s.edges, view(hulls->edges)));
+
+    const std::uint32_t n = bodies_.count;
+    RUBBLE_TRY(upload(c, s.shapeOf, in.bodies.shapeOf));
+    std::vector<cl_uint> planes;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        RUBBLE_ASSERT(in.bodies.shapeOf[i] < in.shapes.size());
+        if (in.shapes[in.bodies.shapeOf[i]].type == ShapeType::Plane) planes.push_back(i);
+    }
+    s.planeCount = std::uint32_t(planes.size());
+    RUBBLE_TRY(upload(c, s.planes, view(planes)));
+    std::vector<shared::BodyPairRecord> joined;
+    for (const BodyPair& p : in.joined) joined.push_back({std::min(p.a, p.b), std::max(p.a, p.b)});
+    std::sort(joined.begin(), joined.end(), [](const auto& x, const auto& y) {
+        return x.a < y.a || (x.a == y.a && x.b < y.b);
+    });
+    s.joinedCount = std::uint32_t(joined.size());
+    RUBBLE_TRY(upload(c, s.joined, view(joined)));
+
+    // Per body.
+    RUBBLE_TRY(s.boxes.reserve(c.context(), n * sizeof(shared::BodyBox)));
+    RUBBLE_TRY(s.spin.reserve(c.context(), n * sizeof(cl_float)));
+    RUBBLE_TRY(s.broadFlags.reserve(c.context(), n * sizeof(cl_uint)));
+    RUBBLE_TRY(s.bodyCount.reserve(c.context(), n * sizeof(cl_uint)));
+    RUBBLE_TRY(s.bodyStart.reserve(c.context(), (n + 1) * sizeof(cl_uint)));
+    RUBBLE_TRY(s.cursor.reserve(c.context(), (n + 1) * sizeof(cl_uint)));
+    RUBBLE_TRY(s.large.reserve(c.context(), n * sizeof(cl_uint)));
+    // The grid: at most 8 entries (2 x 2 x 2 cells) per body.
+    s.gridBits = gridBitsFor(n);
+    RUBBLE_TRY(s.partials.reserve(c.context(),
+                                  c.workSizes().sortItems * sizeof(shared::GridPartial)));
+    RUBBLE_TRY(s.grid.reserve(c.context(), sizeof(shared::GridParams)));
+    for (Buffer* b : {&s.keys, &s.values, &s.keysAlt, &s.valuesAlt})
+        RUBBLE_TRY(b->reserve(c.context(), 8 * std::size_t(n) * sizeof(cl_uint)));
+    RUBBLE_TRY(s.cellBoxes.reserve(c.context(), 8 * std::size_t(n) * sizeof(shared::BodyBox)));
+
+    // Pairs: a first guess of four per body; last step's set is empty.
+    for (PairSet* set : {&s.current, &s.previous}) {
+        RUBBLE_TRY(set->count.reserve(c.context(), sizeof(cl_uint)));
+        RUBBLE_TRY(fill(c, set->count, 0u, sizeof(cl_uint)));
+        RUBBLE_TRY(set->pairs.reserve(c.context(), sizeof(shared::BodyPairRecord)));
+        RUBBLE_TRY(set->features.reserve(c.context(), sizeof(shared::PairCache)));
+        RUBBLE_TRY(set->impulseCount.reserve(c.context(), sizeof(cl_uint)));
+        RUBBLE_TRY(set->impulses.reserve(c.context(), 4 * sizeof(shared::PgsImpulse)));
+    }
+    // PGS, per body.
+    RUBBLE_TRY(pgs_.pushed.reserve(c.context(), n * sizeof(cl_uint)));
+    RUBBLE_TRY(pgs_.push.reserve(c.context(), n * sizeof(shared::BodyVelocity)));
+    RUBBLE_TRY(createJoints(in));
+    s.enabled = true;
+    return setPairCapacity(std::max<std::uint32_t>(1024, 4 * n));
+}
+
+Status Pipeline::setPairCapacity(std::uint32_t capacity) {
+    const Context& c = *context_;
+    SatBuffers& s = sat_;
+    const std::size_t n = capacity;
+    s.current.capacity = capacity;
+    RUBBLE_TRY(s.current.pairs.reserve(c.context(), n * sizeof(shared::BodyPairRecord)));
+    RUBBLE_TRY(s.current.features.reserve(c.context(), n * sizeof(shared::PairCache)));
+    RUBBLE_TRY(s.found.reserve(c.context(), n * sizeof(shared::BodyPairRecord)));
+    RUBBLE_TRY(s.manifolds.reserve(c.context(), n * sizeof(shared::ContactManifold)));
+    RUBBLE_TRY(s.current.impulseCount.reserve(c.context(), n * sizeof(cl_uint)));
+    RUBBLE_TRY(s.current.impulses.reserve(c.context(), 4 * n * sizeof(shared::PgsImpulse)));
+    RUBBLE_TRY(pgs_.pairRows.reserve(c.context(), n * sizeof(cl_uint)));
+    // Last step's set keeps its size: the next narrow phase reads it before it changes.
+    return {};
+}
+
+Status Pipeline::keepPairFeatures() {
+    RUBBLE_ASSERT(sat_.enabled);
+    std::swap(sat_.current, sat_.previous);
+    // The set to fill next holds as many pairs as the one kept.
+    return setPairCapacity(std::max(sat_.current.capacity, sat_.previous.capacity));
+}
+
+Status Pipeline::narrowPhase(float dt) {
+    RUBBLE_ASSERT(sat_.enabled);
+    const Context& c = *context_;
+    SatBuffers& s = sat_;
+    // The contact count and the largest depth are this stage's.
+    for (const cl_uint slot : {RUBBLE_STATUS_CONTACTS, RUBBLE_STATUS_PENETRATION})
+        RUBBLE_TRY(fillRange(c, status_, 0u, slot * sizeof(cl_uint), sizeof(cl_uint), &profile_));
+    const cl_uint capacity = s.current.capacity, previousCapacity = s.previous.capacity;
+    const cl_float step = dt;
+    const std::size_t group = c.workSizes().pairGroup;
+    const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
+    const std::size_t items =
+        std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
+    return Dispatch(c, KernelId::CollideShapes, &profile_)
+        .arg(capacity)
+        .arg(s.current.count)
+        .arg(s.current.pairs)
+        .arg(previousCapacity)
+        .arg(s.previous.count)
+        .arg(s.previous.pairs)
+        .arg(s.previous.features)
+        .arg(s.shapes)
+        .arg(s.shapeOf)
+        .arg(bodies_.poses)
+        .arg(bodies_.velocities)
+        .arg(s.spin)
+        .arg(s.vertices)
+        .arg(s.vertexEdges)
+        .arg(s.neighbourStart)
+        .arg(s.neighbours)
+        .arg(s.halfEdges)
+        .arg(s.faces)
+        .arg(s.faceEdges)
+        .arg(s.edges)
+        .arg(step)
+        .arg(s.current.features)
+        .arg(s.manifolds)
+        .arg(status_)
+        .run(items, group);
+}
+
+Status Pipeline::uploadPairs(std::span<const BodyPair> pairs) {
+    RUBBLE_ASSERT(sat_.enabled);
+    const Context& c = *context_;
+    if (pairs.size() > sat_.current.capacity)
+        RUBBLE_TRY(setPairCapacity(std::uint32_t(pairs.size())));
+    std::vector<shared::BodyPairRecord> records;
+    records.reserve(pairs.size());
+    for (const BodyPair& p : pairs) {
+        RUBBLE_ASSERT(p.a < p.b && p.b < bodies_.count);
+        records.push_back({p.a, p.b});
+    }
+    RUBBLE_TRY(upload(c, sat_.current.pairs, view(records)));
+    const cl_uint count = cl_uint(pairs.size());
+    RUBBLE_TRY(upload(c, sat_.current.count, std::span<const cl_uint>(&count, 1)));
+    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), status_.mem(), CL_TRUE,
+                                         RUBBLE_STATUS_PAIRS * sizeof(cl_uint), sizeof count,
+                                         &count, 0, nullptr, nullptr));
+    return {};
+}
+
+Result<std::vector<BodyPair>> Pipeline::downloadPairs() {
+    Result<DeviceStatus> st = readStatus();
+    RUBBLE_TRY(st);
+    const std::uint32_t n = std::min(st->pairs, sat_.current.capacity);
+    std::vector<shared::BodyPairRecord> records(n);
+    RUBBLE_TRY(download(*context_, sat_.current.pairs, std::span(records)));
+    std::vector<BodyPair> pairs;
+    pairs.reserve(n);
+    for (const shared::BodyPairRecord& r : records) pairs.push_back(BodyPair{r.a, r.b});
+    return pairs;
+}
+
+Result<std::vector<shared::ContactManifold>> Pipeline::downloadManifolds() {
+    Result<DeviceStatus> st = readStatus();
+    RUBBLE_TRY(st);
+    std::vector<shared::ContactManifold> m(std::min(st->pairs, sat_.current.capacity));
+    RUBBLE_TRY(download(*context_, sat_.manifolds, std::span(m)));
+    return m;
+}
+
+Result<std::vector<shared::PairCache>> Pipeline::downloadPairFeatures() {
+    Result<DeviceStatus> st = readStatus();
+    RUBBLE_TRY(st);
+    std::vector<shared::PairCache> f(std::min(st->pairs, sat_.current.capacity));
+    RUBBLE_TRY(download(*context_, sat_.current.features, std::span(f)));
+    return f;
+}
+
+Result<std::vector<shared::BodyBox>> Pipeline::downloadBoxes() {
+    std::vector<shared::BodyBox> boxes(bodies_.count);
+    RUBBLE_TRY(download(*context_, sat_.boxes, std::span(boxes)));
+    return boxes;
+}
+
+} // namespace rubble::gpu
+
+namespace rubble::gpu {
+
+Status Pipeline::createJoints(const PipelineInput& in) {
+    const Context& c = *context_;
+    PgsBuffers& g = pgs_;
+    g.jointsHost.assign(in.joints.begin(), in.joints.end());
+    g.jointCount = std::uint32_t(g.jointsHost.size());
+    // A body joins the colorings when it is dynamic and the host does not move it.
+    auto dynamic = [&](std::uint32_t i) {
+        return in.bodies.masses[i].inverseMass > 0.0f && !kinematic_[i];
+    };
+    g.jointDynamicA.resize(g.jointCount);
+    g.jointDynamicB.resize(g.jointCount);
+    std::vector<std::uint8_t> jointed(bodies_.count, 0);
+    for (std::uint32_t j = 0; j < g.jointCount; ++j) {
+        const shared::PgsJoint& joint = g.jointsHost[j];
+        RUBBLE_ASSERT(joint.a < bodies_.count && joint.b < bodies_.count);
+        g.jointDynamicA[j] = dynamic(joint.a) ? 1 : 0;
+        g.jointDynamicB[j] = dynamic(joint.b) ? 1 : 0;
+        jointed[joint.a] = jointed[joint.b] = 1;
+    }
+    // Joint groups: dynamic bodies joined through dynamic bodies (union-find, as the CPU's
+    // groupJoints), for the position projection and for sleeping together.
+    std::vector<std::uint32_t> parent(bodies_.count);
+    for (std::uint32_t i = 0; i < bodies_.count; ++i) parent[i] = i;
+    auto find = [&](std::uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    for (std::uint32_t j = 0; j < g.jointCount; ++j) {
+        if (!g.jointDynamicA[j] || !g.jointDynamicB[j]) continue;
+        const std::uint32_t ra = find(g.jointsHost[j].a), rb = find(g.jointsHost[j].b);
+        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+    // The projection's groups: joints by their group's root, then by index. A group of at most
+    // RUBBLE_JOINT_DIRECT_ROWS rows is projected as one; the joints of a larger one are
+    // colored for the joint-by-joint sweeps.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> keyed;
+    for (std::uint32_t j = 0; j < g.jointCount; ++j) {
+        const shared::PgsJoint& joint = g.jointsHost[j];
+        keyed.push_back({find(g.jointDynamicA[j] ? joint.a : joint.b), j});
+    }
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<shared::JointGroup> groups;
+    std::vector<cl_uint> members;
+    std::uint32_t rows = 0, matrix = 0;
+    g.jointColoring.begin(bodies_.count);
+    for (std::size_t first = 0; first < keyed.size();) {
+        std::size_t last = first;
+        std::uint32_t groupRows = 0;
+        while (last < keyed.size() && keyed[last].first == keyed[first].first) {
+            groupRows += g.jointsHost[keyed[last].second].type == RUBBLE_JOINT_HINGE ? 5 : 3;
+            ++last;
+        }
+        if (groupRows <= RUBBLE_JOINT_DIRECT_ROWS) {
+            groups.push_back(
+                {std::uint32_t(members.size()), std::uint32_t(last - first), rows, matrix});
+            for (std::size_t m = first; m < last; ++m) members.push_back(keyed[m].second);
+            rows += groupRows;
+            matrix += groupRows * groupRows;
+        } else {
+            for (std::size_t m = first; m < last; ++m) {
+                const std::uint32_t j = keyed[m].second;
+                g.jointColoring.add(j, g.jointsHost[j].a, g.jointsHost[j].b, g.jointDynamicA[j],
+                                    g.jointDynamicB[j]);
+            }
+        }
+        first = last;
+    }
+    g.jointColoring.finish();
+    g.directGroupCount = std::uint32_t(groups.size());
+    RUBBLE_TRY(upload(c, g.directGroups, view(groups)));
+    RUBBLE_TRY(upload(c, g.groupMembers, view(members)));
+    RUBBLE_TRY(g.positionRows.reserve(c.context(), rows * sizeof(shared::JointPositionRow)));
+    RUBBLE_TRY(g.positionMatrix.reserve(c.context(), matrix * sizeof(cl_float)));
+    RUBBLE_TRY(g.positionSolution.reserve(c.context(), rows * sizeof(cl_float)));
+    const std::size_t deltas = std::size_t(bodies_.count) * sizeof(shared::float4);
+    for (Buffer* b : {&g.deltaPosition, &g.deltaRotation}) {
+        RUBBLE_TRY(b->reserve(c.context(), deltas));
+        RUBBLE_TRY(fill(c, *b, 0u, deltas));
+    }
+    // Sleep groups: the same, numbered by their lowest body.
+    std::vector<cl_uint> bodies, groupOf;
+    std::vector<std::uint32_t> groupOfRoot(bodies_.count, RUBBLE_NO_GROUP);
+    g.jointGroupCount = 0;
+    for (std::uint32_t i = 0; i < bodies_.count; ++i) {
+        if (!jointed[i]) continue;
+        bodies.push_back(i);
+        if (!dynamic(i)) {
+            groupOf.push_back(RUBBLE_NO_GROUP);
+            continue;
+        }
+        std::uint32_t& group = groupOfRoot[find(i)];
+        if (group == RUBBLE_NO_GROUP) group = g.jointGroupCount++;
+        groupOf.push_back(group);
+    }
+    g.jointBodyCount = std::uint32_t(bodies.size());
+    RUBBLE_TRY(upload(c, g.joints, view(g.jointsHost)));
+    RUBBLE_TRY(upload(c, g.jointBodies, view(bodies)));
+    RUBBLE_TRY(upload(c, g.jointGroupOf, view(groupOf)));
+    RUBBLE_TRY(g.groupVotes.reserve(c.context(), g.jointGroupCount * sizeof(cl_uint)));
+    RUBBLE_TRY(upload(c, g.jointOrder, g.jointColoring.order()));
+    // No impulses yet.
+    const std::size_t rowBytes = std::size_t(g.jointCount) * sizeof(shared::PgsJointRow);
+    RUBBLE_TRY(g.jointRows.reserve(c.context(), rowBytes));
+    RUBBLE_TRY(fill(c, g.jointRows, 0u, rowBytes));
+    return g.jointMoved.reserve(c.context(), RUBBLE_JOINT_POSITION_ITERATIONS * sizeof(cl_uint));
+}
+
+} // namespace rubble::gpu

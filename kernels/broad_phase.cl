@@ -1,0 +1,241 @@
+// kernels/broad_phase.cl: entry points of the SAT broad phase on the device (computeAabbs, then
+// findPairs on a uniform grid): world boxes, the grid's cells and entries, candidate pairs, and
+// the pairs sorted by (a, b). The math is in rubble/shared/broad_phase.h; the CPU twin is
+// SatCollision::broadPhase with findPairs (host/collision/sat_collision.cpp, broad_phase.cpp).
+#include "rubble/shared/broad_phase.h"
+#include "rubble/shared/narrow_phase.h"
+
+// Joined bodies do not collide: binary search in the sorted (min, max) list.
+static int isJoined(const uint a, const uint b, const uint joinedCount,
+                    __global const BodyPairRecord* joined) {
+    uint lo = 0, hi = joinedCount;
+    while (lo < hi) {
+        const uint mid = (lo + hi) / 2u;
+        const BodyPairRecord p = joined[mid];
+        if (p.a < a || (p.a == a && p.b < b)) lo = mid + 1u;
+        else hi = mid;
+    }
+    return lo < joinedCount && joined[lo].a == a && joined[lo].b == b;
+}
+
+// Appends the pair (i, j) in the order a < b unless the bodies are joined; past the capacity it
+// only counts, and the host grows the buffer.
+static void appendPair(const uint i, const uint j, const uint joinedCount,
+                       __global const BodyPairRecord* joined, const uint capacity,
+                       __global BodyPairRecord* pairs, __global uint* status) {
+    BodyPairRecord p;
+    p.a = min(i, j);
+    p.b = max(i, j);
+    if (isJoined(p.a, p.b, joinedCount, joined)) return;
+    const uint at = atomic_inc(&status[RUBBLE_STATUS_PAIRS]);
+    if (at < capacity) pairs[at] = p;
+}
+
+// One work-item per body: its world box grown by the margin and its reach this step (min.w: 1
+// when inactive), its spin (the narrow phase's pair margin), its broad-phase flags. A plane's
+// box holds its world plane instead (min: unit normal, offset grown by the margin).
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
+computeAabbs(const uint count, const float dt, __global const HullShape* shapes,
+             __global const uint* shapeOf, __global const BodyPose* poses,
+             __global const BodyVelocity* velocities, __global const uint* flags,
+             __global BodyBox* boxes, __global float* spin, __global uint* broadFlags) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const HullShape shape = shapes[shapeOf[i]];
+    const uint f = flags[i];
+    const BodyVelocity v = velocities[i];
+    const float turning = spinItem(v, shape.boundingRadius, dt);
+    const RigidTransform t = transformOfPose(poses[i]);
+    uint bf = (f & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP)) ? RUBBLE_BROAD_INACTIVE : 0u;
+    BodyBox box;
+    if (shape.kind == RUBBLE_SHAPE_PLANE) {
+        const float4 plane = worldPlaneItem(shape, t);
+        box.min = make4(plane.x, plane.y, plane.z, plane.w + RUBBLE_CONTACT_MARGIN);
+        box.max = make4(0.0f, 0.0f, 0.0f, 0.0f);
+        bf |= RUBBLE_BROAD_NO_BOX;
+    } else {
+        box = worldBoxItem(shape, t, RUBBLE_CONTACT_MARGIN + reachItem(v, turning, dt));
+        if (!finiteBoxItem(box) || (f & RUBBLE_BODY_ABSENT)) bf |= RUBBLE_BROAD_NO_BOX;
+        box.min.w = (bf & RUBBLE_BROAD_INACTIVE) ? 1.0f : 0.0f;
+    }
+    boxes[i] = box;
+    spin[i] = turning;
+    broadFlags[i] = bf;
+}
+
+// The grid's bounds and mean box widths, RUBBLE_SORT_ITEMS work-items each over a chunk of the
+// bodies (then gridSetup adds the chunks up in order).
+__kernel void gridBounds(const uint count, __global const BodyBox* boxes,
+                         __global const uint* broadFlags, __global GridPartial* partials) {
+    const uint t = get_global_id(0);
+    if (t >= RUBBLE_SORT_ITEMS) return;
+    const uint chunk = (count + RUBBLE_SORT_ITEMS - 1u) / RUBBLE_SORT_ITEMS;
+    const uint begin = min(count, t * chunk), end = min(count, begin + chunk);
+    GridPartial p;
+    p.lo = vec4(INFINITY, INFINITY, INFINITY);
+    p.hi = vec4(-INFINITY, -INFINITY, -INFINITY);
+    p.widthSum = vec4(0.0f, 0.0f, 0.0f);
+    p.count = 0u;
+    p.pad0 = p.pad1 = p.pad2 = 0u;
+    for (uint i = begin; i < end; ++i) {
+        if (broadFlags[i] & RUBBLE_BROAD_NO_BOX) continue;
+        const BodyBox b = boxes[i];
+        p.lo = vec4(fmin(p.lo.x, b.min.x), fmin(p.lo.y, b.min.y), fmin(p.lo.z, b.min.z));
+        p.hi = vec4(fmax(p.hi.x, b.max.x), fmax(p.hi.y, b.max.y), fmax(p.hi.z, b.max.z));
+        p.widthSum = add4(p.widthSum, sub4(b.max, b.min));
+        ++p.count;
+    }
+    partials[t] = p;
+}
+
+// One work-item: the grid over the boxes (gridSetupItem).
+__kernel void gridSetup(const uint maxCells, __global const GridPartial* partials,
+                        __global GridParams* grid) {
+    if (get_global_id(0) != 0) return;
+    GridPartial sum;
+    sum.lo = vec4(INFINITY, INFINITY, INFINITY);
+    sum.hi = vec4(-INFINITY, -INFINITY, -INFINITY);
+    sum.widthSum = vec4(0.0f, 0.0f, 0.0f);
+    sum.count = 0u;
+    for (uint t = 0; t < RUBBLE_SORT_ITEMS; ++t) {
+        const GridPartial p = partials[t];
+        sum.lo = vec4(fmin(sum.lo.x, p.lo.x), fmin(sum.lo.y, p.lo.y), fmin(sum.lo.z, p.lo.z));
+        sum.hi = vec4(fmax(sum.hi.x, p.hi.x), fmax(sum.hi.y, p.hi.y), fmax(sum.hi.z, p.hi.z));
+        sum.widthSum = add4(sum.widthSum, p.widthSum);
+        sum.count += p.count;
+    }
+    grid[0] = gridSetupItem(sum, maxCells);
+}
+
+// One work-item per body with a box: its (cell, body) entries, one per cell its box touches (at
+// most two cells per axis); a larger box goes to the list of large bodies instead.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
+gridEntries(const uint count, __global const BodyBox* boxes, __global uint* broadFlags,
+            __global const GridParams* grid, __global uint* status, __global uint* keys,
+            __global uint* values, __global uint* large) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const uint bf = broadFlags[i];
+    if (bf & RUBBLE_BROAD_NO_BOX) return;
+    const GridParams g = grid[0];
+    const BodyBox b = boxes[i];
+    const uint x0 = gridCellItem(b.min.x, g.origin.x, g.inverseCell.x, g.cells[0]);
+    const uint x1 = gridCellItem(b.max.x, g.origin.x, g.inverseCell.x, g.cells[0]);
+    const uint y0 = gridCellItem(b.min.y, g.origin.y, g.inverseCell.y, g.cells[1]);
+    const uint y1 = gridCellItem(b.max.y, g.origin.y, g.inverseCell.y, g.cells[1]);
+    const uint z0 = gridCellItem(b.min.z, g.origin.z, g.inverseCell.z, g.cells[2]);
+    const uint z1 = gridCellItem(b.max.z, g.origin.z, g.inverseCell.z, g.cells[2]);
+    if (x1 - x0 >= g.largeAbove || y1 - y0 >= g.largeAbove || z1 - z0 >= g.largeAbove) {
+        broadFlags[i] = bf | RUBBLE_BROAD_LARGE;
+        large[atomic_inc(&status[RUBBLE_STATUS_LARGE])] = i;
+        return;
+    }
+    const uint n = (x1 - x0 + 1u) * (y1 - y0 + 1u) * (z1 - z0 + 1u);
+    uint at = atomic_add(&status[RUBBLE_STATUS_GRID_ENTRIES], n);
+    for (uint x = x0; x <= x1; ++x)
+        for (uint y = y0; y <= y1; ++y)
+            for (uint z = z0; z <= z1; ++z) {
+                keys[at] = gridKeyItem(x, y, z, g);
+                values[at] = i;
+                ++at;
+            }
+}
+
+// The entries sorted by cell: each entry's box in the same order, so that a cell's boxes are
+// read from consecutive memory.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
+gatherCellBoxes(__global const uint* status, __global const uint* values,
+                __global const BodyBox* boxes, __global BodyBox* cellBoxes) {
+    const uint n = status[RUBBLE_STATUS_GRID_ENTRIES];
+    const uint e = get_global_id(0);
+    if (e >= n) return;
+    cellBoxes[e] = boxes[values[e]];
+}
+
+// Each entry is tested against the later entries of its cell. A pair that shares several cells
+// is reported by the cell holding the lower corner of the overlap of its boxes only; two
+// inactive bodies are never paired.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
+findCellPairs(__global const uint* keys, __global const uint* values,
+              __global const BodyBox* cellBoxes, __global const GridParams* grid,
+              const uint joinedCount, __global const BodyPairRecord* joined, const uint capacity,
+              __global BodyPairRecord* pairs, __global uint* status) {
+    const uint n = status[RUBBLE_STATUS_GRID_ENTRIES];
+    const GridParams g = grid[0];
+    for (uint e = get_global_id(0); e < n; e += get_global_size(0)) {
+        const uint cell = keys[e];
+        const BodyBox bi = cellBoxes[e];
+        for (uint f = e + 1u; f < n && keys[f] == cell; ++f) {
+            const BodyBox bj = cellBoxes[f];
+            if (bi.min.w + bj.min.w == 2.0f || !boxesOverlapItem(bi, bj)) continue;
+            const uint corner = gridKeyItem(
+                gridCellItem(fmax(bi.min.x, bj.min.x), g.origin.x, g.inverseCell.x, g.cells[0]),
+                gridCellItem(fmax(bi.min.y, bj.min.y), g.origin.y, g.inverseCell.y, g.cells[1]),
+                gridCellItem(fmax(bi.min.z, bj.min.z), g.origin.z, g.inverseCell.z, g.cells[2]),
+                g);
+            if (corner != cell) continue;
+            appendPair(values[e], values[f], joinedCount, joined, capacity, pairs, status);
+        }
+    }
+}
+
+// One work-item per body: its pairs with the planes (an active body whose box reaches below
+// one) and with the large bodies (each pair of two large bodies once, from the lower index).
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
+findLargePairs(const uint count, __global const BodyBox* boxes, __global const uint* broadFlags,
+               const uint planeCount, __global const uint* planes, __global const uint* large,
+               const uint joinedCount, __global const BodyPairRecord* joined,
+               const uint capacity, __global BodyPairRecord* pairs, __global uint* status) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const uint bf = broadFlags[i];
+    if (bf & RUBBLE_BROAD_NO_BOX) return;
+    const BodyBox box = boxes[i];
+    if (!(bf & RUBBLE_BROAD_INACTIVE))
+        for (uint k = 0; k < planeCount; ++k) {
+            const uint p = planes[k];
+            if (p != i && reachesPlaneItem(box, boxes[p].min))
+                appendPair(p, i, joinedCount, joined, capacity, pairs, status);
+        }
+    const uint largeCount = status[RUBBLE_STATUS_LARGE];
+    for (uint k = 0; k < largeCount; ++k) {
+        const uint j = large[k];
+        if (j == i || ((bf & RUBBLE_BROAD_LARGE) && j < i)) continue;
+        if ((bf & RUBBLE_BROAD_INACTIVE) && (broadFlags[j] & RUBBLE_BROAD_INACTIVE)) continue;
+        if (boxesOverlapItem(box, boxes[j]))
+            appendPair(i, j, joinedCount, joined, capacity, pairs, status);
+    }
+}
+
+// The pairs in the order of (a, b): count per body a, place (after an exclusive scan of the
+// counts) and sort each body's few partners by b, as the CPU's sortPairsByBody.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+countPairs(const uint capacity, __global const uint* status,
+           __global const BodyPairRecord* pairs, __global uint* bodyCount) {
+    const uint n = min(status[RUBBLE_STATUS_PAIRS], capacity);
+    for (uint p = get_global_id(0); p < n; p += get_global_size(0))
+        atomic_inc(&bodyCount[pairs[p].a]);
+}
+
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+placePairs(const uint capacity, __global const uint* status, __global const BodyPairRecord* in,
+           __global uint* cursor, __global BodyPairRecord* out) {
+    const uint n = min(status[RUBBLE_STATUS_PAIRS], capacity);
+    for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
+        const BodyPairRecord pair = in[p];
+        out[atomic_inc(&cursor[pair.a])] = pair;
+    }
+}
+
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
+sortPairLists(const uint count, __global const uint* bodyStart, __global BodyPairRecord* pairs) {
+    const uint a = get_global_id(0);
+    if (a >= count) return;
+    const uint begin = bodyStart[a], end = bodyStart[a + 1u];
+    for (uint i = begin + 1u; i < end; ++i) {
+        const BodyPairRecord p = pairs[i];
+        uint j = i;
+        for (; j > begin && pairs[j - 1u].b > p.b; --j) pairs[j] = pairs[j - 1u];
+        pairs[j] = p;
+    }
+}

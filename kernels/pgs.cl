@@ -1,0 +1,765 @@
+// kernels/pgs.cl: entry points of projected Gauss-Seidel on the device: the rows of each pair's
+// manifold (buildPgsRows), then, one launch per color (no two elements of a color share a body
+// that moves), the warm start, the velocity sweeps and the split position pass; the pushes
+// applied after integratePositions. The math is in rubble/shared/pgs_row.h; the CPU twin is
+// PgsSolver (host/dynamics/pgs_solver.cpp).
+#include "rubble/shared/broad_phase.h"
+#include "rubble/shared/narrow_phase.h"
+#include "rubble/shared/pgs_joint.h"
+#include "rubble/shared/sleep.h"
+
+// Last step's index of the pair (a, b) among its sorted pairs, or `count` when it is new.
+static uint previousPairIndex(const BodyPairRecord pair, const uint count,
+                              __global const BodyPairRecord* pairs) {
+    uint lo = 0, hi = count;
+    while (lo < hi) {
+        const uint mid = (lo + hi) / 2u;
+        const BodyPairRecord p = pairs[mid];
+        if (p.a < pair.a || (p.a == pair.a && p.b < pair.b)) lo = mid + 1u;
+        else hi = mid;
+    }
+    return lo < count && pairs[lo].a == pair.a && pairs[lo].b == pair.b ? lo : count;
+}
+
+// One work-item per pair (striding), after the narrow phase: the pair's summary word for the
+// coloring (its point count and which bodies move; 0 when it gets no rows), and what it keeps
+// for the next step's warm start when it gets no rows: a pair whose bodies both stand still
+// keeps last step's impulses as they were (an island woken later starts from them), a pair
+// without points none. A point deep enough to push marks its pair's moving bodies for the split
+// position pass, and the status block, so that the host knows before it enqueues the pass; a
+// point that will have a bounce speed (pointBounceItem, as its row will) marks the status block
+// for the restitution pass.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+summarizePairs(const uint capacity, __global const uint* pairCount,
+               __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
+               __global const JacobiBody* bodies, __global const BodyPose* poses,
+               __global const BodyVelocity* velocities, __global const BodyVelocity* approach,
+               __global const float4* surfaces, const float baumgarte, const float slop,
+               const float dt, const uint warmStart, const uint previousCapacity,
+               __global const uint* previousCount, __global const BodyPairRecord* previousPairs,
+               __global const uint* previousImpulseCount,
+               __global const PgsImpulse* previousImpulses, __global uint* pairRows,
+               __global uint* impulseCount, __global PgsImpulse* kept, __global uint* pushed,
+               __global uint* status) {
+    const uint n = min(pairCount[0], capacity);
+    const uint previous = warmStart ? min(previousCount[0], previousCapacity) : 0u;
+    for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
+        const uint count = manifolds[p].count;
+        const BodyPairRecord pair = pairs[p];
+        const uint movesA = jointInverseMassItem(bodies[pair.a]) > 0.0f;
+        const uint movesB = jointInverseMassItem(bodies[pair.b]) > 0.0f;
+        if (count > 0u && (movesA || movesB)) {
+            pairRows[p] = count | (movesA ? RUBBLE_PGS_MOVES_A : 0u) |
+                          (movesB ? RUBBLE_PGS_MOVES_B : 0u);
+            impulseCount[p] = count;
+            int pushes = 0;
+            for (uint k = 0; k < count; ++k)
+                pushes |=
+                    pgsNormalTargetItem(manifolds[p].points[k].w, baumgarte, slop, dt).push > 0.0f;
+            if (pushes) {
+                if (movesA) pushed[pair.a] = 1u;
+                if (movesB) pushed[pair.b] = 1u;
+                status[RUBBLE_STATUS_PUSHED] = 1u;
+            }
+            // A pair of moving bodies this far apart in mass: the layer pass runs (layerPgs
+            // leaves out jointed bodies).
+            const float ia = jointInverseMassItem(bodies[pair.a]);
+            const float ib = jointInverseMassItem(bodies[pair.b]);
+            if (heavyOverItem(ia, ib) || heavyOverItem(ib, ia)) status[RUBBLE_STATUS_LAYERS] = 1u;
+            const float restitution = fmax(surfaces[pair.a].y, surfaces[pair.b].y);
+            if (restitution > 0.0f) {
+                const float4 xA = poses[pair.a].position, xB = poses[pair.b].position;
+                const BodyVelocity va = velocities[pair.a], vb = velocities[pair.b];
+                const BodyVelocity aa = approach[pair.a], ab = approach[pair.b];
+                const float4 normal = manifolds[p].normal;
+                int bounces = 0;
+                for (uint k = 0; k < count; ++k) {
+                    const float4 point = manifolds[p].points[k];
+                    const Bounce b =
+                        pointBounceItem(pgsArmItem(point, xA), pgsArmItem(point, xB), normal,
+                                        point.w, va, vb, aa, ab, restitution, dt);
+                    bounces |= b.speed > 0.0f;
+                }
+                if (bounces) status[RUBBLE_STATUS_BOUNCES] = 1u;
+            }
+            continue;
+        }
+        pairRows[p] = 0u;
+        uint keep = 0u;
+        if (count > 0u) {
+            const uint q = previousPairIndex(pair, previous, previousPairs);
+            keep = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
+            for (uint k = 0; k < keep; ++k) kept[4u * p + k] = previousImpulses[4u * q + k];
+        }
+        impulseCount[p] = keep;
+    }
+}
+
+// One work-item per element of the step's coloring (joints skip): the rows of the pair's
+// manifold points, packed in color order from the element's first row, warm-started from last
+// step's impulses of the same pair (warmStartMatchItem), and the points' keys for the next
+// step (their impulses are filled in by the last sweep).
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+buildPgsRows(const uint count, __global const PgsElement* elements,
+             __global const ContactManifold* manifolds, __global const BodyPose* poses,
+             __global const BodyVelocity* velocities, __global const BodyVelocity* approach,
+             __global const JacobiBody* bodies, __global const float4* surfaces,
+             const float baumgarte, const float slop,
+             const float dt, const uint warmStart, const uint previousCapacity,
+             __global const uint* previousCount, __global const BodyPairRecord* previousPairs,
+             __global const uint* previousImpulseCount,
+             __global const PgsImpulse* previousImpulses, __global PgsNormalRow* normalRows,
+             __global PgsFrictionRows* frictionRows, __global float4* impulses,
+             __global PgsImpulse* kept) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const PgsElement e = elements[i];
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) return;
+    const uint p = e.id, a = e.a, b = e.b;
+    const uint first = e.rows >> RUBBLE_PGS_FIRST_SHIFT, points = e.rows & RUBBLE_PGS_POINTS;
+    const uint previous = warmStart ? min(previousCount[0], previousCapacity) : 0u;
+    BodyPairRecord pair;
+    pair.a = a;
+    pair.b = b;
+    const uint q = previousPairIndex(pair, previous, previousPairs);
+    const uint oldCount = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
+    const ContactManifold m = manifolds[p];
+    const JacobiBody ja = bodies[a], jb = bodies[b];
+    const float ima = jointInverseMassItem(ja), imb = jointInverseMassItem(jb);
+    const float4 sa = surfaces[a], sb = surfaces[b];
+    const float friction = sqrt(sa.x * sb.x);
+    const float restitution = fmax(sa.y, sb.y);
+    const BodyPose pa = poses[a], pb = poses[b];
+    const BodyVelocity va = velocities[a], vb = velocities[b];
+    const BodyVelocity aa = approach[a], ab = approach[b];
+    const float4 fixedTangent = perpendicularItem(m.normal);
+    // The keys first: they choose which old point each new one takes its impulses from.
+    PgsImpulse keys[4], old[4];
+    for (uint k = 0; k < points; ++k) {
+        const float4 point = m.points[k];
+        const float4 rA = sub4(vec4(point.x, point.y, point.z),
+                               vec4(pa.position.x, pa.position.y, pa.position.z));
+        keys[k].pointInA = quatRotateInverse(pa.orientation, rA);
+        keys[k].feature = m.features[k];
+    }
+    for (uint o = 0; o < oldCount; ++o) old[o] = previousImpulses[4u * q + o];
+    const WarmStartMatch match = warmStartMatchItem(keys, points, old, oldCount);
+    for (uint k = 0; k < points; ++k) {
+        const float4 point = m.points[k];
+        const PgsContactRow row = pgsContactRowItem(
+            point, point.w, m.normal, pa.position, pb.position, va, vb, aa, ab, ima, imb,
+            ja.inverseInertiaWorld, jb.inverseInertiaWorld, friction, restitution, baumgarte,
+            slop, dt, fixedTangent);
+        float4 start = make4(0.0f, 0.0f, 0.0f, 0.0f);
+        if (match.from[k] >= 0) {
+            const PgsImpulse from = old[match.from[k]];
+            start.x = from.normal;
+            start.y = dot3(from.friction, row.friction.tangent[0]);
+            start.z = dot3(from.friction, row.friction.tangent[1]);
+        }
+        normalRows[first + k] = row.normal;
+        frictionRows[first + k] = row.friction;
+        impulses[first + k] = start;
+        // What the next step starts from if no sweep runs; the last sweep overwrites it.
+        PgsImpulse key = keys[k];
+        key.normal = start.x;
+        key.friction = add4(scale4(row.friction.tangent[0], start.y),
+                            scale4(row.friction.tangent[1], start.z));
+        key.pad0 = key.pad1 = 0u;
+        kept[4u * p + k] = key;
+    }
+}
+
+// The velocities of an element's two bodies; a body that does not move is read (it may be a
+// moving obstacle) but never written, since other elements of the color may share it.
+static BodyVelocityPair loadPair(const uint a, const uint b, __global const BodyVelocity* v) {
+    BodyVelocityPair p;
+    p.a = v[a];
+    p.b = v[b];
+    return p;
+}
+static void storePair(const BodyVelocityPair p, const uint a, const uint b, const uint summary,
+                      __global BodyVelocity* v) {
+    if (summary & RUBBLE_PGS_MOVES_A) v[a] = p.a;
+    if (summary & RUBBLE_PGS_MOVES_B) v[b] = p.b;
+}
+
+// Which of a joint's bodies move in this step's solve (the host colors joints over every
+// dynamic body, asleep or not).
+static uint jointMoves(const JacobiBody ja, const JacobiBody jb) {
+    return (jointInverseMassItem(ja) > 0.0f ? RUBBLE_PGS_MOVES_A : 0u) |
+           (jointInverseMassItem(jb) > 0.0f ? RUBBLE_PGS_MOVES_B : 0u);
+}
+
+// The elements of one launch: one per work-item for a color, or, for the serial tail (the
+// last colors, too small to be worth a launch each), all of them in order on work-item 0,
+// which is Gauss-Seidel in color order.
+static uint elementsBegin(const uint count, const uint serial) {
+    return serial ? 0u : min((uint)get_global_id(0), count);
+}
+static uint elementsEnd(const uint count, const uint serial) {
+    if (serial) return get_global_id(0) == 0u ? count : 0u;
+    return min((uint)get_global_id(0) + 1u, count);
+}
+
+// Warm start of one element: a pair's points apply their accumulated impulses (normal, then
+// the two friction rows), as warmStartContacts does; a joint its blocks' (warmStartJoints).
+static void warmStartElement(const PgsElement e, __global const PgsNormalRow* normalRows,
+                             __global const PgsFrictionRows* frictionRows,
+                             __global const float4* impulses, __global const PgsJoint* joints,
+                             __global const PgsJointRow* jointRows,
+                             __global const JacobiBody* bodies,
+                             __global BodyVelocity* velocities) {
+    BodyVelocityPair v = loadPair(e.a, e.b, velocities);
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
+        const uint j = e.id & ~RUBBLE_PGS_JOINT_ELEMENT;
+        const JacobiBody ja = bodies[e.a], jb = bodies[e.b];
+        v = warmStartJointItem(v, joints[j], jointRows[j], ja, jb);
+        storePair(v, e.a, e.b, jointMoves(ja, jb), velocities);
+        return;
+    }
+    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+    for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
+        const float4 l = impulses[row + k];
+        if (l.x != 0.0f) {
+            const PgsNormalRow r = normalRows[row + k];
+            v = applyPgsRowItem(v, r.normal, r.turnA, r.turnB, r.speeds.z, r.speeds.w, l.x);
+        }
+        if (l.y == 0.0f && l.z == 0.0f) continue;
+        const PgsFrictionRows f = frictionRows[row + k];
+        const float ima = f.inverseMass.x, imb = f.inverseMass.y;
+        if (l.y != 0.0f) v = applyPgsRowItem(v, f.tangent[0], f.turnA[0], f.turnB[0], ima, imb, l.y);
+        if (l.z != 0.0f) v = applyPgsRowItem(v, f.tangent[1], f.turnA[1], f.turnB[1], ima, imb, l.z);
+    }
+    storePair(v, e.a, e.b, e.rows, velocities);
+}
+
+// Warm start, one color (or the serial tail).
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+warmStartPgs(const uint first, const uint count, const uint serial,
+             __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+             __global const PgsFrictionRows* frictionRows, __global const float4* impulses,
+             __global const PgsJoint* joints, __global const PgsJointRow* jointRows,
+             __global const JacobiBody* bodies, __global BodyVelocity* velocities) {
+    const uint end = elementsEnd(count, serial);
+    for (uint i = elementsBegin(count, serial); i < end; ++i)
+        warmStartElement(elements[first + i], normalRows, frictionRows, impulses, joints,
+                         jointRows, bodies, velocities);
+}
+
+// One velocity sweep of one element: a joint's blocks (solveJointVelocity); a pair's normal
+// rows, then its points' friction pairs (bounded by this sweep's normal impulses), as
+// solveContactSweep orders them within a pair. The last sweep also writes the impulses kept
+// for the next step's warm start. Returns the largest |change|, N s.
+static float solveElement(const PgsElement e, __global const PgsNormalRow* normalRows,
+                          __global const PgsFrictionRows* frictionRows, __global float4* impulses,
+                          __global const PgsJoint* joints, __global PgsJointRow* jointRows,
+                          __global const JacobiBody* bodies, __global BodyVelocity* velocities,
+                          const float relaxation, const uint lastSweep,
+                          __global PgsImpulse* kept) {
+    BodyVelocityPair v = loadPair(e.a, e.b, velocities);
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
+        const uint j = e.id & ~RUBBLE_PGS_JOINT_ELEMENT;
+        const JacobiBody ja = bodies[e.a], jb = bodies[e.b];
+        const PgsJointUpdate u = solveJointItem(v, joints[j], jointRows[j], ja, jb, relaxation);
+        storePair(u.v, e.a, e.b, jointMoves(ja, jb), velocities);
+        jointRows[j].pointImpulse = vec4(u.pointImpulse.x, u.pointImpulse.y, u.pointImpulse.z);
+        jointRows[j].turnImpulse = u.turnImpulse;
+        return u.pointImpulse.w;
+    }
+    float residual = 0.0f;
+    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT, points = e.rows & RUBBLE_PGS_POINTS;
+    float4 l[4];
+    for (uint k = 0; k < points; ++k) {
+        const PgsNormalRow r = normalRows[row + k];
+        l[k] = impulses[row + k];
+        const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.x, l[k].x, relaxation);
+        v = u.v;
+        l[k].x = u.accumulated;
+        residual = fmax(residual, fabs(u.applied));
+    }
+    for (uint k = 0; k < points; ++k) {
+        const PgsFrictionRows r = frictionRows[row + k];
+        const PgsFrictionUpdate u = solvePgsFrictionItem(r, v, l[k].x, l[k].y, l[k].z, relaxation);
+        v = u.v;
+        l[k].y = u.impulse.x;
+        l[k].z = u.impulse.y;
+        residual = fmax(residual, u.impulse.z);
+        impulses[row + k] = l[k];
+        if (lastSweep) {
+            kept[4u * e.id + k].normal = l[k].x;
+            kept[4u * e.id + k].friction =
+                add4(scale4(r.tangent[0], l[k].y), scale4(r.tangent[1], l[k].z));
+        }
+    }
+    storePair(v, e.a, e.b, e.rows, velocities);
+    return residual;
+}
+
+// One sweep of the split position pass for one element: the normal rows that push, and those
+// that touch a body a push moves, on the push velocities toward the rows' push speeds (their
+// accumulated push impulses in w of each impulse record, zero when built); joints are
+// projected after integratePositions instead. Returns the largest |change|, N s.
+static float pushElement(const PgsElement e, __global const PgsNormalRow* normalRows,
+                         __global float4* impulses, __global const uint* pushed,
+                         __global BodyVelocity* push, const float relaxation) {
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) return 0.0f;
+    const int touched = pushed[e.a] || pushed[e.b];
+    BodyVelocityPair v = loadPair(e.a, e.b, push);
+    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+    float residual = 0.0f;
+    for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
+        const PgsNormalRow r = normalRows[row + k];
+        // A row that bounces aims at its lift too (markBounces wrote the target).
+        if (r.speeds.y <= 0.0f && !touched) continue;
+        float4 l = impulses[row + k];
+        const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.y, l.w, relaxation);
+        v = u.v;
+        l.w = u.accumulated;
+        impulses[row + k] = l;
+        residual = fmax(residual, fabs(u.applied));
+    }
+    storePair(v, e.a, e.b, e.rows, push);
+    return residual;
+}
+
+// One velocity sweep, one color (or the serial tail); the last sweep's largest |change| goes
+// to the status block. The split position pass's sweep of the same number runs in the same
+// launch (pushSweep; RUBBLE_PGS_NO_PUSH when no row pushes): it reads the same rows but its own
+// velocities and impulses, so the two passes do not see each other, as on the CPU, where it
+// runs after the velocity solve. A push sweep after one whose largest change was within
+// RUBBLE_PUSH_TOLERANCE does nothing: the pass has converged.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+solvePgs(const uint first, const uint count, const uint serial,
+         __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+         __global const PgsFrictionRows* frictionRows, __global float4* impulses,
+         __global const PgsJoint* joints, __global PgsJointRow* jointRows,
+         __global const JacobiBody* bodies, __global BodyVelocity* velocities,
+         const float relaxation, const uint lastSweep, __global PgsImpulse* kept,
+         __global uint* status, const uint pushSweep, __global const uint* pushed,
+         __global BodyVelocity* push, __global uint* sweepResidual) {
+    const uint end = elementsEnd(count, serial);
+    const int pushes = pushSweep != RUBBLE_PGS_NO_PUSH &&
+                       (pushSweep == 0u ||
+                        as_float(sweepResidual[pushSweep - 1u]) > RUBBLE_PUSH_TOLERANCE);
+    float residual = 0.0f, pushResidual = 0.0f;
+    for (uint i = elementsBegin(count, serial); i < end; ++i) {
+        const PgsElement e = elements[first + i];
+        residual = fmax(residual, solveElement(e, normalRows, frictionRows, impulses, joints,
+                                               jointRows, bodies, velocities, relaxation,
+                                               lastSweep, kept));
+        if (pushes)
+            pushResidual = fmax(pushResidual,
+                                pushElement(e, normalRows, impulses, pushed, push, relaxation));
+    }
+    if (lastSweep && residual > 0.0f) atomic_max(&status[RUBBLE_STATUS_RESIDUAL], as_uint(residual));
+    if (pushResidual > 0.0f) atomic_max(&sweepResidual[pushSweep], as_uint(pushResidual));
+}
+
+// When a row may bounce (the non-fused path: the push sweeps run after the velocity sweeps), one
+// work-item per element after the velocity sweeps: each row that bounces (pgsBouncesItem, from
+// its accumulated normal impulse) aims the split pass at pgsPushTargetItem, written over its
+// push speed, and when that is above zero marks its moving bodies as pushed and the status block
+// (so that applyPushes moves them), as solvePushes marks its rows' bodies.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+markBounces(const uint count, __global const PgsElement* elements,
+            __global PgsNormalRow* normalRows, __global const float4* impulses,
+            __global uint* pushed, __global uint* status) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const PgsElement e = elements[i];
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) return;
+    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+    int lifts = 0;
+    for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
+        const PgsNormalRow r = normalRows[row + k];
+        const float impulse = impulses[row + k].x;
+        if (!pgsBouncesItem(r, impulse)) continue;
+        const float target = pgsPushTargetItem(r, impulse);
+        normalRows[row + k].speeds.y = target;
+        lifts |= target > 0.0f;
+    }
+    if (!lifts) return;
+    if (e.rows & RUBBLE_PGS_MOVES_A) atomic_or(&pushed[e.a], 1u);
+    if (e.rows & RUBBLE_PGS_MOVES_B) atomic_or(&pushed[e.b], 1u);
+    atomic_or(&status[RUBBLE_STATUS_PUSHED], 1u);
+}
+
+// One sweep of the split position pass alone, one color (or the serial tail): the non-fused
+// path, after the velocity sweeps (and markBounces). A sweep after one whose largest change was
+// within RUBBLE_PUSH_TOLERANCE does nothing.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+pushPgs(const uint first, const uint count, const uint serial,
+        __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+        __global float4* impulses, __global const uint* pushed, __global BodyVelocity* push,
+        const float relaxation, const uint sweep, __global uint* sweepResidual) {
+    if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
+    const uint end = elementsEnd(count, serial);
+    float residual = 0.0f;
+    for (uint i = elementsBegin(count, serial); i < end; ++i)
+        residual = fmax(residual, pushElement(elements[first + i], normalRows, impulses, pushed,
+                                              push, relaxation));
+    if (residual > 0.0f) atomic_max(&sweepResidual[sweep], as_uint(residual));
+}
+
+// One sweep of the restitution pass, one color (or the serial tail), after integratePositions
+// (solveRestitution): each row that bounces gives its bodies back its bounce speed along the
+// normal (solvePgsBounceItem) on the velocities, its impulse accumulated in `bounce` (from zero
+// at sweep 0). A sweep after one whose largest change was within RUBBLE_PUSH_TOLERANCE does
+// nothing.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+bouncePgs(const uint first, const uint count, const uint serial,
+          __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+          __global const float4* impulses, __global float* bounce,
+          __global BodyVelocity* velocities, const uint sweep, __global uint* sweepResidual) {
+    if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
+    const uint end = elementsEnd(count, serial);
+    float residual = 0.0f;
+    for (uint i = elementsBegin(count, serial); i < end; ++i) {
+        const PgsElement e = elements[first + i];
+        if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
+        const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+        BodyVelocityPair v = loadPair(e.a, e.b, velocities);
+        int changed = 0;
+        for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
+            const PgsNormalRow r = normalRows[row + k];
+            const float impulse = impulses[row + k].x;
+            if (!pgsBouncesItem(r, impulse)) continue;
+            const float start = sweep == 0u ? 0.0f : bounce[row + k];
+            const PgsUpdate u = solvePgsBounceItem(r, v, start, impulse);
+            v = u.v;
+            bounce[row + k] = u.accumulated;
+            residual = fmax(residual, fabs(u.applied));
+            changed = 1;
+        }
+        if (changed) storePair(v, e.a, e.b, e.rows, velocities);
+    }
+    if (residual > 0.0f) atomic_max(&sweepResidual[sweep], as_uint(residual));
+}
+
+// After the restitution pass's sweeps, one color (or the serial tail): each bouncing row's
+// impulse goes into its moving bodies' momenta (P += lambda_b n, L += lambda_b (r x n) on b, the
+// opposite on a: addBounceImpulses), and those bodies' velocities follow from their momenta at
+// their orientations (PgsSolver::solvePositions).
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+bounceMomenta(const uint first, const uint count, const uint serial,
+              __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+              __global const float4* impulses, __global const float* bounce,
+              __global BodyMomentum* momenta, __global const BodyMass* masses,
+              __global const BodyPose* poses, __global BodyVelocity* velocities) {
+    const uint end = elementsEnd(count, serial);
+    for (uint i = elementsBegin(count, serial); i < end; ++i) {
+        const PgsElement e = elements[first + i];
+        if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
+        const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+        int bounced = 0;
+        for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
+            const PgsNormalRow r = normalRows[row + k];
+            if (!pgsBouncesItem(r, impulses[row + k].x)) continue;
+            const float l = bounce[row + k];
+            const float4 linear = scale4(r.normal, l);
+            if (r.speeds.z > 0.0f) {
+                momenta[e.a].linear = sub4(momenta[e.a].linear, linear);
+                momenta[e.a].angular = sub4(momenta[e.a].angular, scale4(r.crossA, l));
+            }
+            if (r.speeds.w > 0.0f) {
+                momenta[e.b].linear = add4(momenta[e.b].linear, linear);
+                momenta[e.b].angular = add4(momenta[e.b].angular, scale4(r.crossB, l));
+            }
+            bounced = 1;
+        }
+        if (!bounced) continue;
+        if (e.rows & RUBBLE_PGS_MOVES_A)
+            velocities[e.a] =
+                velocityFromMomentumItem(momenta[e.a], masses[e.a], poses[e.a].orientation);
+        if (e.rows & RUBBLE_PGS_MOVES_B)
+            velocities[e.b] =
+                velocityFromMomentumItem(momenta[e.b], masses[e.b], poses[e.b].orientation);
+    }
+}
+
+// What the layer pass marks on a body: it carries a heavy load, or it is in a joint.
+#define RUBBLE_LAYER_LOADED 1u
+#define RUBBLE_LAYER_JOINED 2u
+
+// The row `entry` of the layer pass's lists names: element index << 2 | point.
+static uint layerRow(const uint entry, __global const PgsElement* elements) {
+    return (elements[entry >> 2].rows >> RUBBLE_PGS_FIRST_SHIFT) + (entry & 3u);
+}
+
+// The layer pass (shock propagation; PgsSolver's solveLayers, then its rows on the split pass's
+// velocities as solvePushes ends), after the sweeps of a step whose summaries found moving bodies
+// RUBBLE_LAYER_MASS_RATIO times apart in mass. It walks every row and body in order, so it runs
+// on one work-item: each body's layer (0 for a body that does not move, else one more than the
+// lowest it touches through a row), the rows between layers whose upper body is that much
+// heavier than the lower one or carries such a load (top down, a stable counting sort by the
+// lower layer), then once more from the bottom up, each row moving its upper body only
+// (solvePgsNormalOntoItem): on the velocities toward the row's target, and, when the split pass
+// ran (`pushes`, and some row pushed), on the push velocities toward its push target for the
+// rows that push or touch a pushed body. Rows of jointed bodies take no part. Scratch: layer and
+// loaded per body, lists and the histogram of lower layers (bodies + 1 words).
+__kernel void layerPgs(const uint count, __global const PgsElement* elements,
+                       __global const PgsNormalRow* normalRows, __global const float4* impulses,
+                       __global const JacobiBody* bodies, const uint bodyCount,
+                       __global const PgsJoint* joints, const uint jointCount,
+                       __global BodyVelocity* velocities, const uint pushes,
+                       __global const uint* pushed, __global BodyVelocity* push,
+                       __global const uint* status, __global uint* layer, __global uint* loaded,
+                       __global uint* rows, __global uint* sorted, __global uint* histogram) {
+    if (get_global_id(0) != 0u) return;
+    for (uint i = 0; i < bodyCount; ++i) loaded[i] = 0u;
+    for (uint j = 0; j < jointCount; ++j)
+        loaded[joints[j].a] = loaded[joints[j].b] = RUBBLE_LAYER_JOINED;
+    // Most steps have no such pair outside the joints: nothing to do.
+    int any = 0;
+    for (uint i = 0; i < count && !any; ++i) {
+        const PgsElement e = elements[i];
+        if (e.id & RUBBLE_PGS_JOINT_ELEMENT || loaded[e.a] || loaded[e.b]) continue;
+        const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+        for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
+            const PgsNormalRow r = normalRows[row + k];
+            any = any || heavyOverItem(r.speeds.z, r.speeds.w) ||
+                  heavyOverItem(r.speeds.w, r.speeds.z);
+        }
+    }
+    if (!any) return;
+    // Layers up from the bodies that do not move, until no row lowers one.
+    for (uint i = 0; i < bodyCount; ++i)
+        layer[i] = jointInverseMassItem(bodies[i]) > 0.0f ? RUBBLE_NO_LAYER : 0u;
+    for (int changed = 1; changed;) {
+        changed = 0;
+        for (uint i = 0; i < count; ++i) {
+            const PgsElement e = elements[i];
+            if (e.id & RUBBLE_PGS_JOINT_ELEMENT || (e.rows & RUBBLE_PGS_POINTS) == 0u) continue;
+            if (layer[e.a] != RUBBLE_NO_LAYER && layer[e.a] + 1u < layer[e.b]) {
+                layer[e.b] = layer[e.a] + 1u;
+                changed = 1;
+            }
+            if (layer[e.b] != RUBBLE_NO_LAYER && layer[e.b] + 1u < layer[e.a]) {
+                layer[e.a] = layer[e.b] + 1u;
+                changed = 1;
+            }
+        }
+    }
+    // The rows between two layers, outside the joints, by lower layer from the top down.
+    uint n = 0, top = 0;
+    for (uint i = 0; i < count; ++i) {
+        const PgsElement e = elements[i];
+        if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
+        const uint la = layer[e.a], lb = layer[e.b];
+        if (la == lb || la == RUBBLE_NO_LAYER || lb == RUBBLE_NO_LAYER ||
+            loaded[e.a] == RUBBLE_LAYER_JOINED || loaded[e.b] == RUBBLE_LAYER_JOINED)
+            continue;
+        for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) rows[n++] = i << 2 | k;
+        top = max(top, min(la, lb));
+    }
+    for (uint l = 0; l <= top; ++l) histogram[l] = 0u;
+    for (uint i = 0; i < n; ++i) {
+        const PgsElement e = elements[rows[i] >> 2];
+        ++histogram[min(layer[e.a], layer[e.b])];
+    }
+    // Starts, highest layer first; then placed in order (stable).
+    uint start = 0;
+    for (uint l = top + 1u; l-- > 0u;) {
+        const uint c = histogram[l];
+        histogram[l] = start;
+        start += c;
+    }
+    for (uint i = 0; i < n; ++i) {
+        const PgsElement e = elements[rows[i] >> 2];
+        sorted[histogram[min(layer[e.a], layer[e.b])]++] = rows[i];
+    }
+    // Top down: a row takes part when its upper body is that much heavier than its lower one,
+    // or carries such a load; its lower body then carries it.
+    uint kept = 0;
+    for (uint i = 0; i < n; ++i) {
+        const uint entry = sorted[i];
+        const PgsElement e = elements[entry >> 2];
+        const PgsNormalRow r = normalRows[layerRow(entry, elements)];
+        const int upperIsB = layer[e.b] > layer[e.a];
+        const uint up = upperIsB ? e.b : e.a, down = upperIsB ? e.a : e.b;
+        const float upInverse = upperIsB ? r.speeds.w : r.speeds.z;
+        const float downInverse = upperIsB ? r.speeds.z : r.speeds.w;
+        if (!heavyOverItem(upInverse, downInverse) && loaded[up] != RUBBLE_LAYER_LOADED) continue;
+        loaded[down] = RUBBLE_LAYER_LOADED;
+        rows[kept++] = entry;
+    }
+    // Bottom up, each row stopping its upper body against the lower one.
+    const int pushPass = pushes && status[RUBBLE_STATUS_PUSHED];
+    for (uint i = kept; i-- > 0u;) {
+        const uint entry = rows[i];
+        const PgsElement e = elements[entry >> 2];
+        const uint row = layerRow(entry, elements);
+        const PgsNormalRow r = normalRows[row];
+        const float4 l = impulses[row];
+        const int upperIsB = layer[e.b] > layer[e.a];
+        BodyVelocityPair v = loadPair(e.a, e.b, velocities);
+        PgsUpdate u = solvePgsNormalOntoItem(r, v, upperIsB, r.speeds.x, l.x);
+        if (upperIsB) velocities[e.b] = u.v.b;
+        else velocities[e.a] = u.v.a;
+        if (!pushPass || (r.speeds.y <= 0.0f && !pushed[e.a] && !pushed[e.b])) continue;
+        v = loadPair(e.a, e.b, push);
+        u = solvePgsNormalOntoItem(r, v, upperIsB, r.speeds.y, l.w);
+        if (upperIsB) push[e.b] = u.v.b;
+        else push[e.a] = u.v.a;
+    }
+}
+
+// After integratePositions, when some row pushed: every body that moved in the solve is moved
+// by dt times its push velocity, and its velocities follow from its momenta at the new
+// orientation (PgsSolver::solvePositions).
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+applyPushes(const uint count, __global const uint* status, __global const JacobiBody* bodies,
+            __global const BodyVelocity* push, __global const BodyMomentum* momenta,
+            __global const BodyMass* masses, __global BodyPose* poses,
+            __global BodyVelocity* velocities, const float dt) {
+    const uint i = get_global_id(0);
+    if (i >= count || !status[RUBBLE_STATUS_PUSHED]) return;
+    if (!(bodies[i].inverseInertiaWorld.r0.w > 0.0f)) return;
+    const BodyVelocity v = push[i];
+    BodyPose pose = poses[i];
+    pose.position = add4(pose.position, scale4(v.linear, dt));
+    pose.orientation = quatIntegrate(pose.orientation, v.angular, dt);
+    poses[i] = pose;
+    velocities[i] = velocityFromMomentumItem(momenta[i], masses[i], pose.orientation);
+}
+
+// Stage wake for SAT, after the narrow phase and before the rows (wakeTouched for pairs): a pair
+// with points between a sleeping body and a waking one (wakesBeforeSolveItem, on the velocities
+// before this step's forces) wakes the sleeping one, its slow time starting again, so that its
+// mass takes part in the solve. A body woken here was asleep, so its approach is zero and it
+// wakes nobody else in this pass: the result does not depend on the order of the pairs. The
+// host collides again when this woke a body: its pairs with other sleeping bodies were not found.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+wakeTouchedPairs(const uint capacity, __global const uint* pairCount,
+                 __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
+                 __global const BodyVelocity* approach, __global uint* flags,
+                 __global float* slowFor, __global uint* status) {
+    const uint n = min(pairCount[0], capacity);
+    for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
+        if (manifolds[p].count == 0u) continue;
+        const uint a = pairs[p].a, b = pairs[p].b;
+        const uint fa = flags[a], fb = flags[b];
+        uint wake = RUBBLE_NO_BODY;
+        if (wakesBeforeSolveItem(fa, fb, approach[b])) wake = a;
+        if (wakesBeforeSolveItem(fb, fa, approach[a])) wake = b;
+        if (wake == RUBBLE_NO_BODY) continue;
+        const uint before = atomic_and(&flags[wake], ~RUBBLE_BODY_ASLEEP);
+        if (before & RUBBLE_BODY_ASLEEP) {
+            slowFor[wake] = 0.0f;
+            atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
+        }
+    }
+}
+
+// Sleeping: each pair with contact points marks both of its bodies from the other's velocity
+// after the step, as markRestless does for the Jacobi rows.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+markRestlessPairs(const uint capacity, __global const uint* pairCount,
+                  __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
+                  __global const BodyVelocity* velocities, __global const uint* flags,
+                  __global uint* restless) {
+    const uint n = min(pairCount[0], capacity);
+    for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
+        if (manifolds[p].count == 0u) continue;
+        const BodyPairRecord pair = pairs[p];
+        const uint a = pair.a, b = pair.b;
+        const uint fa = flags[a], fb = flags[b];
+        const uint toA = restlessFromContactItem(fa, fb, velocities[b]);
+        const uint toB = restlessFromContactItem(fb, fa, velocities[a]);
+        const uint fixed = RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC;
+        if (toA && !(fa & fixed)) atomic_or(&restless[a], toA);
+        if (toB && !(fb & fixed)) atomic_or(&restless[b], toB);
+    }
+}
+
+// Stage buildContactRows for joints (prepareJoints): one work-item per joint.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+prepareJoints(const uint count, __global const PgsJoint* joints, __global const BodyPose* poses,
+              __global const JacobiBody* bodies, const uint warmStart,
+              __global PgsJointRow* jointRows) {
+    const uint j = get_global_id(0);
+    if (j >= count) return;
+    const PgsJoint joint = joints[j];
+    jointRows[j] = prepareJointItem(joint, jointRows[j], poses[joint.a], poses[joint.b],
+                                    bodies[joint.a], bodies[joint.b], (int)warmStart);
+}
+
+// A body as the position projection sees it at its current pose: its inverse mass and world
+// inverse inertia, zero when it does not move (the CPU's inverseOf).
+static JacobiBody projectionBody(const uint i, __global const BodyMass* masses,
+                                 __global const uint* flags, const BodyPose pose) {
+    BodyMass m = masses[i];
+    if (!activeBodyItem(flags[i]) || !(m.inverseMass > 0.0f)) m = wallMassItem(m);
+    return jacobiBodyItem(m, pose.orientation);
+}
+
+// The joints' position projection of the groups solved as one (the CPU path's direct
+// correction), one work-item per group: projectJointGroupItem on the group's scratch.
+__kernel void projectJointGroups(const uint count, __global const JointGroup* groups,
+                                 __global const uint* members, __global const PgsJoint* joints,
+                                 __global const BodyMass* masses, __global const uint* flags,
+                                 __global BodyPose* poses, __global JointPositionRow* rows,
+                                 __global float* matrix, __global float* solution,
+                                 __global float4* deltaPosition, __global float4* deltaRotation,
+                                 const int iterations) {
+    const uint g = get_global_id(0);
+    if (g >= count) return;
+    const JointGroup group = groups[g];
+    projectJointGroupItem(members + group.first, group.count, joints, masses, flags, poses,
+                          rows + group.rowStart, matrix + group.matrixStart,
+                          solution + group.rowStart, deltaPosition, deltaRotation, iterations);
+}
+
+// One sweep of the joints' position projection, one color of joints (no two share a dynamic
+// body): each joint one Newton step onto its constraints (projectJointItem). A sweep after one
+// that moved nothing does nothing: every joint holds.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+projectJoints(const uint first, const uint count, __global const uint* order,
+              __global const PgsJoint* joints, __global const BodyMass* masses,
+              __global const uint* flags, __global BodyPose* poses, const uint sweep,
+              __global uint* sweepMoved) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    if (sweep > 0u && sweepMoved[sweep - 1u] == 0u) return;
+    const PgsJoint joint = joints[order[first + i]];
+    const BodyPose pa = poses[joint.a], pb = poses[joint.b];
+    int moved = 0;
+    const PosePair out = projectJointItem(joint, pa, pb, projectionBody(joint.a, masses, flags, pa),
+                                          projectionBody(joint.b, masses, flags, pb), &moved);
+    if (!moved) return;
+    poses[joint.a] = out.a;
+    poses[joint.b] = out.b;
+    sweepMoved[sweep] = 1u;
+}
+
+// After the projection: the jointed bodies' angular velocities follow from their momenta at
+// the new orientations (PgsSolver::solvePositions). One work-item per jointed body.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+jointVelocities(const uint count, __global const uint* jointBodies,
+                __global const BodyMass* masses, __global const uint* flags,
+                __global const BodyPose* poses, __global const BodyMomentum* momenta,
+                __global BodyVelocity* velocities) {
+    const uint k = get_global_id(0);
+    if (k >= count) return;
+    const uint i = jointBodies[k];
+    const BodyMass m = masses[i];
+    if (!activeBodyItem(flags[i]) || !(m.inverseMass > 0.0f)) return;
+    velocities[i] = velocityFromMomentumItem(momenta[i], m, poses[i].orientation);
+}
+
+// Sleeping: each joint marks both of its bodies from the other's velocity, as a contact does.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+markRestlessJoints(const uint count, __global const PgsJoint* joints,
+                   __global const BodyVelocity* velocities, __global const uint* flags,
+                   __global uint* restless) {
+    const uint j = get_global_id(0);
+    if (j >= count) return;
+    const uint a = joints[j].a, b = joints[j].b;
+    const uint fa = flags[a], fb = flags[b];
+    const uint toA = restlessFromContactItem(fa, fb, velocities[b]);
+    const uint toB = restlessFromContactItem(fb, fa, velocities[a]);
+    const uint fixed = RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC;
+    if (toA && !(fa & fixed)) atomic_or(&restless[a], toA);
+    if (toB && !(fb & fixed)) atomic_or(&restless[b], toB);
+}

@@ -1,0 +1,69 @@
+// kernels/sat.cl: entry point of the SAT narrow phase on the device (collideShapes): one
+// manifold per pair, with the per-pair feature cache kept between steps. The math is in
+// rubble/shared/narrow_phase.h (a port of host/collision's narrow phase); the CPU twin is
+// SatCollision::narrowPhase (host/collision/sat_collision.cpp).
+#include "rubble/shared/broad_phase.h"
+#include "rubble/shared/narrow_phase.h"
+
+// Last step's cache of the pair (a, b): binary search in last step's sorted pairs; none when
+// the pair is new.
+static PairCache previousCache(const BodyPairRecord pair, const uint count,
+                               __global const BodyPairRecord* pairs,
+                               __global const PairCache* features) {
+    uint lo = 0, hi = count;
+    while (lo < hi) {
+        const uint mid = (lo + hi) / 2u;
+        const BodyPairRecord p = pairs[mid];
+        if (p.a < pair.a || (p.a == pair.a && p.b < pair.b)) lo = mid + 1u;
+        else hi = mid;
+    }
+    if (lo < count && pairs[lo].a == pair.a && pairs[lo].b == pair.b) return features[lo];
+    return emptyPairCacheItem();
+}
+
+// Work-items stride through the pairs (their count is on the device). Each writes its pair's
+// manifold (count 0: no contact) and cache at the pair's index, and adds its points to the
+// status block's contact count and largest depth.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+collideShapes(const uint capacity, __global const uint* pairCount,
+              __global const BodyPairRecord* pairs, const uint previousCapacity,
+              __global const uint* previousCount, __global const BodyPairRecord* previousPairs,
+              __global const PairCache* previousFeatures, __global const HullShape* shapes,
+              __global const uint* shapeOf, __global const BodyPose* poses,
+              __global const BodyVelocity* velocities, __global const float* spin,
+              __global const float4* vertices, __global const uint* vertexEdges,
+              __global const uint* neighbourStart, __global const uint* neighbours,
+              __global const HullHalfEdge* halfEdges, __global const float4* faces,
+              __global const uint* faceEdges, __global const HullEdge* edges, const float dt,
+              __global PairCache* features, __global ContactManifold* manifolds,
+              __global uint* status) {
+    HullArrays arrays;
+    arrays.vertices = vertices;
+    arrays.vertexEdges = vertexEdges;
+    arrays.neighbourStart = neighbourStart;
+    arrays.neighbours = neighbours;
+    arrays.halfEdges = halfEdges;
+    arrays.faces = faces;
+    arrays.faceEdges = faceEdges;
+    arrays.edges = edges;
+    const uint n = min(pairCount[0], capacity);
+    const uint previous = min(previousCount[0], previousCapacity);
+    for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
+        const BodyPairRecord pair = pairs[p];
+        PairCache cache = previousCache(pair, previous, previousPairs, previousFeatures);
+        const float margin =
+            pairMarginItem(velocities[pair.a], velocities[pair.b], spin[pair.a], spin[pair.b], dt);
+        ContactManifold m = collideShapesItem(
+            arrays, shapes[shapeOf[pair.a]], transformOfPose(poses[pair.a]),
+            shapes[shapeOf[pair.b]], transformOfPose(poses[pair.b]), &cache, margin);
+        m.a = pair.a;
+        m.b = pair.b;
+        features[p] = cache;
+        manifolds[p] = m;
+        if (m.count == 0u) continue;
+        float deepest = 0.0f;
+        for (uint k = 0; k < m.count; ++k) deepest = fmax(deepest, m.points[k].w);
+        atomic_add(&status[RUBBLE_STATUS_CONTACTS], m.count);
+        if (deepest > 0.0f) atomic_max(&status[RUBBLE_STATUS_PENETRATION], as_uint(deepest));
+    }
+}
