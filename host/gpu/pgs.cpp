@@ -417,9 +417,9 @@ Status Pipeline::bouncePgs(const StepParams& params) {
                        .arg(bodies_.poses)
                        .arg(bodies_.velocities)
                        .run(items(l), group));
-        profile_.setLastBytes(bytes(l) + l.count * 2 * (2 * sizeof(shared::BodyMomentum) +
-                                                        sizeof(shared::BodyMass) +
-                                                        sizeof(shared::BodyPose)));
+        profile_.setLastBytes(bytes(l) + l.count * 2 *
+                                             (2 * sizeof(shared::BodyMomentum) +
+                                              sizeof(shared::BodyMass) + sizeof(shared::BodyPose)));
     }
     return {};
 }
