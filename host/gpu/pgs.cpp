@@ -24,6 +24,15 @@ std::uint64_t sweepBytes(std::uint64_t elements, std::uint64_t points, std::uint
            points * (rowBytes + 2 * sizeof(shared::float4));
 }
 
+// Reserves `bytes` of a per-step buffer with room to grow: half as much again (at least 4 KiB),
+// so that a pile that gains rows step by step reallocates now and then, not every step. (Oclgrind
+// 21.10 also sees a buffer that replaces one the last step's commands used as never written,
+// and reports every read of it: the small scenes it checks then reallocate nothing.)
+Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes) {
+    if (b.bytes() >= bytes) return {};
+    return b.reserve(c.context(), std::max<std::size_t>(bytes + bytes / 2, 4096));
+}
+
 } // namespace
 
 Status Pipeline::summarizePairs(const StepParams& params) {
@@ -155,11 +164,11 @@ Status Pipeline::colorPgs() {
         g.launches.push_back(serial);
     }
     if (order.empty()) return {};
-    RUBBLE_TRY(g.normalRows.reserve(c.context(), rows * sizeof(shared::PgsNormalRow)));
-    RUBBLE_TRY(g.frictionRows.reserve(c.context(), rows * sizeof(shared::PgsFrictionRows)));
-    RUBBLE_TRY(g.impulses.reserve(c.context(), rows * sizeof(shared::float4)));
+    RUBBLE_TRY(reserveGrowing(c, g.normalRows, rows * sizeof(shared::PgsNormalRow)));
+    RUBBLE_TRY(reserveGrowing(c, g.frictionRows, rows * sizeof(shared::PgsFrictionRows)));
+    RUBBLE_TRY(reserveGrowing(c, g.impulses, rows * sizeof(shared::float4)));
     const std::size_t bytes = g.elementsHost.size() * sizeof(shared::PgsElement);
-    RUBBLE_TRY(g.elements.reserve(c.context(), bytes));
+    RUBBLE_TRY(reserveGrowing(c, g.elements, bytes));
     // Non-blocking: the elements stay put until the next step's coloring, which waits for this
     // step first.
     RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), g.elements.mem(), CL_FALSE, 0, bytes,
@@ -252,7 +261,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
     if (pushes) {
         const std::size_t n = bodies_.count;
         RUBBLE_TRY(fill(c, g.push, 0u, n * sizeof(shared::BodyVelocity), &profile_));
-        RUBBLE_TRY(g.sweepResidual.reserve(c.context(), sweeps * sizeof(cl_uint)));
+        RUBBLE_TRY(reserveGrowing(c, g.sweepResidual, sweeps * sizeof(cl_uint)));
         RUBBLE_TRY(fill(c, g.sweepResidual, 0u, sweeps * sizeof(cl_uint), &profile_));
     }
     for (int it = 0; it < o.iterations; ++it) {
@@ -326,11 +335,11 @@ Status Pipeline::solvePgs(const StepParams& params) {
     if (!g.launches.empty() && statusHost_[RUBBLE_STATUS_LAYERS] != 0) {
         const std::size_t n = bodies_.count;
         const std::size_t rows = std::max<std::size_t>(1, g.rowCount);
-        RUBBLE_TRY(g.layer.reserve(c.context(), n * sizeof(cl_uint)));
-        RUBBLE_TRY(g.loaded.reserve(c.context(), n * sizeof(cl_uint)));
-        RUBBLE_TRY(g.layerHistogram.reserve(c.context(), (n + 1) * sizeof(cl_uint)));
-        RUBBLE_TRY(g.layerRows.reserve(c.context(), rows * sizeof(cl_uint)));
-        RUBBLE_TRY(g.layerSorted.reserve(c.context(), rows * sizeof(cl_uint)));
+        RUBBLE_TRY(reserveGrowing(c, g.layer, n * sizeof(cl_uint)));
+        RUBBLE_TRY(reserveGrowing(c, g.loaded, n * sizeof(cl_uint)));
+        RUBBLE_TRY(reserveGrowing(c, g.layerHistogram, (n + 1) * sizeof(cl_uint)));
+        RUBBLE_TRY(reserveGrowing(c, g.layerRows, rows * sizeof(cl_uint)));
+        RUBBLE_TRY(reserveGrowing(c, g.layerSorted, rows * sizeof(cl_uint)));
         const cl_uint count = cl_uint(g.elementsHost.size()), bodyCount = bodies_.count;
         const cl_uint joints = g.jointCount, pushPass = pushes ? 1u : 0u;
         RUBBLE_TRY(Dispatch(c, KernelId::LayerPgs, &profile_)
@@ -368,8 +377,8 @@ Status Pipeline::bouncePgs(const StepParams& params) {
     const std::size_t group = c.workSizes().pairGroup;
     const std::size_t sweeps = std::size_t(std::max(params.solver.iterations, 0));
     auto items = [&](const PgsLaunch& l) -> std::size_t { return l.serial ? group : l.count; };
-    RUBBLE_TRY(g.bounce.reserve(c.context(), std::max<std::size_t>(1, g.rowCount) * sizeof(float)));
-    RUBBLE_TRY(g.bounceResidual.reserve(c.context(), sweeps * sizeof(cl_uint)));
+    RUBBLE_TRY(reserveGrowing(c, g.bounce, std::max<std::size_t>(1, g.rowCount) * sizeof(float)));
+    RUBBLE_TRY(reserveGrowing(c, g.bounceResidual, sweeps * sizeof(cl_uint)));
     RUBBLE_TRY(fill(c, g.bounceResidual, 0u, sweeps * sizeof(cl_uint), &profile_));
     // Per launch: each element's record and bodies' velocities read and written, each point's
     // normal row and impulses read, its bounce impulse read and written.
@@ -408,9 +417,9 @@ Status Pipeline::bouncePgs(const StepParams& params) {
                        .arg(bodies_.poses)
                        .arg(bodies_.velocities)
                        .run(items(l), group));
-        profile_.setLastBytes(bytes(l) + l.count * 2 * (2 * sizeof(shared::BodyMomentum) +
-                                                        sizeof(shared::BodyMass) +
-                                                        sizeof(shared::BodyPose)));
+        profile_.setLastBytes(bytes(l) + l.count * 2 *
+                                             (2 * sizeof(shared::BodyMomentum) +
+                                              sizeof(shared::BodyMass) + sizeof(shared::BodyPose)));
     }
     return {};
 }

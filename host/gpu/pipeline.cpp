@@ -240,10 +240,9 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
         woken = st->woken;
         const std::size_t budget = pairBudget(bodies_.count);
         if (st->pairs > budget)
-            return limitError("broadPhase", "broad-phase pairs", st->pairs, budget,
-                              params.step + 1, "bodies overlap each other in large numbers");
-        const auto grown =
-            std::uint32_t(std::min<std::size_t>(st->pairs + st->pairs / 2, budget));
+            return limitError("broadPhase", "broad-phase pairs", st->pairs, budget, params.step + 1,
+                              "bodies overlap each other in large numbers");
+        const auto grown = std::uint32_t(std::min<std::size_t>(st->pairs + st->pairs / 2, budget));
         std::fprintf(stderr,
                      "rubble: pair overflow (%u pairs, room for %u): buffers grown to %u "
                      "and the step's collision run again\n",

@@ -87,7 +87,16 @@ Status Pipeline::createSat(const PipelineInput& in) {
     RUBBLE_TRY(pgs_.push.reserve(c.context(), n * sizeof(shared::BodyVelocity)));
     RUBBLE_TRY(createJoints(in));
     s.enabled = true;
-    return setPairCapacity(std::max<std::uint32_t>(1024, 4 * n));
+    // Both sets at the first guess, so that the first steps' swaps reallocate nothing: a buffer
+    // released while queued commands still read it is legal, but Oclgrind 21.10 then sees the
+    // buffer that replaces it as never written (every later read of last step's features was
+    // reported).
+    const std::uint32_t guess = std::max<std::uint32_t>(1024, 4 * n);
+    RUBBLE_TRY(setPairCapacity(guess));
+    std::swap(s.current, s.previous);
+    RUBBLE_TRY(setPairCapacity(guess));
+    std::swap(s.current, s.previous); // last step's set holds none (its count is 0)
+    return {};
 }
 
 Status Pipeline::setPairCapacity(std::uint32_t capacity) {
@@ -109,8 +118,12 @@ Status Pipeline::setPairCapacity(std::uint32_t capacity) {
 Status Pipeline::keepPairFeatures() {
     RUBBLE_ASSERT(sat_.enabled);
     std::swap(sat_.current, sat_.previous);
-    // The set to fill next holds as many pairs as the one kept.
-    return setPairCapacity(std::max(sat_.current.capacity, sat_.previous.capacity));
+    // The set to fill next holds as many pairs as the one kept. Growing it (after a pair
+    // overflow) reallocates buffers that this step's queued kernels read as last step's: they
+    // run first.
+    const std::uint32_t capacity = std::max(sat_.current.capacity, sat_.previous.capacity);
+    if (capacity > sat_.current.capacity) RUBBLE_TRY(finish());
+    return setPairCapacity(capacity);
 }
 
 Status Pipeline::narrowPhase(float dt) {

@@ -278,10 +278,11 @@ RUBBLE_FN PgsUpdate solvePgsNormalOntoItem(PgsNormalRow r, BodyVelocityPair v, i
     u.applied = 0.0f;
     u.pad0 = u.pad1 = 0.0f;
     const float speed = pgsRowSpeedItem(v.a, v.b, r.normal, r.crossA, r.crossB);
-    const float k = upperIsB ? r.speeds.w + (r.crossB.x * r.turnB.x + r.crossB.y * r.turnB.y +
-                                             r.crossB.z * r.turnB.z)
-                             : r.speeds.z + (r.crossA.x * r.turnA.x + r.crossA.y * r.turnA.y +
-                                             r.crossA.z * r.turnA.z);
+    const float k =
+        upperIsB ? r.speeds.w +
+                       (r.crossB.x * r.turnB.x + r.crossB.y * r.turnB.y + r.crossB.z * r.turnB.z)
+                 : r.speeds.z +
+                       (r.crossA.x * r.turnA.x + r.crossA.y * r.turnA.y + r.crossA.z * r.turnA.z);
     if (k <= 0.0f) return u;
     const float sum = total + (target - speed) / k;
     const float next = sum < 0.0f ? 0.0f : sum; // std::max(sum, 0)
