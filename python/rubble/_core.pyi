@@ -9,6 +9,7 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+OPTION_KEYS: Tuple[str, ...]
 
 SceneSource = Union[str, os.PathLike[str], Mapping[str, Any]]
 Vec3 = Union[Sequence[float], npt.ArrayLike]

@@ -26,8 +26,7 @@ from rubble._errors import Error, NumericalError, SceneError
 from rubble._tables import make_table
 
 # World.load's keywords: a grid key among them is an option, any other a path into the scene.
-OPTION_KEYS = ("steps", "dt", "backend", "integrator", "solver", "iterations", "collision",
-               "particle_spacing", "device", "kernel_dir", "deterministic")
+OPTION_KEYS = _core.OPTION_KEYS
 _TOP_KEYS = ("format", "version", "name", "simulation", "materials", "shapes", "bodies",
              "generators", "joints", "events")
 _VECTOR_METRICS = ("linear_momentum", "angular_momentum", "centre_of_mass", "lo", "hi")

@@ -33,10 +33,10 @@ void translate(const ErrorException& e) {
 }
 
 // The keywords that World.load, compare and solvers take: the command line's options, spelt
-// with underscores.
+// with underscores (rubble._core.OPTION_KEYS, which the sweeps read).
 constexpr std::string_view kKeywords[] = {"steps",      "dt",         "backend",
                                           "integrator", "solver",     "iterations",
-                                          "collision",  "device",     "particle_spacing",
+                                          "collision",  "particle_spacing", "device",
                                           "kernel_dir", "deterministic"};
 
 // A keyword's value as the command line would write it, for the option table to read and check
@@ -54,6 +54,24 @@ std::string optionTextOf(const py::handle& v, const std::string& where) {
         return py::str(py::module_::import("os").attr("fspath")(v)).cast<std::string>();
     badInput(where, "expected a number, a string or True/False, got " +
                         std::string(py::str(py::repr(v))));
+}
+
+// kKeywords as a Python tuple.
+py::tuple optionKeys() {
+    py::tuple keys(std::size(kKeywords));
+    for (std::size_t i = 0; i < std::size(kKeywords); ++i)
+        keys[i] = py::str(kKeywords[i].data(), kKeywords[i].size());
+    return keys;
+}
+
+// kKeywords in words: "steps, dt, ..., kernel_dir or deterministic".
+std::string keywordList() {
+    std::string out;
+    for (std::size_t i = 0; i < std::size(kKeywords); ++i) {
+        if (i > 0) out += i + 1 == std::size(kKeywords) ? " or " : ", ";
+        out += kKeywords[i];
+    }
+    return out;
 }
 
 } // namespace
@@ -89,9 +107,7 @@ void applyKeywords(const py::dict& keywords, const std::string& context, Scene& 
         std::replace(key.begin(), key.end(), '-', '_'); // particle-spacing as before
         if (std::find(std::begin(kKeywords), std::end(kKeywords), key) == std::end(kKeywords))
             throw py::type_error(context + ": unknown option '" + py::str(k).cast<std::string>() +
-                                 "' (expected steps, dt, backend, integrator, solver, iterations, "
-                                 "collision, particle_spacing, device, kernel_dir or "
-                                 "deterministic)");
+                                 "' (expected " + keywordList() + ")");
         std::string name = key;
         std::replace(name.begin(), name.end(), '_', '-');
         check(setOptionText(name, optionTextOf(v, where), where, scene.simulation, run));
@@ -116,6 +132,7 @@ PYBIND11_MODULE(_core, m) {
     m.doc() = "rubble's C++ library: worlds, comparisons, solvers and devices. Use the package "
               "rubble, which re-exports these with its own helpers.";
     m.attr("__version__") = rubble::kVersion;
+    m.attr("OPTION_KEYS") = optionKeys();
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
