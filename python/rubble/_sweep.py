@@ -92,6 +92,22 @@ def _set_seed(doc: Dict[str, Any], seed: int, label: str) -> None:
         g["seed"] = int(seed)
 
 
+def _scene_and_options(base: Dict[str, Any], params: Mapping[str, Any], seed: Optional[int],
+                       label: str) -> Tuple[Dict[str, Any], Dict[str, Any]]:
+    """The base scene document and options with a run's grid values and seed applied: a grid
+    key among World.load's options sets the option, any other the scene field it names."""
+    doc = copy.deepcopy(base["doc"])
+    options = dict(base["options"])
+    for key, value in params.items():
+        if key in OPTION_KEYS:
+            options[key] = value
+        else:
+            set_field(doc, key, value, label)
+    if seed is not None:
+        _set_seed(doc, seed, label)
+    return doc, options
+
+
 def _flatten_metrics(m: Mapping[str, Any]) -> Dict[str, float]:
     out: Dict[str, float] = {k: m[k] for k in _SCALAR_METRICS}
     for v in _VECTOR_METRICS:
@@ -105,16 +121,8 @@ def run_one(base: Dict[str, Any], task: Dict[str, Any]) -> Dict[str, Any]:
     the task's fields, options and seed, stepped task["steps"] times; returns its row."""
     from rubble import World
 
-    doc = copy.deepcopy(base["doc"])
     label = f"{base['label']} (run {task['run']})"
-    options = dict(base["options"])
-    for key, value in task["params"].items():
-        if key in OPTION_KEYS:
-            options[key] = value
-        else:
-            set_field(doc, key, value, label)
-    if task["seed"] is not None:
-        _set_seed(doc, task["seed"], label)
+    doc, options = _scene_and_options(base, task["params"], task["seed"], label)
     world = World.load(doc, base_dir=base["base_dir"], label=label, **options)
     steps = task["steps"] if task["steps"] is not None else world.options["steps"]
     every = base["trajectory_every"]
@@ -160,42 +168,33 @@ def run_one(base: Dict[str, Any], task: Dict[str, Any]) -> Dict[str, Any]:
     return row
 
 
-def _plan(grid: Mapping[str, Sequence[Any]], seeds: Optional[Iterable[int]],
-          steps: Optional[int]) -> List[Dict[str, Any]]:
-    keys = list(grid)
-    for k in keys:
-        if isinstance(grid[k], (str, bytes)) or not isinstance(grid[k], Iterable):
+def _grid_lists(grid: Mapping[str, Iterable[Any]]) -> Dict[str, List[Any]]:
+    """The grid's values as lists, read once (a generator is not read again by the plan)."""
+    for k, values in grid.items():
+        if isinstance(values, (str, bytes)) or not isinstance(values, Iterable):
             raise SceneError(f"grid: {k}: expected a list of values", where=f"grid: {k}",
                              kind="BadInput")
-    values = [list(grid[k]) for k in keys]
-    seed_list: List[Optional[int]] = [int(s) for s in seeds] if seeds is not None else [None]
-    tasks = []
-    for combo in itertools.product(*values):
-        for seed in seed_list:
-            tasks.append({"run": len(tasks), "params": dict(zip(keys, combo)), "seed": seed,
-                          "steps": steps})
-    return tasks
+    return {k: list(values) for k, values in grid.items()}
 
 
-def _check(base: Dict[str, Any], grid: Mapping[str, Sequence[Any]],
-           seeds: Optional[Iterable[int]]) -> None:
+def _plan(grid: Mapping[str, List[Any]], seeds: Optional[List[int]],
+          steps: Optional[int]) -> List[Dict[str, Any]]:
+    """The tasks: every combination of the grid's values, each with every seed, in that order."""
+    keys = list(grid)
+    combos = itertools.product(itertools.product(*grid.values()),
+                               seeds if seeds is not None else [None])
+    return [{"run": run, "params": dict(zip(keys, combo)), "seed": seed, "steps": steps}
+            for run, (combo, seed) in enumerate(combos)]
+
+
+def _check(base: Dict[str, Any], grid: Mapping[str, List[Any]],
+           seeds: Optional[List[int]]) -> None:
     """Reads the scene once per grid value (no world is built), so that a bad key or value is
     an error before any task runs."""
-    first_seed = next(iter(seeds), None) if seeds is not None else None
-    probes = [({}, first_seed)]
-    for key, values in grid.items():
-        for v in values:
-            probes.append(({key: v}, first_seed))
-    for params, seed in probes:
-        doc = copy.deepcopy(base["doc"])
-        options = dict(base["options"])
-        for key, value in params.items():
-            if key in OPTION_KEYS:
-                options[key] = value
-            else:
-                set_field(doc, key, value, base["label"])
-        if seed is not None:
-            _set_seed(doc, seed, base["label"])
+    seed = seeds[0] if seeds else None
+    probes = [{}] + [{key: v} for key, values in grid.items() for v in values]
+    for params in probes:
+        doc, options = _scene_and_options(base, params, seed, base["label"])
         _core.check_scene(doc, options, base_dir=base["base_dir"], label=base["label"])
 
 
@@ -248,7 +247,7 @@ def sweep(scene: Union[str, "os.PathLike[str]", Mapping[str, Any]],
     rubble.Table. Raises rubble.SceneError for a bad key, value, metric or scene before any
     run starts.
     """
-    grid = dict(grid or {})
+    grid = _grid_lists(grid or {})
     metrics = list(metrics or DEFAULT_METRICS)
     unknown = [m for m in metrics if m not in METRICS]
     if unknown:
@@ -263,12 +262,11 @@ def sweep(scene: Union[str, "os.PathLike[str]", Mapping[str, Any]],
         os.makedirs(traj, exist_ok=True)
     base = {"doc": doc, "label": label, "base_dir": folder, "options": dict(options or {}),
             "metrics": metrics, "trajectory_dir": traj, "trajectory_every": trajectory_every}
-    seed_list = list(seeds) if seeds is not None else None
+    seed_list = [int(s) for s in seeds] if seeds is not None else None
     _check(base, grid, seed_list)
     tasks = _plan(grid, seed_list, steps)
 
-    rows = _run_on_dask(base, tasks, client, scheduler, workers)
-    rows.sort(key=lambda r: r["run"])
+    rows = _run_on_dask(base, tasks, client, scheduler, workers)  # in the tasks' order
     columns: Dict[str, np.ndarray] = {}
     for name in rows[0] if rows else []:
         values = [r[name] for r in rows]

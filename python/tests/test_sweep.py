@@ -93,6 +93,16 @@ def test_seeds_vary_the_generator_and_bad_keys_fail_before_running(cluster_clien
         rubble.sweep(SLOPE, seeds=[1, 2], client=cluster_client)
 
 
+def test_a_grid_is_read_once_and_must_be_lists(cluster_client):
+    # A generator is read once: the pre-check and the plan see the same values.
+    table = rubble.sweep(SLOPE, grid={"iterations": (k for k in (10, 20))}, metrics=["max_speed"],
+                         steps=1, client=cluster_client, as_frame=False)
+    assert list(table["iterations"]) == [10, 20]
+    # A string is not a list of values (not the values "1" and "0").
+    with pytest.raises(rubble.SceneError, match="grid: iterations: expected a list of values"):
+        rubble.sweep(SLOPE, grid={"iterations": "10"}, client=cluster_client)
+
+
 def test_the_sweep_command_writes_the_same_table(tmp_path, rubble_binary, cluster_client):
     spec = {"scene": os.path.relpath(SLOPE, tmp_path), "steps": STEPS,
             "grid": {"materials.default.friction": [0.1, 0.2, 0.6], "iterations": [10, 20]},
