@@ -23,7 +23,7 @@ import numpy as np
 
 from rubble import _core
 from rubble._errors import Error, NumericalError, SceneError
-from rubble._tables import make_table
+from rubble._tables import Table, make_table
 
 # World.load's keywords: a grid key among them is an option, any other a path into the scene.
 OPTION_KEYS = _core.OPTION_KEYS
@@ -319,6 +319,11 @@ def _from_file(path: str) -> Dict[str, Any]:
         return SceneError(f"{path}: {field}: {message}", where=f"{path}: {field}",
                           kind="BadInput", file=path, field=field)
 
+    def whole(value: Any, field: str, least: int) -> int:
+        if not isinstance(value, int) or isinstance(value, bool) or value < least:
+            raise bad(field, f"expected a whole number of {least} or more")
+        return value
+
     try:
         with open(path, encoding="utf-8") as f:
             spec = json.load(f)
@@ -338,9 +343,7 @@ def _from_file(path: str) -> Dict[str, Any]:
     folder = os.path.dirname(os.path.abspath(path))
     kwargs: Dict[str, Any] = {"scene": os.path.join(folder, spec["scene"])}
     if "steps" in spec:
-        if not isinstance(spec["steps"], int) or isinstance(spec["steps"], bool) or spec["steps"] < 0:
-            raise bad("steps", "expected a whole number of 0 or more")
-        kwargs["steps"] = spec["steps"]
+        kwargs["steps"] = whole(spec["steps"], "steps", 0)
     if "grid" in spec:
         if not isinstance(spec["grid"], dict):
             raise bad("grid", "expected an object of lists")
@@ -373,13 +376,9 @@ def _from_file(path: str) -> Dict[str, Any]:
             raise bad("trajectory", 'expected {"folder": "...", "every": K}')
         kwargs["trajectory_dir"] = os.path.join(folder, t["folder"])
         if "every" in t:
-            if not isinstance(t["every"], int) or isinstance(t["every"], bool) or t["every"] < 1:
-                raise bad("trajectory.every", "expected a whole number of 1 or more")
-            kwargs["trajectory_every"] = t["every"]
+            kwargs["trajectory_every"] = whole(t["every"], "trajectory.every", 1)
     if "workers" in spec:
-        if not isinstance(spec["workers"], int) or isinstance(spec["workers"], bool) or spec["workers"] < 1:
-            raise bad("workers", "expected a whole number of 1 or more")
-        kwargs["workers"] = spec["workers"]
+        kwargs["workers"] = whole(spec["workers"], "workers", 1)
     if "scheduler" in spec:
         if not isinstance(spec["scheduler"], str):
             raise bad("scheduler", 'expected an address, "tcp://host:port"')
@@ -391,19 +390,15 @@ def _from_file(path: str) -> Dict[str, Any]:
     return kwargs
 
 
-def _write_csv(table: Any, out: Any) -> None:
+def _write_csv(table: Table, out: Any) -> None:
+    """The table's columns, floats as their shortest repr (they read back to the same number)."""
     import csv
 
-    columns = list(table.columns) if hasattr(table, "columns") else list(table)
-    n = len(table[columns[0]]) if columns else 0
     writer = csv.writer(out, lineterminator="\n")
-    writer.writerow(columns)
-    for i in range(n):
-        row = []
-        for c in columns:
-            v = table[c][i]
-            row.append(repr(float(v)) if isinstance(v, (float, np.floating)) else v)
-        writer.writerow(row)
+    writer.writerow(list(table))
+    for row in zip(*table.values()):
+        writer.writerow([repr(float(v)) if isinstance(v, (float, np.floating)) else v
+                         for v in row])
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -425,8 +420,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             kwargs["workers"] = args.workers
         if args.scheduler:
             kwargs["scheduler"] = args.scheduler
-        out = args.out or kwargs.pop("out", None)
-        kwargs.pop("out", None)
+        out = kwargs.pop("out", None)
+        out = args.out or out
         start = time.perf_counter()
         table = sweep(**kwargs, as_frame=False)
         seconds = time.perf_counter() - start
