@@ -1,7 +1,8 @@
 // python/src/tools_bindings.cpp: the tables of `rubble compare` and `rubble solvers`, and the
 // OpenCL devices, as columns of NumPy arrays (the package turns them into tables).
-#include <cmath>
+#include <functional>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include <pybind11/stl.h>
@@ -12,59 +13,44 @@
 namespace rubble::python {
 namespace {
 
-template <class T> py::array_t<T> column(const std::vector<T>& v) {
-    py::array_t<T> a(py::ssize_t(v.size()));
-    std::copy(v.begin(), v.end(), a.mutable_data());
+// A column from a vector (pybind11 copies the data once).
+template <class T> py::array_t<T> array(const std::vector<T>& v) {
+    return py::array_t<T>(py::ssize_t(v.size()), v.data());
+}
+
+// A column of one value per row (a member or a function of the row), written straight into
+// the array; `T` is the column's dtype.
+template <class T, class Row, class Get>
+py::array_t<T> column(const std::vector<Row>& rows, Get get) {
+    py::array_t<T> a(py::ssize_t(rows.size()));
+    T* out = a.mutable_data();
+    for (const Row& r : rows) *out++ = T(std::invoke(get, r));
     return a;
 }
 
-// The columns of `rubble compare --csv`, in its order.
+// The columns of `rubble compare --csv`, in its order; each side's sample field is two columns,
+// name_a and name_b, its float fields as float64.
 py::dict compareColumns(const std::vector<CompareRow>& rows) {
-    const std::size_t n = rows.size();
-    std::vector<long long> step(n);
-    std::vector<double> time(n), pmax(n), prms(n), amax(n), arms(n), kea(n), keb(n), pa(n),
-        pb(n), la(n), lb(n), pena(n), penb(n), resa(n), resb(n);
-    std::vector<std::uint32_t> ca(n), cb(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const CompareRow& r = rows[i];
-        step[i] = r.step;
-        time[i] = r.time;
-        pmax[i] = r.positionMax;
-        prms[i] = r.positionRms;
-        amax[i] = r.angleMax;
-        arms[i] = r.angleRms;
-        kea[i] = r.a.kineticEnergy;
-        keb[i] = r.b.kineticEnergy;
-        pa[i] = r.a.linearMomentum;
-        pb[i] = r.b.linearMomentum;
-        la[i] = r.a.angularMomentum;
-        lb[i] = r.b.angularMomentum;
-        pena[i] = r.a.penetration;
-        penb[i] = r.b.penetration;
-        resa[i] = r.a.residual;
-        resb[i] = r.b.residual;
-        ca[i] = r.a.contacts;
-        cb[i] = r.b.contacts;
-    }
     py::dict d;
-    d["step"] = column(step);
-    d["time"] = column(time);
-    d["position_max"] = column(pmax);
-    d["position_rms"] = column(prms);
-    d["angle_max"] = column(amax);
-    d["angle_rms"] = column(arms);
-    d["kinetic_energy_a"] = column(kea);
-    d["kinetic_energy_b"] = column(keb);
-    d["linear_momentum_a"] = column(pa);
-    d["linear_momentum_b"] = column(pb);
-    d["angular_momentum_a"] = column(la);
-    d["angular_momentum_b"] = column(lb);
-    d["largest_penetration_a"] = column(pena);
-    d["largest_penetration_b"] = column(penb);
-    d["residual_a"] = column(resa);
-    d["residual_b"] = column(resb);
-    d["contacts_a"] = column(ca);
-    d["contacts_b"] = column(cb);
+    auto sides = [&]<class T>(const std::string& name, T CompareSample::*field) {
+        using Out = std::conditional_t<std::is_same_v<T, float>, double, T>;
+        d[py::str(name + "_a")] =
+            column<Out>(rows, [=](const CompareRow& r) { return r.a.*field; });
+        d[py::str(name + "_b")] =
+            column<Out>(rows, [=](const CompareRow& r) { return r.b.*field; });
+    };
+    d["step"] = column<long long>(rows, &CompareRow::step);
+    d["time"] = column<double>(rows, &CompareRow::time);
+    d["position_max"] = column<double>(rows, &CompareRow::positionMax);
+    d["position_rms"] = column<double>(rows, &CompareRow::positionRms);
+    d["angle_max"] = column<double>(rows, &CompareRow::angleMax);
+    d["angle_rms"] = column<double>(rows, &CompareRow::angleRms);
+    sides("kinetic_energy", &CompareSample::kineticEnergy);
+    sides("linear_momentum", &CompareSample::linearMomentum);
+    sides("angular_momentum", &CompareSample::angularMomentum);
+    sides("largest_penetration", &CompareSample::penetration);
+    sides("residual", &CompareSample::residual);
+    sides("contacts", &CompareSample::contacts);
     return d;
 }
 
@@ -95,10 +81,10 @@ py::dict solverColumns(const SolversTable& t) {
     py::dict d;
     d["solver"] = py::array(py::cast(solver));
     d["backend"] = py::array(py::cast(backend));
-    d["iteration"] = column(iteration);
-    d["residual"] = column(residual);
-    d["complementarity"] = column(complementarity);
-    d["velocity_error"] = column(velocityError);
+    d["iteration"] = array(iteration);
+    d["residual"] = array(residual);
+    d["complementarity"] = array(complementarity);
+    d["velocity_error"] = array(velocityError);
     return d;
 }
 
