@@ -47,7 +47,7 @@ def example_scene(name: str) -> str:
     raise KeyError(f"no example scene named {name!r} (there are: {', '.join(example_scenes())})")
 
 
-def _scene_args(scene: SceneSource, base_dir: Optional[Union[str, "os.PathLike[str]"]],
+def _scene_args(base_dir: Optional[Union[str, "os.PathLike[str]"]],
                 label: Optional[str]) -> Dict[str, Any]:
     return {"base_dir": os.fspath(base_dir) if base_dir is not None else "",
             "label": label or ""}
@@ -72,7 +72,7 @@ def compare(scene: SceneSource, a: Optional[Mapping[str, Any]] = None,
     blows up, rubble.DeviceError for OpenCL failures.
     """
     columns = _core.compare(scene, dict(a or {}), dict(b or {}), steps,
-                            **_scene_args(scene, base_dir, label))
+                            **_scene_args(base_dir, label))
     return make_table(columns, {"a": dict(a or {}), "b": dict(b or {})}, as_frame)
 
 
@@ -97,7 +97,7 @@ def solvers(scene: SceneSource, step: int = 30, iterations: int = 50, *,
     if kernel_dir is not None:
         options["kernel_dir"] = kernel_dir
     columns, info = _core.solvers(scene, step, iterations, options, frictionless,
-                                  **_scene_args(scene, base_dir, label))
+                                  **_scene_args(base_dir, label))
     return make_table(columns, info, as_frame)
 
 

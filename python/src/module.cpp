@@ -24,7 +24,7 @@ const char* kindName(ErrorKind k) {
     return "Internal";
 }
 
-// rubble._errors.raise_error builds the exception of the error's kind and sets it.
+// rubble._errors.make_error builds the exception of the error's kind; it is raised here.
 void translate(const ErrorException& e) {
     py::module_ errors = py::module_::import("rubble._errors");
     py::object exc = errors.attr("make_error")(kindName(e.error.kind), e.error.where,
