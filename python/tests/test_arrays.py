@@ -69,4 +69,8 @@ def test_debris_added_from_python_joins_the_arrays():
     w.step(240)
     # All three crates end on the floor or on each other, none below it.
     assert np.all(w.positions[1:, 1] > 0.45)
-    assert w.remove_debris_outside([-1, -1, -1], [1, 100, 1]) <= 2
+    # A box around debris1 alone: debris0 goes, the scene's bodies stay, debris1 moves down.
+    kept = w.positions[3].copy()
+    assert w.remove_debris_outside(kept - 0.01, kept + 0.01) == 1
+    assert len(w) == 3 and w.names[2] == "debris1"
+    np.testing.assert_array_equal(w.positions[2], kept)
