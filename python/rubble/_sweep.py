@@ -41,6 +41,12 @@ DEFAULT_METRICS = ("kinetic_energy", "potential_energy", "max_speed", "asleep_bo
                    "largest_penetration", "centre_of_mass_y", "wall_s")
 
 
+def _bad_input(file: str, field: str, message: str) -> SceneError:
+    """A SceneError at ``file: field``, as the scene reader words its own."""
+    return SceneError(f"{file}: {field}: {message}", where=f"{file}: {field}", kind="BadInput",
+                      file=file, field=field)
+
+
 def set_field(doc: Dict[str, Any], key: str, value: Any, label: str) -> None:
     """Sets a field of a scene document by a dotted path: ``solver.iterations`` (a key of
     ``simulation`` may leave ``simulation.`` out), ``materials.default.friction``,
@@ -56,9 +62,7 @@ def set_field(doc: Dict[str, Any], key: str, value: Any, label: str) -> None:
         if isinstance(node, list):
             index = _element(node, part)
             if index is None:
-                raise SceneError(f"{label}: {here}: no element with that index or name",
-                                 where=f"{label}: {here}", kind="BadInput", file=label,
-                                 field=here)
+                raise _bad_input(label, here, "no element with that index or name")
             if last:
                 node[index] = value
             else:
@@ -69,8 +73,7 @@ def set_field(doc: Dict[str, Any], key: str, value: Any, label: str) -> None:
             else:
                 node = node.setdefault(part, {})
         else:
-            raise SceneError(f"{label}: {here}: {'.'.join(parts[:depth])} is not an object",
-                             where=f"{label}: {here}", kind="BadInput", file=label, field=here)
+            raise _bad_input(label, here, f"{'.'.join(parts[:depth])} is not an object")
 
 
 def _element(items: List[Any], part: str) -> Optional[int]:
@@ -85,9 +88,8 @@ def _element(items: List[Any], part: str) -> Optional[int]:
 def _set_seed(doc: Dict[str, Any], seed: int, label: str) -> None:
     grids = [g for g in doc.get("generators", []) if isinstance(g, dict) and g.get("type") == "grid"]
     if not grids:
-        raise SceneError(f"{label}: seeds: the scene has no grid generator whose seed could "
-                         "vary (a seed sets generators[*].seed)", where=f"{label}: seeds",
-                         kind="BadInput", file=label, field="seeds")
+        raise _bad_input(label, "seeds", "the scene has no grid generator whose seed could vary "
+                         "(a seed sets generators[*].seed)")
     for g in grids:
         g["seed"] = int(seed)
 
@@ -316,8 +318,7 @@ def _from_file(path: str) -> Dict[str, Any]:
     """The keyword arguments of sweep() from a sweep file (docs/python.md); paths in it are
     relative to its folder. Raises SceneError naming the file and the field."""
     def bad(field: str, message: str) -> SceneError:
-        return SceneError(f"{path}: {field}: {message}", where=f"{path}: {field}",
-                          kind="BadInput", file=path, field=field)
+        return _bad_input(path, field, message)
 
     def whole(value: Any, field: str, least: int) -> int:
         if not isinstance(value, int) or isinstance(value, bool) or value < least:
