@@ -624,55 +624,6 @@ applyPushes(const uint count, __global const uint* status, __global const Jacobi
     velocities[i] = velocityFromMomentumItem(momenta[i], masses[i], pose.orientation);
 }
 
-// Stage wake for SAT, after the narrow phase and before the rows (wakeTouched for pairs): a pair
-// with points between a sleeping body and a waking one (wakesBeforeSolveItem, on the velocities
-// before this step's forces) wakes the sleeping one, its slow time starting again, so that its
-// mass takes part in the solve. A body woken here was asleep, so its approach is zero and it
-// wakes nobody else in this pass: the result does not depend on the order of the pairs. The
-// host collides again when this woke a body: its pairs with other sleeping bodies were not found.
-__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-wakeTouchedPairs(const uint capacity, __global const uint* pairCount,
-                 __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
-                 __global const BodyVelocity* approach, __global uint* flags,
-                 __global float* slowFor, __global uint* status) {
-    const uint n = min(pairCount[0], capacity);
-    for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
-        if (manifolds[p].count == 0u) continue;
-        const uint a = pairs[p].a, b = pairs[p].b;
-        const uint fa = flags[a], fb = flags[b];
-        uint wake = RUBBLE_NO_BODY;
-        if (wakesBeforeSolveItem(fa, fb, approach[b])) wake = a;
-        if (wakesBeforeSolveItem(fb, fa, approach[a])) wake = b;
-        if (wake == RUBBLE_NO_BODY) continue;
-        const uint before = atomic_and(&flags[wake], ~RUBBLE_BODY_ASLEEP);
-        if (before & RUBBLE_BODY_ASLEEP) {
-            slowFor[wake] = 0.0f;
-            atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
-        }
-    }
-}
-
-// Sleeping: each pair with contact points marks both of its bodies from the other's velocity
-// after the step, as markRestless does for the Jacobi rows.
-__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-markRestlessPairs(const uint capacity, __global const uint* pairCount,
-                  __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
-                  __global const BodyVelocity* velocities, __global const uint* flags,
-                  __global uint* restless) {
-    const uint n = min(pairCount[0], capacity);
-    for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
-        if (manifolds[p].count == 0u) continue;
-        const BodyPairRecord pair = pairs[p];
-        const uint a = pair.a, b = pair.b;
-        const uint fa = flags[a], fb = flags[b];
-        const uint toA = restlessFromContactItem(fa, fb, velocities[b]);
-        const uint toB = restlessFromContactItem(fb, fa, velocities[a]);
-        const uint fixed = RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC;
-        if (toA && !(fa & fixed)) atomic_or(&restless[a], toA);
-        if (toB && !(fb & fixed)) atomic_or(&restless[b], toB);
-    }
-}
-
 // Stage buildContactRows for joints (prepareJoints): one work-item per joint.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
 prepareJoints(const uint count, __global const PgsJoint* joints, __global const BodyPose* poses,
@@ -746,20 +697,4 @@ jointVelocities(const uint count, __global const uint* jointBodies,
     const BodyMass m = masses[i];
     if (!activeBodyItem(flags[i]) || !(m.inverseMass > 0.0f)) return;
     velocities[i] = velocityFromMomentumItem(momenta[i], m, poses[i].orientation);
-}
-
-// Sleeping: each joint marks both of its bodies from the other's velocity, as a contact does.
-__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
-markRestlessJoints(const uint count, __global const PgsJoint* joints,
-                   __global const BodyVelocity* velocities, __global const uint* flags,
-                   __global uint* restless) {
-    const uint j = get_global_id(0);
-    if (j >= count) return;
-    const uint a = joints[j].a, b = joints[j].b;
-    const uint fa = flags[a], fb = flags[b];
-    const uint toA = restlessFromContactItem(fa, fb, velocities[b]);
-    const uint toB = restlessFromContactItem(fb, fa, velocities[a]);
-    const uint fixed = RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC;
-    if (toA && !(fa & fixed)) atomic_or(&restless[a], toA);
-    if (toB && !(fb & fixed)) atomic_or(&restless[b], toB);
 }

@@ -279,7 +279,7 @@ class Pipeline {
     /// wake before the rows (kernels/sleep.cl).
     Status wakeTouched();
     /// Stage wake for SAT, after the narrow phase: the sleeping bodies that a pair with points
-    /// joins to a waking body wake (kernels/pgs.cl, wakeTouchedPairs), and with them the joint
+    /// joins to a waking body wake (kernels/sleep.cl, wakeTouchedPairs), and with them the joint
     /// groups of woken members.
     Status wakeTouchedPairs();
     /// Stage sleepBodies: restless marks from the rows, then each body's sleep.
