@@ -6,20 +6,6 @@
 #include "rubble/shared/broad_phase.h"
 #include "rubble/shared/narrow_phase.h"
 #include "rubble/shared/pgs_joint.h"
-#include "rubble/shared/sleep.h"
-
-// Last step's index of the pair (a, b) among its sorted pairs, or `count` when it is new.
-static uint previousPairIndex(const BodyPairRecord pair, const uint count,
-                              __global const BodyPairRecord* pairs) {
-    uint lo = 0, hi = count;
-    while (lo < hi) {
-        const uint mid = (lo + hi) / 2u;
-        const BodyPairRecord p = pairs[mid];
-        if (p.a < pair.a || (p.a == pair.a && p.b < pair.b)) lo = mid + 1u;
-        else hi = mid;
-    }
-    return lo < count && pairs[lo].a == pair.a && pairs[lo].b == pair.b ? lo : count;
-}
 
 // One work-item per pair (striding), after the narrow phase: the pair's summary word for the
 // coloring (its point count and which bodies move; 0 when it gets no rows), and what it keeps
@@ -87,7 +73,7 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
         pairRows[p] = 0u;
         uint keep = 0u;
         if (count > 0u) {
-            const uint q = previousPairIndex(pair, previous, previousPairs);
+            const uint q = findPairItem(pair, previous, previousPairs);
             keep = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
             for (uint k = 0; k < keep; ++k) kept[4u * p + k] = previousImpulses[4u * q + k];
         }
@@ -121,7 +107,7 @@ buildPgsRows(const uint count, __global const PgsElement* elements,
     BodyPairRecord pair;
     pair.a = a;
     pair.b = b;
-    const uint q = previousPairIndex(pair, previous, previousPairs);
+    const uint q = findPairItem(pair, previous, previousPairs);
     const uint oldCount = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
     const ContactManifold m = manifolds[p];
     const JacobiBody ja = bodies[a], jb = bodies[b];

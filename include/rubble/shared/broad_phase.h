@@ -28,6 +28,20 @@ typedef struct BodyPairRecord {
 } BodyPairRecord;
 RUBBLE_STATIC_ASSERT_SIZE(BodyPairRecord, 8);
 
+// The index of the pair (a, b) among `count` pairs sorted by (a, b), or `count` when it is not
+// among them: a binary search, as the device finds this step's pair among last step's.
+RUBBLE_FN uint findPairItem(BodyPairRecord pair, uint count,
+                            RUBBLE_GLOBAL const BodyPairRecord* pairs) {
+    uint lo = 0, hi = count;
+    while (lo < hi) {
+        const uint mid = (lo + hi) / 2u;
+        const BodyPairRecord p = pairs[mid];
+        if (p.a < pair.a || (p.a == pair.a && p.b < pair.b)) lo = mid + 1u;
+        else hi = mid;
+    }
+    return lo < count && pairs[lo].a == pair.a && pairs[lo].b == pair.b ? lo : count;
+}
+
 // 64 bytes: the uniform grid of one step, from the boxes' bounds and mean widths.
 typedef struct GridParams {
     float4 origin;       // lowest corner of the boxes, m
