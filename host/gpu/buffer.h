@@ -44,6 +44,11 @@ Status upload(const Context& c, Buffer& b, std::span<const T> data) {
     return {};
 }
 
+/// The same, of a whole vector.
+template <class T> Status upload(const Context& c, Buffer& b, const std::vector<T>& data) {
+    return upload(c, b, std::span<const T>(data));
+}
+
 /// Blocking copy of the start of a buffer into a host array.
 template <class T>
 Status download(const Context& c, const Buffer& b, std::span<T> data) {

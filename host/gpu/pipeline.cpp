@@ -18,8 +18,6 @@ void PipelineDeleter::operator()(Pipeline* p) const { delete p; }
 
 namespace {
 
-template <class T> std::span<const T> view(const std::vector<T>& v) { return {v.data(), v.size()}; }
-
 double msSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
         .count();
@@ -64,7 +62,7 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
         if (p->kinematic_[i]) obstacles.push_back(i);
     ObstacleBuffers& o = p->obstacles_;
     o.count = std::uint32_t(obstacles.size());
-    RUBBLE_TRY(upload(c, o.bodies, view(obstacles)));
+    RUBBLE_TRY(upload(c, o.bodies, obstacles));
     RUBBLE_TRY(o.states.reserve(c.context(), obstacles.size() * sizeof(shared::ObstacleState)));
     RUBBLE_TRY(o.impulses.reserve(c.context(), obstacles.size() * sizeof(shared::BodyImpulse)));
     p->obstaclesHost_.resize(obstacles.size());
@@ -88,8 +86,8 @@ Status Pipeline::uploadMassesAndFlags(std::span<const shared::BodyMass> hostMass
         masses[i] = shared::wallMassItem(masses[i]);
         flags[i] = RUBBLE_BODY_KINEMATIC;
     }
-    RUBBLE_TRY(upload(c, bodies_.masses, view(masses)));
-    return upload(c, bodies_.flags, view(flags));
+    RUBBLE_TRY(upload(c, bodies_.masses, masses));
+    return upload(c, bodies_.flags, flags);
 }
 
 Status Pipeline::uploadBodies(BodiesView bodies) {

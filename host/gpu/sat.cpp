@@ -11,8 +11,6 @@
 namespace rubble::gpu {
 namespace {
 
-template <class T> std::span<const T> view(const std::vector<T>& v) { return {v.data(), v.size()}; }
-
 // The bits of a grid of at least 4096 cells and two per body, so that cells of two mean box
 // widths rarely have to be widened.
 std::uint32_t gridBitsFor(std::uint32_t bodies) {
@@ -29,15 +27,15 @@ Status Pipeline::createSat(const PipelineInput& in) {
     SatBuffers& s = sat_;
     Result<HullData> hulls = flattenShapes(in.shapes);
     RUBBLE_TRY(hulls);
-    RUBBLE_TRY(upload(c, s.shapes, view(hulls->shapes)));
-    RUBBLE_TRY(upload(c, s.vertices, view(hulls->vertices)));
-    RUBBLE_TRY(upload(c, s.vertexEdges, view(hulls->vertexEdges)));
-    RUBBLE_TRY(upload(c, s.neighbourStart, view(hulls->neighbourStart)));
-    RUBBLE_TRY(upload(c, s.neighbours, view(hulls->neighbours)));
-    RUBBLE_TRY(upload(c, s.halfEdges, view(hulls->halfEdges)));
-    RUBBLE_TRY(upload(c, s.faces, view(hulls->faces)));
-    RUBBLE_TRY(upload(c, s.faceEdges, view(hulls->faceEdges)));
-    RUBBLE_TRY(upload(c, s.edges, view(hulls->edges)));
+    RUBBLE_TRY(upload(c, s.shapes, hulls->shapes));
+    RUBBLE_TRY(upload(c, s.vertices, hulls->vertices));
+    RUBBLE_TRY(upload(c, s.vertexEdges, hulls->vertexEdges));
+    RUBBLE_TRY(upload(c, s.neighbourStart, hulls->neighbourStart));
+    RUBBLE_TRY(upload(c, s.neighbours, hulls->neighbours));
+    RUBBLE_TRY(upload(c, s.halfEdges, hulls->halfEdges));
+    RUBBLE_TRY(upload(c, s.faces, hulls->faces));
+    RUBBLE_TRY(upload(c, s.faceEdges, hulls->faceEdges));
+    RUBBLE_TRY(upload(c, s.edges, hulls->edges));
 
     const std::uint32_t n = bodies_.count;
     RUBBLE_TRY(upload(c, s.shapeOf, in.bodies.shapeOf));
@@ -47,14 +45,14 @@ Status Pipeline::createSat(const PipelineInput& in) {
         if (in.shapes[in.bodies.shapeOf[i]].type == ShapeType::Plane) planes.push_back(i);
     }
     s.planeCount = std::uint32_t(planes.size());
-    RUBBLE_TRY(upload(c, s.planes, view(planes)));
+    RUBBLE_TRY(upload(c, s.planes, planes));
     std::vector<shared::BodyPairRecord> joined;
     for (const BodyPair& p : in.joined) joined.push_back({std::min(p.a, p.b), std::max(p.a, p.b)});
     std::sort(joined.begin(), joined.end(), [](const auto& x, const auto& y) {
         return x.a < y.a || (x.a == y.a && x.b < y.b);
     });
     s.joinedCount = std::uint32_t(joined.size());
-    RUBBLE_TRY(upload(c, s.joined, view(joined)));
+    RUBBLE_TRY(upload(c, s.joined, joined));
 
     // Per body.
     RUBBLE_TRY(s.boxes.reserve(c.context(), n * sizeof(shared::BodyBox)));
@@ -178,7 +176,7 @@ Status Pipeline::uploadPairs(std::span<const BodyPair> pairs) {
         RUBBLE_ASSERT(p.a < p.b && p.b < bodies_.count);
         records.push_back({p.a, p.b});
     }
-    RUBBLE_TRY(upload(c, sat_.current.pairs, view(records)));
+    RUBBLE_TRY(upload(c, sat_.current.pairs, records));
     const cl_uint count = cl_uint(pairs.size());
     RUBBLE_TRY(upload(c, sat_.current.count, std::span<const cl_uint>(&count, 1)));
     RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), status_.mem(), CL_TRUE,
@@ -294,8 +292,8 @@ Status Pipeline::createJoints(const PipelineInput& in) {
     }
     g.jointColoring.finish();
     g.directGroupCount = std::uint32_t(groups.size());
-    RUBBLE_TRY(upload(c, g.directGroups, view(groups)));
-    RUBBLE_TRY(upload(c, g.groupMembers, view(members)));
+    RUBBLE_TRY(upload(c, g.directGroups, groups));
+    RUBBLE_TRY(upload(c, g.groupMembers, members));
     RUBBLE_TRY(g.positionRows.reserve(c.context(), rows * sizeof(shared::JointPositionRow)));
     RUBBLE_TRY(g.positionMatrix.reserve(c.context(), matrix * sizeof(cl_float)));
     RUBBLE_TRY(g.positionSolution.reserve(c.context(), rows * sizeof(cl_float)));
@@ -320,9 +318,9 @@ Status Pipeline::createJoints(const PipelineInput& in) {
         groupOf.push_back(group);
     }
     g.jointBodyCount = std::uint32_t(bodies.size());
-    RUBBLE_TRY(upload(c, g.joints, view(g.jointsHost)));
-    RUBBLE_TRY(upload(c, g.jointBodies, view(bodies)));
-    RUBBLE_TRY(upload(c, g.jointGroupOf, view(groupOf)));
+    RUBBLE_TRY(upload(c, g.joints, g.jointsHost));
+    RUBBLE_TRY(upload(c, g.jointBodies, bodies));
+    RUBBLE_TRY(upload(c, g.jointGroupOf, groupOf));
     RUBBLE_TRY(g.groupVotes.reserve(c.context(), g.jointGroupCount * sizeof(cl_uint)));
     RUBBLE_TRY(upload(c, g.jointOrder, g.jointColoring.order()));
     // No impulses yet.
