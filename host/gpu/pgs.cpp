@@ -499,12 +499,6 @@ Status Pipeline::projectJoints() {
         .run(bodies, RUBBLE_GROUP_BODIES);
 }
 
-Result<std::vector<shared::PgsJointRow>> Pipeline::downloadJointRows() {
-    std::vector<shared::PgsJointRow> rows(pgs_.jointCount);
-    RUBBLE_TRY(download(*context_, pgs_.jointRows, std::span(rows)));
-    return rows;
-}
-
 Result<std::vector<shared::PgsNormalRow>> Pipeline::downloadPgsNormalRows() {
     std::vector<shared::PgsNormalRow> rows(pgs_.rowCount);
     RUBBLE_TRY(download(*context_, pgs_.normalRows, std::span(rows)));
@@ -515,12 +509,6 @@ Result<std::vector<shared::PgsFrictionRows>> Pipeline::downloadPgsFrictionRows()
     std::vector<shared::PgsFrictionRows> rows(pgs_.rowCount);
     RUBBLE_TRY(download(*context_, pgs_.frictionRows, std::span(rows)));
     return rows;
-}
-
-Result<std::vector<shared::float4>> Pipeline::downloadPgsImpulses() {
-    std::vector<shared::float4> impulses(pgs_.rowCount);
-    RUBBLE_TRY(download(*context_, pgs_.impulses, std::span(impulses)));
-    return impulses;
 }
 
 } // namespace rubble::gpu

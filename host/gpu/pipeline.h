@@ -356,12 +356,9 @@ class Pipeline {
     /// steps; larger groups joint by joint, color by color, as many sweeps); the jointed
     /// bodies' velocities follow.
     Status projectJoints();
-    /// Reads the joints' rows and impulses. Errors: Device.
-    Result<std::vector<shared::PgsJointRow>> downloadJointRows();
-    /// Reads this step's rows and their impulses, packed in element order. Errors: Device.
+    /// Reads this step's rows, packed in element order. Errors: Device.
     Result<std::vector<shared::PgsNormalRow>> downloadPgsNormalRows();
     Result<std::vector<shared::PgsFrictionRows>> downloadPgsFrictionRows();
-    Result<std::vector<shared::float4>> downloadPgsImpulses();
     const PgsBuffers& pgs() const { return pgs_; }
 
     const ParticleBuffers& particles() const { return particles_; }
