@@ -8,15 +8,6 @@
 #include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
-namespace {
-
-// Work-items of a kernel that strides through up to `capacity` items on the device.
-std::size_t strideFor(const Context& c, std::uint32_t capacity, std::size_t group) {
-    const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
-    return std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
-}
-
-} // namespace
 
 Status Pipeline::broadPhase(float dt) {
     RUBBLE_TRY(computeAabbs(dt));
@@ -80,7 +71,7 @@ Status Pipeline::findPairs() {
                          sat_.gridBits, RUBBLE_STATUS_GRID_ENTRIES));
 
     // Candidate pairs from the cells, then from the planes and the large bodies.
-    const std::size_t entryItems = strideFor(c, entries, sizes.broadGroup);
+    const std::size_t entryItems = strideItems(entries, sizes.broadGroup);
     RUBBLE_TRY(Dispatch(c, KernelId::GatherCellBoxes, &profile_)
                    .arg(status_)
                    .arg(sat_.values)
@@ -114,7 +105,7 @@ Status Pipeline::findPairs() {
                    .run(count, sizes.broadGroup));
 
     // Sorted by (a, b): counted per body, placed, each body's partners sorted.
-    const std::size_t pairItems = strideFor(c, capacity, sizes.pairGroup);
+    const std::size_t pairItems = pairStrideItems();
     RUBBLE_TRY(Dispatch(c, KernelId::CountPairs, &profile_)
                    .arg(capacity)
                    .arg(status_)

@@ -58,10 +58,6 @@ Status Pipeline::summarizePairs(const StepParams& params) {
     const cl_uint capacity = sat_.current.capacity, previousCapacity = sat_.previous.capacity;
     const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;
     const cl_uint warm = o.warmStart ? 1u : 0u;
-    const std::size_t group = c.workSizes().pairGroup;
-    const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
-    const std::size_t items =
-        std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
     RUBBLE_TRY(Dispatch(c, KernelId::SummarizePairs, &profile_)
                    .arg(capacity)
                    .arg(sat_.current.count)
@@ -86,7 +82,7 @@ Status Pipeline::summarizePairs(const StepParams& params) {
                    .arg(sat_.current.impulses)
                    .arg(pgs_.pushed)
                    .arg(status_)
-                   .run(items, group));
+                   .run(pairStrideItems(), c.workSizes().pairGroup));
     if (pgs_.jointCount == 0) return {};
     const cl_uint joints = pgs_.jointCount;
     return Dispatch(c, KernelId::PrepareJoints, &profile_)

@@ -140,10 +140,9 @@ Status Pipeline::copyVelocities(Buffer& to) {
     return {};
 }
 
-std::size_t Pipeline::strideItems() const {
+std::size_t Pipeline::strideItems(std::uint32_t capacity, std::size_t group) const {
     const std::size_t units = std::max<std::uint32_t>(1, context_->device().computeUnits);
-    const std::size_t items = units * RUBBLE_STRIDE_GROUPS_PER_UNIT * RUBBLE_GROUP_CONTACTS;
-    return std::min(items, roundUp(contacts_.capacity, RUBBLE_GROUP_CONTACTS));
+    return std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
 }
 
 Status Pipeline::resetStatus() {

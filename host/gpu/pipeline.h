@@ -407,8 +407,15 @@ class Pipeline {
     /// Puts back last step's contacts as the warm start after a step whose contacts overflowed.
     void undoWarmStartSwap();
     DeviceStatus statusFromSlots() const;
-    /// The global size of a stage that strides through the contacts.
-    std::size_t strideItems() const;
+    /// The global size of a stage whose work-items stride through up to `capacity` items in
+    /// groups of `group`: enough groups to fill the device, no more than the items need.
+    std::size_t strideItems(std::uint32_t capacity, std::size_t group) const;
+    /// ... through the contacts.
+    std::size_t strideItems() const { return strideItems(contacts_.capacity, RUBBLE_GROUP_CONTACTS); }
+    /// ... through this step's pairs (SAT).
+    std::size_t pairStrideItems() const {
+        return strideItems(sat_.current.capacity, context_->workSizes().pairGroup);
+    }
 
     std::shared_ptr<Context> context_;
     BodyBuffers bodies_;

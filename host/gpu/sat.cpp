@@ -133,10 +133,6 @@ Status Pipeline::narrowPhase(float dt) {
         RUBBLE_TRY(fillRange(c, status_, 0u, slot * sizeof(cl_uint), sizeof(cl_uint), &profile_));
     const cl_uint capacity = s.current.capacity, previousCapacity = s.previous.capacity;
     const cl_float step = dt;
-    const std::size_t group = c.workSizes().pairGroup;
-    const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
-    const std::size_t items =
-        std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
     return Dispatch(c, KernelId::CollideShapes, &profile_)
         .arg(capacity)
         .arg(s.current.count)
@@ -162,7 +158,7 @@ Status Pipeline::narrowPhase(float dt) {
         .arg(s.current.features)
         .arg(s.manifolds)
         .arg(status_)
-        .run(items, group);
+        .run(pairStrideItems(), c.workSizes().pairGroup);
 }
 
 Status Pipeline::uploadPairs(std::span<const BodyPair> pairs) {

@@ -21,10 +21,6 @@ Status Pipeline::wakeTouched() {
 Status Pipeline::wakeTouchedPairs() {
     const Context& c = *context_;
     const cl_uint capacity = sat_.current.capacity;
-    const std::size_t group = c.workSizes().pairGroup;
-    const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
-    const std::size_t items =
-        std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
     RUBBLE_TRY(Dispatch(c, KernelId::WakeTouchedPairs, &profile_)
                    .arg(capacity)
                    .arg(sat_.current.count)
@@ -34,7 +30,7 @@ Status Pipeline::wakeTouchedPairs() {
                    .arg(bodies_.flags)
                    .arg(bodies_.slowFor)
                    .arg(status_)
-                   .run(items, group));
+                   .run(pairStrideItems(), c.workSizes().pairGroup));
     const PgsBuffers& g = pgs_;
     if (g.jointGroupCount == 0) return {};
     // A joint group wakes as one: the members of a group with an awake member.
@@ -59,10 +55,6 @@ Status Pipeline::sleepBodies(float dt) {
     if (sat_.enabled) {
         const Context& c = *context_;
         const cl_uint capacity = sat_.current.capacity;
-        const std::size_t group = c.workSizes().pairGroup;
-        const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
-        const std::size_t items =
-            std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
         RUBBLE_TRY(Dispatch(c, KernelId::MarkRestlessPairs, &profile_)
                        .arg(capacity)
                        .arg(sat_.current.count)
@@ -71,7 +63,7 @@ Status Pipeline::sleepBodies(float dt) {
                        .arg(bodies_.velocities)
                        .arg(bodies_.flags)
                        .arg(bodies_.restless)
-                       .run(items, group));
+                       .run(pairStrideItems(), c.workSizes().pairGroup));
         if (pgs_.jointCount > 0) {
             const cl_uint joints = pgs_.jointCount;
             RUBBLE_TRY(Dispatch(c, KernelId::MarkRestlessJoints, &profile_)
