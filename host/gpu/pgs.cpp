@@ -33,6 +33,15 @@ Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes) {
     return b.reserve(c.context(), std::max<std::size_t>(bytes + bytes / 2, 4096));
 }
 
+// A sweep kernel's launch over one color (or the serial tail), its first arguments bound: the
+// launch's first element, count and serial flag, and the step's elements.
+Dispatch sweepLaunch(const Context& c, KernelId id, const PgsLaunch& l, const Buffer& elements,
+                     Profile* profile) {
+    Dispatch d(c, id, profile);
+    d.arg(l.first).arg(l.count).arg(l.serial).arg(elements);
+    return d;
+}
+
 } // namespace
 
 Status Pipeline::summarizePairs(const StepParams& params) {
@@ -225,15 +234,9 @@ Status Pipeline::solvePgs(const StepParams& params) {
     const cl_float relaxation = o.relaxation;
     const std::uint64_t rowBytes = sizeof(shared::PgsNormalRow) + sizeof(shared::PgsFrictionRows);
     RUBBLE_TRY(copyVelocities(bodies_.before));
-    // A serial launch runs on one work-item.
-    auto items = [&](const PgsLaunch& l) -> std::size_t { return l.serial ? group : l.count; };
     if (o.warmStart) {
         for (const PgsLaunch& l : g.launches) {
-            RUBBLE_TRY(Dispatch(c, KernelId::WarmStartPgs, &profile_)
-                           .arg(l.first)
-                           .arg(l.count)
-                           .arg(l.serial)
-                           .arg(g.elements)
+            RUBBLE_TRY(sweepLaunch(c, KernelId::WarmStartPgs, l, g.elements, &profile_)
                            .arg(g.normalRows)
                            .arg(g.frictionRows)
                            .arg(g.impulses)
@@ -241,7 +244,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
                            .arg(g.jointRows)
                            .arg(bodies_.jacobi)
                            .arg(bodies_.velocities)
-                           .run(items(l), group));
+                           .run(l.items(group), group));
             profile_.setLastBytes(sweepBytes(l.count, l.points, rowBytes));
         }
     }
@@ -264,11 +267,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
         const cl_uint last = it + 1 == o.iterations ? 1u : 0u;
         const cl_uint pushSweep = fused ? cl_uint(it) : RUBBLE_PGS_NO_PUSH;
         for (const PgsLaunch& l : g.launches) {
-            RUBBLE_TRY(Dispatch(c, KernelId::SolvePgs, &profile_)
-                           .arg(l.first)
-                           .arg(l.count)
-                           .arg(l.serial)
-                           .arg(g.elements)
+            RUBBLE_TRY(sweepLaunch(c, KernelId::SolvePgs, l, g.elements, &profile_)
                            .arg(g.normalRows)
                            .arg(g.frictionRows)
                            .arg(g.impulses)
@@ -284,7 +283,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
                            .arg(g.pushed)
                            .arg(g.push)
                            .arg(g.sweepResidual)
-                           .run(items(l), group));
+                           .run(l.items(group), group));
             // The push sweep reads the normal rows again (from cache), its velocities and
             // impulses, and both bodies' push marks.
             const std::uint64_t push =
@@ -308,11 +307,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
                               g.rowCount * (sizeof(shared::PgsNormalRow) + sizeof(shared::float4)));
         for (cl_uint sweep = 0; sweep < sweeps; ++sweep) {
             for (const PgsLaunch& l : g.launches) {
-                RUBBLE_TRY(Dispatch(c, KernelId::PushPgs, &profile_)
-                               .arg(l.first)
-                               .arg(l.count)
-                               .arg(l.serial)
-                               .arg(g.elements)
+                RUBBLE_TRY(sweepLaunch(c, KernelId::PushPgs, l, g.elements, &profile_)
                                .arg(g.normalRows)
                                .arg(g.impulses)
                                .arg(g.pushed)
@@ -320,7 +315,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
                                .arg(relaxation)
                                .arg(sweep)
                                .arg(g.sweepResidual)
-                               .run(items(l), group));
+                               .run(l.items(group), group));
                 profile_.setLastBytes(
                     l.count * (sizeof(shared::PgsElement) + 4 * sizeof(shared::BodyVelocity) + 8) +
                     l.points * (sizeof(shared::PgsNormalRow) + 2 * sizeof(shared::float4)));
@@ -372,7 +367,6 @@ Status Pipeline::bouncePgs(const StepParams& params) {
     const Context& c = *context_;
     const std::size_t group = c.workSizes().pairGroup;
     const std::size_t sweeps = std::size_t(std::max(params.solver.iterations, 0));
-    auto items = [&](const PgsLaunch& l) -> std::size_t { return l.serial ? group : l.count; };
     RUBBLE_TRY(reserveGrowing(c, g.bounce, std::max<std::size_t>(1, g.rowCount) * sizeof(float)));
     RUBBLE_TRY(reserveGrowing(c, g.bounceResidual, sweeps * sizeof(cl_uint)));
     RUBBLE_TRY(fill(c, g.bounceResidual, 0u, sweeps * sizeof(cl_uint), &profile_));
@@ -384,27 +378,19 @@ Status Pipeline::bouncePgs(const StepParams& params) {
     };
     for (cl_uint sweep = 0; sweep < sweeps; ++sweep) {
         for (const PgsLaunch& l : g.launches) {
-            RUBBLE_TRY(Dispatch(c, KernelId::BouncePgs, &profile_)
-                           .arg(l.first)
-                           .arg(l.count)
-                           .arg(l.serial)
-                           .arg(g.elements)
+            RUBBLE_TRY(sweepLaunch(c, KernelId::BouncePgs, l, g.elements, &profile_)
                            .arg(g.normalRows)
                            .arg(g.impulses)
                            .arg(g.bounce)
                            .arg(bodies_.velocities)
                            .arg(sweep)
                            .arg(g.bounceResidual)
-                           .run(items(l), group));
+                           .run(l.items(group), group));
             profile_.setLastBytes(bytes(l));
         }
     }
     for (const PgsLaunch& l : g.launches) {
-        RUBBLE_TRY(Dispatch(c, KernelId::BounceMomenta, &profile_)
-                       .arg(l.first)
-                       .arg(l.count)
-                       .arg(l.serial)
-                       .arg(g.elements)
+        RUBBLE_TRY(sweepLaunch(c, KernelId::BounceMomenta, l, g.elements, &profile_)
                        .arg(g.normalRows)
                        .arg(g.impulses)
                        .arg(g.bounce)
@@ -412,7 +398,7 @@ Status Pipeline::bouncePgs(const StepParams& params) {
                        .arg(bodies_.masses)
                        .arg(bodies_.poses)
                        .arg(bodies_.velocities)
-                       .run(items(l), group));
+                       .run(l.items(group), group));
         profile_.setLastBytes(bytes(l) + l.count * 2 *
                                              (2 * sizeof(shared::BodyMomentum) +
                                               sizeof(shared::BodyMass) + sizeof(shared::BodyPose)));

@@ -127,6 +127,9 @@ struct SatBuffers {
 struct PgsLaunch {
     cl_uint first = 0, count = 0, serial = 0;
     std::uint32_t points = 0; ///< rows, for the byte counts
+    /// Work-items of the launch in groups of `group`: one per element, or one group for the
+    /// serial tail (its work-item 0 runs it).
+    std::size_t items(std::size_t group) const { return serial ? group : count; }
 };
 
 /// Projected Gauss-Seidel on the device (host/gpu/pgs.cpp, kernels/pgs.cl), for a world that
