@@ -260,22 +260,13 @@ Status Pipeline::enqueueSatSolve(const StepParams& params) {
     RUBBLE_TRY(bouncePgs(params));
     RUBBLE_TRY(applyPushes(dt));
     RUBBLE_TRY(projectJoints());
-    // Forces hold for one step.
-    if (forcesOnDevice_) {
-        RUBBLE_TRY(fill(*context_, bodies_.forces, 0u,
-                        std::size_t(bodies_.count) * sizeof(shared::BodyForce), &profile_));
-        forcesOnDevice_ = false;
-    }
+    RUBBLE_TRY(clearForces());
     profile_.setStage(DeviceStage::Sleep);
     RUBBLE_TRY(sleepBodies(dt));
     // This step's pairs, features and impulses are the next step's.
     RUBBLE_TRY(keepPairFeatures());
     warmSwapped_ = false;
-    RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), status_.mem(), CL_FALSE, 0,
-                                        sizeof statusHost_, statusHost_.data(), 0, nullptr,
-                                        profile_.transfer(Transfer::Read, sizeof statusHost_)));
-    RUBBLE_CL_CHECK(clFlush(context_->queue()));
-    return {};
+    return enqueueStatusRead();
 }
 
 Status Pipeline::enqueueFromCollision(const StepParams& params) {
@@ -300,12 +291,7 @@ Status Pipeline::enqueueFromCollision(const StepParams& params) {
     RUBBLE_TRY(solveJacobi(dense ? 0 : solver.iterations, params.jacobiRelaxation, false));
     profile_.setStage(DeviceStage::IntegratePositions);
     RUBBLE_TRY(integratePositions(dt, symplectic));
-    // Forces hold for one step.
-    if (forcesOnDevice_) {
-        RUBBLE_TRY(fill(*context_, bodies_.forces, 0u,
-                        std::size_t(bodies_.count) * sizeof(shared::BodyForce), &profile_));
-        forcesOnDevice_ = false;
-    }
+    RUBBLE_TRY(clearForces());
     profile_.setStage(DeviceStage::Sleep);
     RUBBLE_TRY(sleepBodies(dt));
     if (gatherImpulses_) RUBBLE_TRY(gatherObstacleImpulses());
@@ -318,6 +304,18 @@ Status Pipeline::enqueueFromCollision(const StepParams& params) {
         // The swapped-in buffers must still hold a full step.
         RUBBLE_TRY(setContactCapacity(contacts_.capacity, contacts_.growable));
     }
+    return enqueueStatusRead();
+}
+
+Status Pipeline::clearForces() {
+    if (!forcesOnDevice_) return {};
+    forcesOnDevice_ = false;
+    return fill(*context_, bodies_.forces, 0u,
+                std::size_t(bodies_.count) * sizeof(shared::BodyForce), &profile_);
+}
+
+Status Pipeline::enqueueStatusRead() {
+    // Non-blocking: statusHost_ stays put until the step is met.
     RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), status_.mem(), CL_FALSE, 0,
                                         sizeof statusHost_, statusHost_.data(), 0, nullptr,
                                         profile_.transfer(Transfer::Read, sizeof statusHost_)));

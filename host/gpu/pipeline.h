@@ -409,6 +409,13 @@ class Pipeline {
     Status enqueueFromCollision(const StepParams& params);
     /// Puts back last step's contacts as the warm start after a step whose contacts overflowed.
     void undoWarmStartSwap();
+    /// The joint groups' wake (kernels/sleep.cl wakeJointGroups): pass 0 marks the groups with
+    /// an awake member, then `wakePass` (1 after sleepBodies, 2 before the solve) wakes them.
+    Status wakeJointGroups(cl_uint wakePass);
+    /// Forces hold for one step: the device's are cleared once the step has used them.
+    Status clearForces();
+    /// The status block's read at the end of an enqueued step (endStep meets it), and the flush.
+    Status enqueueStatusRead();
     DeviceStatus statusFromSlots() const;
     /// The global size of a stage whose work-items stride through up to `capacity` items in
     /// groups of `group`: enough groups to fill the device, no more than the items need.

@@ -34,10 +34,15 @@ Status Pipeline::wakeTouchedPairs() {
     const PgsBuffers& g = pgs_;
     if (g.jointGroupCount == 0) return {};
     // A joint group wakes as one: the members of a group with an awake member.
-    const cl_uint members = g.jointBodyCount;
     RUBBLE_TRY(fill(c, g.groupVotes, 0u, g.jointGroupCount * sizeof(cl_uint), &profile_));
-    for (const cl_uint pass : {0u, 2u})
-        RUBBLE_TRY(Dispatch(c, KernelId::WakeJointGroups, &profile_)
+    return wakeJointGroups(2u);
+}
+
+Status Pipeline::wakeJointGroups(cl_uint wakePass) {
+    const PgsBuffers& g = pgs_;
+    const cl_uint members = g.jointBodyCount;
+    for (const cl_uint pass : {0u, wakePass})
+        RUBBLE_TRY(Dispatch(*context_, KernelId::WakeJointGroups, &profile_)
                        .arg(members)
                        .arg(g.jointBodies)
                        .arg(g.jointGroupOf)
@@ -120,20 +125,8 @@ Status Pipeline::sleepBodies(float dt) {
                    .arg(bodies_.restless)
                    .arg(dt)
                    .run(count, RUBBLE_GROUP_BODIES));
-    if (!groups) return {};
     // A group with an awake member wakes as one.
-    for (const cl_uint pass : {0u, 1u})
-        RUBBLE_TRY(Dispatch(c, KernelId::WakeJointGroups, &profile_)
-                       .arg(members)
-                       .arg(g.jointBodies)
-                       .arg(g.jointGroupOf)
-                       .arg(bodies_.flags)
-                       .arg(bodies_.slowFor)
-                       .arg(g.groupVotes)
-                       .arg(pass)
-                       .arg(status_)
-                       .run(members, RUBBLE_GROUP_BODIES));
-    return {};
+    return groups ? wakeJointGroups(1u) : Status{};
 }
 
 } // namespace rubble::gpu
