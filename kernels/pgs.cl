@@ -622,15 +622,6 @@ prepareJoints(const uint count, __global const PgsJoint* joints, __global const 
                                     bodies[joint.a], bodies[joint.b], (int)warmStart);
 }
 
-// A body as the position projection sees it at its current pose: its inverse mass and world
-// inverse inertia, zero when it does not move (the CPU's inverseOf).
-static JacobiBody projectionBody(const uint i, __global const BodyMass* masses,
-                                 __global const uint* flags, const BodyPose pose) {
-    BodyMass m = masses[i];
-    if (!activeBodyItem(flags[i]) || !(m.inverseMass > 0.0f)) m = wallMassItem(m);
-    return jacobiBodyItem(m, pose.orientation);
-}
-
 // The joints' position projection of the groups solved as one (the CPU path's direct
 // correction), one work-item per group: projectJointGroupItem on the group's scratch.
 __kernel void projectJointGroups(const uint count, __global const JointGroup* groups,
@@ -662,8 +653,9 @@ projectJoints(const uint first, const uint count, __global const uint* order,
     const PgsJoint joint = joints[order[first + i]];
     const BodyPose pa = poses[joint.a], pb = poses[joint.b];
     int moved = 0;
-    const PosePair out = projectJointItem(joint, pa, pb, projectionBody(joint.a, masses, flags, pa),
-                                          projectionBody(joint.b, masses, flags, pb), &moved);
+    const PosePair out =
+        projectJointItem(joint, pa, pb, projectionBodyItem(masses[joint.a], flags[joint.a], pa),
+                         projectionBodyItem(masses[joint.b], flags[joint.b], pb), &moved);
     if (!moved) return;
     poses[joint.a] = out.a;
     poses[joint.b] = out.b;
