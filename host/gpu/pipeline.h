@@ -421,7 +421,9 @@ class Pipeline {
     /// groups of `group`: enough groups to fill the device, no more than the items need.
     std::size_t strideItems(std::uint32_t capacity, std::size_t group) const;
     /// ... through the contacts.
-    std::size_t strideItems() const { return strideItems(contacts_.capacity, RUBBLE_GROUP_CONTACTS); }
+    std::size_t strideItems() const {
+        return strideItems(contacts_.capacity, RUBBLE_GROUP_CONTACTS);
+    }
     /// ... through this step's pairs (SAT).
     std::size_t pairStrideItems() const {
         return strideItems(sat_.current.capacity, context_->workSizes().pairGroup);

@@ -36,8 +36,10 @@ RUBBLE_FN uint findPairItem(BodyPairRecord pair, uint count,
     while (lo < hi) {
         const uint mid = (lo + hi) / 2u;
         const BodyPairRecord p = pairs[mid];
-        if (p.a < pair.a || (p.a == pair.a && p.b < pair.b)) lo = mid + 1u;
-        else hi = mid;
+        if (p.a < pair.a || (p.a == pair.a && p.b < pair.b))
+            lo = mid + 1u;
+        else
+            hi = mid;
     }
     return lo < count && pairs[lo].a == pair.a && pairs[lo].b == pair.b ? lo : count;
 }
