@@ -47,17 +47,8 @@ Dispatch sweepLaunch(const Context& c, KernelId id, const PgsLaunch& l, const Bu
 Status Pipeline::summarizePairs(const StepParams& params) {
     RUBBLE_ASSERT(sat_.enabled);
     const Context& c = *context_;
-    const cl_uint bodies = bodies_.count;
-    // What each body is to the rows: its inverse mass and world inverse inertia, zero for a
-    // body that does not move (static, asleep, kinematic).
-    RUBBLE_TRY(Dispatch(c, KernelId::PrepareJacobiBodies, &profile_)
-                   .arg(bodies)
-                   .arg(bodies_.masses)
-                   .arg(bodies_.flags)
-                   .arg(bodies_.poses)
-                   .arg(bodies_.jacobi)
-                   .run(bodies, RUBBLE_GROUP_BODIES));
-    RUBBLE_TRY(fill(c, pgs_.pushed, 0u, std::size_t(bodies) * sizeof(cl_uint), &profile_));
+    RUBBLE_TRY(prepareJacobiBodies());
+    RUBBLE_TRY(fill(c, pgs_.pushed, 0u, std::size_t(bodies_.count) * sizeof(cl_uint), &profile_));
     // The marks of this round of the collision (a pair overflow runs it again).
     RUBBLE_TRY(fillRange(c, status_, 0u, RUBBLE_STATUS_PUSHED * sizeof(cl_uint), sizeof(cl_uint),
                          &profile_));

@@ -266,6 +266,9 @@ class Pipeline {
     Status readContactCount();
     /// Deterministic mode: contacts ordered by a stable sort on their particle.
     Status sortContacts();
+    /// What each body is to the rows (jacobiBodies): its inverse mass and world inverse
+    /// inertia, zero for a body that does not move (static, asleep, kinematic).
+    Status prepareJacobiBodies();
     /// Row lists per body, warm start, rows.
     Status buildJacobiRows(const shared::SolverParams& params, bool warmStart);
     /// Copies the velocities to `before`, then `iterations` sweeps (rows, then the gather); with
