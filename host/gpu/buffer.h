@@ -58,6 +58,14 @@ Status download(const Context& c, const Buffer& b, std::span<T> data) {
     return {};
 }
 
+/// Blocking copy of the first `count` elements of a buffer into a new vector.
+template <class T>
+Result<std::vector<T>> download(const Context& c, const Buffer& b, std::size_t count) {
+    std::vector<T> data(count);
+    RUBBLE_TRY(download(c, b, std::span(data)));
+    return data;
+}
+
 /// Fills the first `bytes` of a buffer with a repeated 32-bit value; `profile` (optional) times it.
 Status fill(const Context& c, const Buffer& b, cl_uint value, std::size_t bytes,
             Profile* profile = nullptr);

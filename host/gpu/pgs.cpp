@@ -473,15 +473,11 @@ Status Pipeline::projectJoints() {
 }
 
 Result<std::vector<shared::PgsNormalRow>> Pipeline::downloadPgsNormalRows() {
-    std::vector<shared::PgsNormalRow> rows(pgs_.rowCount);
-    RUBBLE_TRY(download(*context_, pgs_.normalRows, std::span(rows)));
-    return rows;
+    return download<shared::PgsNormalRow>(*context_, pgs_.normalRows, pgs_.rowCount);
 }
 
 Result<std::vector<shared::PgsFrictionRows>> Pipeline::downloadPgsFrictionRows() {
-    std::vector<shared::PgsFrictionRows> rows(pgs_.rowCount);
-    RUBBLE_TRY(download(*context_, pgs_.frictionRows, std::span(rows)));
-    return rows;
+    return download<shared::PgsFrictionRows>(*context_, pgs_.frictionRows, pgs_.rowCount);
 }
 
 } // namespace rubble::gpu

@@ -184,35 +184,31 @@ Status Pipeline::uploadPairs(std::span<const BodyPair> pairs) {
 Result<std::vector<BodyPair>> Pipeline::downloadPairs() {
     Result<DeviceStatus> st = readStatus();
     RUBBLE_TRY(st);
-    const std::uint32_t n = std::min(st->pairs, sat_.current.capacity);
-    std::vector<shared::BodyPairRecord> records(n);
-    RUBBLE_TRY(download(*context_, sat_.current.pairs, std::span(records)));
+    const Result<std::vector<shared::BodyPairRecord>> records = download<shared::BodyPairRecord>(
+        *context_, sat_.current.pairs, std::min(st->pairs, sat_.current.capacity));
+    RUBBLE_TRY(records);
     std::vector<BodyPair> pairs;
-    pairs.reserve(n);
-    for (const shared::BodyPairRecord& r : records) pairs.push_back(BodyPair{r.a, r.b});
+    pairs.reserve(records->size());
+    for (const shared::BodyPairRecord& r : *records) pairs.push_back(BodyPair{r.a, r.b});
     return pairs;
 }
 
 Result<std::vector<shared::ContactManifold>> Pipeline::downloadManifolds() {
     Result<DeviceStatus> st = readStatus();
     RUBBLE_TRY(st);
-    std::vector<shared::ContactManifold> m(std::min(st->pairs, sat_.current.capacity));
-    RUBBLE_TRY(download(*context_, sat_.manifolds, std::span(m)));
-    return m;
+    return download<shared::ContactManifold>(*context_, sat_.manifolds,
+                                             std::min(st->pairs, sat_.current.capacity));
 }
 
 Result<std::vector<shared::PairCache>> Pipeline::downloadPairFeatures() {
     Result<DeviceStatus> st = readStatus();
     RUBBLE_TRY(st);
-    std::vector<shared::PairCache> f(std::min(st->pairs, sat_.current.capacity));
-    RUBBLE_TRY(download(*context_, sat_.current.features, std::span(f)));
-    return f;
+    return download<shared::PairCache>(*context_, sat_.current.features,
+                                       std::min(st->pairs, sat_.current.capacity));
 }
 
 Result<std::vector<shared::BodyBox>> Pipeline::downloadBoxes() {
-    std::vector<shared::BodyBox> boxes(bodies_.count);
-    RUBBLE_TRY(download(*context_, sat_.boxes, std::span(boxes)));
-    return boxes;
+    return download<shared::BodyBox>(*context_, sat_.boxes, bodies_.count);
 }
 
 } // namespace rubble::gpu
