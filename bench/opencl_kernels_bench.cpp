@@ -5,11 +5,13 @@
 // --spacing=M (0.5). The SAT method's kernels (benchSatKernel, one per kernel, device time from
 // the profiling events) run on the same scene stepped on the CPU reference. Figures and
 // commands are in docs/opencl.md.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <initializer_list>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -421,6 +423,31 @@ void benchCpuSatNarrowPhase(benchmark::State& state) {
     state.counters["contacts"] = double(out.contactCount);
 }
 
+// The host's part of the device's PGS step, wall time: colorPgs (the pair summaries and pairs
+// read back, the first-fit coloring, the elements written), after one summarizePairs on the
+// pipeline that kept its features.
+void benchSatColoring(benchmark::State& state) {
+    SatBenchWorld& b = satWorld();
+    if (!b.in) return state.SkipWithError(b.error.c_str());
+    gpu::Pipeline& p = *b.warm;
+    Status s = p.summarizePairs(b.in->params());
+    if (s) s = p.readStatus().status();
+    for (auto _ : state) {
+        if (s) s = p.colorPgs();
+        if (s) s = p.finish();
+        if (!s) return state.SkipWithError(s.error().describe().c_str());
+    }
+    state.counters["pairs"] = double(b.counts.pairs);
+    state.counters["elements"] = double(p.pgs().elementsHost.size());
+    // The colors' sizes: the two largest (the first two), and the rest.
+    const gpu::Coloring& coloring = p.pgs().coloring;
+    const std::span<const std::uint32_t> start = coloring.start();
+    state.counters["colors"] = double(coloring.colors());
+    for (std::uint32_t k = 0; k < std::min<std::uint32_t>(2, coloring.colors()); ++k)
+        state.counters[k == 0 ? "first" : "second"] = double(start[k + 1] - start[k]);
+    if (coloring.colors() > 2) state.counters["rest"] = double(start.back() - start[2]);
+}
+
 // The device's narrow phase code (rubble/shared/narrow_phase.h) compiled for the host, on the
 // same pairs, one thread, with an empty cache (range 0) or last run's (range 1): how much of
 // the kernel's time is the code and how much the OpenCL compiler and runtime.
@@ -489,6 +516,7 @@ BENCHMARK_CAPTURE(benchSatKernel, CollideShapesCached, rubble::gpu::KernelId::Co
     ->UseManualTime();
 BENCHMARK(rubble::benchSatBroadPhase)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(rubble::benchSatNarrowPhase)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(rubble::benchSatColoring)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK(rubble::benchTransformParticles)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(rubble::benchBuildGrid)->Unit(benchmark::kMillisecond)->UseRealTime();
