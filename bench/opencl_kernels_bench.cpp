@@ -303,8 +303,7 @@ Status prepareSat(const BenchSettings& settings, SatBenchWorld& b) {
     n.contacts = st->contacts;
     std::fprintf(stderr, "SAT bench: %u bodies, %u pairs, %u contacts, %u grid entries, %u large\n",
                  b.in->bodies.count(), st->pairs, st->contacts, st->gridEntries, st->largeBodies);
-    for (gpu::Pipeline* p : {b.cold.get(), b.warm.get()})
-        RUBBLE_TRY(p->collectProfile(n));
+    for (gpu::Pipeline* p : {b.cold.get(), b.warm.get()}) RUBBLE_TRY(p->collectProfile(n));
     return {};
 }
 
@@ -338,7 +337,7 @@ void benchSatKernel(benchmark::State& state, gpu::KernelId kernel, bool warm) {
     };
     for (auto _ : state) {
         const double before = deviceMs();
-        Status s = kernel == gpu::KernelId::ComputeAabbs   ? p.computeAabbs(dt)
+        Status s = kernel == gpu::KernelId::ComputeAabbs    ? p.computeAabbs(dt)
                    : kernel == gpu::KernelId::CollideShapes ? p.narrowPhase(dt)
                                                             : p.findPairs();
         if (s) s = p.finish();
@@ -467,16 +466,18 @@ void benchSharedNarrowPhaseOnHost(benchmark::State& state) {
         for (std::size_t i = 0; i < pairs->size(); ++i) {
             const BodyPair pair = (*pairs)[i];
             if (!state.range(0)) caches[i] = shared::emptyPairCacheItem();
-            const shared::BodyVelocity va = bodies.velocities[pair.a], vb = bodies.velocities[pair.b];
-            const float spinA = shared::spinItem(
-                va, hulls->shapes[bodies.shapeOf[pair.a]].boundingRadius, dt);
-            const float spinB = shared::spinItem(
-                vb, hulls->shapes[bodies.shapeOf[pair.b]].boundingRadius, dt);
-            const shared::ContactManifold m = shared::collideShapesItem(
-                arrays, hulls->shapes[bodies.shapeOf[pair.a]],
-                shared::transformOfPose(bodies.poses[pair.a]), hulls->shapes[bodies.shapeOf[pair.b]],
-                shared::transformOfPose(bodies.poses[pair.b]), &caches[i],
-                shared::pairMarginItem(va, vb, spinA, spinB, dt));
+            const shared::BodyVelocity va = bodies.velocities[pair.a],
+                                       vb = bodies.velocities[pair.b];
+            const float spinA =
+                shared::spinItem(va, hulls->shapes[bodies.shapeOf[pair.a]].boundingRadius, dt);
+            const float spinB =
+                shared::spinItem(vb, hulls->shapes[bodies.shapeOf[pair.b]].boundingRadius, dt);
+            const shared::ContactManifold m =
+                shared::collideShapesItem(arrays, hulls->shapes[bodies.shapeOf[pair.a]],
+                                          shared::transformOfPose(bodies.poses[pair.a]),
+                                          hulls->shapes[bodies.shapeOf[pair.b]],
+                                          shared::transformOfPose(bodies.poses[pair.b]), &caches[i],
+                                          shared::pairMarginItem(va, vb, spinA, spinB, dt));
             contacts += m.count;
         }
     };
@@ -489,9 +490,17 @@ void benchSharedNarrowPhaseOnHost(benchmark::State& state) {
 } // namespace
 } // namespace rubble
 
-BENCHMARK(rubble::benchSharedNarrowPhaseOnHost)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(rubble::benchSharedNarrowPhaseOnHost)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(rubble::benchCpuSatBroadPhase)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(rubble::benchCpuSatNarrowPhase)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(rubble::benchCpuSatNarrowPhase)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 using rubble::benchSatKernel;
 #define RUBBLE_SAT_KERNEL(kernel, warm)                                                            \
@@ -515,7 +524,11 @@ BENCHMARK_CAPTURE(benchSatKernel, CollideShapesCached, rubble::gpu::KernelId::Co
     ->Iterations(30)
     ->UseManualTime();
 BENCHMARK(rubble::benchSatBroadPhase)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(rubble::benchSatNarrowPhase)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(rubble::benchSatNarrowPhase)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(rubble::benchSatColoring)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK(rubble::benchTransformParticles)->Unit(benchmark::kMillisecond)->UseRealTime();

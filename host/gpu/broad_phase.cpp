@@ -130,10 +130,9 @@ Status Pipeline::findPairs() {
                    .arg(sat_.current.pairs)
                    .run(count, sizes.broadGroup));
     // The count travels with the pairs (last step's set keeps its own).
-    RUBBLE_CL_CHECK(clEnqueueCopyBuffer(c.queue(), status_.mem(), sat_.current.count.mem(),
-                                        RUBBLE_STATUS_PAIRS * sizeof(cl_uint), 0, sizeof(cl_uint),
-                                        0, nullptr,
-                                        profile_.transfer(Transfer::Copy, sizeof(cl_uint))));
+    RUBBLE_CL_CHECK(clEnqueueCopyBuffer(
+        c.queue(), status_.mem(), sat_.current.count.mem(), RUBBLE_STATUS_PAIRS * sizeof(cl_uint),
+        0, sizeof(cl_uint), 0, nullptr, profile_.transfer(Transfer::Copy, sizeof(cl_uint))));
     return {};
 }
 
@@ -144,8 +143,9 @@ Result<std::uint32_t> Pipeline::readPairCount() {
         const std::uint32_t found = st->pairs;
         if (found <= sat_.current.capacity) return found;
         const std::uint32_t grown = found + found / 2;
-        std::fprintf(stderr, "rubble: pair overflow (%u pairs, room for %u): buffers grown to "
-                             "%u and the pairs found again\n",
+        std::fprintf(stderr,
+                     "rubble: pair overflow (%u pairs, room for %u): buffers grown to "
+                     "%u and the pairs found again\n",
                      found, sat_.current.capacity, grown);
         RUBBLE_TRY(setPairCapacity(grown));
         RUBBLE_TRY(findPairs());

@@ -125,8 +125,8 @@ Status Pipeline::readContactCount() {
                                  std::to_string(st->capacity));
         const std::size_t budget = particleContactBudget(particles_.count);
         if (st->contacts > budget)
-            return limitError("collideParticles", "particle contacts", st->contacts, budget,
-                              0, "bodies overlap each other in large numbers");
+            return limitError("collideParticles", "particle contacts", st->contacts, budget, 0,
+                              "bodies overlap each other in large numbers");
         const auto grown =
             std::uint32_t(std::min<std::size_t>(st->contacts + st->contacts / 2, budget));
         std::fprintf(stderr, "rubble: contact overflow (%u contacts, room for %u): buffer grown "

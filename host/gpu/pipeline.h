@@ -100,7 +100,7 @@ struct PairSet {
 struct SatBuffers {
     bool enabled = false;
     std::uint32_t planeCount = 0, joinedCount = 0;
-    std::uint32_t gridBits = 0; ///< the grid's cell keys are below 2^gridBits
+    std::uint32_t gridBits = 0;          ///< the grid's cell keys are below 2^gridBits
     std::uint32_t previousPairCount = 0; ///< pairs of the last step met (byte counts)
     // Hulls, once per world.
     Buffer shapes, shapeOf, vertices, vertexEdges, neighbourStart, neighbours, halfEdges, faces,
@@ -136,17 +136,17 @@ struct PgsLaunch {
 /// collides with SAT: the rows of this step's pairs (4 slots per pair), the coloring's order,
 /// and the split position pass's per-body state.
 struct PgsBuffers {
-    Buffer pairRows;            ///< per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
-    Buffer elements;            ///< this step's PgsElement records, color by color
-    Buffer normalRows;          ///< PgsNormalRow per point, packed in element order
-    Buffer frictionRows;        ///< PgsFrictionRows per point, in the same order
-    Buffer impulses;            ///< per point: normal, two friction and push impulses, N s
-    Buffer pushed;              ///< per body: a pushing row moves it
-    Buffer push;                ///< per body: the push velocities (BodyVelocity)
-    Buffer sweepResidual;       ///< per push sweep: the largest change, float bits
-    Buffer bounce;              ///< per point: the restitution pass's impulse, N s
-    Buffer bounceResidual;      ///< per restitution sweep: the largest change, float bits
-    bool bounces = false;       ///< this step: a row may bounce (the non-fused path runs)
+    Buffer pairRows;       ///< per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
+    Buffer elements;       ///< this step's PgsElement records, color by color
+    Buffer normalRows;     ///< PgsNormalRow per point, packed in element order
+    Buffer frictionRows;   ///< PgsFrictionRows per point, in the same order
+    Buffer impulses;       ///< per point: normal, two friction and push impulses, N s
+    Buffer pushed;         ///< per body: a pushing row moves it
+    Buffer push;           ///< per body: the push velocities (BodyVelocity)
+    Buffer sweepResidual;  ///< per push sweep: the largest change, float bits
+    Buffer bounce;         ///< per point: the restitution pass's impulse, N s
+    Buffer bounceResidual; ///< per restitution sweep: the largest change, float bits
+    bool bounces = false;  ///< this step: a row may bounce (the non-fused path runs)
     // The layer pass's scratch (layerPgs): per body its layer and marks, the rows' lists, the
     // histogram of lower layers.
     Buffer layer, loaded, layerRows, layerSorted, layerHistogram;
@@ -200,7 +200,7 @@ struct PipelineInput {
     /// The world's collision method: with Sat the SAT buffers are made (and `shapes` must hold
     /// every shape the bodies use); with Particles nothing of SAT is.
     CollisionMethod collision = CollisionMethod::Particles;
-    std::span<const Shape> shapes;  ///< indexed by bodies.shapeOf
+    std::span<const Shape> shapes;    ///< indexed by bodies.shapeOf
     std::span<const BodyPair> joined; ///< joined bodies (min, max), sorted: they do not collide
     std::span<const shared::PgsJoint> joints; ///< SAT: the joints, in body frames
 };

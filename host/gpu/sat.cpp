@@ -4,8 +4,8 @@
 // (host/collision/sat_collision.cpp).
 #include <algorithm>
 
-#include "host/gpu/hull_data.h"
 #include "host/core/assert.h"
+#include "host/gpu/hull_data.h"
 #include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
@@ -48,9 +48,8 @@ Status Pipeline::createSat(const PipelineInput& in) {
     RUBBLE_TRY(upload(c, s.planes, planes));
     std::vector<shared::BodyPairRecord> joined;
     for (const BodyPair& p : in.joined) joined.push_back({std::min(p.a, p.b), std::max(p.a, p.b)});
-    std::sort(joined.begin(), joined.end(), [](const auto& x, const auto& y) {
-        return x.a < y.a || (x.a == y.a && x.b < y.b);
-    });
+    std::sort(joined.begin(), joined.end(),
+              [](const auto& x, const auto& y) { return x.a < y.a || (x.a == y.a && x.b < y.b); });
     s.joinedCount = std::uint32_t(joined.size());
     RUBBLE_TRY(upload(c, s.joined, joined));
 
@@ -64,8 +63,8 @@ Status Pipeline::createSat(const PipelineInput& in) {
     RUBBLE_TRY(s.large.reserve(c.context(), n * sizeof(cl_uint)));
     // The grid: at most 8 entries (2 x 2 x 2 cells) per body.
     s.gridBits = gridBitsFor(n);
-    RUBBLE_TRY(s.partials.reserve(c.context(),
-                                  c.workSizes().sortItems * sizeof(shared::GridPartial)));
+    RUBBLE_TRY(
+        s.partials.reserve(c.context(), c.workSizes().sortItems * sizeof(shared::GridPartial)));
     RUBBLE_TRY(s.grid.reserve(c.context(), sizeof(shared::GridParams)));
     for (Buffer* b : {&s.keys, &s.values, &s.keysAlt, &s.valuesAlt})
         RUBBLE_TRY(b->reserve(c.context(), 8 * std::size_t(n) * sizeof(cl_uint)));

@@ -125,11 +125,11 @@ RUBBLE_STATIC_ASSERT_SIZE(PgsContactRow, 304);
 // manifold's perpendicularItem(n)). (Catto, "Iterative Dynamics with Temporal Coherence",
 // GDC 2005; "Modeling and Solving Constraints", GDC 2009.)
 RUBBLE_FN PgsContactRow pgsContactRowItem(float4 point, float depth, float4 n, float4 xA, float4 xB,
-                                          BodyVelocity va, BodyVelocity vb,
-                                          BodyVelocity vaBefore, BodyVelocity vbBefore,
-                                          float inverseMassA, float inverseMassB, Mat3 ia, Mat3 ib,
-                                          float friction, float restitution, float baumgarte,
-                                          float slop, float dt, float4 fixedTangent) {
+                                          BodyVelocity va, BodyVelocity vb, BodyVelocity vaBefore,
+                                          BodyVelocity vbBefore, float inverseMassA,
+                                          float inverseMassB, Mat3 ia, Mat3 ib, float friction,
+                                          float restitution, float baumgarte, float slop, float dt,
+                                          float4 fixedTangent) {
     PgsContactRow r;
     const float4 rA = pgsArmItem(point, xA), rB = pgsArmItem(point, xB);
     const float4 relative = pointRelativeVelocityItem(va, vb, rA, rB);
