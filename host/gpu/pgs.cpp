@@ -244,9 +244,9 @@ Status Pipeline::solvePgs(const StepParams& params) {
     // launches of velocity sweep k, unless a row may bounce, whose target the velocity sweeps
     // decide (markBounces): then it runs after them.
     g.bounces = o.iterations > 0 && !g.launches.empty() && statusHost_[RUBBLE_STATUS_BOUNCES] != 0;
-    const bool pushes = o.iterations > 0 && !g.launches.empty() &&
-                        (statusHost_[RUBBLE_STATUS_PUSHED] != 0 || g.bounces);
-    const bool fused = pushes && !g.bounces;
+    g.pushes = o.iterations > 0 && !g.launches.empty() &&
+               (statusHost_[RUBBLE_STATUS_PUSHED] != 0 || g.bounces);
+    const bool pushes = g.pushes, fused = pushes && !g.bounces;
     const std::size_t sweeps = std::size_t(std::max(o.iterations, 0));
     if (pushes) {
         const std::size_t n = bodies_.count;
@@ -398,6 +398,8 @@ Status Pipeline::bouncePgs(const StepParams& params) {
 }
 
 Status Pipeline::applyPushes(float dt) {
+    // The kernel moves nothing unless a row pushed (the status block says, after markBounces).
+    if (!pgs_.pushes) return {};
     const cl_uint count = bodies_.count;
     const cl_float step = dt;
     return Dispatch(*context_, KernelId::ApplyPushes, &profile_)

@@ -147,6 +147,7 @@ struct PgsBuffers {
     Buffer bounce;         ///< per point: the restitution pass's impulse, N s
     Buffer bounceResidual; ///< per restitution sweep: the largest change, float bits
     bool bounces = false;  ///< this step: a row may bounce (the non-fused path runs)
+    bool pushes = false;   ///< this step: the split position pass ran (applyPushes moves)
     // The layer pass's scratch (layerPgs): per body its layer and marks, the rows' lists, the
     // histogram of lower layers.
     Buffer layer, loaded, layerRows, layerSorted, layerHistogram;
@@ -355,7 +356,8 @@ class Pipeline {
     /// solveRestitution, up to `iterations` sweeps, one launch per color), then the bounces'
     /// impulses into the momenta and those bodies' velocities from them.
     Status bouncePgs(const StepParams& params);
-    /// After the restitution pass: the split position pass moves the bodies.
+    /// After the restitution pass: the split position pass moves the bodies (nothing to
+    /// enqueue when it did not run this step).
     Status applyPushes(float dt);
     /// After the pushes: the joints projected onto their constraints (a group of at most
     /// RUBBLE_JOINT_DIRECT_ROWS rows as one, up to RUBBLE_JOINT_POSITION_ITERATIONS Newton
