@@ -5,11 +5,13 @@
 // --spacing=M (0.5). The SAT method's kernels (benchSatKernel, one per kernel, device time from
 // the profiling events) run on the same scene stepped on the CPU reference. Figures and
 // commands are in docs/opencl.md.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <initializer_list>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -301,8 +303,7 @@ Status prepareSat(const BenchSettings& settings, SatBenchWorld& b) {
     n.contacts = st->contacts;
     std::fprintf(stderr, "SAT bench: %u bodies, %u pairs, %u contacts, %u grid entries, %u large\n",
                  b.in->bodies.count(), st->pairs, st->contacts, st->gridEntries, st->largeBodies);
-    for (gpu::Pipeline* p : {b.cold.get(), b.warm.get()})
-        RUBBLE_TRY(p->collectProfile(n));
+    for (gpu::Pipeline* p : {b.cold.get(), b.warm.get()}) RUBBLE_TRY(p->collectProfile(n));
     return {};
 }
 
@@ -336,7 +337,7 @@ void benchSatKernel(benchmark::State& state, gpu::KernelId kernel, bool warm) {
     };
     for (auto _ : state) {
         const double before = deviceMs();
-        Status s = kernel == gpu::KernelId::ComputeAabbs   ? p.computeAabbs(dt)
+        Status s = kernel == gpu::KernelId::ComputeAabbs    ? p.computeAabbs(dt)
                    : kernel == gpu::KernelId::CollideShapes ? p.narrowPhase(dt)
                                                             : p.findPairs();
         if (s) s = p.finish();
@@ -421,6 +422,31 @@ void benchCpuSatNarrowPhase(benchmark::State& state) {
     state.counters["contacts"] = double(out.contactCount);
 }
 
+// The host's part of the device's PGS step, wall time: colorPgs (the pair summaries and pairs
+// read back, the first-fit coloring, the elements written), after one summarizePairs on the
+// pipeline that kept its features.
+void benchSatColoring(benchmark::State& state) {
+    SatBenchWorld& b = satWorld();
+    if (!b.in) return state.SkipWithError(b.error.c_str());
+    gpu::Pipeline& p = *b.warm;
+    Status s = p.summarizePairs(b.in->params());
+    if (s) s = p.readStatus().status();
+    for (auto _ : state) {
+        if (s) s = p.colorPgs();
+        if (s) s = p.finish();
+        if (!s) return state.SkipWithError(s.error().describe().c_str());
+    }
+    state.counters["pairs"] = double(b.counts.pairs);
+    state.counters["elements"] = double(p.pgs().elementsHost.size());
+    // The colors' sizes: the two largest (the first two), and the rest.
+    const gpu::Coloring& coloring = p.pgs().coloring;
+    const std::span<const std::uint32_t> start = coloring.start();
+    state.counters["colors"] = double(coloring.colors());
+    for (std::uint32_t k = 0; k < std::min<std::uint32_t>(2, coloring.colors()); ++k)
+        state.counters[k == 0 ? "first" : "second"] = double(start[k + 1] - start[k]);
+    if (coloring.colors() > 2) state.counters["rest"] = double(start.back() - start[2]);
+}
+
 // The device's narrow phase code (rubble/shared/narrow_phase.h) compiled for the host, on the
 // same pairs, one thread, with an empty cache (range 0) or last run's (range 1): how much of
 // the kernel's time is the code and how much the OpenCL compiler and runtime.
@@ -440,16 +466,18 @@ void benchSharedNarrowPhaseOnHost(benchmark::State& state) {
         for (std::size_t i = 0; i < pairs->size(); ++i) {
             const BodyPair pair = (*pairs)[i];
             if (!state.range(0)) caches[i] = shared::emptyPairCacheItem();
-            const shared::BodyVelocity va = bodies.velocities[pair.a], vb = bodies.velocities[pair.b];
-            const float spinA = shared::spinItem(
-                va, hulls->shapes[bodies.shapeOf[pair.a]].boundingRadius, dt);
-            const float spinB = shared::spinItem(
-                vb, hulls->shapes[bodies.shapeOf[pair.b]].boundingRadius, dt);
-            const shared::ContactManifold m = shared::collideShapesItem(
-                arrays, hulls->shapes[bodies.shapeOf[pair.a]],
-                shared::transformOfPose(bodies.poses[pair.a]), hulls->shapes[bodies.shapeOf[pair.b]],
-                shared::transformOfPose(bodies.poses[pair.b]), &caches[i],
-                shared::pairMarginItem(va, vb, spinA, spinB, dt));
+            const shared::BodyVelocity va = bodies.velocities[pair.a],
+                                       vb = bodies.velocities[pair.b];
+            const float spinA =
+                shared::spinItem(va, hulls->shapes[bodies.shapeOf[pair.a]].boundingRadius, dt);
+            const float spinB =
+                shared::spinItem(vb, hulls->shapes[bodies.shapeOf[pair.b]].boundingRadius, dt);
+            const shared::ContactManifold m =
+                shared::collideShapesItem(arrays, hulls->shapes[bodies.shapeOf[pair.a]],
+                                          shared::transformOfPose(bodies.poses[pair.a]),
+                                          hulls->shapes[bodies.shapeOf[pair.b]],
+                                          shared::transformOfPose(bodies.poses[pair.b]), &caches[i],
+                                          shared::pairMarginItem(va, vb, spinA, spinB, dt));
             contacts += m.count;
         }
     };
@@ -462,9 +490,17 @@ void benchSharedNarrowPhaseOnHost(benchmark::State& state) {
 } // namespace
 } // namespace rubble
 
-BENCHMARK(rubble::benchSharedNarrowPhaseOnHost)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(rubble::benchSharedNarrowPhaseOnHost)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(rubble::benchCpuSatBroadPhase)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(rubble::benchCpuSatNarrowPhase)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(rubble::benchCpuSatNarrowPhase)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 using rubble::benchSatKernel;
 #define RUBBLE_SAT_KERNEL(kernel, warm)                                                            \
@@ -488,7 +524,12 @@ BENCHMARK_CAPTURE(benchSatKernel, CollideShapesCached, rubble::gpu::KernelId::Co
     ->Iterations(30)
     ->UseManualTime();
 BENCHMARK(rubble::benchSatBroadPhase)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(rubble::benchSatNarrowPhase)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(rubble::benchSatNarrowPhase)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(rubble::benchSatColoring)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK(rubble::benchTransformParticles)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(rubble::benchBuildGrid)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -6,20 +6,6 @@
 #include "rubble/shared/broad_phase.h"
 #include "rubble/shared/narrow_phase.h"
 #include "rubble/shared/pgs_joint.h"
-#include "rubble/shared/sleep.h"
-
-// Last step's index of the pair (a, b) among its sorted pairs, or `count` when it is new.
-static uint previousPairIndex(const BodyPairRecord pair, const uint count,
-                              __global const BodyPairRecord* pairs) {
-    uint lo = 0, hi = count;
-    while (lo < hi) {
-        const uint mid = (lo + hi) / 2u;
-        const BodyPairRecord p = pairs[mid];
-        if (p.a < pair.a || (p.a == pair.a && p.b < pair.b)) lo = mid + 1u;
-        else hi = mid;
-    }
-    return lo < count && pairs[lo].a == pair.a && pairs[lo].b == pair.b ? lo : count;
-}
 
 // One work-item per pair (striding), after the narrow phase: the pair's summary word for the
 // coloring (its point count and which bodies move; 0 when it gets no rows), and what it keeps
@@ -87,7 +73,7 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
         pairRows[p] = 0u;
         uint keep = 0u;
         if (count > 0u) {
-            const uint q = previousPairIndex(pair, previous, previousPairs);
+            const uint q = findPairItem(pair, previous, previousPairs);
             keep = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
             for (uint k = 0; k < keep; ++k) kept[4u * p + k] = previousImpulses[4u * q + k];
         }
@@ -121,7 +107,7 @@ buildPgsRows(const uint count, __global const PgsElement* elements,
     BodyPairRecord pair;
     pair.a = a;
     pair.b = b;
-    const uint q = previousPairIndex(pair, previous, previousPairs);
+    const uint q = findPairItem(pair, previous, previousPairs);
     const uint oldCount = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
     const ContactManifold m = manifolds[p];
     const JacobiBody ja = bodies[a], jb = bodies[b];
@@ -624,55 +610,6 @@ applyPushes(const uint count, __global const uint* status, __global const Jacobi
     velocities[i] = velocityFromMomentumItem(momenta[i], masses[i], pose.orientation);
 }
 
-// Stage wake for SAT, after the narrow phase and before the rows (wakeTouched for pairs): a pair
-// with points between a sleeping body and a waking one (wakesBeforeSolveItem, on the velocities
-// before this step's forces) wakes the sleeping one, its slow time starting again, so that its
-// mass takes part in the solve. A body woken here was asleep, so its approach is zero and it
-// wakes nobody else in this pass: the result does not depend on the order of the pairs. The
-// host collides again when this woke a body: its pairs with other sleeping bodies were not found.
-__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-wakeTouchedPairs(const uint capacity, __global const uint* pairCount,
-                 __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
-                 __global const BodyVelocity* approach, __global uint* flags,
-                 __global float* slowFor, __global uint* status) {
-    const uint n = min(pairCount[0], capacity);
-    for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
-        if (manifolds[p].count == 0u) continue;
-        const uint a = pairs[p].a, b = pairs[p].b;
-        const uint fa = flags[a], fb = flags[b];
-        uint wake = RUBBLE_NO_BODY;
-        if (wakesBeforeSolveItem(fa, fb, approach[b])) wake = a;
-        if (wakesBeforeSolveItem(fb, fa, approach[a])) wake = b;
-        if (wake == RUBBLE_NO_BODY) continue;
-        const uint before = atomic_and(&flags[wake], ~RUBBLE_BODY_ASLEEP);
-        if (before & RUBBLE_BODY_ASLEEP) {
-            slowFor[wake] = 0.0f;
-            atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
-        }
-    }
-}
-
-// Sleeping: each pair with contact points marks both of its bodies from the other's velocity
-// after the step, as markRestless does for the Jacobi rows.
-__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-markRestlessPairs(const uint capacity, __global const uint* pairCount,
-                  __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
-                  __global const BodyVelocity* velocities, __global const uint* flags,
-                  __global uint* restless) {
-    const uint n = min(pairCount[0], capacity);
-    for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
-        if (manifolds[p].count == 0u) continue;
-        const BodyPairRecord pair = pairs[p];
-        const uint a = pair.a, b = pair.b;
-        const uint fa = flags[a], fb = flags[b];
-        const uint toA = restlessFromContactItem(fa, fb, velocities[b]);
-        const uint toB = restlessFromContactItem(fb, fa, velocities[a]);
-        const uint fixed = RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC;
-        if (toA && !(fa & fixed)) atomic_or(&restless[a], toA);
-        if (toB && !(fb & fixed)) atomic_or(&restless[b], toB);
-    }
-}
-
 // Stage buildContactRows for joints (prepareJoints): one work-item per joint.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
 prepareJoints(const uint count, __global const PgsJoint* joints, __global const BodyPose* poses,
@@ -683,15 +620,6 @@ prepareJoints(const uint count, __global const PgsJoint* joints, __global const 
     const PgsJoint joint = joints[j];
     jointRows[j] = prepareJointItem(joint, jointRows[j], poses[joint.a], poses[joint.b],
                                     bodies[joint.a], bodies[joint.b], (int)warmStart);
-}
-
-// A body as the position projection sees it at its current pose: its inverse mass and world
-// inverse inertia, zero when it does not move (the CPU's inverseOf).
-static JacobiBody projectionBody(const uint i, __global const BodyMass* masses,
-                                 __global const uint* flags, const BodyPose pose) {
-    BodyMass m = masses[i];
-    if (!activeBodyItem(flags[i]) || !(m.inverseMass > 0.0f)) m = wallMassItem(m);
-    return jacobiBodyItem(m, pose.orientation);
 }
 
 // The joints' position projection of the groups solved as one (the CPU path's direct
@@ -725,8 +653,9 @@ projectJoints(const uint first, const uint count, __global const uint* order,
     const PgsJoint joint = joints[order[first + i]];
     const BodyPose pa = poses[joint.a], pb = poses[joint.b];
     int moved = 0;
-    const PosePair out = projectJointItem(joint, pa, pb, projectionBody(joint.a, masses, flags, pa),
-                                          projectionBody(joint.b, masses, flags, pb), &moved);
+    const PosePair out =
+        projectJointItem(joint, pa, pb, projectionBodyItem(masses[joint.a], flags[joint.a], pa),
+                         projectionBodyItem(masses[joint.b], flags[joint.b], pb), &moved);
     if (!moved) return;
     poses[joint.a] = out.a;
     poses[joint.b] = out.b;
@@ -746,20 +675,4 @@ jointVelocities(const uint count, __global const uint* jointBodies,
     const BodyMass m = masses[i];
     if (!activeBodyItem(flags[i]) || !(m.inverseMass > 0.0f)) return;
     velocities[i] = velocityFromMomentumItem(momenta[i], m, poses[i].orientation);
-}
-
-// Sleeping: each joint marks both of its bodies from the other's velocity, as a contact does.
-__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
-markRestlessJoints(const uint count, __global const PgsJoint* joints,
-                   __global const BodyVelocity* velocities, __global const uint* flags,
-                   __global uint* restless) {
-    const uint j = get_global_id(0);
-    if (j >= count) return;
-    const uint a = joints[j].a, b = joints[j].b;
-    const uint fa = flags[a], fb = flags[b];
-    const uint toA = restlessFromContactItem(fa, fb, velocities[b]);
-    const uint toB = restlessFromContactItem(fb, fa, velocities[a]);
-    const uint fixed = RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC;
-    if (toA && !(fa & fixed)) atomic_or(&restless[a], toA);
-    if (toB && !(fb & fixed)) atomic_or(&restless[b], toB);
 }

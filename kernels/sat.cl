@@ -5,22 +5,6 @@
 #include "rubble/shared/broad_phase.h"
 #include "rubble/shared/narrow_phase.h"
 
-// Last step's cache of the pair (a, b): binary search in last step's sorted pairs; none when
-// the pair is new.
-static PairCache previousCache(const BodyPairRecord pair, const uint count,
-                               __global const BodyPairRecord* pairs,
-                               __global const PairCache* features) {
-    uint lo = 0, hi = count;
-    while (lo < hi) {
-        const uint mid = (lo + hi) / 2u;
-        const BodyPairRecord p = pairs[mid];
-        if (p.a < pair.a || (p.a == pair.a && p.b < pair.b)) lo = mid + 1u;
-        else hi = mid;
-    }
-    if (lo < count && pairs[lo].a == pair.a && pairs[lo].b == pair.b) return features[lo];
-    return emptyPairCacheItem();
-}
-
 // Work-items stride through the pairs (their count is on the device). Each writes its pair's
 // manifold (count 0: no contact) and cache at the pair's index, and adds its points to the
 // status block's contact count and largest depth.
@@ -50,7 +34,9 @@ collideShapes(const uint capacity, __global const uint* pairCount,
     const uint previous = min(previousCount[0], previousCapacity);
     for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
         const BodyPairRecord pair = pairs[p];
-        PairCache cache = previousCache(pair, previous, previousPairs, previousFeatures);
+        // Last step's cache of the pair; none when the pair is new.
+        const uint q = findPairItem(pair, previous, previousPairs);
+        PairCache cache = q < previous ? previousFeatures[q] : emptyPairCacheItem();
         const float margin =
             pairMarginItem(velocities[pair.a], velocities[pair.b], spin[pair.a], spin[pair.b], dt);
         ContactManifold m = collideShapesItem(

@@ -1,48 +1,96 @@
-// kernels/sleep.cl: entry points of the device's sleeping (stage sleepBodies), after
-// integratePositions: each contact tells its bodies whether a neighbour is restless or fast,
-// then each dynamic body updates its sleep. The math is in rubble/shared/sleep.h; the CPU twin in
-// host/dynamics/sleep.cpp.
+// kernels/sleep.cl: entry points of the device's sleeping: the wake before the rows
+// (wakeTouched, wakeTouchedPairs for SAT) and stage sleepBodies after integratePositions: each
+// contact (a particle contact's row, or a SAT pair with points) and each joint tells its bodies
+// whether a neighbour is restless or fast, then each dynamic body updates its sleep. The math is
+// in rubble/shared/sleep.h; the CPU twins in host/dynamics/sleep.cpp.
+#include "rubble/shared/broad_phase.h"
 #include "rubble/shared/contact_row.h"
+#include "rubble/shared/narrow_phase.h"
+#include "rubble/shared/pgs_joint.h"
 #include "rubble/shared/sleep.h"
 
-// Stage wakeTouched, after collideParticles and before the rows: a contact of a sleeping body
-// with a waking one (wakesBeforeSolveItem, on the velocities before this step's forces) wakes it
-// now, its slow time starting again. A body woken here was asleep, so its approach is zero and
-// it wakes nobody else in this pass: the result does not depend on the order of the contacts.
+// A contact of a sleeping body with a waking one (wakesBeforeSolveItem, on the velocities before
+// this step's forces) wakes it now, its slow time starting again. A body woken here was asleep,
+// so its approach is zero and it wakes nobody else in this pass: the result does not depend on
+// the order of the contacts.
+static void wakeTouchedBodies(const uint a, const uint b, __global const BodyVelocity* approach,
+                              __global uint* flags, __global float* slowFor,
+                              __global uint* status) {
+    const uint fa = flags[a], fb = flags[b];
+    uint wake = RUBBLE_NO_BODY;
+    if (wakesBeforeSolveItem(fa, fb, approach[b])) wake = a;
+    if (wakesBeforeSolveItem(fb, fa, approach[a])) wake = b;
+    if (wake == RUBBLE_NO_BODY) return;
+    const uint before = atomic_and(&flags[wake], ~RUBBLE_BODY_ASLEEP);
+    if (before & RUBBLE_BODY_ASLEEP) {
+        slowFor[wake] = 0.0f;
+        atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
+    }
+}
+
+// A contact or joint marks both of its bodies from the other's velocity after the step
+// (restless was zeroed by the last step's sleepBodies, or at load).
+static void markRestlessBodies(const uint a, const uint b,
+                               __global const BodyVelocity* velocities, __global const uint* flags,
+                               __global uint* restless) {
+    const uint fa = flags[a], fb = flags[b];
+    const uint toA = restlessFromContactItem(fa, fb, velocities[b]);
+    const uint toB = restlessFromContactItem(fb, fa, velocities[a]);
+    const uint fixed = RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC;
+    if (toA && !(fa & fixed)) atomic_or(&restless[a], toA);
+    if (toB && !(fb & fixed)) atomic_or(&restless[b], toB);
+}
+
+// Stage wakeTouched, after collideParticles and before the rows: each contact's bodies.
 __kernel void wakeTouched(__global uint* status, __global const ParticleContact* contacts,
                           __global const BodyVelocity* approach, __global uint* flags,
                           __global float* slowFor) {
     const uint n = liveContactsItem(status[RUBBLE_STATUS_CONTACTS], status[RUBBLE_STATUS_CAPACITY]);
-    for (uint r = get_global_id(0); r < n; r += get_global_size(0)) {
-        const uint a = contacts[r].a, b = contacts[r].b;
-        const uint fa = flags[a], fb = flags[b];
-        uint wake = RUBBLE_NO_BODY;
-        if (wakesBeforeSolveItem(fa, fb, approach[b])) wake = a;
-        if (wakesBeforeSolveItem(fb, fa, approach[a])) wake = b;
-        if (wake == RUBBLE_NO_BODY) continue;
-        const uint before = atomic_and(&flags[wake], ~RUBBLE_BODY_ASLEEP);
-        if (before & RUBBLE_BODY_ASLEEP) {
-            slowFor[wake] = 0.0f;
-            atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
-        }
-    }
+    for (uint r = get_global_id(0); r < n; r += get_global_size(0))
+        wakeTouchedBodies(contacts[r].a, contacts[r].b, approach, flags, slowFor, status);
 }
 
-// Every row marks both of its bodies from the other's velocity after the step (restless was
-// zeroed by the last step's sleepBodies, or at load).
+// Stage wake for SAT, after the narrow phase and before the rows: each pair with points. The
+// host collides again when this woke a body: its pairs with other sleeping bodies were not found.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+wakeTouchedPairs(const uint capacity, __global const uint* pairCount,
+                 __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
+                 __global const BodyVelocity* approach, __global uint* flags,
+                 __global float* slowFor, __global uint* status) {
+    const uint n = min(pairCount[0], capacity);
+    for (uint p = get_global_id(0); p < n; p += get_global_size(0))
+        if (manifolds[p].count > 0u)
+            wakeTouchedBodies(pairs[p].a, pairs[p].b, approach, flags, slowFor, status);
+}
+
+// Restless marks from every row of the Jacobi solver.
 __kernel void markRestless(__global const uint* status, __global const ContactRow* rows,
                            __global const BodyVelocity* velocities, __global const uint* flags,
                            __global uint* restless) {
     const uint n = liveContactsItem(status[RUBBLE_STATUS_CONTACTS], status[RUBBLE_STATUS_CAPACITY]);
-    for (uint r = get_global_id(0); r < n; r += get_global_size(0)) {
-        const uint a = rows[r].a, b = rows[r].b;
-        const uint fa = flags[a], fb = flags[b];
-        const uint toA = restlessFromContactItem(fa, fb, velocities[b]);
-        const uint toB = restlessFromContactItem(fb, fa, velocities[a]);
-        const uint fixed = RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC;
-        if (toA && !(fa & fixed)) atomic_or(&restless[a], toA);
-        if (toB && !(fb & fixed)) atomic_or(&restless[b], toB);
-    }
+    for (uint r = get_global_id(0); r < n; r += get_global_size(0))
+        markRestlessBodies(rows[r].a, rows[r].b, velocities, flags, restless);
+}
+
+// Restless marks from every SAT pair with contact points.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+markRestlessPairs(const uint capacity, __global const uint* pairCount,
+                  __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
+                  __global const BodyVelocity* velocities, __global const uint* flags,
+                  __global uint* restless) {
+    const uint n = min(pairCount[0], capacity);
+    for (uint p = get_global_id(0); p < n; p += get_global_size(0))
+        if (manifolds[p].count > 0u)
+            markRestlessBodies(pairs[p].a, pairs[p].b, velocities, flags, restless);
+}
+
+// Restless marks from every joint, as from a contact.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+markRestlessJoints(const uint count, __global const PgsJoint* joints,
+                   __global const BodyVelocity* velocities, __global const uint* flags,
+                   __global uint* restless) {
+    const uint j = get_global_id(0);
+    if (j < count) markRestlessBodies(joints[j].a, joints[j].b, velocities, flags, restless);
 }
 
 // Each dynamic body's sleep for the step; a body falling asleep stops (velocities and momenta

@@ -8,15 +8,6 @@
 #include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
-namespace {
-
-// Work-items of a kernel that strides through up to `capacity` items on the device.
-std::size_t strideFor(const Context& c, std::uint32_t capacity, std::size_t group) {
-    const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
-    return std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
-}
-
-} // namespace
 
 Status Pipeline::broadPhase(float dt) {
     RUBBLE_TRY(computeAabbs(dt));
@@ -80,7 +71,7 @@ Status Pipeline::findPairs() {
                          sat_.gridBits, RUBBLE_STATUS_GRID_ENTRIES));
 
     // Candidate pairs from the cells, then from the planes and the large bodies.
-    const std::size_t entryItems = strideFor(c, entries, sizes.broadGroup);
+    const std::size_t entryItems = strideItems(entries, sizes.broadGroup);
     RUBBLE_TRY(Dispatch(c, KernelId::GatherCellBoxes, &profile_)
                    .arg(status_)
                    .arg(sat_.values)
@@ -114,7 +105,7 @@ Status Pipeline::findPairs() {
                    .run(count, sizes.broadGroup));
 
     // Sorted by (a, b): counted per body, placed, each body's partners sorted.
-    const std::size_t pairItems = strideFor(c, capacity, sizes.pairGroup);
+    const std::size_t pairItems = pairStrideItems();
     RUBBLE_TRY(Dispatch(c, KernelId::CountPairs, &profile_)
                    .arg(capacity)
                    .arg(status_)
@@ -139,10 +130,9 @@ Status Pipeline::findPairs() {
                    .arg(sat_.current.pairs)
                    .run(count, sizes.broadGroup));
     // The count travels with the pairs (last step's set keeps its own).
-    RUBBLE_CL_CHECK(clEnqueueCopyBuffer(c.queue(), status_.mem(), sat_.current.count.mem(),
-                                        RUBBLE_STATUS_PAIRS * sizeof(cl_uint), 0, sizeof(cl_uint),
-                                        0, nullptr,
-                                        profile_.transfer(Transfer::Copy, sizeof(cl_uint))));
+    RUBBLE_CL_CHECK(clEnqueueCopyBuffer(
+        c.queue(), status_.mem(), sat_.current.count.mem(), RUBBLE_STATUS_PAIRS * sizeof(cl_uint),
+        0, sizeof(cl_uint), 0, nullptr, profile_.transfer(Transfer::Copy, sizeof(cl_uint))));
     return {};
 }
 
@@ -153,8 +143,9 @@ Result<std::uint32_t> Pipeline::readPairCount() {
         const std::uint32_t found = st->pairs;
         if (found <= sat_.current.capacity) return found;
         const std::uint32_t grown = found + found / 2;
-        std::fprintf(stderr, "rubble: pair overflow (%u pairs, room for %u): buffers grown to "
-                             "%u and the pairs found again\n",
+        std::fprintf(stderr,
+                     "rubble: pair overflow (%u pairs, room for %u): buffers grown to "
+                     "%u and the pairs found again\n",
                      found, sat_.current.capacity, grown);
         RUBBLE_TRY(setPairCapacity(grown));
         RUBBLE_TRY(findPairs());

@@ -44,6 +44,11 @@ Status upload(const Context& c, Buffer& b, std::span<const T> data) {
     return {};
 }
 
+/// The same, of a whole vector.
+template <class T> Status upload(const Context& c, Buffer& b, const std::vector<T>& data) {
+    return upload(c, b, std::span<const T>(data));
+}
+
 /// Blocking copy of the start of a buffer into a host array.
 template <class T>
 Status download(const Context& c, const Buffer& b, std::span<T> data) {
@@ -51,6 +56,14 @@ Status download(const Context& c, const Buffer& b, std::span<T> data) {
     RUBBLE_CL_CHECK(clEnqueueReadBuffer(c.queue(), b.mem(), CL_TRUE, 0, data.size_bytes(),
                                         data.data(), 0, nullptr, nullptr));
     return {};
+}
+
+/// Blocking copy of the first `count` elements of a buffer into a new vector.
+template <class T>
+Result<std::vector<T>> download(const Context& c, const Buffer& b, std::size_t count) {
+    std::vector<T> data(count);
+    RUBBLE_TRY(download(c, b, std::span(data)));
+    return data;
 }
 
 /// Fills the first `bytes` of a buffer with a repeated 32-bit value; `profile` (optional) times it.

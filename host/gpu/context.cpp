@@ -91,8 +91,8 @@ Result<std::shared_ptr<Context>> Context::create(const RunOptions& run) {
     const std::string options = run.buildOptions.empty()
                                     ? buildOptionsFor(c->sizes_)
                                     : buildOptionsFor(c->sizes_) + " " + run.buildOptions;
-    const cl_int built = clBuildProgram(c->program_, 1, &c->device_.id, options.c_str(), nullptr,
-                                        nullptr);
+    const cl_int built =
+        clBuildProgram(c->program_, 1, &c->device_.id, options.c_str(), nullptr, nullptr);
     c->buildMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
                                                             start).count();
     if (built != CL_SUCCESS) {

@@ -77,10 +77,10 @@ Result<std::vector<DeviceInfo>> listDevices() {
                                             &allocation, nullptr));
             std::size_t group = 0;
             cl_ulong local = 0;
-            RUBBLE_CL_CHECK(clGetDeviceInfo(id, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof group,
-                                            &group, nullptr));
-            RUBBLE_CL_CHECK(clGetDeviceInfo(id, CL_DEVICE_LOCAL_MEM_SIZE, sizeof local, &local,
-                                            nullptr));
+            RUBBLE_CL_CHECK(
+                clGetDeviceInfo(id, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof group, &group, nullptr));
+            RUBBLE_CL_CHECK(
+                clGetDeviceInfo(id, CL_DEVICE_LOCAL_MEM_SIZE, sizeof local, &local, nullptr));
             d.computeUnits = units;
             d.globalMemory = memory;
             d.maxAllocation = allocation;

@@ -8,16 +8,21 @@
 
 namespace rubble::gpu {
 
+Status Pipeline::prepareJacobiBodies() {
+    const cl_uint bodies = bodies_.count;
+    return Dispatch(*context_, KernelId::PrepareJacobiBodies, &profile_)
+        .arg(bodies)
+        .arg(bodies_.masses)
+        .arg(bodies_.flags)
+        .arg(bodies_.poses)
+        .arg(bodies_.jacobi)
+        .run(bodies, RUBBLE_GROUP_BODIES);
+}
+
 Status Pipeline::buildJacobiRows(const shared::SolverParams& params, bool warmStart) {
     const Context& c = *context_;
     const cl_uint bodies = bodies_.count;
-    RUBBLE_TRY(Dispatch(c, KernelId::PrepareJacobiBodies, &profile_)
-                   .arg(bodies)
-                   .arg(bodies_.masses)
-                   .arg(bodies_.flags)
-                   .arg(bodies_.poses)
-                   .arg(bodies_.jacobi)
-                   .run(bodies, RUBBLE_GROUP_BODIES));
+    RUBBLE_TRY(prepareJacobiBodies());
     // Per-body lists: count, scan, fill, then each list in row order.
     RUBBLE_TRY(fill(c, contacts_.bodyCount, 0u, bodies * sizeof(cl_uint), &profile_));
     RUBBLE_TRY(Dispatch(c, KernelId::CountBodyContacts, &profile_)

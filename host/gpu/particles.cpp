@@ -9,9 +9,6 @@
 #include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
-namespace {
-template <class T> std::span<const T> view(const std::vector<T>& v) { return {v.data(), v.size()}; }
-} // namespace
 
 Status Pipeline::uploadParticles(const ParticleSet* set, BodiesView bodyArrays,
                                  std::span<const shared::float4> surfaces) {
@@ -38,7 +35,7 @@ Status Pipeline::uploadParticles(const ParticleSet* set, BodiesView bodyArrays,
     // Particles of bodies asleep at upload keep these positions until they wake.
     std::vector<shared::float4> world(n);
     rubble::transformParticles(p.particles, bodyArrays.poses, world);
-    RUBBLE_TRY(upload(c, particles_.world, view(world)));
+    RUBBLE_TRY(upload(c, particles_.world, world));
 
     // Per-body lists and surfaces.
     const std::size_t bodies = bodyArrays.count();
@@ -128,8 +125,8 @@ Status Pipeline::readContactCount() {
                                  std::to_string(st->capacity));
         const std::size_t budget = particleContactBudget(particles_.count);
         if (st->contacts > budget)
-            return limitError("collideParticles", "particle contacts", st->contacts, budget,
-                              0, "bodies overlap each other in large numbers");
+            return limitError("collideParticles", "particle contacts", st->contacts, budget, 0,
+                              "bodies overlap each other in large numbers");
         const auto grown =
             std::uint32_t(std::min<std::size_t>(st->contacts + st->contacts / 2, budget));
         std::fprintf(stderr, "rubble: contact overflow (%u contacts, room for %u): buffer grown "

@@ -33,22 +33,22 @@ Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes) {
     return b.reserve(c.context(), std::max<std::size_t>(bytes + bytes / 2, 4096));
 }
 
+// A sweep kernel's launch over one color (or the serial tail), its first arguments bound: the
+// launch's first element, count and serial flag, and the step's elements.
+Dispatch sweepLaunch(const Context& c, KernelId id, const PgsLaunch& l, const Buffer& elements,
+                     Profile* profile) {
+    Dispatch d(c, id, profile);
+    d.arg(l.first).arg(l.count).arg(l.serial).arg(elements);
+    return d;
+}
+
 } // namespace
 
 Status Pipeline::summarizePairs(const StepParams& params) {
     RUBBLE_ASSERT(sat_.enabled);
     const Context& c = *context_;
-    const cl_uint bodies = bodies_.count;
-    // What each body is to the rows: its inverse mass and world inverse inertia, zero for a
-    // body that does not move (static, asleep, kinematic).
-    RUBBLE_TRY(Dispatch(c, KernelId::PrepareJacobiBodies, &profile_)
-                   .arg(bodies)
-                   .arg(bodies_.masses)
-                   .arg(bodies_.flags)
-                   .arg(bodies_.poses)
-                   .arg(bodies_.jacobi)
-                   .run(bodies, RUBBLE_GROUP_BODIES));
-    RUBBLE_TRY(fill(c, pgs_.pushed, 0u, std::size_t(bodies) * sizeof(cl_uint), &profile_));
+    RUBBLE_TRY(prepareJacobiBodies());
+    RUBBLE_TRY(fill(c, pgs_.pushed, 0u, std::size_t(bodies_.count) * sizeof(cl_uint), &profile_));
     // The marks of this round of the collision (a pair overflow runs it again).
     RUBBLE_TRY(fillRange(c, status_, 0u, RUBBLE_STATUS_PUSHED * sizeof(cl_uint), sizeof(cl_uint),
                          &profile_));
@@ -58,10 +58,6 @@ Status Pipeline::summarizePairs(const StepParams& params) {
     const cl_uint capacity = sat_.current.capacity, previousCapacity = sat_.previous.capacity;
     const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;
     const cl_uint warm = o.warmStart ? 1u : 0u;
-    const std::size_t group = c.workSizes().pairGroup;
-    const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
-    const std::size_t items =
-        std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
     RUBBLE_TRY(Dispatch(c, KernelId::SummarizePairs, &profile_)
                    .arg(capacity)
                    .arg(sat_.current.count)
@@ -86,7 +82,7 @@ Status Pipeline::summarizePairs(const StepParams& params) {
                    .arg(sat_.current.impulses)
                    .arg(pgs_.pushed)
                    .arg(status_)
-                   .run(items, group));
+                   .run(pairStrideItems(), c.workSizes().pairGroup));
     if (pgs_.jointCount == 0) return {};
     const cl_uint joints = pgs_.jointCount;
     return Dispatch(c, KernelId::PrepareJoints, &profile_)
@@ -229,15 +225,9 @@ Status Pipeline::solvePgs(const StepParams& params) {
     const cl_float relaxation = o.relaxation;
     const std::uint64_t rowBytes = sizeof(shared::PgsNormalRow) + sizeof(shared::PgsFrictionRows);
     RUBBLE_TRY(copyVelocities(bodies_.before));
-    // A serial launch runs on one work-item.
-    auto items = [&](const PgsLaunch& l) -> std::size_t { return l.serial ? group : l.count; };
     if (o.warmStart) {
         for (const PgsLaunch& l : g.launches) {
-            RUBBLE_TRY(Dispatch(c, KernelId::WarmStartPgs, &profile_)
-                           .arg(l.first)
-                           .arg(l.count)
-                           .arg(l.serial)
-                           .arg(g.elements)
+            RUBBLE_TRY(sweepLaunch(c, KernelId::WarmStartPgs, l, g.elements, &profile_)
                            .arg(g.normalRows)
                            .arg(g.frictionRows)
                            .arg(g.impulses)
@@ -245,7 +235,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
                            .arg(g.jointRows)
                            .arg(bodies_.jacobi)
                            .arg(bodies_.velocities)
-                           .run(items(l), group));
+                           .run(l.items(group), group));
             profile_.setLastBytes(sweepBytes(l.count, l.points, rowBytes));
         }
     }
@@ -254,9 +244,9 @@ Status Pipeline::solvePgs(const StepParams& params) {
     // launches of velocity sweep k, unless a row may bounce, whose target the velocity sweeps
     // decide (markBounces): then it runs after them.
     g.bounces = o.iterations > 0 && !g.launches.empty() && statusHost_[RUBBLE_STATUS_BOUNCES] != 0;
-    const bool pushes = o.iterations > 0 && !g.launches.empty() &&
-                        (statusHost_[RUBBLE_STATUS_PUSHED] != 0 || g.bounces);
-    const bool fused = pushes && !g.bounces;
+    g.pushes = o.iterations > 0 && !g.launches.empty() &&
+               (statusHost_[RUBBLE_STATUS_PUSHED] != 0 || g.bounces);
+    const bool pushes = g.pushes, fused = pushes && !g.bounces;
     const std::size_t sweeps = std::size_t(std::max(o.iterations, 0));
     if (pushes) {
         const std::size_t n = bodies_.count;
@@ -268,11 +258,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
         const cl_uint last = it + 1 == o.iterations ? 1u : 0u;
         const cl_uint pushSweep = fused ? cl_uint(it) : RUBBLE_PGS_NO_PUSH;
         for (const PgsLaunch& l : g.launches) {
-            RUBBLE_TRY(Dispatch(c, KernelId::SolvePgs, &profile_)
-                           .arg(l.first)
-                           .arg(l.count)
-                           .arg(l.serial)
-                           .arg(g.elements)
+            RUBBLE_TRY(sweepLaunch(c, KernelId::SolvePgs, l, g.elements, &profile_)
                            .arg(g.normalRows)
                            .arg(g.frictionRows)
                            .arg(g.impulses)
@@ -288,7 +274,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
                            .arg(g.pushed)
                            .arg(g.push)
                            .arg(g.sweepResidual)
-                           .run(items(l), group));
+                           .run(l.items(group), group));
             // The push sweep reads the normal rows again (from cache), its velocities and
             // impulses, and both bodies' push marks.
             const std::uint64_t push =
@@ -312,11 +298,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
                               g.rowCount * (sizeof(shared::PgsNormalRow) + sizeof(shared::float4)));
         for (cl_uint sweep = 0; sweep < sweeps; ++sweep) {
             for (const PgsLaunch& l : g.launches) {
-                RUBBLE_TRY(Dispatch(c, KernelId::PushPgs, &profile_)
-                               .arg(l.first)
-                               .arg(l.count)
-                               .arg(l.serial)
-                               .arg(g.elements)
+                RUBBLE_TRY(sweepLaunch(c, KernelId::PushPgs, l, g.elements, &profile_)
                                .arg(g.normalRows)
                                .arg(g.impulses)
                                .arg(g.pushed)
@@ -324,7 +306,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
                                .arg(relaxation)
                                .arg(sweep)
                                .arg(g.sweepResidual)
-                               .run(items(l), group));
+                               .run(l.items(group), group));
                 profile_.setLastBytes(
                     l.count * (sizeof(shared::PgsElement) + 4 * sizeof(shared::BodyVelocity) + 8) +
                     l.points * (sizeof(shared::PgsNormalRow) + 2 * sizeof(shared::float4)));
@@ -376,7 +358,6 @@ Status Pipeline::bouncePgs(const StepParams& params) {
     const Context& c = *context_;
     const std::size_t group = c.workSizes().pairGroup;
     const std::size_t sweeps = std::size_t(std::max(params.solver.iterations, 0));
-    auto items = [&](const PgsLaunch& l) -> std::size_t { return l.serial ? group : l.count; };
     RUBBLE_TRY(reserveGrowing(c, g.bounce, std::max<std::size_t>(1, g.rowCount) * sizeof(float)));
     RUBBLE_TRY(reserveGrowing(c, g.bounceResidual, sweeps * sizeof(cl_uint)));
     RUBBLE_TRY(fill(c, g.bounceResidual, 0u, sweeps * sizeof(cl_uint), &profile_));
@@ -388,27 +369,19 @@ Status Pipeline::bouncePgs(const StepParams& params) {
     };
     for (cl_uint sweep = 0; sweep < sweeps; ++sweep) {
         for (const PgsLaunch& l : g.launches) {
-            RUBBLE_TRY(Dispatch(c, KernelId::BouncePgs, &profile_)
-                           .arg(l.first)
-                           .arg(l.count)
-                           .arg(l.serial)
-                           .arg(g.elements)
+            RUBBLE_TRY(sweepLaunch(c, KernelId::BouncePgs, l, g.elements, &profile_)
                            .arg(g.normalRows)
                            .arg(g.impulses)
                            .arg(g.bounce)
                            .arg(bodies_.velocities)
                            .arg(sweep)
                            .arg(g.bounceResidual)
-                           .run(items(l), group));
+                           .run(l.items(group), group));
             profile_.setLastBytes(bytes(l));
         }
     }
     for (const PgsLaunch& l : g.launches) {
-        RUBBLE_TRY(Dispatch(c, KernelId::BounceMomenta, &profile_)
-                       .arg(l.first)
-                       .arg(l.count)
-                       .arg(l.serial)
-                       .arg(g.elements)
+        RUBBLE_TRY(sweepLaunch(c, KernelId::BounceMomenta, l, g.elements, &profile_)
                        .arg(g.normalRows)
                        .arg(g.impulses)
                        .arg(g.bounce)
@@ -416,7 +389,7 @@ Status Pipeline::bouncePgs(const StepParams& params) {
                        .arg(bodies_.masses)
                        .arg(bodies_.poses)
                        .arg(bodies_.velocities)
-                       .run(items(l), group));
+                       .run(l.items(group), group));
         profile_.setLastBytes(bytes(l) + l.count * 2 *
                                              (2 * sizeof(shared::BodyMomentum) +
                                               sizeof(shared::BodyMass) + sizeof(shared::BodyPose)));
@@ -425,6 +398,8 @@ Status Pipeline::bouncePgs(const StepParams& params) {
 }
 
 Status Pipeline::applyPushes(float dt) {
+    // The kernel moves nothing unless a row pushed (the status block says, after markBounces).
+    if (!pgs_.pushes) return {};
     const cl_uint count = bodies_.count;
     const cl_float step = dt;
     return Dispatch(*context_, KernelId::ApplyPushes, &profile_)
@@ -499,28 +474,12 @@ Status Pipeline::projectJoints() {
         .run(bodies, RUBBLE_GROUP_BODIES);
 }
 
-Result<std::vector<shared::PgsJointRow>> Pipeline::downloadJointRows() {
-    std::vector<shared::PgsJointRow> rows(pgs_.jointCount);
-    RUBBLE_TRY(download(*context_, pgs_.jointRows, std::span(rows)));
-    return rows;
-}
-
 Result<std::vector<shared::PgsNormalRow>> Pipeline::downloadPgsNormalRows() {
-    std::vector<shared::PgsNormalRow> rows(pgs_.rowCount);
-    RUBBLE_TRY(download(*context_, pgs_.normalRows, std::span(rows)));
-    return rows;
+    return download<shared::PgsNormalRow>(*context_, pgs_.normalRows, pgs_.rowCount);
 }
 
 Result<std::vector<shared::PgsFrictionRows>> Pipeline::downloadPgsFrictionRows() {
-    std::vector<shared::PgsFrictionRows> rows(pgs_.rowCount);
-    RUBBLE_TRY(download(*context_, pgs_.frictionRows, std::span(rows)));
-    return rows;
-}
-
-Result<std::vector<shared::float4>> Pipeline::downloadPgsImpulses() {
-    std::vector<shared::float4> impulses(pgs_.rowCount);
-    RUBBLE_TRY(download(*context_, pgs_.impulses, std::span(impulses)));
-    return impulses;
+    return download<shared::PgsFrictionRows>(*context_, pgs_.frictionRows, pgs_.rowCount);
 }
 
 } // namespace rubble::gpu

@@ -18,8 +18,6 @@ void PipelineDeleter::operator()(Pipeline* p) const { delete p; }
 
 namespace {
 
-template <class T> std::span<const T> view(const std::vector<T>& v) { return {v.data(), v.size()}; }
-
 double msSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
         .count();
@@ -64,7 +62,7 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
         if (p->kinematic_[i]) obstacles.push_back(i);
     ObstacleBuffers& o = p->obstacles_;
     o.count = std::uint32_t(obstacles.size());
-    RUBBLE_TRY(upload(c, o.bodies, view(obstacles)));
+    RUBBLE_TRY(upload(c, o.bodies, obstacles));
     RUBBLE_TRY(o.states.reserve(c.context(), obstacles.size() * sizeof(shared::ObstacleState)));
     RUBBLE_TRY(o.impulses.reserve(c.context(), obstacles.size() * sizeof(shared::BodyImpulse)));
     p->obstaclesHost_.resize(obstacles.size());
@@ -88,8 +86,8 @@ Status Pipeline::uploadMassesAndFlags(std::span<const shared::BodyMass> hostMass
         masses[i] = shared::wallMassItem(masses[i]);
         flags[i] = RUBBLE_BODY_KINEMATIC;
     }
-    RUBBLE_TRY(upload(c, bodies_.masses, view(masses)));
-    return upload(c, bodies_.flags, view(flags));
+    RUBBLE_TRY(upload(c, bodies_.masses, masses));
+    return upload(c, bodies_.flags, flags);
 }
 
 Status Pipeline::uploadBodies(BodiesView bodies) {
@@ -142,10 +140,9 @@ Status Pipeline::copyVelocities(Buffer& to) {
     return {};
 }
 
-std::size_t Pipeline::strideItems() const {
+std::size_t Pipeline::strideItems(std::uint32_t capacity, std::size_t group) const {
     const std::size_t units = std::max<std::uint32_t>(1, context_->device().computeUnits);
-    const std::size_t items = units * RUBBLE_STRIDE_GROUPS_PER_UNIT * RUBBLE_GROUP_CONTACTS;
-    return std::min(items, roundUp(contacts_.capacity, RUBBLE_GROUP_CONTACTS));
+    return std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
 }
 
 Status Pipeline::resetStatus() {
@@ -263,22 +260,13 @@ Status Pipeline::enqueueSatSolve(const StepParams& params) {
     RUBBLE_TRY(bouncePgs(params));
     RUBBLE_TRY(applyPushes(dt));
     RUBBLE_TRY(projectJoints());
-    // Forces hold for one step.
-    if (forcesOnDevice_) {
-        RUBBLE_TRY(fill(*context_, bodies_.forces, 0u,
-                        std::size_t(bodies_.count) * sizeof(shared::BodyForce), &profile_));
-        forcesOnDevice_ = false;
-    }
+    RUBBLE_TRY(clearForces());
     profile_.setStage(DeviceStage::Sleep);
     RUBBLE_TRY(sleepBodies(dt));
     // This step's pairs, features and impulses are the next step's.
     RUBBLE_TRY(keepPairFeatures());
     warmSwapped_ = false;
-    RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), status_.mem(), CL_FALSE, 0,
-                                        sizeof statusHost_, statusHost_.data(), 0, nullptr,
-                                        profile_.transfer(Transfer::Read, sizeof statusHost_)));
-    RUBBLE_CL_CHECK(clFlush(context_->queue()));
-    return {};
+    return enqueueStatusRead();
 }
 
 Status Pipeline::enqueueFromCollision(const StepParams& params) {
@@ -303,12 +291,7 @@ Status Pipeline::enqueueFromCollision(const StepParams& params) {
     RUBBLE_TRY(solveJacobi(dense ? 0 : solver.iterations, params.jacobiRelaxation, false));
     profile_.setStage(DeviceStage::IntegratePositions);
     RUBBLE_TRY(integratePositions(dt, symplectic));
-    // Forces hold for one step.
-    if (forcesOnDevice_) {
-        RUBBLE_TRY(fill(*context_, bodies_.forces, 0u,
-                        std::size_t(bodies_.count) * sizeof(shared::BodyForce), &profile_));
-        forcesOnDevice_ = false;
-    }
+    RUBBLE_TRY(clearForces());
     profile_.setStage(DeviceStage::Sleep);
     RUBBLE_TRY(sleepBodies(dt));
     if (gatherImpulses_) RUBBLE_TRY(gatherObstacleImpulses());
@@ -321,6 +304,18 @@ Status Pipeline::enqueueFromCollision(const StepParams& params) {
         // The swapped-in buffers must still hold a full step.
         RUBBLE_TRY(setContactCapacity(contacts_.capacity, contacts_.growable));
     }
+    return enqueueStatusRead();
+}
+
+Status Pipeline::clearForces() {
+    if (!forcesOnDevice_) return {};
+    forcesOnDevice_ = false;
+    return fill(*context_, bodies_.forces, 0u,
+                std::size_t(bodies_.count) * sizeof(shared::BodyForce), &profile_);
+}
+
+Status Pipeline::enqueueStatusRead() {
+    // Non-blocking: statusHost_ stays put until the step is met.
     RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), status_.mem(), CL_FALSE, 0,
                                         sizeof statusHost_, statusHost_.data(), 0, nullptr,
                                         profile_.transfer(Transfer::Read, sizeof statusHost_)));

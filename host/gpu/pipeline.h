@@ -100,7 +100,7 @@ struct PairSet {
 struct SatBuffers {
     bool enabled = false;
     std::uint32_t planeCount = 0, joinedCount = 0;
-    std::uint32_t gridBits = 0; ///< the grid's cell keys are below 2^gridBits
+    std::uint32_t gridBits = 0;          ///< the grid's cell keys are below 2^gridBits
     std::uint32_t previousPairCount = 0; ///< pairs of the last step met (byte counts)
     // Hulls, once per world.
     Buffer shapes, shapeOf, vertices, vertexEdges, neighbourStart, neighbours, halfEdges, faces,
@@ -127,23 +127,27 @@ struct SatBuffers {
 struct PgsLaunch {
     cl_uint first = 0, count = 0, serial = 0;
     std::uint32_t points = 0; ///< rows, for the byte counts
+    /// Work-items of the launch in groups of `group`: one per element, or one group for the
+    /// serial tail (its work-item 0 runs it).
+    std::size_t items(std::size_t group) const { return serial ? group : count; }
 };
 
 /// Projected Gauss-Seidel on the device (host/gpu/pgs.cpp, kernels/pgs.cl), for a world that
 /// collides with SAT: the rows of this step's pairs (4 slots per pair), the coloring's order,
 /// and the split position pass's per-body state.
 struct PgsBuffers {
-    Buffer pairRows;            ///< per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
-    Buffer elements;            ///< this step's PgsElement records, color by color
-    Buffer normalRows;          ///< PgsNormalRow per point, packed in element order
-    Buffer frictionRows;        ///< PgsFrictionRows per point, in the same order
-    Buffer impulses;            ///< per point: normal, two friction and push impulses, N s
-    Buffer pushed;              ///< per body: a pushing row moves it
-    Buffer push;                ///< per body: the push velocities (BodyVelocity)
-    Buffer sweepResidual;       ///< per push sweep: the largest change, float bits
-    Buffer bounce;              ///< per point: the restitution pass's impulse, N s
-    Buffer bounceResidual;      ///< per restitution sweep: the largest change, float bits
-    bool bounces = false;       ///< this step: a row may bounce (the non-fused path runs)
+    Buffer pairRows;       ///< per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
+    Buffer elements;       ///< this step's PgsElement records, color by color
+    Buffer normalRows;     ///< PgsNormalRow per point, packed in element order
+    Buffer frictionRows;   ///< PgsFrictionRows per point, in the same order
+    Buffer impulses;       ///< per point: normal, two friction and push impulses, N s
+    Buffer pushed;         ///< per body: a pushing row moves it
+    Buffer push;           ///< per body: the push velocities (BodyVelocity)
+    Buffer sweepResidual;  ///< per push sweep: the largest change, float bits
+    Buffer bounce;         ///< per point: the restitution pass's impulse, N s
+    Buffer bounceResidual; ///< per restitution sweep: the largest change, float bits
+    bool bounces = false;  ///< this step: a row may bounce (the non-fused path runs)
+    bool pushes = false;   ///< this step: the split position pass ran (applyPushes moves)
     // The layer pass's scratch (layerPgs): per body its layer and marks, the rows' lists, the
     // histogram of lower layers.
     Buffer layer, loaded, layerRows, layerSorted, layerHistogram;
@@ -197,7 +201,7 @@ struct PipelineInput {
     /// The world's collision method: with Sat the SAT buffers are made (and `shapes` must hold
     /// every shape the bodies use); with Particles nothing of SAT is.
     CollisionMethod collision = CollisionMethod::Particles;
-    std::span<const Shape> shapes;  ///< indexed by bodies.shapeOf
+    std::span<const Shape> shapes;    ///< indexed by bodies.shapeOf
     std::span<const BodyPair> joined; ///< joined bodies (min, max), sorted: they do not collide
     std::span<const shared::PgsJoint> joints; ///< SAT: the joints, in body frames
 };
@@ -263,6 +267,9 @@ class Pipeline {
     Status readContactCount();
     /// Deterministic mode: contacts ordered by a stable sort on their particle.
     Status sortContacts();
+    /// What each body is to the rows (jacobiBodies): its inverse mass and world inverse
+    /// inertia, zero for a body that does not move (static, asleep, kinematic).
+    Status prepareJacobiBodies();
     /// Row lists per body, warm start, rows.
     Status buildJacobiRows(const shared::SolverParams& params, bool warmStart);
     /// Copies the velocities to `before`, then `iterations` sweeps (rows, then the gather); with
@@ -279,7 +286,7 @@ class Pipeline {
     /// wake before the rows (kernels/sleep.cl).
     Status wakeTouched();
     /// Stage wake for SAT, after the narrow phase: the sleeping bodies that a pair with points
-    /// joins to a waking body wake (kernels/pgs.cl, wakeTouchedPairs), and with them the joint
+    /// joins to a waking body wake (kernels/sleep.cl, wakeTouchedPairs), and with them the joint
     /// groups of woken members.
     Status wakeTouchedPairs();
     /// Stage sleepBodies: restless marks from the rows, then each body's sleep.
@@ -349,19 +356,17 @@ class Pipeline {
     /// solveRestitution, up to `iterations` sweeps, one launch per color), then the bounces'
     /// impulses into the momenta and those bodies' velocities from them.
     Status bouncePgs(const StepParams& params);
-    /// After the restitution pass: the split position pass moves the bodies.
+    /// After the restitution pass: the split position pass moves the bodies (nothing to
+    /// enqueue when it did not run this step).
     Status applyPushes(float dt);
     /// After the pushes: the joints projected onto their constraints (a group of at most
     /// RUBBLE_JOINT_DIRECT_ROWS rows as one, up to RUBBLE_JOINT_POSITION_ITERATIONS Newton
     /// steps; larger groups joint by joint, color by color, as many sweeps); the jointed
     /// bodies' velocities follow.
     Status projectJoints();
-    /// Reads the joints' rows and impulses. Errors: Device.
-    Result<std::vector<shared::PgsJointRow>> downloadJointRows();
-    /// Reads this step's rows and their impulses, packed in element order. Errors: Device.
+    /// Reads this step's rows, packed in element order. Errors: Device.
     Result<std::vector<shared::PgsNormalRow>> downloadPgsNormalRows();
     Result<std::vector<shared::PgsFrictionRows>> downloadPgsFrictionRows();
-    Result<std::vector<shared::float4>> downloadPgsImpulses();
     const PgsBuffers& pgs() const { return pgs_; }
 
     const ParticleBuffers& particles() const { return particles_; }
@@ -409,9 +414,25 @@ class Pipeline {
     Status enqueueFromCollision(const StepParams& params);
     /// Puts back last step's contacts as the warm start after a step whose contacts overflowed.
     void undoWarmStartSwap();
+    /// The joint groups' wake (kernels/sleep.cl wakeJointGroups): pass 0 marks the groups with
+    /// an awake member, then `wakePass` (1 after sleepBodies, 2 before the solve) wakes them.
+    Status wakeJointGroups(cl_uint wakePass);
+    /// Forces hold for one step: the device's are cleared once the step has used them.
+    Status clearForces();
+    /// The status block's read at the end of an enqueued step (endStep meets it), and the flush.
+    Status enqueueStatusRead();
     DeviceStatus statusFromSlots() const;
-    /// The global size of a stage that strides through the contacts.
-    std::size_t strideItems() const;
+    /// The global size of a stage whose work-items stride through up to `capacity` items in
+    /// groups of `group`: enough groups to fill the device, no more than the items need.
+    std::size_t strideItems(std::uint32_t capacity, std::size_t group) const;
+    /// ... through the contacts.
+    std::size_t strideItems() const {
+        return strideItems(contacts_.capacity, RUBBLE_GROUP_CONTACTS);
+    }
+    /// ... through this step's pairs (SAT).
+    std::size_t pairStrideItems() const {
+        return strideItems(sat_.current.capacity, context_->workSizes().pairGroup);
+    }
 
     std::shared_ptr<Context> context_;
     BodyBuffers bodies_;

@@ -4,14 +4,12 @@
 // (host/collision/sat_collision.cpp).
 #include <algorithm>
 
-#include "host/gpu/hull_data.h"
 #include "host/core/assert.h"
+#include "host/gpu/hull_data.h"
 #include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
 namespace {
-
-template <class T> std::span<const T> view(const std::vector<T>& v) { return {v.data(), v.size()}; }
 
 // The bits of a grid of at least 4096 cells and two per body, so that cells of two mean box
 // widths rarely have to be widened.
@@ -29,15 +27,15 @@ Status Pipeline::createSat(const PipelineInput& in) {
     SatBuffers& s = sat_;
     Result<HullData> hulls = flattenShapes(in.shapes);
     RUBBLE_TRY(hulls);
-    RUBBLE_TRY(upload(c, s.shapes, view(hulls->shapes)));
-    RUBBLE_TRY(upload(c, s.vertices, view(hulls->vertices)));
-    RUBBLE_TRY(upload(c, s.vertexEdges, view(hulls->vertexEdges)));
-    RUBBLE_TRY(upload(c, s.neighbourStart, view(hulls->neighbourStart)));
-    RUBBLE_TRY(upload(c, s.neighbours, view(hulls->neighbours)));
-    RUBBLE_TRY(upload(c, s.halfEdges, view(hulls->halfEdges)));
-    RUBBLE_TRY(upload(c, s.faces, view(hulls->faces)));
-    RUBBLE_TRY(upload(c, s.faceEdges, view(hulls->faceEdges)));
-    RUBBLE_TRY(upload(c, s.edges, view(hulls->edges)));
+    RUBBLE_TRY(upload(c, s.shapes, hulls->shapes));
+    RUBBLE_TRY(upload(c, s.vertices, hulls->vertices));
+    RUBBLE_TRY(upload(c, s.vertexEdges, hulls->vertexEdges));
+    RUBBLE_TRY(upload(c, s.neighbourStart, hulls->neighbourStart));
+    RUBBLE_TRY(upload(c, s.neighbours, hulls->neighbours));
+    RUBBLE_TRY(upload(c, s.halfEdges, hulls->halfEdges));
+    RUBBLE_TRY(upload(c, s.faces, hulls->faces));
+    RUBBLE_TRY(upload(c, s.faceEdges, hulls->faceEdges));
+    RUBBLE_TRY(upload(c, s.edges, hulls->edges));
 
     const std::uint32_t n = bodies_.count;
     RUBBLE_TRY(upload(c, s.shapeOf, in.bodies.shapeOf));
@@ -47,14 +45,13 @@ Status Pipeline::createSat(const PipelineInput& in) {
         if (in.shapes[in.bodies.shapeOf[i]].type == ShapeType::Plane) planes.push_back(i);
     }
     s.planeCount = std::uint32_t(planes.size());
-    RUBBLE_TRY(upload(c, s.planes, view(planes)));
+    RUBBLE_TRY(upload(c, s.planes, planes));
     std::vector<shared::BodyPairRecord> joined;
     for (const BodyPair& p : in.joined) joined.push_back({std::min(p.a, p.b), std::max(p.a, p.b)});
-    std::sort(joined.begin(), joined.end(), [](const auto& x, const auto& y) {
-        return x.a < y.a || (x.a == y.a && x.b < y.b);
-    });
+    std::sort(joined.begin(), joined.end(),
+              [](const auto& x, const auto& y) { return x.a < y.a || (x.a == y.a && x.b < y.b); });
     s.joinedCount = std::uint32_t(joined.size());
-    RUBBLE_TRY(upload(c, s.joined, view(joined)));
+    RUBBLE_TRY(upload(c, s.joined, joined));
 
     // Per body.
     RUBBLE_TRY(s.boxes.reserve(c.context(), n * sizeof(shared::BodyBox)));
@@ -66,8 +63,8 @@ Status Pipeline::createSat(const PipelineInput& in) {
     RUBBLE_TRY(s.large.reserve(c.context(), n * sizeof(cl_uint)));
     // The grid: at most 8 entries (2 x 2 x 2 cells) per body.
     s.gridBits = gridBitsFor(n);
-    RUBBLE_TRY(s.partials.reserve(c.context(),
-                                  c.workSizes().sortItems * sizeof(shared::GridPartial)));
+    RUBBLE_TRY(
+        s.partials.reserve(c.context(), c.workSizes().sortItems * sizeof(shared::GridPartial)));
     RUBBLE_TRY(s.grid.reserve(c.context(), sizeof(shared::GridParams)));
     for (Buffer* b : {&s.keys, &s.values, &s.keysAlt, &s.valuesAlt})
         RUBBLE_TRY(b->reserve(c.context(), 8 * std::size_t(n) * sizeof(cl_uint)));
@@ -135,10 +132,6 @@ Status Pipeline::narrowPhase(float dt) {
         RUBBLE_TRY(fillRange(c, status_, 0u, slot * sizeof(cl_uint), sizeof(cl_uint), &profile_));
     const cl_uint capacity = s.current.capacity, previousCapacity = s.previous.capacity;
     const cl_float step = dt;
-    const std::size_t group = c.workSizes().pairGroup;
-    const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
-    const std::size_t items =
-        std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
     return Dispatch(c, KernelId::CollideShapes, &profile_)
         .arg(capacity)
         .arg(s.current.count)
@@ -164,7 +157,7 @@ Status Pipeline::narrowPhase(float dt) {
         .arg(s.current.features)
         .arg(s.manifolds)
         .arg(status_)
-        .run(items, group);
+        .run(pairStrideItems(), c.workSizes().pairGroup);
 }
 
 Status Pipeline::uploadPairs(std::span<const BodyPair> pairs) {
@@ -178,7 +171,7 @@ Status Pipeline::uploadPairs(std::span<const BodyPair> pairs) {
         RUBBLE_ASSERT(p.a < p.b && p.b < bodies_.count);
         records.push_back({p.a, p.b});
     }
-    RUBBLE_TRY(upload(c, sat_.current.pairs, view(records)));
+    RUBBLE_TRY(upload(c, sat_.current.pairs, records));
     const cl_uint count = cl_uint(pairs.size());
     RUBBLE_TRY(upload(c, sat_.current.count, std::span<const cl_uint>(&count, 1)));
     RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), status_.mem(), CL_TRUE,
@@ -190,35 +183,31 @@ Status Pipeline::uploadPairs(std::span<const BodyPair> pairs) {
 Result<std::vector<BodyPair>> Pipeline::downloadPairs() {
     Result<DeviceStatus> st = readStatus();
     RUBBLE_TRY(st);
-    const std::uint32_t n = std::min(st->pairs, sat_.current.capacity);
-    std::vector<shared::BodyPairRecord> records(n);
-    RUBBLE_TRY(download(*context_, sat_.current.pairs, std::span(records)));
+    const Result<std::vector<shared::BodyPairRecord>> records = download<shared::BodyPairRecord>(
+        *context_, sat_.current.pairs, std::min(st->pairs, sat_.current.capacity));
+    RUBBLE_TRY(records);
     std::vector<BodyPair> pairs;
-    pairs.reserve(n);
-    for (const shared::BodyPairRecord& r : records) pairs.push_back(BodyPair{r.a, r.b});
+    pairs.reserve(records->size());
+    for (const shared::BodyPairRecord& r : *records) pairs.push_back(BodyPair{r.a, r.b});
     return pairs;
 }
 
 Result<std::vector<shared::ContactManifold>> Pipeline::downloadManifolds() {
     Result<DeviceStatus> st = readStatus();
     RUBBLE_TRY(st);
-    std::vector<shared::ContactManifold> m(std::min(st->pairs, sat_.current.capacity));
-    RUBBLE_TRY(download(*context_, sat_.manifolds, std::span(m)));
-    return m;
+    return download<shared::ContactManifold>(*context_, sat_.manifolds,
+                                             std::min(st->pairs, sat_.current.capacity));
 }
 
 Result<std::vector<shared::PairCache>> Pipeline::downloadPairFeatures() {
     Result<DeviceStatus> st = readStatus();
     RUBBLE_TRY(st);
-    std::vector<shared::PairCache> f(std::min(st->pairs, sat_.current.capacity));
-    RUBBLE_TRY(download(*context_, sat_.current.features, std::span(f)));
-    return f;
+    return download<shared::PairCache>(*context_, sat_.current.features,
+                                       std::min(st->pairs, sat_.current.capacity));
 }
 
 Result<std::vector<shared::BodyBox>> Pipeline::downloadBoxes() {
-    std::vector<shared::BodyBox> boxes(bodies_.count);
-    RUBBLE_TRY(download(*context_, sat_.boxes, std::span(boxes)));
-    return boxes;
+    return download<shared::BodyBox>(*context_, sat_.boxes, bodies_.count);
 }
 
 } // namespace rubble::gpu
@@ -294,8 +283,8 @@ Status Pipeline::createJoints(const PipelineInput& in) {
     }
     g.jointColoring.finish();
     g.directGroupCount = std::uint32_t(groups.size());
-    RUBBLE_TRY(upload(c, g.directGroups, view(groups)));
-    RUBBLE_TRY(upload(c, g.groupMembers, view(members)));
+    RUBBLE_TRY(upload(c, g.directGroups, groups));
+    RUBBLE_TRY(upload(c, g.groupMembers, members));
     RUBBLE_TRY(g.positionRows.reserve(c.context(), rows * sizeof(shared::JointPositionRow)));
     RUBBLE_TRY(g.positionMatrix.reserve(c.context(), matrix * sizeof(cl_float)));
     RUBBLE_TRY(g.positionSolution.reserve(c.context(), rows * sizeof(cl_float)));
@@ -320,9 +309,9 @@ Status Pipeline::createJoints(const PipelineInput& in) {
         groupOf.push_back(group);
     }
     g.jointBodyCount = std::uint32_t(bodies.size());
-    RUBBLE_TRY(upload(c, g.joints, view(g.jointsHost)));
-    RUBBLE_TRY(upload(c, g.jointBodies, view(bodies)));
-    RUBBLE_TRY(upload(c, g.jointGroupOf, view(groupOf)));
+    RUBBLE_TRY(upload(c, g.joints, g.jointsHost));
+    RUBBLE_TRY(upload(c, g.jointBodies, bodies));
+    RUBBLE_TRY(upload(c, g.jointGroupOf, groupOf));
     RUBBLE_TRY(g.groupVotes.reserve(c.context(), g.jointGroupCount * sizeof(cl_uint)));
     RUBBLE_TRY(upload(c, g.jointOrder, g.jointColoring.order()));
     // No impulses yet.

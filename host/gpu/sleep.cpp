@@ -21,10 +21,6 @@ Status Pipeline::wakeTouched() {
 Status Pipeline::wakeTouchedPairs() {
     const Context& c = *context_;
     const cl_uint capacity = sat_.current.capacity;
-    const std::size_t group = c.workSizes().pairGroup;
-    const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
-    const std::size_t items =
-        std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
     RUBBLE_TRY(Dispatch(c, KernelId::WakeTouchedPairs, &profile_)
                    .arg(capacity)
                    .arg(sat_.current.count)
@@ -34,14 +30,19 @@ Status Pipeline::wakeTouchedPairs() {
                    .arg(bodies_.flags)
                    .arg(bodies_.slowFor)
                    .arg(status_)
-                   .run(items, group));
+                   .run(pairStrideItems(), c.workSizes().pairGroup));
     const PgsBuffers& g = pgs_;
     if (g.jointGroupCount == 0) return {};
     // A joint group wakes as one: the members of a group with an awake member.
-    const cl_uint members = g.jointBodyCount;
     RUBBLE_TRY(fill(c, g.groupVotes, 0u, g.jointGroupCount * sizeof(cl_uint), &profile_));
-    for (const cl_uint pass : {0u, 2u})
-        RUBBLE_TRY(Dispatch(c, KernelId::WakeJointGroups, &profile_)
+    return wakeJointGroups(2u);
+}
+
+Status Pipeline::wakeJointGroups(cl_uint wakePass) {
+    const PgsBuffers& g = pgs_;
+    const cl_uint members = g.jointBodyCount;
+    for (const cl_uint pass : {0u, wakePass})
+        RUBBLE_TRY(Dispatch(*context_, KernelId::WakeJointGroups, &profile_)
                        .arg(members)
                        .arg(g.jointBodies)
                        .arg(g.jointGroupOf)
@@ -59,10 +60,6 @@ Status Pipeline::sleepBodies(float dt) {
     if (sat_.enabled) {
         const Context& c = *context_;
         const cl_uint capacity = sat_.current.capacity;
-        const std::size_t group = c.workSizes().pairGroup;
-        const std::size_t units = std::max<std::uint32_t>(1, c.device().computeUnits);
-        const std::size_t items =
-            std::min(units * RUBBLE_STRIDE_GROUPS_PER_UNIT * group, roundUp(capacity, group));
         RUBBLE_TRY(Dispatch(c, KernelId::MarkRestlessPairs, &profile_)
                        .arg(capacity)
                        .arg(sat_.current.count)
@@ -71,7 +68,7 @@ Status Pipeline::sleepBodies(float dt) {
                        .arg(bodies_.velocities)
                        .arg(bodies_.flags)
                        .arg(bodies_.restless)
-                       .run(items, group));
+                       .run(pairStrideItems(), c.workSizes().pairGroup));
         if (pgs_.jointCount > 0) {
             const cl_uint joints = pgs_.jointCount;
             RUBBLE_TRY(Dispatch(c, KernelId::MarkRestlessJoints, &profile_)
@@ -128,20 +125,8 @@ Status Pipeline::sleepBodies(float dt) {
                    .arg(bodies_.restless)
                    .arg(dt)
                    .run(count, RUBBLE_GROUP_BODIES));
-    if (!groups) return {};
     // A group with an awake member wakes as one.
-    for (const cl_uint pass : {0u, 1u})
-        RUBBLE_TRY(Dispatch(c, KernelId::WakeJointGroups, &profile_)
-                       .arg(members)
-                       .arg(g.jointBodies)
-                       .arg(g.jointGroupOf)
-                       .arg(bodies_.flags)
-                       .arg(bodies_.slowFor)
-                       .arg(g.groupVotes)
-                       .arg(pass)
-                       .arg(status_)
-                       .run(members, RUBBLE_GROUP_BODIES));
-    return {};
+    return groups ? wakeJointGroups(1u) : Status{};
 }
 
 } // namespace rubble::gpu

@@ -100,8 +100,8 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
     case KernelId::GridSetup: // the partials; the grid
         return n.sortItems * sizeof(shared::GridPartial) + sizeof(shared::GridParams);
     case KernelId::GridEntries: // flags and box of each body; entries (key, value), large list
-        return n.bodies * (kWord + kBox) + n.gridEntries * 2 * kWord +
-               n.largeBodies * 2 * kWord + sizeof(shared::GridParams);
+        return n.bodies * (kWord + kBox) + n.gridEntries * 2 * kWord + n.largeBodies * 2 * kWord +
+               sizeof(shared::GridParams);
     case KernelId::GatherCellBoxes: // value, the body's box; the box written
         return n.gridEntries * (kWord + 2 * kBox);
     case KernelId::FindCellPairs: // key, value and box per entry; pairs

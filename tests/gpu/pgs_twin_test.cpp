@@ -140,8 +140,8 @@ TEST_F(PgsTwin, RowsAreTheCpuRowsBitForBit) {
             << where << ": target " << n.targetSpeed << " vs " << dn.speeds.x;
         EXPECT_TRUE(sameBits(n.pushSpeed, dn.speeds.y)) << where;
         EXPECT_TRUE(sameBits(n.bounceSpeed, dn.mass.y) && sameBits(n.bounceLift, dn.mass.z))
-            << where << ": bounce " << n.bounceSpeed << ", " << n.bounceLift << " vs "
-            << dn.mass.y << ", " << dn.mass.z;
+            << where << ": bounce " << n.bounceSpeed << ", " << n.bounceLift << " vs " << dn.mass.y
+            << ", " << dn.mass.z;
         for (int d = 0; d < 2; ++d) {
             EXPECT_TRUE(sameBits(f.tangent[d], df.tangent[d])) << where << " tangent " << d;
             EXPECT_TRUE(sameBits(f.turnA[d], df.turnA[d]) && sameBits(f.turnB[d], df.turnB[d]))

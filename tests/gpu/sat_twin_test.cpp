@@ -128,8 +128,8 @@ TEST_F(SatTwin, NarrowPhaseMatchesTheCpuOnRandomPairs) {
     for (const auto& [kind, n] : byKind) kinds += " " + kind + " " + std::to_string(n) + ",";
     std::printf("[ narrow phase twin ] %d pair steps, %d with contacts, %d mismatched, 0 "
                 "excluded;%s points: %d face of a, %d face of b, %d edge-edge, %d primitive\n",
-                compared, withContacts, mismatches, kinds.c_str(), featureKinds[0],
-                featureKinds[1], featureKinds[2], featureKinds[3]);
+                compared, withContacts, mismatches, kinds.c_str(), featureKinds[0], featureKinds[1],
+                featureKinds[2], featureKinds[3]);
     // No near-tie is excluded: the device's arithmetic is the reference's, operation for
     // operation, so even a tie between two axes is broken the same way.
     EXPECT_EQ(mismatches, 0);
@@ -253,9 +253,9 @@ TEST_F(SatTwin, BroadPhaseMatchesTheCpu) {
     for (int step = 0; step < 3; ++step) {
         const BothPairs both = findBoth(*device, cpu, in);
         ASSERT_FALSE(both.cpu.empty());
-        EXPECT_EQ(both.device, both.cpu) << "step " << step << ": " << both.device.size()
-                                         << " pairs on the device, " << both.cpu.size()
-                                         << " on the CPU";
+        EXPECT_EQ(both.device, both.cpu)
+            << "step " << step << ": " << both.device.size() << " pairs on the device, "
+            << both.cpu.size() << " on the CPU";
         // Every body's box (a plane's holds its plane instead).
         for (std::uint32_t i = 0; i < in.bodies.count(); ++i) {
             if (in.shapes[in.bodies.shapeOf[i]].type == ShapeType::Plane) continue;
@@ -278,8 +278,8 @@ TEST_F(SatTwin, BroadPhaseMatchesTheCpu) {
         total += both.cpu.size();
         for (std::uint32_t i = 0; i < in.bodies.count(); ++i) {
             shared::BodyPose& pose = in.bodies.poses[i];
-            pose.position = shared::add4(pose.position,
-                                         shared::scale4(in.bodies.velocities[i].linear, dt));
+            pose.position =
+                shared::add4(pose.position, shared::scale4(in.bodies.velocities[i].linear, dt));
         }
     }
     std::printf("[ broad phase twin ] %u bodies, %zu pairs over 3 steps\n", in.bodies.count(),
@@ -338,10 +338,10 @@ TEST_F(SatTwin, ARestingStackKeepsItsFeatureIdsOnBoth) {
         std::size_t k = 0;
         for (std::size_t i = 0; i < pairs->size(); ++i) {
             const shared::ContactManifold& d = (*manifolds)[i];
-            const Manifold* m = k < out.manifolds.size() && out.manifolds[k].a == d.a &&
-                                        out.manifolds[k].b == d.b
-                                    ? &out.manifolds[k++]
-                                    : nullptr;
+            const Manifold* m =
+                k < out.manifolds.size() && out.manifolds[k].a == d.a && out.manifolds[k].b == d.b
+                    ? &out.manifolds[k++]
+                    : nullptr;
             EXPECT_EQ(difference(m, d), "") << "step " << step << ", pair " << d.a << "-" << d.b;
         }
         // The cached features of the hull pairs, as the CPU keeps them.

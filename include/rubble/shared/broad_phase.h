@@ -28,21 +28,37 @@ typedef struct BodyPairRecord {
 } BodyPairRecord;
 RUBBLE_STATIC_ASSERT_SIZE(BodyPairRecord, 8);
 
+// The index of the pair (a, b) among `count` pairs sorted by (a, b), or `count` when it is not
+// among them: a binary search, as the device finds this step's pair among last step's.
+RUBBLE_FN uint findPairItem(BodyPairRecord pair, uint count,
+                            RUBBLE_GLOBAL const BodyPairRecord* pairs) {
+    uint lo = 0, hi = count;
+    while (lo < hi) {
+        const uint mid = (lo + hi) / 2u;
+        const BodyPairRecord p = pairs[mid];
+        if (p.a < pair.a || (p.a == pair.a && p.b < pair.b))
+            lo = mid + 1u;
+        else
+            hi = mid;
+    }
+    return lo < count && pairs[lo].a == pair.a && pairs[lo].b == pair.b ? lo : count;
+}
+
 // 64 bytes: the uniform grid of one step, from the boxes' bounds and mean widths.
 typedef struct GridParams {
-    float4 origin;       // lowest corner of the boxes, m
-    float4 inverseCell;  // 1 / cell width per axis, 1/m
-    uint cells[4];       // cells per axis (x, y, z); w: their product
-    uint largeAbove;     // a body spanning more cells than this on an axis is large (2)
+    float4 origin;      // lowest corner of the boxes, m
+    float4 inverseCell; // 1 / cell width per axis, 1/m
+    uint cells[4];      // cells per axis (x, y, z); w: their product
+    uint largeAbove;    // a body spanning more cells than this on an axis is large (2)
     uint pad0, pad1, pad2;
 } GridParams;
 RUBBLE_STATIC_ASSERT_SIZE(GridParams, 64);
 
 // 64 bytes: one work-item's part of the reduction behind GridParams.
 typedef struct GridPartial {
-    float4 lo, hi;    // bounds of its boxes, m
-    float4 widthSum;  // summed box widths per axis, m
-    uint count;       // boxes summed
+    float4 lo, hi;   // bounds of its boxes, m
+    float4 widthSum; // summed box widths per axis, m
+    uint count;      // boxes summed
     uint pad0, pad1, pad2;
 } GridPartial;
 RUBBLE_STATIC_ASSERT_SIZE(GridPartial, 64);
@@ -75,8 +91,7 @@ RUBBLE_FN BodyBox worldBoxItem(HullShape shape, RigidTransform t, float margin) 
         box.max = add4(t.translation, e);
         return box;
     }
-    const float4 centre =
-        transformApply(t, scale4(add4(shape.boundsMin, shape.boundsMax), 0.5f));
+    const float4 centre = transformApply(t, scale4(add4(shape.boundsMin, shape.boundsMax), 0.5f));
     const float4 halfSize = scale4(sub4(shape.boundsMax, shape.boundsMin), 0.5f);
     const Mat3 r = t.rotation;
     // Column by column, as glm adds |R[c]| half[c] to the margin.
@@ -145,8 +160,8 @@ RUBBLE_FN GridParams gridSetupItem(GridPartial sum, uint maxCells) {
     for (uint tries = 0; tries < 64u; ++tries) {
         uint total = 1u;
         for (uint a = 0; a < 3u; ++a) {
-            g.cells[a] = (uint)fmin(floor(range[a] / cell[a]) + 1.0f,
-                                    (float)RUBBLE_GRID_MAX_CELLS_PER_AXIS);
+            g.cells[a] =
+                (uint)fmin(floor(range[a] / cell[a]) + 1.0f, (float)RUBBLE_GRID_MAX_CELLS_PER_AXIS);
             total *= g.cells[a];
         }
         g.cells[3] = total;

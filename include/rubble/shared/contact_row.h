@@ -66,7 +66,7 @@ RUBBLE_FN NormalTarget pgsNormalTargetItem(float depth, float baumgarte, float s
     NormalTarget t;
     if (depth >= 0.0f) {
         const float beyond = depth - slop;
-        const float push = baumgarte / dt * (beyond < 0.0f ? 0.0f : beyond); // std::max
+        const float push = baumgarte / dt * (beyond < 0.0f ? 0.0f : beyond);  // std::max
         t.push = RUBBLE_MAX_PUSH_SPEED < push ? RUBBLE_MAX_PUSH_SPEED : push; // std::min
         t.target = 0.0f;
     } else {

@@ -212,128 +212,6 @@ RUBBLE_FN PgsJointUpdate solveJointItem(BodyVelocityPair v, PgsJoint j, PgsJoint
     return u;
 }
 
-// 64 bytes, not stored: the two poses after a joint's projection, and whether it moved them
-// (w of a.position: 1 when it did).
-typedef struct PosePair {
-    BodyPose a, b;
-} PosePair;
-
-// One Newton step of a single joint onto its constraints at the current poses
-// (joint_positions.cpp, projectOnce for one joint): the 3 point rows (and the 2 hinge rows)
-// C = 0 solved by LDL^T for lambda = -(J M^-1 J^T)^-1 C, the bodies moved by M^-1 J^T lambda
-// with the turn limited to RUBBLE_JOINT_MAX_ANGULAR_CORRECTION. ia, ib are the bodies' inverse
-// masses and world inverse inertias at these poses (zero for one that does not move). moved is
-// set to 0 when the joint is within tolerance (nothing moves).
-RUBBLE_FN PosePair projectJointItem(PgsJoint j, BodyPose pa, BodyPose pb, JacobiBody ja,
-                                    JacobiBody jb, int* moved) {
-    PosePair out;
-    out.a = pa;
-    out.b = pb;
-    *moved = 0;
-    const float ima = jointInverseMassItem(ja), imb = jointInverseMassItem(jb);
-    if (ima == 0.0f && imb == 0.0f) return out;
-    Mat3 ia = ja.inverseInertiaWorld, ib = jb.inverseInertiaWorld;
-    ia.r0.w = 0.0f;
-    ib.r0.w = 0.0f;
-    // Rows: J on a (linear, angular) and on b, and the error C.
-    float4 linearA[5], angularA[5], linearB[5], angularB[5];
-    float error[5];
-    const float4 ra = quatRotate(pa.orientation, j.anchorA);
-    const float4 rb = quatRotate(pb.orientation, j.anchorB);
-    float4 c = sub4(add4(pb.position, rb), add4(pa.position, ra));
-    c = vec4(c.x, c.y, c.z);
-    const float size = length3(c);
-    if (size > RUBBLE_JOINT_MAX_LINEAR_CORRECTION)
-        c = scale4(c, RUBBLE_JOINT_MAX_LINEAR_CORRECTION / size);
-    const float cs[3] = {c.x, c.y, c.z};
-    float linearError = 0.0f, angularError = 0.0f;
-    for (int k = 0; k < 3; ++k) {
-        const float4 e = vec4(k == 0 ? 1.0f : 0.0f, k == 1 ? 1.0f : 0.0f, k == 2 ? 1.0f : 0.0f);
-        // C_k = (p_b - p_a) . e_k: turning a by theta moves p_a by theta x r_a.
-        linearA[k] = scale4(e, -1.0f);
-        angularA[k] = scale4(cross3(ra, e), -1.0f);
-        linearB[k] = e;
-        angularB[k] = cross3(rb, e);
-        error[k] = cs[k];
-        linearError = fmax(linearError, fabs(cs[k]));
-    }
-    int n = 3;
-    if (j.type == RUBBLE_JOINT_HINGE) {
-        const float4 a1 = quatRotate(pa.orientation, j.axisA);
-        for (int k = 0; k < 2; ++k) {
-            const float4 p2 = quatRotate(pb.orientation, j.perpB[k]);
-            // d(a_1 . p_2) = (theta_a - theta_b) . (a_1 x p_2)
-            const float4 turn = cross3(a1, p2);
-            linearA[n] = vec4(0.0f, 0.0f, 0.0f);
-            angularA[n] = turn;
-            linearB[n] = vec4(0.0f, 0.0f, 0.0f);
-            angularB[n] = scale4(turn, -1.0f);
-            error[n] = dot3(a1, p2);
-            angularError = fmax(angularError, fabs(error[n]));
-            ++n;
-        }
-    }
-    if (linearError <= RUBBLE_JOINT_LINEAR_TOLERANCE &&
-        angularError <= RUBBLE_JOINT_ANGULAR_TOLERANCE)
-        return out;
-    // M^-1 J^T of each row, and K = J M^-1 J^T (lower triangle), right-hand side -C.
-    float4 moveA[5], turnA[5], moveB[5], turnB[5];
-    for (int i = 0; i < n; ++i) {
-        moveA[i] = scale4(linearA[i], ima);
-        turnA[i] = mat3MulVec(ia, angularA[i]);
-        moveB[i] = scale4(linearB[i], imb);
-        turnB[i] = mat3MulVec(ib, angularB[i]);
-    }
-    float k[25], x[5];
-    float largest = 0.0f;
-    for (int i = 0; i < n; ++i) {
-        for (int q = 0; q <= i; ++q)
-            k[i * 5 + q] = dot3(linearA[i], moveA[q]) + dot3(angularA[i], turnA[q]) +
-                           dot3(linearB[i], moveB[q]) + dot3(angularB[i], turnB[q]);
-        largest = fmax(largest, k[i * 5 + i]);
-        x[i] = -error[i];
-    }
-    // LDL^T: L below the diagonal, D on it; a zero D marks a dropped row.
-    for (int q = 0; q < n; ++q) {
-        float d = k[q * 5 + q];
-        for (int p = 0; p < q; ++p) d -= k[q * 5 + p] * k[q * 5 + p] * k[p * 5 + p];
-        if (d <= RUBBLE_JOINT_PIVOT_TOLERANCE * largest) d = 0.0f;
-        k[q * 5 + q] = d;
-        for (int i = q + 1; i < n; ++i) {
-            float l = k[i * 5 + q];
-            for (int p = 0; p < q; ++p) l -= k[i * 5 + p] * k[q * 5 + p] * k[p * 5 + p];
-            k[i * 5 + q] = d > 0.0f ? l / d : 0.0f;
-        }
-    }
-    for (int i = 0; i < n; ++i)
-        for (int p = 0; p < i; ++p) x[i] -= k[i * 5 + p] * x[p];
-    for (int i = 0; i < n; ++i) x[i] = k[i * 5 + i] > 0.0f ? x[i] / k[i * 5 + i] : 0.0f;
-    for (int i = n - 1; i >= 0; --i)
-        for (int p = i + 1; p < n; ++p) x[i] -= k[p * 5 + i] * x[p];
-    // The move, a turn past the limit shortened as a whole.
-    float4 dxA = vec4(0.0f, 0.0f, 0.0f), dqA = dxA, dxB = dxA, dqB = dxA;
-    for (int i = 0; i < n; ++i) {
-        dxA = add4(dxA, scale4(moveA[i], x[i]));
-        dqA = add4(dqA, scale4(turnA[i], x[i]));
-        dxB = add4(dxB, scale4(moveB[i], x[i]));
-        dqB = add4(dqB, scale4(turnB[i], x[i]));
-    }
-    const float largestTurn = fmax(length3(dqA), length3(dqB));
-    const float scale = largestTurn > RUBBLE_JOINT_MAX_ANGULAR_CORRECTION
-                            ? RUBBLE_JOINT_MAX_ANGULAR_CORRECTION / largestTurn
-                            : 1.0f;
-    *moved = 1;
-    if (ima > 0.0f) {
-        out.a.position = add4(pa.position, scale4(dxA, scale));
-        out.a.orientation = quatIntegrate(pa.orientation, scale4(dqA, scale), 1.0f);
-    }
-    if (imb > 0.0f) {
-        out.b.position = add4(pb.position, scale4(dxB, scale));
-        out.b.orientation = quatIntegrate(pb.orientation, scale4(dqB, scale), 1.0f);
-    }
-    return out;
-}
-
 // 16 bytes: a joint group projected as one on the device: its joints are members[first ..
 // first + count), its rows and its matrix use the scratch from rowStart and matrixStart.
 typedef struct JointGroup {
@@ -365,13 +243,13 @@ RUBBLE_FN JacobiBody projectionBodyItem(BodyMass m, uint flags, BodyPose pose) {
     return jacobiBodyItem(m, pose.orientation);
 }
 
-// Appends one joint's rows at the current poses to rows[n..]: three point rows along the world
-// axes, and for a hinge the two rows a_1 . b_2, a_1 . c_2. Returns the new row count (n when
-// neither body moves).
-RUBBLE_FN uint appendJointRowsItem(PgsJoint j, BodyPose pa, BodyPose pb, JacobiBody ja,
-                                   JacobiBody jb, RUBBLE_GLOBAL JointPositionRow* rows, uint n) {
+// One joint's rows at the current poses into out[0..): three point rows along the world axes,
+// and for a hinge the two rows a_1 . b_2, a_1 . c_2. Returns the row count (0 when neither body
+// moves).
+RUBBLE_FN uint jointRowsItem(PgsJoint j, BodyPose pa, BodyPose pb, JacobiBody ja, JacobiBody jb,
+                             JointPositionRow* out) {
     const float ima = jointInverseMassItem(ja), imb = jointInverseMassItem(jb);
-    if (ima == 0.0f && imb == 0.0f) return n;
+    if (ima == 0.0f && imb == 0.0f) return 0u;
     Mat3 ia = ja.inverseInertiaWorld, ib = jb.inverseInertiaWorld;
     ia.r0.w = 0.0f;
     ib.r0.w = 0.0f;
@@ -416,9 +294,103 @@ RUBBLE_FN uint appendJointRowsItem(PgsJoint j, BodyPose pa, BodyPose pb, JacobiB
         r.b = j.b;
         r.kind |= (ima > 0.0f ? RUBBLE_JOINT_ROW_MOVES_A : 0u) |
                   (imb > 0.0f ? RUBBLE_JOINT_ROW_MOVES_B : 0u);
-        rows[n++] = r;
+        out[k] = r;
     }
-    return n;
+    return total;
+}
+
+// Appends one joint's rows at the current poses to rows[n..] (jointRowsItem). Returns the new
+// row count.
+RUBBLE_FN uint appendJointRowsItem(PgsJoint j, BodyPose pa, BodyPose pb, JacobiBody ja,
+                                   JacobiBody jb, RUBBLE_GLOBAL JointPositionRow* rows, uint n) {
+    JointPositionRow own[5];
+    const uint count = jointRowsItem(j, pa, pb, ja, jb, own);
+    for (uint k = 0; k < count; ++k) rows[n + k] = own[k];
+    return n + count;
+}
+
+// 64 bytes, not stored: the two poses after a joint's projection, and whether it moved them
+// (w of a.position: 1 when it did).
+typedef struct PosePair {
+    BodyPose a, b;
+} PosePair;
+
+// One Newton step of a single joint onto its constraints at the current poses
+// (joint_positions.cpp, projectOnce for one joint): the 3 point rows (and the 2 hinge rows)
+// C = 0 solved by LDL^T for lambda = -(J M^-1 J^T)^-1 C, the bodies moved by M^-1 J^T lambda
+// with the turn limited to RUBBLE_JOINT_MAX_ANGULAR_CORRECTION. ia, ib are the bodies' inverse
+// masses and world inverse inertias at these poses (zero for one that does not move). moved is
+// set to 0 when the joint is within tolerance (nothing moves).
+RUBBLE_FN PosePair projectJointItem(PgsJoint j, BodyPose pa, BodyPose pb, JacobiBody ja,
+                                    JacobiBody jb, int* moved) {
+    PosePair out;
+    out.a = pa;
+    out.b = pb;
+    *moved = 0;
+    // Rows: J on a (linear, angular) and on b, M^-1 J^T, and the error C.
+    JointPositionRow rows[5];
+    const int n = (int)jointRowsItem(j, pa, pb, ja, jb, rows);
+    if (n == 0) return out;
+    float linearError = 0.0f, angularError = 0.0f;
+    for (int i = 0; i < n; ++i) {
+        if (rows[i].kind & RUBBLE_JOINT_ROW_POINT)
+            linearError = fmax(linearError, fabs(rows[i].error));
+        else
+            angularError = fmax(angularError, fabs(rows[i].error));
+    }
+    if (linearError <= RUBBLE_JOINT_LINEAR_TOLERANCE &&
+        angularError <= RUBBLE_JOINT_ANGULAR_TOLERANCE)
+        return out;
+    // K = J M^-1 J^T (lower triangle), right-hand side -C.
+    float k[25], x[5];
+    float largest = 0.0f;
+    for (int i = 0; i < n; ++i) {
+        const JointPositionRow ri = rows[i];
+        for (int q = 0; q <= i; ++q)
+            k[i * 5 + q] = dot3(ri.linearA, rows[q].moveA) + dot3(ri.angularA, rows[q].turnA) +
+                           dot3(ri.linearB, rows[q].moveB) + dot3(ri.angularB, rows[q].turnB);
+        largest = fmax(largest, k[i * 5 + i]);
+        x[i] = -ri.error;
+    }
+    // LDL^T: L below the diagonal, D on it; a zero D marks a dropped row.
+    for (int q = 0; q < n; ++q) {
+        float d = k[q * 5 + q];
+        for (int p = 0; p < q; ++p) d -= k[q * 5 + p] * k[q * 5 + p] * k[p * 5 + p];
+        if (d <= RUBBLE_JOINT_PIVOT_TOLERANCE * largest) d = 0.0f;
+        k[q * 5 + q] = d;
+        for (int i = q + 1; i < n; ++i) {
+            float l = k[i * 5 + q];
+            for (int p = 0; p < q; ++p) l -= k[i * 5 + p] * k[q * 5 + p] * k[p * 5 + p];
+            k[i * 5 + q] = d > 0.0f ? l / d : 0.0f;
+        }
+    }
+    for (int i = 0; i < n; ++i)
+        for (int p = 0; p < i; ++p) x[i] -= k[i * 5 + p] * x[p];
+    for (int i = 0; i < n; ++i) x[i] = k[i * 5 + i] > 0.0f ? x[i] / k[i * 5 + i] : 0.0f;
+    for (int i = n - 1; i >= 0; --i)
+        for (int p = i + 1; p < n; ++p) x[i] -= k[p * 5 + i] * x[p];
+    // The move, a turn past the limit shortened as a whole.
+    float4 dxA = vec4(0.0f, 0.0f, 0.0f), dqA = dxA, dxB = dxA, dqB = dxA;
+    for (int i = 0; i < n; ++i) {
+        dxA = add4(dxA, scale4(rows[i].moveA, x[i]));
+        dqA = add4(dqA, scale4(rows[i].turnA, x[i]));
+        dxB = add4(dxB, scale4(rows[i].moveB, x[i]));
+        dqB = add4(dqB, scale4(rows[i].turnB, x[i]));
+    }
+    const float largestTurn = fmax(length3(dqA), length3(dqB));
+    const float scale = largestTurn > RUBBLE_JOINT_MAX_ANGULAR_CORRECTION
+                            ? RUBBLE_JOINT_MAX_ANGULAR_CORRECTION / largestTurn
+                            : 1.0f;
+    *moved = 1;
+    if (rows[0].kind & RUBBLE_JOINT_ROW_MOVES_A) {
+        out.a.position = add4(pa.position, scale4(dxA, scale));
+        out.a.orientation = quatIntegrate(pa.orientation, scale4(dqA, scale), 1.0f);
+    }
+    if (rows[0].kind & RUBBLE_JOINT_ROW_MOVES_B) {
+        out.b.position = add4(pb.position, scale4(dxB, scale));
+        out.b.orientation = quatIntegrate(pb.orientation, scale4(dqB, scale), 1.0f);
+    }
+    return out;
 }
 
 // J_x M^-1 J_y^T over the bodies two rows share.

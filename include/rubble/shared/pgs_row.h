@@ -125,11 +125,11 @@ RUBBLE_STATIC_ASSERT_SIZE(PgsContactRow, 304);
 // manifold's perpendicularItem(n)). (Catto, "Iterative Dynamics with Temporal Coherence",
 // GDC 2005; "Modeling and Solving Constraints", GDC 2009.)
 RUBBLE_FN PgsContactRow pgsContactRowItem(float4 point, float depth, float4 n, float4 xA, float4 xB,
-                                          BodyVelocity va, BodyVelocity vb,
-                                          BodyVelocity vaBefore, BodyVelocity vbBefore,
-                                          float inverseMassA, float inverseMassB, Mat3 ia, Mat3 ib,
-                                          float friction, float restitution, float baumgarte,
-                                          float slop, float dt, float4 fixedTangent) {
+                                          BodyVelocity va, BodyVelocity vb, BodyVelocity vaBefore,
+                                          BodyVelocity vbBefore, float inverseMassA,
+                                          float inverseMassB, Mat3 ia, Mat3 ib, float friction,
+                                          float restitution, float baumgarte, float slop, float dt,
+                                          float4 fixedTangent) {
     PgsContactRow r;
     const float4 rA = pgsArmItem(point, xA), rB = pgsArmItem(point, xB);
     const float4 relative = pointRelativeVelocityItem(va, vb, rA, rB);
@@ -207,6 +207,18 @@ typedef struct PgsUpdate {
     float pad0, pad1;
 } PgsUpdate;
 
+// A normal row's accumulated impulse going from `accumulated` to `total`: the change applied to
+// both bodies' velocities v.
+RUBBLE_FN PgsUpdate pgsNormalUpdateItem(PgsNormalRow r, BodyVelocityPair v, float accumulated,
+                                        float total) {
+    PgsUpdate u;
+    u.applied = total - accumulated;
+    u.accumulated = total;
+    u.v = applyPgsRowItem(v, r.normal, r.turnA, r.turnB, r.speeds.z, r.speeds.w, u.applied);
+    u.pad0 = u.pad1 = 0.0f;
+    return u;
+}
+
 // One projected Gauss-Seidel update of a normal row on the velocities v (the bodies' own, or
 // the split pass's push velocities) toward `target` (m/s): the accumulated impulse stays >= 0
 // and the change is applied to both bodies.
@@ -215,12 +227,7 @@ RUBBLE_FN PgsUpdate solvePgsNormalItem(PgsNormalRow r, BodyVelocityPair v, float
     const float speed = pgsRowSpeedItem(v.a, v.b, r.normal, r.crossA, r.crossB);
     const float sum = accumulated + r.mass.x * (target - speed) * relaxation;
     const float total = sum < 0.0f ? 0.0f : sum; // std::max's choice between signed zeros
-    PgsUpdate u;
-    u.applied = total - accumulated;
-    u.accumulated = total;
-    u.v = applyPgsRowItem(v, r.normal, r.turnA, r.turnB, r.speeds.z, r.speeds.w, u.applied);
-    u.pad0 = u.pad1 = 0.0f;
-    return u;
+    return pgsNormalUpdateItem(r, v, accumulated, total);
 }
 
 // Whether a normal row bounces in the restitution pass: it has a bounce speed and stopped its
@@ -246,12 +253,7 @@ RUBBLE_FN PgsUpdate solvePgsBounceItem(PgsNormalRow r, BodyVelocityPair v, float
     const float speed = pgsRowSpeedItem(v.a, v.b, r.normal, r.crossA, r.crossB);
     const float sum = accumulated + r.mass.x * (r.mass.y - speed);
     const float total = sum < -impulse ? -impulse : sum; // std::max(sum, -impulse)
-    PgsUpdate u;
-    u.applied = total - accumulated;
-    u.accumulated = total;
-    u.v = applyPgsRowItem(v, r.normal, r.turnA, r.turnB, r.speeds.z, r.speeds.w, u.applied);
-    u.pad0 = u.pad1 = 0.0f;
-    return u;
+    return pgsNormalUpdateItem(r, v, accumulated, total);
 }
 
 // The layer pass (host/dynamics/pgs.cpp, solveLayers): a row's upper body is this many times as
