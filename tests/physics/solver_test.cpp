@@ -80,7 +80,8 @@ TEST(Solver, RelaxationScalesTheFirstSweep) {
     };
     const float full = firstSweep(1.0f), half = firstSweep(0.5f);
     EXPECT_GT(full, 0.0f);
-    EXPECT_LT(half, full);
+    // Measured: 0.486 (the friction rows' clamps do not scale).
+    EXPECT_NEAR(half / full, 0.5f, 0.03f);
 }
 
 // Every body's pose, velocities, momenta and sleep, as bytes.

@@ -68,7 +68,11 @@ inline std::string tempDir(const std::string& name) {
     std::string who = test ? std::string(test->test_suite_name()) + "." + test->name() : "none";
     for (char& c : who)
         if (c == '/') c = '_';
-    const std::string dir = ::testing::TempDir() + "rubble_" + name + "_" + who;
+    // Under the build directory, beside the command under test: two builds (the plain and the
+    // sanitized one, or two checkouts) running the same case at once do not share a directory.
+    const std::string binary = RUBBLE_BINARY;
+    const std::string dir =
+        binary.substr(0, binary.rfind('/')) + "/test-tmp/rubble_" + name + "_" + who;
     runShell("rm -rf '" + dir + "' && mkdir -p '" + dir + "'");
     return dir;
 }
