@@ -4,6 +4,7 @@
 
 #include "host/collision/contact_set.h"
 #include "host/collision/hull_contact.h"
+#include "host/collision/hull_data.h"
 #include "host/collision/sat.h"
 #include "host/collision/transform.h"
 #include "host/geometry/shape.h"
@@ -14,11 +15,6 @@ namespace rubble {
 struct PairContact {
     ContactSet contacts; ///< world positions, normal from a to b
 };
-
-/// True for the shapes that collide through their half-edge hull (box, convex, mesh).
-inline bool collidesAsHull(ShapeType t) {
-    return t == ShapeType::Box || t == ShapeType::Convex || t == ShapeType::Mesh;
-}
 
 /// Collides shape a at transform ta with shape b at tb (body to world). Hull pairs read and
 /// update `cache` (hull_contact.h); other pairs leave it alone. Plane against plane gives
