@@ -1,7 +1,7 @@
 // include/rubble/shared/clip.h: the geometric steps of manifold building for the device narrow
 // phase: Sutherland-Hodgman clipping with feature tags, reduction to four points, closest points
 // of two segments, feature ids. A port of host/collision/clip.cpp and contact_set.h (Gregorius,
-// GDC 2015; Ericson 5.1.9). Buffers are the caller's, in private memory.
+// GDC 2015; Ericson 5.1.9). Buffers are the caller's (private memory on the device).
 #pragma once
 
 #include "rubble/shared/hull.h"
@@ -42,6 +42,15 @@ typedef struct LocalContact {
     uint feature;
     uint pad0, pad1;
 } LocalContact;
+
+// Clipping buffers, the caller's: polygon and scratch each with room for an incident face's
+// vertices plus one per reference edge plus one, candidates as many (RUBBLE_CLIP_CAPACITY on the
+// device; the host sizes them from its largest face, HullData::largestFace).
+typedef struct ClipBuffers {
+    ClipVertex* polygon;
+    ClipVertex* scratch;
+    LocalContact* candidates;
+} ClipBuffers;
 
 // 112 bytes: up to four contacts sharing one normal, from body a to body b. The narrow phase
 // works with it in a shape's frame; kernels/sat.cl writes it in the world frame, one per pair.

@@ -80,15 +80,15 @@ RUBBLE_FN uint incidentFaceItem(Hull mesh, float4 normal, uint deepest) {
 // by the side planes of the reference face, the points below its plane plus the margin, reduced
 // to four.
 RUBBLE_FN ContactManifold clipFaceContactItem(Hull ref, FaceQuery query, Hull inc,
-                                              RigidTransform incInRef, float margin, uint kind) {
+                                              RigidTransform incInRef, float margin, uint kind,
+                                              ClipBuffers buffers) {
     const float4 rf = ref.faces[query.face];
     const float4 rfNormal = faceNormalItem(rf);
     const uint rfEdge = ref.faceEdge[query.face];
     const uint incFace =
         incidentFaceItem(inc, transformRotateInverse(incInRef, rfNormal), query.vertex);
-    ClipVertex bufferA[RUBBLE_CLIP_CAPACITY], bufferB[RUBBLE_CLIP_CAPACITY];
-    ClipVertex* polygon = bufferA;
-    ClipVertex* scratch = bufferB;
+    ClipVertex* polygon = buffers.polygon;
+    ClipVertex* scratch = buffers.scratch;
 
     // The incident polygon in the reference frame; each vertex tagged by its half-edge.
     uint n = 0;
@@ -126,7 +126,7 @@ RUBBLE_FN ContactManifold clipFaceContactItem(Hull ref, FaceQuery query, Hull in
     } while (n > 0u && h != rfEdge);
 
     // Below the reference plane plus the margin, midway between the surfaces.
-    LocalContact candidates[RUBBLE_CLIP_CAPACITY];
+    LocalContact* candidates = buffers.candidates;
     uint m = 0;
     for (uint i = 0; i < n; ++i) {
         const ClipVertex v = polygon[i];
@@ -169,9 +169,10 @@ RUBBLE_FN ContactManifold edgeContactItem(Hull a, Hull b, RigidTransform bInA, E
 
 // A face contact on B's face, made in B's frame and brought to A's (clipFaceContactOfB).
 RUBBLE_FN ContactManifold clipFaceContactOfBItem(Hull a, Hull b, RigidTransform bInA,
-                                                 FaceQuery query, float margin) {
-    ContactManifold set =
-        clipFaceContactItem(b, query, a, transformInverse(bInA), margin, RUBBLE_KIND_FACE_B);
+                                                 FaceQuery query, float margin,
+                                                 ClipBuffers buffers) {
+    ContactManifold set = clipFaceContactItem(b, query, a, transformInverse(bInA), margin,
+                                              RUBBLE_KIND_FACE_B, buffers);
     for (uint i = 0; i < set.count; ++i) {
         const float4 p = transformApply(bInA, set.points[i]);
         set.points[i] = make4(p.x, p.y, p.z, set.points[i].w);
@@ -182,13 +183,14 @@ RUBBLE_FN ContactManifold clipFaceContactOfBItem(Hull a, Hull b, RigidTransform 
 
 // Contacts from the face of A (ownerB = 0) or of B the SAT found (collideHulls' tryFace).
 RUBBLE_FN int tryFaceItem(HullContact* r, Hull a, Hull b, RigidTransform bInA, SatResult sat,
-                          float margin, int ownerB) {
+                          float margin, int ownerB, ClipBuffers buffers) {
     if (!ownerB) {
-        r->contacts = clipFaceContactItem(a, sat.faceA, b, bInA, margin, RUBBLE_KIND_FACE_A);
+        r->contacts =
+            clipFaceContactItem(a, sat.faceA, b, bInA, margin, RUBBLE_KIND_FACE_A, buffers);
         r->feature = makeSatHint(RUBBLE_SAT_FACE_A, sat.faceA.face, 0u, sat.faceA.vertex);
         return r->contacts.count > 0u;
     }
-    r->contacts = clipFaceContactOfBItem(a, b, bInA, sat.faceB, margin);
+    r->contacts = clipFaceContactOfBItem(a, b, bInA, sat.faceB, margin, buffers);
     r->feature = makeSatHint(RUBBLE_SAT_FACE_B, 0u, sat.faceB.face, sat.faceB.vertex);
     return r->contacts.count > 0u;
 }
@@ -196,7 +198,7 @@ RUBBLE_FN int tryFaceItem(HullContact* r, Hull a, Hull b, RigidTransform bInA, S
 // Collides hull a with hull b, b's pose in a's frame (collideHulls): SAT, then faces over
 // edges and last step's face owner over the other unless clearly shallower.
 RUBBLE_FN HullContact collideHullsItem(Hull a, Hull b, RigidTransform bInA, float margin,
-                                       SatHint hint) {
+                                       SatHint hint, ClipBuffers buffers) {
     HullContact r;
     r.separated = 0;
     r.contacts = emptyContactsItem();
@@ -216,11 +218,11 @@ RUBBLE_FN HullContact collideHullsItem(Hull a, Hull b, RigidTransform bInA, floa
     const int useEdges = haveEdges && clearlyLargerItem(sat.edges.separation, useB ? sb : sa,
                                                         RUBBLE_RELATIVE_EDGE_TOLERANCE);
     if (!useEdges) {
-        if (tryFaceItem(&r, a, b, bInA, sat, margin, useB)) return r;
+        if (tryFaceItem(&r, a, b, bInA, sat, margin, useB, buffers)) return r;
         // The clipped overlap held no point: the other face, then the edges, if good enough
         // (not clearly deeper than the best axis).
         if (!clearlyLargerItem(sat.separation, useB ? sa : sb, RUBBLE_RELATIVE_EDGE_TOLERANCE) &&
-            tryFaceItem(&r, a, b, bInA, sat, margin, !useB))
+            tryFaceItem(&r, a, b, bInA, sat, margin, !useB, buffers))
             return r;
         if (!haveEdges ||
             clearlyLargerItem(sat.separation, sat.edges.separation, RUBBLE_RELATIVE_EDGE_TOLERANCE)) {
@@ -236,7 +238,8 @@ RUBBLE_FN HullContact collideHullsItem(Hull a, Hull b, RigidTransform bInA, floa
 // Contacts from a known feature, skipping the search (collideHullsFromFeature); without a
 // usable feature, the full test.
 RUBBLE_FN HullContact collideHullsFromFeatureItem(Hull a, Hull b, RigidTransform bInA,
-                                                  SatHint feature, float margin) {
+                                                  SatHint feature, float margin,
+                                                  ClipBuffers buffers) {
     HullContact r;
     r.separated = 0;
     r.contacts = emptyContactsItem();
@@ -246,7 +249,7 @@ RUBBLE_FN HullContact collideHullsFromFeatureItem(Hull a, Hull b, RigidTransform
         r.feature.vertex = q.vertex;
         r.separated = q.separation > margin;
         if (!r.separated)
-            r.contacts = clipFaceContactItem(a, q, b, bInA, margin, RUBBLE_KIND_FACE_A);
+            r.contacts = clipFaceContactItem(a, q, b, bInA, margin, RUBBLE_KIND_FACE_A, buffers);
         return r;
     }
     if (feature.feature == RUBBLE_SAT_FACE_B && feature.indexB < b.faceCount) {
@@ -254,7 +257,7 @@ RUBBLE_FN HullContact collideHullsFromFeatureItem(Hull a, Hull b, RigidTransform
             queryFaceItem(b, feature.indexB, a, transformInverse(bInA), feature.vertex);
         r.feature.vertex = q.vertex;
         r.separated = q.separation > margin;
-        if (!r.separated) r.contacts = clipFaceContactOfBItem(a, b, bInA, q, margin);
+        if (!r.separated) r.contacts = clipFaceContactOfBItem(a, b, bInA, q, margin, buffers);
         return r;
     }
     if (feature.feature == RUBBLE_SAT_EDGES && feature.indexA < a.edgeCount &&
@@ -273,7 +276,7 @@ RUBBLE_FN HullContact collideHullsFromFeatureItem(Hull a, Hull b, RigidTransform
             return r;
         }
     }
-    return collideHullsItem(a, b, bInA, margin, feature);
+    return collideHullsItem(a, b, bInA, margin, feature, buffers);
 }
 
 // b's pose in a's frame within the reuse limits of the cache's reference.
@@ -317,7 +320,7 @@ RUBBLE_FN int edgeAxisHoldsItem(Hull a, Hull b, RigidTransform bInA, RigidTransf
 // stays close to the reference (and a cached edge pair's axis holds: edgeAxisHoldsItem), else
 // the full test runs and becomes the new reference.
 RUBBLE_FN HullContact collideHullsCachedItem(Hull a, Hull b, RigidTransform bInA, PairCache* cache,
-                                             float margin) {
+                                             float margin, ClipBuffers buffers) {
     int close = cache->reusable && cache->feature.feature != RUBBLE_SAT_NONE &&
                 poseCloseItem(bInA, cache->reference);
     // The axis of two nearly parallel edges swings with the slightest turn (by the turn over
@@ -326,13 +329,14 @@ RUBBLE_FN HullContact collideHullsCachedItem(Hull a, Hull b, RigidTransform bInA
     if (close && cache->feature.feature == RUBBLE_SAT_EDGES)
         close = edgeAxisHoldsItem(a, b, bInA, cache->reference, cache->feature);
     if (close) {
-        const HullContact r = collideHullsFromFeatureItem(a, b, bInA, cache->feature, margin);
+        const HullContact r =
+            collideHullsFromFeatureItem(a, b, bInA, cache->feature, margin, buffers);
         if (r.separated || r.contacts.count > 0u) {
             cache->feature.vertex = r.feature.vertex;
             return r;
         }
     }
-    const HullContact r = collideHullsItem(a, b, bInA, margin, cache->feature);
+    const HullContact r = collideHullsItem(a, b, bInA, margin, cache->feature, buffers);
     cache->feature = r.feature;
     cache->reference = bInA;
     cache->reusable = 1u;

@@ -43,17 +43,19 @@ RUBBLE_FN ContactManifold collideWithPlaneItem(HullArrays arrays, float4 plane, 
                                0);
 }
 
-// Collides shape a at transform ta with shape b at tb, body to world (collideShapes). Hull
-// pairs read and update the cache; other pairs leave it alone. The result is in the world
-// frame, normal from a to b; a and b are left 0 for the caller.
-RUBBLE_FN ContactManifold collideShapesItem(HullArrays arrays, HullShape a, RigidTransform ta,
-                                            HullShape b, RigidTransform tb, PairCache* cache,
-                                            float margin) {
+// Collides shape a at transform ta with shape b at tb, body to world (collideShapes), clipping
+// hull faces in the caller's buffers. Hull pairs read and update the cache; other pairs leave it
+// alone. The result is in the world frame, normal from a to b; a and b are left 0 for the
+// caller.
+RUBBLE_FN ContactManifold collideShapesClippingInItem(HullArrays arrays, HullShape a,
+                                                      RigidTransform ta, HullShape b,
+                                                      RigidTransform tb, PairCache* cache,
+                                                      float margin, ClipBuffers buffers) {
     const int hullA = a.kind == RUBBLE_SHAPE_HULL, hullB = b.kind == RUBBLE_SHAPE_HULL;
     if (hullA && hullB) {
         const HullContact hc =
             collideHullsCachedItem(hullOfItem(arrays, a), hullOfItem(arrays, b),
-                                   transformRelative(ta, tb), cache, margin);
+                                   transformRelative(ta, tb), cache, margin, buffers);
         return contactsToWorldItem(hc.contacts, ta, 0);
     }
     if (a.kind == RUBBLE_SHAPE_PLANE && b.kind != RUBBLE_SHAPE_PLANE)
@@ -76,6 +78,21 @@ RUBBLE_FN ContactManifold collideShapesItem(HullArrays arrays, HullShape a, Rigi
         return contactsToWorldItem(inShape, tb, 1);
     }
     return emptyContactsItem();
+}
+
+// collideShapesClippingInItem with buffers in private memory, for hulls whose faces have at
+// most RUBBLE_HULL_MAX_FACE_VERTICES vertices (the device's; host/gpu/hull_data.cpp refuses
+// larger).
+RUBBLE_FN ContactManifold collideShapesItem(HullArrays arrays, HullShape a, RigidTransform ta,
+                                            HullShape b, RigidTransform tb, PairCache* cache,
+                                            float margin) {
+    ClipVertex polygon[RUBBLE_CLIP_CAPACITY], scratch[RUBBLE_CLIP_CAPACITY];
+    LocalContact candidates[RUBBLE_CLIP_CAPACITY];
+    ClipBuffers buffers;
+    buffers.polygon = polygon;
+    buffers.scratch = scratch;
+    buffers.candidates = candidates;
+    return collideShapesClippingInItem(arrays, a, ta, b, tb, cache, margin, buffers);
 }
 
 RUBBLE_SHARED_END
