@@ -1,13 +1,13 @@
 // host/collision/sat_collision.cpp: CPU stages broadPhase and narrowPhase of the SAT method over
 // the body arrays: body boxes and planes into the broad phase, pairs through the narrow phase
-// into manifolds.
+// (rubble/shared/narrow_phase.h, as the device runs it) into manifolds.
 #include "host/collision/sat_collision.h"
 
 #include <algorithm>
 
-#include "host/collision/narrow_phase.h"
 #include "host/core/limits.h"
 #include "host/core/math.h"
+#include "rubble/shared/narrow_phase.h"
 
 namespace rubble {
 namespace {
@@ -15,6 +15,16 @@ namespace {
 void updateTransforms(BodiesView bodies, std::vector<Transform>& transforms) {
     transforms.resize(bodies.count());
     for (std::uint32_t i = 0; i < bodies.count(); ++i) transforms[i] = transformOf(bodies.poses[i]);
+}
+
+// The scene's shapes flattened, and clipping buffers for their largest face.
+void flattenScene(const CollisionScene& scene, CollisionCache& c) {
+    c.hulls = flattenHulls(scene.shapes);
+    c.hullsOf = scene.shapes.data();
+    const std::size_t capacity = 2 * std::size_t(c.hulls.largestFace) + 1;
+    c.polygon.resize(capacity);
+    c.scratch.resize(capacity);
+    c.candidates.resize(capacity);
 }
 
 // The world box of a shape: a hull's local box turned (|R| times its half extents), a sphere's
@@ -92,7 +102,14 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
 Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
                                  const StepParams& params, StepContacts& out) {
     CollisionCache& c = cache_;
-    updateTransforms(bodies, c.transforms);
+    // A stage used without rebuild (tests, benchmarks) flattens the shapes on first use.
+    if (c.hullsOf != scene.shapes.data() || c.hulls.shapes.size() != scene.shapes.size())
+        flattenScene(scene, c);
+    const shared::HullArrays arrays = hullArraysOf(c.hulls);
+    const shared::ClipBuffers buffers{c.polygon.data(), c.scratch.data(), c.candidates.data()};
+    c.rigidTransforms.resize(bodies.count());
+    for (std::uint32_t i = 0; i < bodies.count(); ++i)
+        c.rigidTransforms[i] = shared::transformOfPose(bodies.poses[i]);
     out.manifolds.clear();
     c.nextFeatures.clear();
     std::size_t contacts = 0;
@@ -102,24 +119,25 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
     std::size_t cached = 0;
     for (const BodyPair& pair : out.pairs) {
         while (cached < c.features.size() && c.features[cached].pair < pair) ++cached;
-        HullPairCache cache = cached < c.features.size() && c.features[cached].pair == pair
-                                  ? c.features[cached].cache
-                                  : HullPairCache{};
+        shared::PairCache cache = cached < c.features.size() && c.features[cached].pair == pair
+                                      ? c.features[cached].cache
+                                      : shared::emptyPairCacheItem();
         const float margin = kContactMargin + pairReach(bodies, pair, c.spin, params.dt);
-        const PairContact pc = collideShapes(
-            scene.shapes[bodies.shapeOf[pair.a]], c.transforms[pair.a],
-            scene.shapes[bodies.shapeOf[pair.b]], c.transforms[pair.b], cache, margin);
+        const shared::ContactManifold found = shared::collideShapesClippingInItem(
+            arrays, c.hulls.shapes[bodies.shapeOf[pair.a]], c.rigidTransforms[pair.a],
+            c.hulls.shapes[bodies.shapeOf[pair.b]], c.rigidTransforms[pair.b], &cache, margin,
+            buffers);
         if (cache.reusable) c.nextFeatures.push_back({pair, cache});
-        if (pc.contacts.count == 0) continue;
+        if (found.count == 0) continue;
         Manifold m;
         m.a = pair.a;
         m.b = pair.b;
-        m.normal = pc.contacts.normal;
-        m.count = pc.contacts.count;
+        m.normal = toVec3(found.normal);
+        m.count = found.count;
         for (std::uint32_t i = 0; i < m.count; ++i) {
-            const LocalContact& p = pc.contacts.points[i];
-            m.points[i] = ContactPoint{p.position, p.depth, p.feature, m.normal};
-            deepest = std::max(deepest, p.depth);
+            const shared::float4 p = found.points[i];
+            m.points[i] = ContactPoint{toVec3(p), p.w, found.features[i], m.normal};
+            deepest = std::max(deepest, p.w);
         }
         contacts += m.count;
         out.manifolds.push_back(m);
@@ -144,7 +162,8 @@ void SatCollision::contactPoints(const StepContacts& contacts,
     manifoldsToContacts(contacts.manifolds, points);
 }
 
-Status SatCollision::rebuild(const CollisionScene&, BodiesView, float) {
+Status SatCollision::rebuild(const CollisionScene& scene, BodiesView, float) {
+    flattenScene(scene, cache_);
     cache_.features.clear();
     cache_.nextFeatures.clear();
     return {};

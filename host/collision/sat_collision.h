@@ -1,6 +1,7 @@
 // host/collision/sat_collision.h: CPU stages broadPhase and narrowPhase of the reference
 // pipeline (SAT method): body boxes and planes into the broad phase, pairs through the narrow
-// phase (host/collision/narrow_phase.h) into manifolds, with frame coherence between steps.
+// phase (rubble/shared/narrow_phase.h, over the flattened hulls of hull_data.h) into manifolds,
+// with frame coherence between steps.
 #pragma once
 
 #include <cstdint>
@@ -8,15 +9,17 @@
 
 #include "host/collision/broad_phase.h"
 #include "host/collision/collision_stage.h"
-#include "host/collision/hull_contact.h"
+#include "host/collision/contact_set.h"
+#include "host/collision/hull_data.h"
 #include "host/collision/transform.h"
+#include "rubble/shared/hull_contact.h"
 
 namespace rubble {
 
 /// A hull pair's axis or contact feature, kept for the next step.
 struct CachedFeature {
     BodyPair pair;
-    HullPairCache cache;
+    shared::PairCache cache;
 };
 
 /// What the SAT stages keep between steps (frame coherence), and their reused arrays.
@@ -25,12 +28,18 @@ struct CollisionCache {
     std::vector<CachedFeature> features;
     std::vector<CachedFeature> nextFeatures; ///< being filled; swapped with features
     std::vector<Transform> transforms;       ///< per body, this step
+    std::vector<shared::RigidTransform> rigidTransforms; ///< per body, this step (narrow phase)
     std::vector<Aabb> boxes;                 ///< per body, this step, grown by margin and reach
     std::vector<float> reach;        ///< per body: how far any of its points can move this step, m
     std::vector<float> spin;         ///< per body: the part of reach due to turning, m
     std::vector<std::uint8_t> flags; ///< per body, BroadPhaseFlag
     std::vector<PlaneProxy> planes;
     BroadPhaseScratch broadPhase;
+    HullData hulls;                           ///< the scene's shapes, flattened
+    const Shape* hullsOf = nullptr;           ///< the shapes `hulls` was made from
+    std::vector<shared::ClipVertex> polygon;  ///< clipping buffers: 2 largestFace + 1 each
+    std::vector<shared::ClipVertex> scratch;
+    std::vector<shared::LocalContact> candidates;
 };
 
 /// The SAT collision method.
@@ -56,7 +65,7 @@ class SatCollision final : public CollisionStage {
     /// The manifolds' points (manifoldsToContacts).
     void contactPoints(const StepContacts& contacts,
                        std::vector<shared::ParticleContact>& points) const override;
-    /// Forgets the cached features (they name bodies by index).
+    /// Forgets the cached features (they name bodies by index) and flattens the shapes.
     Status rebuild(const CollisionScene& scene, BodiesView bodies, float particleSpacing) override;
 
     const CollisionCache& cache() const { return cache_; }
