@@ -77,11 +77,11 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
             const glm::vec3 normal = c.transforms[i].rotate(shape.normal);
             const float offset = shape.offset + glm::dot(normal, c.transforms[i].translation);
             // Grown by the margin like the boxes.
-            c.planes.push_back(PlaneProxy{i, normal, offset + kContactMargin});
+            c.planes.push_back(PlaneProxy{i, normal, offset + RUBBLE_CONTACT_MARGIN});
             c.boxes[i] = Aabb{};
             continue;
         }
-        c.boxes[i] = worldBox(shape, c.transforms[i], kContactMargin + c.reach[i]);
+        c.boxes[i] = worldBox(shape, c.transforms[i], RUBBLE_CONTACT_MARGIN + c.reach[i]);
     }
     c.broadPhase.pairLimit = pairBudget(n);
     findPairs(c.boxes, c.flags, c.planes, out.pairs, c.broadPhase);
@@ -122,7 +122,7 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
         shared::PairCache cache = cached < c.features.size() && c.features[cached].pair == pair
                                       ? c.features[cached].cache
                                       : shared::emptyPairCacheItem();
-        const float margin = kContactMargin + pairReach(bodies, pair, c.spin, params.dt);
+        const float margin = RUBBLE_CONTACT_MARGIN + pairReach(bodies, pair, c.spin, params.dt);
         const shared::ContactManifold found = shared::collideShapesClippingInItem(
             arrays, c.hulls.shapes[bodies.shapeOf[pair.a]], c.rigidTransforms[pair.a],
             c.hulls.shapes[bodies.shapeOf[pair.b]], c.rigidTransforms[pair.b], &cache, margin,

@@ -9,7 +9,6 @@
 
 #include "host/collision/broad_phase.h"
 #include "host/collision/collision_stage.h"
-#include "host/collision/contact_set.h"
 #include "host/collision/hull_data.h"
 #include "host/collision/transform.h"
 #include "rubble/shared/hull_contact.h"
@@ -49,7 +48,7 @@ class SatCollision final : public CollisionStage {
 
     /// reads: poses, velocities, masses (static and asleep flags), shapes, joined
     /// writes: pairs (sorted, a < b, no pair of two static or sleeping bodies, none of two joined
-    /// bodies). Boxes are grown by kContactMargin plus the body's reach this step,
+    /// bodies). Boxes are grown by RUBBLE_CONTACT_MARGIN plus the body's reach this step,
     /// (|v| + |omega| r) dt, so that the narrow phase sees every pair that could touch before the
     /// next step (speculative contacts: a fast body meets what lies in its path instead of
     /// tunnelling through it).
@@ -57,7 +56,7 @@ class SatCollision final : public CollisionStage {
                       StepContacts& out) override;
     /// reads: pairs, poses, shapes, the cache, reach   writes: manifolds (in pair order, pairs
     /// without contacts left out; as points when the solver reads points), the cache. A pair's
-    /// margin is kContactMargin plus how much closer the bodies can come this step (relative
+    /// margin is RUBBLE_CONTACT_MARGIN plus how much closer the bodies can come this step (relative
     /// translation plus turning): contacts up to that gap come out with negative depth, and the
     /// solver lets them close only that far.
     Status narrowPhase(const CollisionScene& scene, BodiesView bodies,
