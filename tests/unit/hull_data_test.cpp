@@ -2,8 +2,11 @@
 // flattened for the narrow phase, and the device's limit on hull faces.
 #include "host/gpu/hull_data.h"
 
+#include <random>
+
 #include <gtest/gtest.h>
 
+#include "host/core/math.h"
 #include "host/geometry/obj_mesh.h"
 #include "random_hull.h"
 
@@ -84,6 +87,32 @@ TEST(HullData, TheShippedMeshesFit) {
     ASSERT_TRUE(data.ok()) << data.error().describe();
     std::printf("largest face of the shipped meshes' hulls: %u vertices\n", data->largestFace);
     EXPECT_LE(data->largestFace, RUBBLE_HULL_MAX_FACE_VERTICES);
+}
+
+// Hill climbing on the flattened hulls (what the narrow phase runs) finds the vertex furthest
+// along a direction, from any start, on random hulls.
+TEST(HullData, HillClimbingFindsTheSupportVertex) {
+    std::mt19937 rng(11);
+    std::vector<Shape> shapes;
+    for (int i = 0; i < 50; ++i) shapes.push_back(test::randomHull(rng));
+    const HullData data = flattenHulls(shapes);
+    const shared::HullArrays arrays = hullArraysOf(data);
+    int failures = 0;
+    for (std::size_t h = 0; h < shapes.size(); ++h) {
+        const HalfEdgeMesh& m = shapes[h].halfEdge;
+        const shared::Hull hull = shared::hullOfItem(arrays, data.shapes[h]);
+        std::uniform_int_distribution<std::uint32_t> start(0, m.vertexCount() - 1);
+        for (int k = 0; k < 2000; ++k) {
+            const glm::vec3 d = test::randomDirection(rng);
+            const std::uint32_t v = shared::supportVertexItem(hull, toFloat4(d), start(rng));
+            const std::uint32_t best = supportVertexBruteForce(m, d);
+            // Ties (equal projections) may pick either vertex.
+            if (glm::dot(d, m.vertices[v]) < glm::dot(d, m.vertices[best]) && ++failures <= 5)
+                ADD_FAILURE() << "hull " << h << ", direction " << k << ": vertex " << v
+                              << " instead of " << best;
+        }
+    }
+    EXPECT_EQ(failures, 0);
 }
 
 } // namespace

@@ -1,7 +1,7 @@
-// include/rubble/shared/hull_contact.h: the contact manifold of two flattened hulls for the
-// device narrow phase: SAT (shared/sat.h), then a clipped face contact or an edge contact, the
-// feature choice with hysteresis, and the per-pair feature cache between steps. A port of
-// host/collision/hull_contact.cpp, function for function (Gregorius, GDC 2015; report 3.4).
+// include/rubble/shared/hull_contact.h: the contact manifold of two flattened hulls in stage
+// narrowPhase (both pipelines): SAT (shared/sat.h), then a clipped face contact or an edge
+// contact, the feature choice with hysteresis, and the per-pair feature cache between steps
+// (Gregorius, GDC 2015; report 3.4).
 #pragma once
 
 #include "rubble/shared/clip.h"
@@ -9,7 +9,7 @@
 
 RUBBLE_SHARED_BEGIN
 
-// A feature replaces the preferred one only when clearly shallower (hull_contact.cpp).
+// A feature replaces the preferred one only when clearly shallower.
 #define RUBBLE_RELATIVE_FACE_TOLERANCE 0.05f
 #define RUBBLE_RELATIVE_EDGE_TOLERANCE 0.10f
 #define RUBBLE_ABSOLUTE_TOLERANCE 0.0025f // m
@@ -19,20 +19,19 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_REUSE_ROTATION 0.01f
 // A cached edge pair's axis may turn by about 0.5 degrees (cosine) before the full test runs
 // again, as much as a face normal under RUBBLE_REUSE_ROTATION; support points along it this far
-// (m) below its edges' points mean the axis has left the pair's Gauss-map arcs
-// (host/collision/hull_contact.cpp: kReuseAxisCosine, kSupportTolerance).
+// (m) below its edges' points mean the axis has left the pair's Gauss-map arcs.
 #define RUBBLE_REUSE_AXIS_COSINE 0.99996f
 #define RUBBLE_SUPPORT_TOLERANCE 1e-4f
 
-// The contacts of two hulls, or the axis that separates them (HullContact).
+// The contacts of two hulls, or the axis that separates them.
 typedef struct HullContact {
     int separated;
     ContactManifold contacts; // in A's frame, normal from A to B
     SatHint feature;          // the separating axis, or the feature the contacts came from
 } HullContact;
 
-// 96 bytes: what a pair keeps from one step to the next (HullPairCache), one per pair in the
-// device's pair order.
+// 96 bytes: what a pair keeps from one step to the next, one per pair (the device's pair order;
+// SatCollision's CollisionCache::features).
 typedef struct PairCache {
     RigidTransform reference; // b's pose in a's frame when the full test last ran
     SatHint feature;          // last step's separating axis or contact feature
@@ -59,7 +58,7 @@ RUBBLE_FN int clearlyLargerItem(float x, float preferred, float relative) {
     return x > preferred + relative * fabs(preferred) + RUBBLE_ABSOLUTE_TOLERANCE;
 }
 
-// Of the faces around the deepest vertex, the one most anti-parallel to `normal` (incidentFace).
+// Of the faces around the deepest vertex, the one most anti-parallel to `normal`.
 RUBBLE_FN uint incidentFaceItem(Hull mesh, float4 normal, uint deepest) {
     const uint first = mesh.vertexEdge[deepest];
     uint best = mesh.edges[first].face, h = first;
@@ -76,7 +75,7 @@ RUBBLE_FN uint incidentFaceItem(Hull mesh, float4 normal, uint deepest) {
     return best;
 }
 
-// A face contact in the reference hull's frame (clipFaceContact): the incident polygon clipped
+// A face contact in the reference hull's frame: the incident polygon clipped
 // by the side planes of the reference face, the points below its plane plus the margin, reduced
 // to four.
 RUBBLE_FN ContactManifold clipFaceContactItem(Hull ref, FaceQuery query, Hull inc,
@@ -151,8 +150,7 @@ RUBBLE_FN ContactManifold clipFaceContactItem(Hull ref, FaceQuery query, Hull in
     return set;
 }
 
-// The closest points of the two edges, with the SAT's separation along their axis
-// (edgeContact).
+// The closest points of the two edges, with the SAT's separation along their axis.
 RUBBLE_FN ContactManifold edgeContactItem(Hull a, Hull b, RigidTransform bInA, EdgeQuery q) {
     const HullEdge ea = a.edgeRecords[q.edgeA];
     const HullEdge eb = b.edgeRecords[q.edgeB];
@@ -167,7 +165,7 @@ RUBBLE_FN ContactManifold edgeContactItem(Hull a, Hull b, RigidTransform bInA, E
     return set;
 }
 
-// A face contact on B's face, made in B's frame and brought to A's (clipFaceContactOfB).
+// A face contact on B's face, made in B's frame and brought to A's.
 RUBBLE_FN ContactManifold clipFaceContactOfBItem(Hull a, Hull b, RigidTransform bInA,
                                                  FaceQuery query, float margin,
                                                  ClipBuffers buffers) {
@@ -195,7 +193,7 @@ RUBBLE_FN int tryFaceItem(HullContact* r, Hull a, Hull b, RigidTransform bInA, S
     return r->contacts.count > 0u;
 }
 
-// Collides hull a with hull b, b's pose in a's frame (collideHulls): SAT, then faces over
+// Collides hull a with hull b, b's pose in a's frame: SAT, then faces over
 // edges and last step's face owner over the other unless clearly shallower.
 RUBBLE_FN HullContact collideHullsItem(Hull a, Hull b, RigidTransform bInA, float margin,
                                        SatHint hint, ClipBuffers buffers) {
@@ -235,7 +233,7 @@ RUBBLE_FN HullContact collideHullsItem(Hull a, Hull b, RigidTransform bInA, floa
     return r;
 }
 
-// Contacts from a known feature, skipping the search (collideHullsFromFeature); without a
+// Contacts from a known feature, skipping the search; without a
 // usable feature, the full test.
 RUBBLE_FN HullContact collideHullsFromFeatureItem(Hull a, Hull b, RigidTransform bInA,
                                                   SatHint feature, float margin,
@@ -293,8 +291,8 @@ RUBBLE_FN int poseCloseItem(RigidTransform bInA, RigidTransform reference) {
     return c2 <= RUBBLE_REUSE_ROTATION;
 }
 
-// The axis of an edge pair (undirected edge indices of a and b) at b's pose in a's frame
-// (edgePairAxis): the unit cross product of the two edges turned out of a; not valid when the
+// The axis of an edge pair (undirected edge indices of a and b) at b's pose in a's frame:
+// the unit cross product of the two edges turned out of a; not valid when the
 // edges are closer to parallel than RUBBLE_PARALLEL_SINE.
 RUBBLE_FN EdgeAxis edgePairAxisItem(Hull a, uint edgeA, Hull b, uint edgeB, RigidTransform bInA) {
     const HullEdge ea = a.edgeRecords[edgeA];
@@ -304,7 +302,7 @@ RUBBLE_FN EdgeAxis edgePairAxisItem(Hull a, uint edgeA, Hull b, uint edgeB, Rigi
 
 // True while a cached edge pair's axis at this pose is within RUBBLE_REUSE_AXIS_COSINE of its
 // axis at the reference, and the pair still spans a face of the Minkowski difference: along its
-// axis the edges' own points are the support points (edgeAxisHolds).
+// axis the edges' own points are the support points.
 RUBBLE_FN int edgeAxisHoldsItem(Hull a, Hull b, RigidTransform bInA, RigidTransform reference,
                                 SatHint edges) {
     const EdgeAxis now = edgePairAxisItem(a, edges.indexA, b, edges.indexB, bInA);
@@ -316,7 +314,7 @@ RUBBLE_FN int edgeAxisHoldsItem(Hull a, Hull b, RigidTransform bInA, RigidTransf
     return separationAlongItem(a, b, bInA, now.axis) >= byEdges - RUBBLE_SUPPORT_TOLERANCE;
 }
 
-// Collides with the pair's cache (collideHullsCached): the feature is reused while the pose
+// Collides with the pair's cache: the feature is reused while the pose
 // stays close to the reference (and a cached edge pair's axis holds: edgeAxisHoldsItem), else
 // the full test runs and becomes the new reference.
 RUBBLE_FN HullContact collideHullsCachedItem(Hull a, Hull b, RigidTransform bInA, PairCache* cache,
