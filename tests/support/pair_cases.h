@@ -16,7 +16,6 @@
 
 #include "host/collision/hull_data.h"
 #include "host/core/math.h"
-#include "host/geometry/obj_mesh.h"
 #include "host/world/world_build.h"
 #include "rubble/shared/narrow_phase.h"
 #include "support/stage_input.h"
@@ -105,8 +104,9 @@ inline PairCases makePairCases(std::uint32_t seed, int count) {
     PairCases c;
     Scene& scene = c.in.scene;
     scene.materials.push_back(MaterialDesc{});
-    auto addShape = [&](Shape s) {
-        c.in.shapes.push_back(std::move(s));
+    auto addShape = [&](Result<Shape> s) {
+        if (!s) abortOn(s.error());
+        c.in.shapes.push_back(std::move(*s));
         return std::uint32_t(c.in.shapes.size() - 1);
     };
     auto box = [&](glm::vec3 h) {
@@ -114,44 +114,27 @@ inline PairCases makePairCases(std::uint32_t seed, int count) {
         d.type = ShapeType::Box;
         d.halfExtents = h;
         d.where = "box";
-        Result<Shape> s = buildShape(d);
-        if (!s) abortOn(s.error());
-        return addShape(std::move(*s));
+        return addShape(buildShape(d));
     };
     std::vector<std::uint32_t> boxes = {box(glm::vec3(0.5f)), box({0.8f, 0.1f, 0.6f}),
                                         box({0.15f, 0.15f, 0.9f})};
     std::vector<std::uint32_t> hulls = boxes;
     for (int i = 0; i < 12; ++i) hulls.push_back(addShape(randomHull(rng)));
     // Meshes collide as their hulls.
-    for (const char* file : {"rock.obj", "l_block.obj"}) {
-        const std::string path = std::string(RUBBLE_SOURCE_DIR) + "/scenes/meshes/" + file;
-        Result<TriangleMesh> mesh = loadObjMesh(path, 0.8f, file);
-        if (!mesh) abortOn(mesh.error());
-        ShapeDesc d;
-        d.type = ShapeType::Mesh;
-        d.where = file;
-        d.points = mesh->vertices;
-        d.triangles = mesh->triangles;
-        Result<Shape> s = buildShape(d);
-        if (!s) abortOn(s.error());
-        hulls.push_back(addShape(std::move(*s)));
-    }
+    for (const char* file : {"rock.obj", "l_block.obj"})
+        hulls.push_back(addShape(shippedMeshShape(file, 0.8f)));
     std::vector<std::uint32_t> spheres;
     for (float r : {0.2f, 0.5f, 0.9f}) {
         ShapeDesc d;
         d.type = ShapeType::Sphere;
         d.radius = r;
         d.where = "sphere";
-        Result<Shape> s = buildShape(d);
-        if (!s) abortOn(s.error());
-        spheres.push_back(addShape(std::move(*s)));
+        spheres.push_back(addShape(buildShape(d)));
     }
     ShapeDesc planeDesc;
     planeDesc.type = ShapeType::Plane;
     planeDesc.where = "plane";
-    Result<Shape> plane = buildShape(planeDesc);
-    if (!plane) abortOn(plane.error());
-    const std::uint32_t planeShape = addShape(std::move(*plane));
+    const std::uint32_t planeShape = addShape(buildShape(planeDesc));
 
     detail::FlatShapes flat(c.in.shapes);
     auto pick = [&](const std::vector<std::uint32_t>& v) {

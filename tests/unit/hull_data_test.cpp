@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include "host/core/math.h"
-#include "host/geometry/obj_mesh.h"
 #include "random_hull.h"
 
 namespace rubble {
@@ -71,15 +70,7 @@ TEST(HullData, AFaceWithTooManyVerticesIsNotSupported) {
 TEST(HullData, TheShippedMeshesFit) {
     std::vector<Shape> shapes;
     for (const char* file : {"rock.obj", "l_block.obj", "bowl.obj"}) {
-        const std::string path = std::string(RUBBLE_SOURCE_DIR) + "/scenes/meshes/" + file;
-        Result<TriangleMesh> mesh = loadObjMesh(path, 1.0f, file);
-        ASSERT_TRUE(mesh.ok()) << file;
-        ShapeDesc d;
-        d.type = ShapeType::Mesh;
-        d.where = file;
-        d.points = mesh->vertices;
-        d.triangles = mesh->triangles;
-        Result<Shape> s = buildShape(d);
+        Result<Shape> s = test::shippedMeshShape(file, 1.0f);
         ASSERT_TRUE(s.ok()) << file;
         shapes.push_back(std::move(*s));
     }
