@@ -12,11 +12,6 @@
 namespace rubble {
 namespace {
 
-void updateTransforms(BodiesView bodies, std::vector<Transform>& transforms) {
-    transforms.resize(bodies.count());
-    for (std::uint32_t i = 0; i < bodies.count(); ++i) transforms[i] = transformOf(bodies.poses[i]);
-}
-
 // The scene's shapes flattened, and clipping buffers for their largest face.
 void flattenScene(const CollisionScene& scene, CollisionCache& c) {
     c.hulls = flattenHulls(scene.shapes);
@@ -56,7 +51,6 @@ float pairReach(BodiesView bodies, const BodyPair& pair, const std::vector<float
 Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
                                 const StepParams& params, StepContacts& out) {
     CollisionCache& c = cache_;
-    updateTransforms(bodies, c.transforms);
     const std::uint32_t n = bodies.count();
     c.boxes.resize(n);
     c.flags.resize(n);
@@ -66,6 +60,7 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
     const float dt = params.dt;
     for (std::uint32_t i = 0; i < n; ++i) {
         const Shape& shape = scene.shapes[bodies.shapeOf[i]];
+        const Transform t = transformOf(bodies.poses[i]);
         // The farthest any point of the body moves this step with its current velocities.
         c.spin[i] = glm::length(toVec3(bodies.velocities[i].angular)) * shape.boundingRadius * dt;
         c.reach[i] = glm::length(toVec3(bodies.velocities[i].linear)) * dt + c.spin[i];
@@ -74,14 +69,14 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
         c.flags[i] = inactive ? kBroadPhaseInactive : 0;
         if (shape.type == ShapeType::Plane) {
             c.flags[i] |= kBroadPhaseNoBox;
-            const glm::vec3 normal = c.transforms[i].rotate(shape.normal);
-            const float offset = shape.offset + glm::dot(normal, c.transforms[i].translation);
+            const glm::vec3 normal = t.rotate(shape.normal);
+            const float offset = shape.offset + glm::dot(normal, t.translation);
             // Grown by the margin like the boxes.
             c.planes.push_back(PlaneProxy{i, normal, offset + RUBBLE_CONTACT_MARGIN});
             c.boxes[i] = Aabb{};
             continue;
         }
-        c.boxes[i] = worldBox(shape, c.transforms[i], RUBBLE_CONTACT_MARGIN + c.reach[i]);
+        c.boxes[i] = worldBox(shape, t, RUBBLE_CONTACT_MARGIN + c.reach[i]);
     }
     c.broadPhase.pairLimit = pairBudget(n);
     findPairs(c.boxes, c.flags, c.planes, out.pairs, c.broadPhase);
@@ -107,9 +102,9 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
         flattenScene(scene, c);
     const shared::HullArrays arrays = hullArraysOf(c.hulls);
     const shared::ClipBuffers buffers{c.polygon.data(), c.scratch.data(), c.candidates.data()};
-    c.rigidTransforms.resize(bodies.count());
+    c.transforms.resize(bodies.count());
     for (std::uint32_t i = 0; i < bodies.count(); ++i)
-        c.rigidTransforms[i] = shared::transformOfPose(bodies.poses[i]);
+        c.transforms[i] = shared::transformOfPose(bodies.poses[i]);
     out.manifolds.clear();
     c.nextFeatures.clear();
     std::size_t contacts = 0;
@@ -124,8 +119,8 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
                                       : shared::emptyPairCacheItem();
         const float margin = RUBBLE_CONTACT_MARGIN + pairReach(bodies, pair, c.spin, params.dt);
         const shared::ContactManifold found = shared::collideShapesClippingInItem(
-            arrays, c.hulls.shapes[bodies.shapeOf[pair.a]], c.rigidTransforms[pair.a],
-            c.hulls.shapes[bodies.shapeOf[pair.b]], c.rigidTransforms[pair.b], &cache, margin,
+            arrays, c.hulls.shapes[bodies.shapeOf[pair.a]], c.transforms[pair.a],
+            c.hulls.shapes[bodies.shapeOf[pair.b]], c.transforms[pair.b], &cache, margin,
             buffers);
         if (cache.reusable) c.nextFeatures.push_back({pair, cache});
         if (found.count == 0) continue;

@@ -26,8 +26,7 @@ struct CollisionCache {
     /// Last step's features, sorted by pair: the next narrow phase tests them first.
     std::vector<CachedFeature> features;
     std::vector<CachedFeature> nextFeatures; ///< being filled; swapped with features
-    std::vector<Transform> transforms;       ///< per body, this step
-    std::vector<shared::RigidTransform> rigidTransforms; ///< per body, this step (narrow phase)
+    std::vector<shared::RigidTransform> transforms; ///< per body, this step (narrow phase)
     std::vector<Aabb> boxes;                 ///< per body, this step, grown by margin and reach
     std::vector<float> reach;        ///< per body: how far any of its points can move this step, m
     std::vector<float> spin;         ///< per body: the part of reach due to turning, m
