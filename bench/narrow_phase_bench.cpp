@@ -34,7 +34,9 @@ shared::RigidTransform rigidOf(const Transform& t) {
                                   toFloat4(t.translation)};
 }
 
-shared::SatHint noHint() { return shared::makeSatHint(RUBBLE_SAT_NONE, 0u, 0u, 0u); }
+shared::SatHint noHint() {
+    return shared::makeSatHint(RUBBLE_SAT_NONE, 0u, 0u, 0u);
+}
 
 Shape boxShape() {
     ShapeDesc d;

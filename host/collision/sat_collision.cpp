@@ -120,8 +120,7 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
         const float margin = RUBBLE_CONTACT_MARGIN + pairReach(bodies, pair, c.spin, params.dt);
         const shared::ContactManifold found = shared::collideShapesClippingInItem(
             arrays, c.hulls.shapes[bodies.shapeOf[pair.a]], c.transforms[pair.a],
-            c.hulls.shapes[bodies.shapeOf[pair.b]], c.transforms[pair.b], &cache, margin,
-            buffers);
+            c.hulls.shapes[bodies.shapeOf[pair.b]], c.transforms[pair.b], &cache, margin, buffers);
         if (cache.reusable) c.nextFeatures.push_back({pair, cache});
         if (found.count == 0) continue;
         Manifold m;

@@ -33,9 +33,9 @@ struct CollisionCache {
     std::vector<std::uint8_t> flags; ///< per body, BroadPhaseFlag
     std::vector<PlaneProxy> planes;
     BroadPhaseScratch broadPhase;
-    HullData hulls;                           ///< the scene's shapes, flattened
-    const Shape* hullsOf = nullptr;           ///< the shapes `hulls` was made from
-    std::vector<shared::ClipVertex> polygon;  ///< clipping buffers: 2 largestFace + 1 each
+    HullData hulls;                          ///< the scene's shapes, flattened
+    const Shape* hullsOf = nullptr;          ///< the shapes `hulls` was made from
+    std::vector<shared::ClipVertex> polygon; ///< clipping buffers: 2 largestFace + 1 each
     std::vector<shared::ClipVertex> scratch;
     std::vector<shared::LocalContact> candidates;
 };

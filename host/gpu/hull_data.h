@@ -10,8 +10,8 @@
 
 namespace rubble::gpu {
 
-using rubble::HullData;
 using rubble::hullArraysOf;
+using rubble::HullData;
 
 /// flattenHulls for the device. Errors: NotSupported naming the shape when a hull face has more
 /// than RUBBLE_HULL_MAX_FACE_VERTICES vertices (the device clips faces in private memory).

@@ -76,8 +76,7 @@ inline bool touchesAt(FlatShapes& f, std::uint32_t sa, const BodyDesc& a, std::u
 
 // The distance along u at which b, coming from far away, first touches a (bisection).
 inline float touchingDistance(FlatShapes& f, const std::vector<Shape>& shapes, std::uint32_t sa,
-                              const BodyDesc& a, std::uint32_t sb, const BodyDesc& b,
-                              glm::vec3 u) {
+                              const BodyDesc& a, std::uint32_t sb, const BodyDesc& b, glm::vec3 u) {
     const Shape &shapeA = shapes[sa], &shapeB = shapes[sb];
     float lo = 0.0f, hi = shapeA.boundingRadius + shapeB.boundingRadius + 0.1f;
     if (shapeA.type == ShapeType::Plane || shapeB.type == ShapeType::Plane)

@@ -50,7 +50,9 @@ inline shared::RigidTransform rigidOf(const Transform& t) {
                                   toFloat4(t.translation)};
 }
 
-inline shared::SatHint noHint() { return shared::makeSatHint(RUBBLE_SAT_NONE, 0u, 0u, 0u); }
+inline shared::SatHint noHint() {
+    return shared::makeSatHint(RUBBLE_SAT_NONE, 0u, 0u, 0u);
+}
 
 /// One contact point and a manifold in glm terms (shared::ContactManifold's fields).
 struct LocalContact {
@@ -94,8 +96,7 @@ inline float separationAlong(const FlatHull& a, const FlatHull& b, const Transfo
 
 inline shared::EdgeQuery queryEdgeDirections(const FlatHull& a, const FlatHull& b,
                                              const Transform& bInA) {
-    return shared::queryEdgeDirectionsItem(a.hull(), b.hull(), rigidOf(bInA),
-                                           3.40282347e+38f);
+    return shared::queryEdgeDirectionsItem(a.hull(), b.hull(), rigidOf(bInA), 3.40282347e+38f);
 }
 
 inline HullContact collideHulls(const FlatHull& a, const FlatHull& b, const Transform& bInA,
@@ -131,7 +132,8 @@ inline ContactSet collidePlaneSphere(glm::vec3 normal, float offset, glm::vec3 c
 
 inline ContactSet collidePlaneHull(glm::vec3 normal, float offset, const FlatHull& hull,
                                    float margin = kContactMargin) {
-    return contactSetOf(shared::collidePlaneHullItem(toFloat4(normal), offset, hull.hull(), margin));
+    return contactSetOf(
+        shared::collidePlaneHullItem(toFloat4(normal), offset, hull.hull(), margin));
 }
 
 } // namespace rubble::test

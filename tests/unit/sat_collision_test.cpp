@@ -225,7 +225,8 @@ TEST(SatCollision, FacesOfAHundredVerticesClip) {
                     ", " + std::to_string(0.8f * std::sin(a)) + "]";
     }
     Sat s(scene(R"("table": {"type": "box", "half_extents": [1, 0.5, 1]},
-                  "disc": {"type": "convex", "vertices": [)" + disc + "]}",
+                  "disc": {"type": "convex", "vertices": [)" +
+                    disc + "]}",
                 R"({"name": "table", "shape": "table", "static": true, "position": [0, 0.5, 0]},
                    {"name": "disc", "shape": "disc", "mass": 1, "position": [0, 1.095, 0]})"));
     s.broadPhase();

@@ -17,13 +17,13 @@ namespace {
 using test::BruteForce;
 using test::bruteForceSeparation;
 using test::FlatHull;
-using test::queryEdgeDirections;
-using test::runSat;
-using test::separationAlong;
 using test::makeTransform;
+using test::queryEdgeDirections;
 using test::randomDirection;
 using test::randomHull;
 using test::randomRotation;
+using test::runSat;
+using test::separationAlong;
 
 // A pool of random hulls, built once.
 const std::vector<Shape>& hullPool() {
@@ -184,8 +184,8 @@ TEST(Sat, HintGivesTheSameVerdict) {
         // The hint of a slightly different pose, as from the last step.
         const Transform moved{bInA.rotation, bInA.translation + randomDirection(rng) * 0.01f};
         const shared::SatResult last = runSat(a, b, moved);
-        const shared::SatResult warm =
-            runSat(a, b, bInA, 0.0f, shared::makeSatHint(last.feature, last.indexA, last.indexB, 0u));
+        const shared::SatResult warm = runSat(
+            a, b, bInA, 0.0f, shared::makeSatHint(last.feature, last.indexA, last.indexB, 0u));
         if (std::fabs(cold.separation) > 1e-5f && cold.separated != warm.separated)
             failures.add(i, "the hint changed the verdict");
         if (!cold.separated && std::fabs(cold.separation - warm.separation) > 1e-6f)
