@@ -1,6 +1,7 @@
-// bench/narrow_phase_bench.cpp: throughput of the CPU collision stages: SAT and manifolds for
-// box-box and 20-face hull pairs, with and without the Gauss-map pruning of edge pairs, and the
-// broad phase over 16,384 resting boxes. Figures and the command are in docs/collision.md.
+// bench/narrow_phase_bench.cpp: throughput of the CPU collision stages: SAT and manifolds of the
+// shared narrow phase (rubble/shared/hull_contact.h, as SatCollision runs it) for box-box and
+// 20-face hull pairs, and both stages over 16,384 resting boxes. Figures and the command are in
+// docs/collision.md.
 #include <cmath>
 #include <random>
 #include <string>
@@ -9,10 +10,11 @@
 #include <benchmark/benchmark.h>
 #include <glm/gtc/quaternion.hpp>
 
-#include "host/collision/hull_contact.h"
-#include "host/collision/sat.h"
+#include "host/collision/hull_data.h"
 #include "host/collision/sat_collision.h"
+#include "host/collision/transform.h"
 #include "host/geometry/shape.h"
+#include "rubble/shared/hull_contact.h"
 #include "support/stage_input.h"
 
 namespace rubble {
@@ -21,9 +23,20 @@ namespace {
 constexpr int kPairs = 1024;
 
 struct PairSet {
-    Shape shape;
-    std::vector<Transform> poses; ///< b's pose in a's frame, for a pair of copies of shape
+    HullData hull;                             ///< the shape, flattened
+    std::vector<shared::RigidTransform> poses; ///< b's pose in a's frame, two copies of the shape
+    shared::Hull of() const { return shared::hullOfItem(hullArraysOf(hull), hull.shapes[0]); }
 };
+
+shared::RigidTransform rigidOf(const Transform& t) {
+    const glm::mat3 rt = glm::transpose(t.rotation);
+    return shared::RigidTransform{shared::Mat3{toFloat4(rt[0]), toFloat4(rt[1]), toFloat4(rt[2])},
+                                  toFloat4(t.translation)};
+}
+
+shared::SatHint noHint() {
+    return shared::makeSatHint(RUBBLE_SAT_NONE, 0u, 0u, 0u);
+}
 
 Shape boxShape() {
     ShapeDesc d;
@@ -49,9 +62,9 @@ Shape hull20Shape() {
 
 // Pairs in contact as a pile has them: b at a random orientation, moved along a random
 // direction until the hulls just touch, then 0 to 2 cm into each other.
-PairSet touchingPairs(Shape shape) {
-    PairSet set{std::move(shape), {}};
-    const HalfEdgeMesh& m = set.shape.halfEdge;
+PairSet touchingPairs(const Shape& shape) {
+    PairSet set{flattenHulls(std::span<const Shape>(&shape, 1)), {}};
+    const shared::Hull m = set.of();
     std::mt19937 rng(1);
     std::normal_distribution<float> gauss;
     std::uniform_real_distribution<float> depth(0.0f, 0.02f);
@@ -59,13 +72,13 @@ PairSet touchingPairs(Shape shape) {
         const glm::quat q =
             glm::normalize(glm::quat(gauss(rng), gauss(rng), gauss(rng), gauss(rng)));
         const glm::vec3 dir = glm::normalize(glm::vec3(gauss(rng), gauss(rng), gauss(rng)));
-        float lo = 0.0f, hi = 2.0f * set.shape.boundingRadius;
+        float lo = 0.0f, hi = 2.0f * shape.boundingRadius;
         for (int k = 0; k < 24; ++k) {
             const float mid = 0.5f * (lo + hi);
-            const Transform t{glm::mat3_cast(q), dir * mid};
-            (runSat(m, m, t).separated ? hi : lo) = mid;
+            const shared::RigidTransform t = rigidOf(Transform{glm::mat3_cast(q), dir * mid});
+            (shared::runSatItem(m, m, t, 0.0f, noHint()).separated ? hi : lo) = mid;
         }
-        set.poses.push_back(Transform{glm::mat3_cast(q), dir * (lo - depth(rng))});
+        set.poses.push_back(rigidOf(Transform{glm::mat3_cast(q), dir * (lo - depth(rng))}));
     }
     return set;
 }
@@ -80,11 +93,12 @@ const PairSet& hullPairs() {
     return set;
 }
 
-void runSatOver(benchmark::State& state, const PairSet& set, bool prune) {
-    const HalfEdgeMesh& m = set.shape.halfEdge;
+void runSatOver(benchmark::State& state, const PairSet& set) {
+    const shared::Hull m = set.of();
     for (auto _ : state)
-        for (const Transform& t : set.poses) {
-            const SatResult r = runSat(m, m, t, kContactMargin, {}, prune);
+        for (const shared::RigidTransform& t : set.poses) {
+            const shared::SatResult r =
+                shared::runSatItem(m, m, t, RUBBLE_CONTACT_MARGIN, noHint());
             benchmark::DoNotOptimize(r.separation);
         }
     state.SetItemsProcessed(state.iterations() * std::int64_t(set.poses.size()));
@@ -93,30 +107,32 @@ void runSatOver(benchmark::State& state, const PairSet& set, bool prune) {
 // Manifolds from scratch every time, or through each pair's cache as a resting pile has them
 // (the pose unchanged since the last full test: one support query, then the clipping).
 void runManifoldsOver(benchmark::State& state, const PairSet& set, bool cached) {
-    const HalfEdgeMesh& m = set.shape.halfEdge;
-    std::vector<HullPairCache> caches(set.poses.size());
+    const shared::Hull m = set.of();
+    const std::size_t capacity = 2 * std::size_t(set.hull.largestFace) + 1;
+    std::vector<shared::ClipVertex> polygon(capacity), scratch(capacity);
+    std::vector<shared::LocalContact> candidates(capacity);
+    const shared::ClipBuffers buffers{polygon.data(), scratch.data(), candidates.data()};
+    std::vector<shared::PairCache> caches(set.poses.size(), shared::emptyPairCacheItem());
     for (std::size_t i = 0; i < set.poses.size(); ++i)
-        collideHullsCached(m, m, set.poses[i], caches[i]);
+        shared::collideHullsCachedItem(m, m, set.poses[i], &caches[i], RUBBLE_CONTACT_MARGIN,
+                                       buffers);
     for (auto _ : state)
         for (std::size_t i = 0; i < set.poses.size(); ++i) {
-            const HullContact c = cached ? collideHullsCached(m, m, set.poses[i], caches[i])
-                                         : collideHulls(m, m, set.poses[i]);
+            const shared::HullContact c =
+                cached ? shared::collideHullsCachedItem(m, m, set.poses[i], &caches[i],
+                                                        RUBBLE_CONTACT_MARGIN, buffers)
+                       : shared::collideHullsItem(m, m, set.poses[i], RUBBLE_CONTACT_MARGIN,
+                                                  noHint(), buffers);
             benchmark::DoNotOptimize(c.contacts.count);
         }
     state.SetItemsProcessed(state.iterations() * std::int64_t(set.poses.size()));
 }
 
 void BM_SatBoxBox(benchmark::State& s) {
-    runSatOver(s, boxPairs(), true);
-}
-void BM_SatBoxBoxUnpruned(benchmark::State& s) {
-    runSatOver(s, boxPairs(), false);
+    runSatOver(s, boxPairs());
 }
 void BM_SatHull20(benchmark::State& s) {
-    runSatOver(s, hullPairs(), true);
-}
-void BM_SatHull20Unpruned(benchmark::State& s) {
-    runSatOver(s, hullPairs(), false);
+    runSatOver(s, hullPairs());
 }
 void BM_ManifoldBoxBox(benchmark::State& s) {
     runManifoldsOver(s, boxPairs(), false);
@@ -132,9 +148,7 @@ void BM_ManifoldHull20Cached(benchmark::State& s) {
 }
 
 BENCHMARK(BM_SatBoxBox);
-BENCHMARK(BM_SatBoxBoxUnpruned);
 BENCHMARK(BM_SatHull20);
-BENCHMARK(BM_SatHull20Unpruned);
 BENCHMARK(BM_ManifoldBoxBox);
 BENCHMARK(BM_ManifoldBoxBoxCached);
 BENCHMARK(BM_ManifoldHull20);

@@ -1,20 +1,25 @@
 // host/collision/sat_collision.cpp: CPU stages broadPhase and narrowPhase of the SAT method over
 // the body arrays: body boxes and planes into the broad phase, pairs through the narrow phase
-// into manifolds.
+// (rubble/shared/narrow_phase.h, as the device runs it) into manifolds.
 #include "host/collision/sat_collision.h"
 
 #include <algorithm>
 
-#include "host/collision/narrow_phase.h"
 #include "host/core/limits.h"
 #include "host/core/math.h"
+#include "rubble/shared/narrow_phase.h"
 
 namespace rubble {
 namespace {
 
-void updateTransforms(BodiesView bodies, std::vector<Transform>& transforms) {
-    transforms.resize(bodies.count());
-    for (std::uint32_t i = 0; i < bodies.count(); ++i) transforms[i] = transformOf(bodies.poses[i]);
+// The scene's shapes flattened, and clipping buffers for their largest face.
+void flattenScene(const CollisionScene& scene, CollisionCache& c) {
+    c.hulls = flattenHulls(scene.shapes);
+    c.hullsOf = scene.shapes.data();
+    const std::size_t capacity = 2 * std::size_t(c.hulls.largestFace) + 1;
+    c.polygon.resize(capacity);
+    c.scratch.resize(capacity);
+    c.candidates.resize(capacity);
 }
 
 // The world box of a shape: a hull's local box turned (|R| times its half extents), a sphere's
@@ -46,7 +51,6 @@ float pairReach(BodiesView bodies, const BodyPair& pair, const std::vector<float
 Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
                                 const StepParams& params, StepContacts& out) {
     CollisionCache& c = cache_;
-    updateTransforms(bodies, c.transforms);
     const std::uint32_t n = bodies.count();
     c.boxes.resize(n);
     c.flags.resize(n);
@@ -56,6 +60,7 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
     const float dt = params.dt;
     for (std::uint32_t i = 0; i < n; ++i) {
         const Shape& shape = scene.shapes[bodies.shapeOf[i]];
+        const Transform t = transformOf(bodies.poses[i]);
         // The farthest any point of the body moves this step with its current velocities.
         c.spin[i] = glm::length(toVec3(bodies.velocities[i].angular)) * shape.boundingRadius * dt;
         c.reach[i] = glm::length(toVec3(bodies.velocities[i].linear)) * dt + c.spin[i];
@@ -64,14 +69,14 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
         c.flags[i] = inactive ? kBroadPhaseInactive : 0;
         if (shape.type == ShapeType::Plane) {
             c.flags[i] |= kBroadPhaseNoBox;
-            const glm::vec3 normal = c.transforms[i].rotate(shape.normal);
-            const float offset = shape.offset + glm::dot(normal, c.transforms[i].translation);
+            const glm::vec3 normal = t.rotate(shape.normal);
+            const float offset = shape.offset + glm::dot(normal, t.translation);
             // Grown by the margin like the boxes.
-            c.planes.push_back(PlaneProxy{i, normal, offset + kContactMargin});
+            c.planes.push_back(PlaneProxy{i, normal, offset + RUBBLE_CONTACT_MARGIN});
             c.boxes[i] = Aabb{};
             continue;
         }
-        c.boxes[i] = worldBox(shape, c.transforms[i], kContactMargin + c.reach[i]);
+        c.boxes[i] = worldBox(shape, t, RUBBLE_CONTACT_MARGIN + c.reach[i]);
     }
     c.broadPhase.pairLimit = pairBudget(n);
     findPairs(c.boxes, c.flags, c.planes, out.pairs, c.broadPhase);
@@ -92,7 +97,14 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
 Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
                                  const StepParams& params, StepContacts& out) {
     CollisionCache& c = cache_;
-    updateTransforms(bodies, c.transforms);
+    // A stage used without rebuild (tests, benchmarks) flattens the shapes on first use.
+    if (c.hullsOf != scene.shapes.data() || c.hulls.shapes.size() != scene.shapes.size())
+        flattenScene(scene, c);
+    const shared::HullArrays arrays = hullArraysOf(c.hulls);
+    const shared::ClipBuffers buffers{c.polygon.data(), c.scratch.data(), c.candidates.data()};
+    c.transforms.resize(bodies.count());
+    for (std::uint32_t i = 0; i < bodies.count(); ++i)
+        c.transforms[i] = shared::transformOfPose(bodies.poses[i]);
     out.manifolds.clear();
     c.nextFeatures.clear();
     std::size_t contacts = 0;
@@ -102,24 +114,24 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
     std::size_t cached = 0;
     for (const BodyPair& pair : out.pairs) {
         while (cached < c.features.size() && c.features[cached].pair < pair) ++cached;
-        HullPairCache cache = cached < c.features.size() && c.features[cached].pair == pair
-                                  ? c.features[cached].cache
-                                  : HullPairCache{};
-        const float margin = kContactMargin + pairReach(bodies, pair, c.spin, params.dt);
-        const PairContact pc = collideShapes(
-            scene.shapes[bodies.shapeOf[pair.a]], c.transforms[pair.a],
-            scene.shapes[bodies.shapeOf[pair.b]], c.transforms[pair.b], cache, margin);
+        shared::PairCache cache = cached < c.features.size() && c.features[cached].pair == pair
+                                      ? c.features[cached].cache
+                                      : shared::emptyPairCacheItem();
+        const float margin = RUBBLE_CONTACT_MARGIN + pairReach(bodies, pair, c.spin, params.dt);
+        const shared::ContactManifold found = shared::collideShapesClippingInItem(
+            arrays, c.hulls.shapes[bodies.shapeOf[pair.a]], c.transforms[pair.a],
+            c.hulls.shapes[bodies.shapeOf[pair.b]], c.transforms[pair.b], &cache, margin, buffers);
         if (cache.reusable) c.nextFeatures.push_back({pair, cache});
-        if (pc.contacts.count == 0) continue;
+        if (found.count == 0) continue;
         Manifold m;
         m.a = pair.a;
         m.b = pair.b;
-        m.normal = pc.contacts.normal;
-        m.count = pc.contacts.count;
+        m.normal = toVec3(found.normal);
+        m.count = found.count;
         for (std::uint32_t i = 0; i < m.count; ++i) {
-            const LocalContact& p = pc.contacts.points[i];
-            m.points[i] = ContactPoint{p.position, p.depth, p.feature, m.normal};
-            deepest = std::max(deepest, p.depth);
+            const shared::float4 p = found.points[i];
+            m.points[i] = ContactPoint{toVec3(p), p.w, found.features[i], m.normal};
+            deepest = std::max(deepest, p.w);
         }
         contacts += m.count;
         out.manifolds.push_back(m);
@@ -144,7 +156,8 @@ void SatCollision::contactPoints(const StepContacts& contacts,
     manifoldsToContacts(contacts.manifolds, points);
 }
 
-Status SatCollision::rebuild(const CollisionScene&, BodiesView, float) {
+Status SatCollision::rebuild(const CollisionScene& scene, BodiesView, float) {
+    flattenScene(scene, cache_);
     cache_.features.clear();
     cache_.nextFeatures.clear();
     return {};

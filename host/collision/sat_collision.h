@@ -1,6 +1,7 @@
 // host/collision/sat_collision.h: CPU stages broadPhase and narrowPhase of the reference
 // pipeline (SAT method): body boxes and planes into the broad phase, pairs through the narrow
-// phase (host/collision/narrow_phase.h) into manifolds, with frame coherence between steps.
+// phase (rubble/shared/narrow_phase.h, over the flattened hulls of hull_data.h) into manifolds,
+// with frame coherence between steps.
 #pragma once
 
 #include <cstdint>
@@ -8,15 +9,16 @@
 
 #include "host/collision/broad_phase.h"
 #include "host/collision/collision_stage.h"
-#include "host/collision/hull_contact.h"
+#include "host/collision/hull_data.h"
 #include "host/collision/transform.h"
+#include "rubble/shared/hull_contact.h"
 
 namespace rubble {
 
 /// A hull pair's axis or contact feature, kept for the next step.
 struct CachedFeature {
     BodyPair pair;
-    HullPairCache cache;
+    shared::PairCache cache;
 };
 
 /// What the SAT stages keep between steps (frame coherence), and their reused arrays.
@@ -24,13 +26,18 @@ struct CollisionCache {
     /// Last step's features, sorted by pair: the next narrow phase tests them first.
     std::vector<CachedFeature> features;
     std::vector<CachedFeature> nextFeatures; ///< being filled; swapped with features
-    std::vector<Transform> transforms;       ///< per body, this step
+    std::vector<shared::RigidTransform> transforms; ///< per body, this step (narrow phase)
     std::vector<Aabb> boxes;                 ///< per body, this step, grown by margin and reach
     std::vector<float> reach;        ///< per body: how far any of its points can move this step, m
     std::vector<float> spin;         ///< per body: the part of reach due to turning, m
     std::vector<std::uint8_t> flags; ///< per body, BroadPhaseFlag
     std::vector<PlaneProxy> planes;
     BroadPhaseScratch broadPhase;
+    HullData hulls;                          ///< the scene's shapes, flattened
+    const Shape* hullsOf = nullptr;          ///< the shapes `hulls` was made from
+    std::vector<shared::ClipVertex> polygon; ///< clipping buffers: 2 largestFace + 1 each
+    std::vector<shared::ClipVertex> scratch;
+    std::vector<shared::LocalContact> candidates;
 };
 
 /// The SAT collision method.
@@ -40,7 +47,7 @@ class SatCollision final : public CollisionStage {
 
     /// reads: poses, velocities, masses (static and asleep flags), shapes, joined
     /// writes: pairs (sorted, a < b, no pair of two static or sleeping bodies, none of two joined
-    /// bodies). Boxes are grown by kContactMargin plus the body's reach this step,
+    /// bodies). Boxes are grown by RUBBLE_CONTACT_MARGIN plus the body's reach this step,
     /// (|v| + |omega| r) dt, so that the narrow phase sees every pair that could touch before the
     /// next step (speculative contacts: a fast body meets what lies in its path instead of
     /// tunnelling through it).
@@ -48,7 +55,7 @@ class SatCollision final : public CollisionStage {
                       StepContacts& out) override;
     /// reads: pairs, poses, shapes, the cache, reach   writes: manifolds (in pair order, pairs
     /// without contacts left out; as points when the solver reads points), the cache. A pair's
-    /// margin is kContactMargin plus how much closer the bodies can come this step (relative
+    /// margin is RUBBLE_CONTACT_MARGIN plus how much closer the bodies can come this step (relative
     /// translation plus turning): contacts up to that gap come out with negative depth, and the
     /// solver lets them close only that far.
     Status narrowPhase(const CollisionScene& scene, BodiesView bodies,
@@ -56,7 +63,7 @@ class SatCollision final : public CollisionStage {
     /// The manifolds' points (manifoldsToContacts).
     void contactPoints(const StepContacts& contacts,
                        std::vector<shared::ParticleContact>& points) const override;
-    /// Forgets the cached features (they name bodies by index).
+    /// Forgets the cached features (they name bodies by index) and flattens the shapes.
     Status rebuild(const CollisionScene& scene, BodiesView bodies, float particleSpacing) override;
 
     const CollisionCache& cache() const { return cache_; }

@@ -1,5 +1,6 @@
-// host/collision/transform.h: rigid transforms (rotation matrix and translation) for the narrow
-// phase, made once per body per step from its BodyPose.
+// host/collision/transform.h: rigid transforms (rotation matrix and translation) in glm, for the
+// broad phase's boxes and planes, made from a body's BodyPose (the narrow phase uses
+// rubble/shared/hull.h's RigidTransform).
 #pragma once
 
 #include <glm/glm.hpp>

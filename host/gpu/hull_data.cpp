@@ -1,102 +1,29 @@
-// host/gpu/hull_data.cpp: flattening a world's shapes for the device's SAT narrow phase.
+// host/gpu/hull_data.cpp: the device's limit on hull faces, over the flattening of
+// host/collision/hull_data.cpp.
 #include "host/gpu/hull_data.h"
 
-#include <algorithm>
 #include <string>
 
-#include "host/collision/narrow_phase.h"
-#include "host/core/assert.h"
-#include "host/core/math.h"
-
 namespace rubble::gpu {
-namespace {
-
-std::uint32_t faceLoopLength(const HalfEdgeMesh& m, std::uint32_t face) {
-    std::uint32_t n = 0, h = m.faces[face].edge;
-    do {
-        ++n;
-        h = m.edges[h].next;
-    } while (h != m.faces[face].edge && n <= m.edges.size());
-    return n;
-}
-
-} // namespace
 
 Result<HullData> flattenShapes(std::span<const Shape> shapes) {
-    HullData d;
     for (std::size_t index = 0; index < shapes.size(); ++index) {
         const Shape& s = shapes[index];
-        shared::HullShape r{};
-        r.boundingRadius = s.boundingRadius;
-        r.vertexStart = std::uint32_t(d.vertices.size());
-        r.halfEdgeStart = std::uint32_t(d.halfEdges.size());
-        r.edgeStart = std::uint32_t(d.edges.size());
-        r.faceStart = std::uint32_t(d.faces.size());
-        if (s.type == ShapeType::Sphere) {
-            r.kind = RUBBLE_SHAPE_SPHERE;
-            r.radius = s.radius;
-        } else if (s.type == ShapeType::Plane) {
-            r.kind = RUBBLE_SHAPE_PLANE;
-            r.plane = toFloat4(s.normal, s.offset);
-        } else {
-            RUBBLE_ASSERT(collidesAsHull(s.type));
-            const HalfEdgeMesh& m = s.halfEdge;
-            r.kind = RUBBLE_SHAPE_HULL;
-            r.boundsMin = toFloat4(m.boundsMin);
-            r.boundsMax = toFloat4(m.boundsMax);
-            r.centroid = toFloat4(m.centroid);
-            r.vertexCount = m.vertexCount();
-            r.edgeCount = m.edgeCount();
-            r.faceCount = m.faceCount();
-            for (std::uint32_t f = 0; f < m.faceCount(); ++f) {
-                const std::uint32_t n = faceLoopLength(m, f);
-                d.largestFace = std::max(d.largestFace, n);
-                if (n > RUBBLE_HULL_MAX_FACE_VERTICES)
-                    return makeError(ErrorKind::NotSupported,
-                                     "shapes[" + std::to_string(index) + "]" +
-                                         (s.name.empty() ? "" : " (" + s.name + ")"),
-                                     "a face of its hull has " + std::to_string(n) +
-                                         " vertices; the device's SAT narrow phase clips faces "
-                                         "of at most " +
-                                         std::to_string(RUBBLE_HULL_MAX_FACE_VERTICES) +
-                                         " (collide it with particles, or simplify the hull)");
-            }
-            const auto neighbourBase = std::uint32_t(d.neighbours.size());
-            for (std::uint32_t v = 0; v < m.vertexCount(); ++v) {
-                d.vertices.push_back(toFloat4(m.vertices[v]));
-                d.vertexEdges.push_back(m.vertexEdge[v]);
-                d.neighbourStart.push_back(neighbourBase + m.neighbourStart[v]);
-            }
-            d.neighbours.insert(d.neighbours.end(), m.neighbours.begin(), m.neighbours.end());
-            for (const HalfEdge& e : m.edges)
-                d.halfEdges.push_back(shared::HullHalfEdge{e.origin, e.face, e.next, e.twin});
-            for (const HalfEdgeFace& f : m.faces) {
-                d.faces.push_back(toFloat4(f.normal, f.offset));
-                d.faceEdges.push_back(f.edge);
-            }
-            for (const HalfEdgeEdge& e : m.edgeRecords)
-                d.edges.push_back(shared::HullEdge{toFloat4(e.origin), toFloat4(e.direction),
-                                                   toFloat4(e.normalLeft), toFloat4(e.normalRight),
-                                                   toFloat4(e.arc)});
+        if (!collidesAsHull(s.type)) continue;
+        for (std::uint32_t f = 0; f < s.halfEdge.faceCount(); ++f) {
+            const auto n = std::uint32_t(faceVertices(s.halfEdge, f).size());
+            if (n > RUBBLE_HULL_MAX_FACE_VERTICES)
+                return makeError(ErrorKind::NotSupported,
+                                 "shapes[" + std::to_string(index) + "]" +
+                                     (s.name.empty() ? "" : " (" + s.name + ")"),
+                                 "a face of its hull has " + std::to_string(n) +
+                                     " vertices; the device's SAT narrow phase clips faces "
+                                     "of at most " +
+                                     std::to_string(RUBBLE_HULL_MAX_FACE_VERTICES) +
+                                     " (collide it with particles, or simplify the hull)");
         }
-        d.shapes.push_back(r);
     }
-    // The end of the last vertex's ring.
-    d.neighbourStart.push_back(std::uint32_t(d.neighbours.size()));
-    return d;
-}
-
-shared::HullArrays hullArraysOf(const HullData& data) {
-    shared::HullArrays a{};
-    a.vertices = data.vertices.data();
-    a.vertexEdges = data.vertexEdges.data();
-    a.neighbourStart = data.neighbourStart.data();
-    a.neighbours = data.neighbours.data();
-    a.halfEdges = data.halfEdges.data();
-    a.faces = data.faces.data();
-    a.faceEdges = data.faceEdges.data();
-    a.edges = data.edges.data();
-    return a;
+    return flattenHulls(shapes);
 }
 
 } // namespace rubble::gpu

@@ -1,5 +1,5 @@
-// tests/support/pair_cases.h: seeded random shape pairs for the narrow-phase twin tests (the
-// shared port on the host, the device kernel): boxes, random convex hulls, spheres and planes at
+// tests/support/pair_cases.h: seeded random shape pairs for the narrow-phase twin test of the
+// device kernel against the CPU stage: boxes, random convex hulls, spheres and planes at
 // random relative poses that touch, leave a gap within the margin, overlap deeply, cross two
 // edges, or are apart; each pair as two bodies of a stage input.
 #pragma once
@@ -14,10 +14,10 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include "host/collision/narrow_phase.h"
+#include "host/collision/hull_data.h"
 #include "host/core/math.h"
-#include "host/geometry/obj_mesh.h"
 #include "host/world/world_build.h"
+#include "rubble/shared/narrow_phase.h"
 #include "support/stage_input.h"
 #include "unit/random_hull.h"
 
@@ -45,27 +45,46 @@ struct PairCases {
 
 namespace detail {
 
-inline Transform transformOfDesc(const BodyDesc& b) {
-    return transformOf(shared::BodyPose{toFloat4(b.position), toFloat4(b.orientation)});
+inline shared::RigidTransform transformOfDesc(const BodyDesc& b) {
+    return shared::transformOfPose(shared::BodyPose{toFloat4(b.position), toFloat4(b.orientation)});
 }
 
-// Whether the shapes touch (a contact with margin 0) with b moved to a's position + t u.
-inline bool touchesAt(const Shape& sa, const BodyDesc& a, const Shape& sb, BodyDesc b,
-                      glm::vec3 u, float t) {
+// The shapes flattened for the narrow phase, with clipping buffers for their largest face.
+struct FlatShapes {
+    HullData data;
+    std::vector<shared::ClipVertex> polygon, scratch;
+    std::vector<shared::LocalContact> candidates;
+    explicit FlatShapes(std::span<const Shape> shapes) : data(flattenHulls(shapes)) {
+        const std::size_t n = 2 * std::size_t(data.largestFace) + 1;
+        polygon.resize(n);
+        scratch.resize(n);
+        candidates.resize(n);
+    }
+};
+
+// Whether shapes sa and sb touch (a contact with margin 0) with b moved to a's position + t u.
+inline bool touchesAt(FlatShapes& f, std::uint32_t sa, const BodyDesc& a, std::uint32_t sb,
+                      BodyDesc b, glm::vec3 u, float t) {
     b.position = a.position + u * t;
-    return collideShapes(sa, transformOfDesc(a), sb, transformOfDesc(b), 0.0f).contacts.count > 0;
+    shared::PairCache cache = shared::emptyPairCacheItem();
+    const shared::ClipBuffers buffers{f.polygon.data(), f.scratch.data(), f.candidates.data()};
+    return shared::collideShapesClippingInItem(hullArraysOf(f.data), f.data.shapes[sa],
+                                               transformOfDesc(a), f.data.shapes[sb],
+                                               transformOfDesc(b), &cache, 0.0f, buffers)
+               .count > 0;
 }
 
 // The distance along u at which b, coming from far away, first touches a (bisection).
-inline float touchingDistance(const Shape& sa, const BodyDesc& a, const Shape& sb,
-                              const BodyDesc& b, glm::vec3 u) {
-    float lo = 0.0f, hi = sa.boundingRadius + sb.boundingRadius + 0.1f;
-    if (sa.type == ShapeType::Plane || sb.type == ShapeType::Plane)
-        hi = std::max(sa.boundingRadius, sb.boundingRadius) + 0.1f;
-    if (!touchesAt(sa, a, sb, b, u, lo)) return lo; // a plane seen from its solid side
+inline float touchingDistance(FlatShapes& f, const std::vector<Shape>& shapes, std::uint32_t sa,
+                              const BodyDesc& a, std::uint32_t sb, const BodyDesc& b, glm::vec3 u) {
+    const Shape &shapeA = shapes[sa], &shapeB = shapes[sb];
+    float lo = 0.0f, hi = shapeA.boundingRadius + shapeB.boundingRadius + 0.1f;
+    if (shapeA.type == ShapeType::Plane || shapeB.type == ShapeType::Plane)
+        hi = std::max(shapeA.boundingRadius, shapeB.boundingRadius) + 0.1f;
+    if (!touchesAt(f, sa, a, sb, b, u, lo)) return lo; // a plane seen from its solid side
     for (int i = 0; i < 40; ++i) {
         const float mid = 0.5f * (lo + hi);
-        (touchesAt(sa, a, sb, b, u, mid) ? lo : hi) = mid;
+        (touchesAt(f, sa, a, sb, b, u, mid) ? lo : hi) = mid;
     }
     return 0.5f * (lo + hi);
 }
@@ -84,8 +103,9 @@ inline PairCases makePairCases(std::uint32_t seed, int count) {
     PairCases c;
     Scene& scene = c.in.scene;
     scene.materials.push_back(MaterialDesc{});
-    auto addShape = [&](Shape s) {
-        c.in.shapes.push_back(std::move(s));
+    auto addShape = [&](Result<Shape> s) {
+        if (!s) abortOn(s.error());
+        c.in.shapes.push_back(std::move(*s));
         return std::uint32_t(c.in.shapes.size() - 1);
     };
     auto box = [&](glm::vec3 h) {
@@ -93,45 +113,29 @@ inline PairCases makePairCases(std::uint32_t seed, int count) {
         d.type = ShapeType::Box;
         d.halfExtents = h;
         d.where = "box";
-        Result<Shape> s = buildShape(d);
-        if (!s) abortOn(s.error());
-        return addShape(std::move(*s));
+        return addShape(buildShape(d));
     };
     std::vector<std::uint32_t> boxes = {box(glm::vec3(0.5f)), box({0.8f, 0.1f, 0.6f}),
                                         box({0.15f, 0.15f, 0.9f})};
     std::vector<std::uint32_t> hulls = boxes;
     for (int i = 0; i < 12; ++i) hulls.push_back(addShape(randomHull(rng)));
     // Meshes collide as their hulls.
-    for (const char* file : {"rock.obj", "l_block.obj"}) {
-        const std::string path = std::string(RUBBLE_SOURCE_DIR) + "/scenes/meshes/" + file;
-        Result<TriangleMesh> mesh = loadObjMesh(path, 0.8f, file);
-        if (!mesh) abortOn(mesh.error());
-        ShapeDesc d;
-        d.type = ShapeType::Mesh;
-        d.where = file;
-        d.points = mesh->vertices;
-        d.triangles = mesh->triangles;
-        Result<Shape> s = buildShape(d);
-        if (!s) abortOn(s.error());
-        hulls.push_back(addShape(std::move(*s)));
-    }
+    for (const char* file : {"rock.obj", "l_block.obj"})
+        hulls.push_back(addShape(shippedMeshShape(file, 0.8f)));
     std::vector<std::uint32_t> spheres;
     for (float r : {0.2f, 0.5f, 0.9f}) {
         ShapeDesc d;
         d.type = ShapeType::Sphere;
         d.radius = r;
         d.where = "sphere";
-        Result<Shape> s = buildShape(d);
-        if (!s) abortOn(s.error());
-        spheres.push_back(addShape(std::move(*s)));
+        spheres.push_back(addShape(buildShape(d)));
     }
     ShapeDesc planeDesc;
     planeDesc.type = ShapeType::Plane;
     planeDesc.where = "plane";
-    Result<Shape> plane = buildShape(planeDesc);
-    if (!plane) abortOn(plane.error());
-    const std::uint32_t planeShape = addShape(std::move(*plane));
+    const std::uint32_t planeShape = addShape(buildShape(planeDesc));
 
+    detail::FlatShapes flat(c.in.shapes);
     auto pick = [&](const std::vector<std::uint32_t>& v) {
         return v[std::uniform_int_distribution<std::size_t>(0, v.size() - 1)(rng)];
     };
@@ -175,7 +179,7 @@ inline PairCases makePairCases(std::uint32_t seed, int count) {
             u = glm::mat3_cast(a.orientation) * shapeA.normal;
         else if (shapeB.type == ShapeType::Plane)
             u = -(glm::mat3_cast(b.orientation) * shapeB.normal);
-        float t = detail::touchingDistance(shapeA, a, shapeB, b, u);
+        float t = detail::touchingDistance(flat, c.in.shapes, sa, a, sb, b, u);
         const float smaller = std::min(shapeA.type == ShapeType::Plane ? 1e9f : shapeA.boundingRadius,
                                        shapeB.type == ShapeType::Plane ? 1e9f : shapeB.boundingRadius);
         switch (kind) {

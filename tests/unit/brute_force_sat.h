@@ -7,9 +7,9 @@
 
 #include <glm/glm.hpp>
 
-#include "host/collision/sat.h"
 #include "host/collision/transform.h"
 #include "host/geometry/half_edge.h"
+#include "rubble/shared/sat.h"
 
 namespace rubble::test {
 
@@ -63,7 +63,7 @@ inline BruteForce bruteForceSeparation(const HalfEdgeMesh& a, const HalfEdgeMesh
                                              b.vertices[b.edges[2 * j].origin]);
             const glm::vec3 c = glm::cross(ea, eb);
             if (glm::dot(c, c) <=
-                kParallelSine * kParallelSine * glm::dot(ea, ea) * glm::dot(eb, eb))
+                RUBBLE_PARALLEL_SINE * RUBBLE_PARALLEL_SINE * glm::dot(ea, ea) * glm::dot(eb, eb))
                 continue;
             r.edges = std::max(r.edges, along(glm::normalize(c)));
         }

@@ -1,15 +1,24 @@
-// tests/unit/hull_contact_test.cpp: host/collision/hull_contact: manifolds of boxes and hulls.
-#include "host/collision/hull_contact.h"
-
+// tests/unit/hull_contact_test.cpp: manifolds of boxes and hulls (rubble/shared/hull_contact.h,
+// run by the CPU stage and the device).
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
 #include "brute_force_sat.h"
+#include "flat_hull.h"
 #include "host/geometry/shape.h"
 #include "random_hull.h"
 
 namespace rubble {
 namespace {
+
+using test::collideHulls;
+using test::collideHullsCached;
+using test::FlatHull;
+using test::HullContact;
+using test::kContactMargin;
+using test::LocalContact;
+using test::runSat;
+using test::separationAlong;
 
 HalfEdgeMesh boxMesh(glm::vec3 h) {
     Result<HalfEdgeMesh> m = buildHalfEdgeMesh(boxPolygons(h), "box");
@@ -70,7 +79,7 @@ TEST(HullContact, SeparatedBoxesGiveNothing) {
     const HullContact c = collideHulls(box, box, pose({0.0f, 1.1f, 0.0f}));
     EXPECT_TRUE(c.separated);
     EXPECT_EQ(c.contacts.count, 0u);
-    EXPECT_EQ(c.feature.feature, SatFeature::FaceA);
+    EXPECT_EQ(c.feature.feature, RUBBLE_SAT_FACE_A);
 }
 
 TEST(HullContact, GapWithinMarginIsANegativeDepth) {
@@ -99,7 +108,7 @@ TEST(HullContact, CrossedEdgesGiveOneEdgePoint) {
     const Transform ta = pose({0, 0, 0}, qa), tb = pose({0, 2 * e - 0.01f, 0}, qb);
     const HullContact c = collideHulls(box, box, relative(ta, tb));
     ASSERT_EQ(c.contacts.count, 1u);
-    EXPECT_EQ(c.feature.feature, SatFeature::Edges);
+    EXPECT_EQ(c.feature.feature, RUBBLE_SAT_EDGES);
     const glm::vec3 nWorld = ta.rotate(c.contacts.normal);
     EXPECT_NEAR(nWorld.y, 1.0f, 1e-4f);
     EXPECT_NEAR(c.contacts.points[0].depth, 0.01f, 1e-4f);
@@ -129,18 +138,18 @@ TEST(HullContact, FeatureIdsStayUnderSmallMotion) {
 
 TEST(HullContact, CachedFeatureIsReusedOnlyWhileThePoseStaysClose) {
     const HalfEdgeMesh box = boxMesh(glm::vec3(0.5f));
-    HullPairCache cache;
+    shared::PairCache cache = shared::emptyPairCacheItem();
     const Transform rest = pose({0.2f, 0.99f, -0.1f});
     const HullContact first = collideHullsCached(box, box, rest, cache);
     ASSERT_TRUE(cache.reusable);
-    EXPECT_EQ(cache.feature.feature, SatFeature::FaceA);
-    EXPECT_EQ(cache.reference.translation, rest.translation);
+    EXPECT_EQ(cache.feature.feature, RUBBLE_SAT_FACE_A);
+    EXPECT_EQ(toVec3(cache.reference.translation), rest.translation);
 
     // A tenth of a millimetre later: the same feature, the same points, no new reference.
     const Transform nudged = pose({0.2001f, 0.9899f, -0.1f});
     const HullContact reused = collideHullsCached(box, box, nudged, cache);
     const HullContact full = collideHulls(box, box, nudged);
-    EXPECT_EQ(cache.reference.translation, rest.translation);
+    EXPECT_EQ(toVec3(cache.reference.translation), rest.translation);
     ASSERT_EQ(reused.contacts.count, full.contacts.count);
     for (std::uint32_t i = 0; i < full.contacts.count; ++i) {
         EXPECT_EQ(reused.contacts.points[i].feature, full.contacts.points[i].feature);
@@ -148,7 +157,7 @@ TEST(HullContact, CachedFeatureIsReusedOnlyWhileThePoseStaysClose) {
     }
 
     // A pair 5 mm apart, then half a millimetre closer: the cached axis still separates them.
-    HullPairCache apart;
+    shared::PairCache apart = shared::emptyPairCacheItem();
     EXPECT_TRUE(collideHullsCached(box, box, pose({0.2f, 1.005f, -0.1f}), apart).separated);
     const HullContact closer = collideHullsCached(box, box, pose({0.2f, 1.0045f, -0.1f}), apart);
     EXPECT_TRUE(closer.separated);
@@ -158,7 +167,7 @@ TEST(HullContact, CachedFeatureIsReusedOnlyWhileThePoseStaysClose) {
     const Transform turned =
         pose({0.2f, 0.99f, -0.1f}, glm::angleAxis(glm::radians(5.0f), glm::vec3(0, 0, 1)));
     collideHullsCached(box, box, turned, cache);
-    EXPECT_EQ(cache.reference.rotation, turned.rotation);
+    EXPECT_EQ(toMat3(cache.reference.rotation), turned.rotation);
     EXPECT_GT(first.contacts.count, 0u);
 }
 
@@ -189,6 +198,8 @@ TEST(HullContact, RandomHullManifoldsLieInBothShapes) {
     std::mt19937 rng(31);
     std::vector<Shape> pool;
     for (int i = 0; i < 40; ++i) pool.push_back(test::randomHull(rng));
+    std::vector<FlatHull> flat;
+    for (const Shape& s : pool) flat.emplace_back(s.halfEdge);
     std::uniform_int_distribution<std::size_t> pick(0, pool.size() - 1);
     std::uniform_real_distribution<float> u01(0.0f, 1.0f);
     int failures = 0, withContacts = 0, faceContacts = 0, edgeContacts = 0;
@@ -196,10 +207,10 @@ TEST(HullContact, RandomHullManifoldsLieInBothShapes) {
         if (++failures <= 5) ADD_FAILURE() << "pair " << i << ": " << what;
     };
     for (int i = 0; i < 3000; ++i) {
-        const Shape& sa = pool[pick(rng)];
-        const Shape& sb = pool[pick(rng)];
-        const HalfEdgeMesh& a = sa.halfEdge;
-        const HalfEdgeMesh& b = sb.halfEdge;
+        const std::size_t ia = pick(rng), ib = pick(rng);
+        const Shape &sa = pool[ia], &sb = pool[ib];
+        const HalfEdgeMesh &ma = sa.halfEdge, &mb = sb.halfEdge;
+        const FlatHull &a = flat[ia], &b = flat[ib];
         // Touching, then pushed up to 2 cm into contact or 3 mm apart.
         const glm::quat q = test::randomRotation(rng);
         const glm::vec3 dir = test::randomDirection(rng);
@@ -212,15 +223,15 @@ TEST(HullContact, RandomHullManifoldsLieInBothShapes) {
         const HullContact c = collideHulls(a, b, bInA);
         if (c.separated || c.contacts.count == 0) continue;
         ++withContacts;
-        faceContacts += c.feature.feature != SatFeature::Edges;
-        edgeContacts += c.feature.feature == SatFeature::Edges;
+        faceContacts += c.feature.feature != RUBBLE_SAT_EDGES;
+        edgeContacts += c.feature.feature == RUBBLE_SAT_EDGES;
         const glm::vec3 n = c.contacts.normal;
         if (std::fabs(glm::length(n) - 1.0f) > 1e-5f) fail(i, "normal is not unit");
         // From A to B: B lies further along n than A does, and n is nearly the axis of least
         // penetration (the feature choice may prefer a face that is a little deeper).
         const float along = separationAlong(a, b, bInA, n);
         const float against = separationAlong(a, b, bInA, -n);
-        const SatResult sat = runSat(a, b, bInA, kContactMargin);
+        const shared::SatResult sat = runSat(a, b, bInA, kContactMargin);
         if (!(along > against)) fail(i, "normal points from B to A");
         if (sat.separation > along + 0.16f * std::fabs(along) + 0.0051f)
             fail(i, "normal is far from the axis of least penetration");
@@ -229,8 +240,8 @@ TEST(HullContact, RandomHullManifoldsLieInBothShapes) {
             // Midway between the surfaces, moved along the normal: within half the depth (or
             // half the gap) of each surface where the faces are not parallel.
             const float slop = 0.5f * std::fabs(p.depth) + 1e-4f;
-            const float outA = outside(a, p.position),
-                        outB = outside(b, bInA.applyInverse(p.position));
+            const float outA = outside(ma, p.position),
+                        outB = outside(mb, bInA.applyInverse(p.position));
             if (outA > slop || outB > slop)
                 fail(i, "point outside a shape: " + std::to_string(outA) + ", " +
                             std::to_string(outB) + " (depth " + std::to_string(p.depth) + ")");
@@ -263,7 +274,8 @@ TEST(HullContact, ManifoldsOfFastSlightlyTurnedBoxesAgreeWithTheSat) {
     // A manifold at bInA against the brute-force SAT: depths and normal within the feature
     // choice's tolerance (a face up to 10% + 2.5 mm deeper than the best axis is kept).
     auto check = [&](int i, const char* path, const HalfEdgeMesh& a, const HalfEdgeMesh& b,
-                     const Transform& bInA, const HullContact& c) {
+                     const FlatHull& fa, const FlatHull& fb, const Transform& bInA,
+                     const HullContact& c) {
         if (c.separated || c.contacts.count == 0) return;
         ++checked;
         const float best = test::bruteForceSeparation(a, b, bInA).all();
@@ -271,7 +283,7 @@ TEST(HullContact, ManifoldsOfFastSlightlyTurnedBoxesAgreeWithTheSat) {
         float deepest = -1e30f;
         for (std::uint32_t k = 0; k < c.contacts.count; ++k)
             deepest = std::max(deepest, c.contacts.points[k].depth);
-        const float along = separationAlong(a, b, bInA, c.contacts.normal);
+        const float along = separationAlong(fa, fb, bInA, c.contacts.normal);
         char text[240];
         std::snprintf(text, sizeof text,
                       "%s: deepest point %.4f m, normal (%.3f %.3f %.3f) overlaps by %.4f m; "
@@ -286,6 +298,7 @@ TEST(HullContact, ManifoldsOfFastSlightlyTurnedBoxesAgreeWithTheSat) {
         const glm::vec3 ha(0.1f + 0.3f * u01(rng), 0.1f + 0.3f * u01(rng), 0.1f + 0.3f * u01(rng));
         const glm::vec3 hb(0.1f + 0.3f * u01(rng), 0.1f + 0.3f * u01(rng), 0.1f + 0.3f * u01(rng));
         const HalfEdgeMesh a = boxMesh(ha), b = boxMesh(hb);
+        const FlatHull fa(a), fb(b);
         const glm::quat turn = glm::angleAxis(0.05f * u01(rng), test::randomDirection(rng));
         glm::vec3 offset(0.0f);
         const int stacked = 1 + int(u01(rng) * 7.0f) % 7; // a non-empty set of axes
@@ -300,14 +313,14 @@ TEST(HullContact, ManifoldsOfFastSlightlyTurnedBoxesAgreeWithTheSat) {
         const glm::quat nudge = glm::angleAxis(0.004f * u01(rng), test::randomDirection(rng));
         const Transform later =
             pose(offset + test::randomDirection(rng) * (0.0009f * u01(rng)), nudge * turn);
-        HullPairCache cache;
-        collideHullsCached(a, b, first, cache, margin);
-        const Transform reference = cache.reference;
-        const HullContact c = collideHullsCached(a, b, later, cache, margin);
-        reused += cache.reference.translation == reference.translation;
-        edgeContacts += c.feature.feature == SatFeature::Edges && c.contacts.count > 0;
-        check(i, "cached", a, b, later, c);
-        check(i, "full test", a, b, later, collideHulls(a, b, later, margin));
+        shared::PairCache cache = shared::emptyPairCacheItem();
+        collideHullsCached(fa, fb, first, cache, margin);
+        const glm::vec3 reference = toVec3(cache.reference.translation);
+        const HullContact c = collideHullsCached(fa, fb, later, cache, margin);
+        reused += toVec3(cache.reference.translation) == reference;
+        edgeContacts += c.feature.feature == RUBBLE_SAT_EDGES && c.contacts.count > 0;
+        check(i, "cached", a, b, fa, fb, later, c);
+        check(i, "full test", a, b, fa, fb, later, collideHulls(fa, fb, later, margin));
     }
     EXPECT_EQ(failures, 0);
     // The draw covers what it is for: contacts, reused features, edge contacts.

@@ -1,14 +1,23 @@
-// tests/unit/primitive_contact_test.cpp: host/collision/primitive_contact: spheres and planes.
-#include "host/collision/primitive_contact.h"
-
+// tests/unit/primitive_contact_test.cpp: spheres and planes (rubble/shared/primitive_contact.h,
+// run by the CPU stage and the device).
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
+#include "flat_hull.h"
 #include "host/geometry/shape.h"
 #include "random_hull.h"
 
 namespace rubble {
 namespace {
+
+using test::collideHullSphere;
+using test::collidePlaneHull;
+using test::collidePlaneSphere;
+using test::collideSpheres;
+using test::ContactSet;
+using test::FlatHull;
+using test::kContactMargin;
+using test::LocalContact;
 
 HalfEdgeMesh boxMesh(glm::vec3 h) {
     Result<HalfEdgeMesh> m = buildHalfEdgeMesh(boxPolygons(h), "box");
@@ -127,6 +136,7 @@ TEST(PrimitiveContact, RandomSpheresAgainstRandomHulls) {
     for (int h = 0; h < 50; ++h) {
         const Shape shape = test::randomHull(rng);
         const HalfEdgeMesh& m = shape.halfEdge;
+        const FlatHull flat(m);
         for (int k = 0; k < 100; ++k) {
             const int i = h * 100 + k;
             // A centre near the surface: a random surface direction, moved in or out.
@@ -136,7 +146,7 @@ TEST(PrimitiveContact, RandomSpheresAgainstRandomHulls) {
             const glm::vec3 c = surface + dir * (r + offset(rng));
             const float inDepth = -outside(m, c); // > 0 when the centre is inside
             const float dist = inDepth > 0.0f ? -inDepth : distanceToSurface(m, c);
-            const ContactSet set = collideHullSphere(m, c, r);
+            const ContactSet set = collideHullSphere(flat, c, r);
             if (dist - r > kContactMargin + 1e-5f) {
                 if (set.count != 0) fail(i, "contact while apart");
                 continue;

@@ -1,15 +1,17 @@
 // tests/unit/random_hull.h: seeded random convex hulls and poses for the collision property tests,
-// and a hull with many-vertex faces.
+// a hull with many-vertex faces, and the shipped OBJ meshes as shapes.
 #pragma once
 
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
 #include "host/collision/transform.h"
+#include "host/geometry/obj_mesh.h"
 #include "host/geometry/shape.h"
 
 namespace rubble::test {
@@ -73,6 +75,19 @@ inline Result<Shape> discShape() {
         d.points.emplace_back(0.8f * std::cos(a), -0.1f, 0.8f * std::sin(a));
         d.points.emplace_back(0.8f * std::cos(a), 0.1f, 0.8f * std::sin(a));
     }
+    return buildShape(d);
+}
+
+/// scenes/meshes/<file> scaled by `scale`, as a mesh shape (it collides as its hull).
+inline Result<Shape> shippedMeshShape(const char* file, float scale) {
+    const std::string path = std::string(RUBBLE_SOURCE_DIR) + "/scenes/meshes/" + file;
+    Result<TriangleMesh> mesh = loadObjMesh(path, scale, file);
+    if (!mesh) return mesh.error();
+    ShapeDesc d;
+    d.type = ShapeType::Mesh;
+    d.where = file;
+    d.points = mesh->vertices;
+    d.triangles = mesh->triangles;
     return buildShape(d);
 }
 

@@ -3,7 +3,9 @@
 #include "host/collision/sat_collision.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <string>
 
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
@@ -210,6 +212,38 @@ TEST(SatCollision, NarrowPhaseRepeatsBitForBit) {
     ASSERT_GE(m1.size(), 3u);
     for (std::size_t i = 0; i < m1.size(); ++i)
         EXPECT_EQ(std::memcmp(&m1[i], &m2[i], sizeof(Manifold)), 0) << "manifold " << i;
+}
+
+// A 100-sided disc lying on a box: faces of 100 vertices clip in the stage's buffers, which it
+// sizes from the largest face (the device refuses faces of more than 16).
+TEST(SatCollision, FacesOfAHundredVerticesClip) {
+    std::string disc;
+    for (int i = 0; i < 100; ++i) {
+        const float a = 2.0f * 3.14159265f * float(i) / 100.0f;
+        for (const char* y : {"-0.1", "0.1"})
+            disc += (disc.empty() ? "[" : ", [") + std::to_string(0.8f * std::cos(a)) + ", " + y +
+                    ", " + std::to_string(0.8f * std::sin(a)) + "]";
+    }
+    Sat s(scene(R"("table": {"type": "box", "half_extents": [1, 0.5, 1]},
+                  "disc": {"type": "convex", "vertices": [)" +
+                    disc + "]}",
+                R"({"name": "table", "shape": "table", "static": true, "position": [0, 0.5, 0]},
+                   {"name": "disc", "shape": "disc", "mass": 1, "position": [0, 1.095, 0]})"));
+    s.broadPhase();
+    s.narrowPhase();
+    ASSERT_EQ(s.c.manifolds.size(), 1u);
+    const Manifold& m = s.c.manifolds[0];
+    EXPECT_EQ(m.a, 1u);
+    EXPECT_EQ(m.b, 2u);
+    EXPECT_NEAR(m.normal.y, 1.0f, 1e-6f);
+    ASSERT_EQ(m.count, 4u);
+    float span = 0.0f; // the largest distance between two of the points
+    for (std::uint32_t i = 0; i < 4; ++i) {
+        EXPECT_NEAR(m.points[i].depth, 0.005f, 1e-5f);
+        for (std::uint32_t j = 0; j < i; ++j)
+            span = std::max(span, glm::length(m.points[i].position - m.points[j].position));
+    }
+    EXPECT_GT(span, 1.5f); // nearly a diameter (1.6 m)
 }
 
 } // namespace

@@ -1,6 +1,6 @@
-// tests/unit/sat_test.cpp: host/collision/sat against brute force on random hulls at random poses:
-// the verdict, the depth, and the pruned edge query against the unpruned one.
-#include "host/collision/sat.h"
+// tests/unit/sat_test.cpp: the separating axis test (rubble/shared/sat.h, run by the CPU stage
+// and the device) against brute force on random hulls at random poses: the verdict, the depth,
+// and the pruned edge query against every edge pair.
 
 #include <cstdio>
 #include <random>
@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "brute_force_sat.h"
+#include "flat_hull.h"
 #include "random_hull.h"
 
 namespace rubble {
@@ -15,10 +16,14 @@ namespace {
 
 using test::BruteForce;
 using test::bruteForceSeparation;
+using test::FlatHull;
 using test::makeTransform;
+using test::queryEdgeDirections;
 using test::randomDirection;
 using test::randomHull;
 using test::randomRotation;
+using test::runSat;
+using test::separationAlong;
 
 // A pool of random hulls, built once.
 const std::vector<Shape>& hullPool() {
@@ -31,9 +36,20 @@ const std::vector<Shape>& hullPool() {
     return pool;
 }
 
+// The pool flattened as the narrow phase reads it.
+const std::vector<FlatHull>& flatPool() {
+    static const std::vector<FlatHull> flat = [] {
+        std::vector<FlatHull> hulls;
+        for (const Shape& s : hullPool()) hulls.emplace_back(s.halfEdge);
+        return hulls;
+    }();
+    return flat;
+}
+
 // b's pose in a's frame: touching (found by bisection on the SAT's verdict along a direction),
 // deeply overlapping, or anywhere from overlapping to apart.
-Transform randomPose(const Shape& a, const Shape& b, int kind, std::mt19937& rng) {
+Transform randomPose(std::size_t ia, std::size_t ib, int kind, std::mt19937& rng) {
+    const Shape &a = hullPool()[ia], &b = hullPool()[ib];
     std::uniform_real_distribution<float> u01(0.0f, 1.0f);
     const glm::quat q = randomRotation(rng);
     const glm::vec3 dir = randomDirection(rng);
@@ -43,7 +59,7 @@ Transform randomPose(const Shape& a, const Shape& b, int kind, std::mt19937& rng
     float lo = 0.0f, hi = reach * 1.01f;
     for (int i = 0; i < 20; ++i) {
         const float mid = 0.5f * (lo + hi);
-        if (runSat(a.halfEdge, b.halfEdge, makeTransform(dir * mid, q)).separated)
+        if (runSat(flatPool()[ia], flatPool()[ib], makeTransform(dir * mid, q)).separated)
             hi = mid;
         else
             lo = mid;
@@ -68,7 +84,7 @@ const std::vector<Case>& randomCases() {
         std::vector<Case> out;
         for (int i = 0; i < 10000; ++i) {
             const std::size_t a = pick(rng), b = pick(rng);
-            out.push_back(Case{a, b, randomPose(pool[a], pool[b], i % 4, rng)});
+            out.push_back(Case{a, b, randomPose(a, b, i % 4, rng)});
         }
         return out;
     }();
@@ -96,15 +112,17 @@ TEST(Sat, MatchesBruteForceOnTenThousandRandomPairs) {
     int separated = 0, touching = 0, deep = 0, edgeWins = 0;
     const std::vector<Case>& cases = randomCases();
     for (int i = 0; i < int(cases.size()); ++i) {
-        const HalfEdgeMesh& a = pool[cases[i].a].halfEdge;
-        const HalfEdgeMesh& b = pool[cases[i].b].halfEdge;
+        const HalfEdgeMesh& ma = pool[cases[i].a].halfEdge;
+        const HalfEdgeMesh& mb = pool[cases[i].b].halfEdge;
+        const FlatHull& a = flatPool()[cases[i].a];
+        const FlatHull& b = flatPool()[cases[i].b];
         const Transform& bInA = cases[i].bInA;
-        const BruteForce brute = bruteForceSeparation(a, b, bInA);
-        const SatResult sat = runSat(a, b, bInA);
+        const BruteForce brute = bruteForceSeparation(ma, mb, bInA);
+        const shared::SatResult sat = runSat(a, b, bInA);
         separated += sat.separated;
         touching += std::fabs(brute.all()) < 1e-3f;
         deep += brute.all() < -0.2f;
-        edgeWins += !sat.separated && sat.feature == SatFeature::Edges;
+        edgeWins += !sat.separated && sat.feature == RUBBLE_SAT_EDGES;
         char text[200];
         std::snprintf(text, sizeof text, "brute %.7g, sat %.7g (%s)", double(brute.all()),
                       double(sat.separation), sat.separated ? "separated" : "overlapping");
@@ -116,13 +134,13 @@ TEST(Sat, MatchesBruteForceOnTenThousandRandomPairs) {
             (sat.separation <= 0.0f || brute.all() < sat.separation - kDepthTolerance))
             failures.add(i, std::string("separating axis is not one: ") + text);
         // The reported axis and separation agree with the support points.
-        const float along = separationAlong(a, b, bInA, sat.axis);
+        const float along = separationAlong(a, b, bInA, toVec3(sat.axis));
         if (std::fabs(along - sat.separation) > kDepthTolerance)
             failures.add(i, "axis disagrees with its separation: " + std::to_string(along));
 
         // The pruned edge query (every pair, no early out) against every edge pair: with the
         // faces, the same answer; alone, never above the unpruned maximum.
-        const EdgeQuery pruned = queryEdgeDirections(a, b, bInA);
+        const shared::EdgeQuery pruned = queryEdgeDirections(a, b, bInA);
         const float withPruned = std::max(brute.faces, pruned.separation);
         if (brute.all() < 0.0f && std::fabs(withPruned - brute.all()) > kDepthTolerance)
             failures.add(i, "pruned edges give " + std::to_string(withPruned) + ", unpruned " +
@@ -138,48 +156,36 @@ TEST(Sat, MatchesBruteForceOnTenThousandRandomPairs) {
     EXPECT_GT(edgeWins, 500);
 }
 
-TEST(Sat, PrunedEqualsUnprunedQuery) {
-    // The unpruned query of the library (support points for every edge pair, as the benchmark
-    // runs it) on a tenth of the pairs.
-    const std::vector<Shape>& pool = hullPool();
+TEST(Sat, PrunedEdgeAxesAreSupportAxes) {
+    // Every pruned candidate is a real axis: its edge-point separation is the support one.
     Failures failures;
     const std::vector<Case>& cases = randomCases();
     for (int i = 0; i < int(cases.size()); i += 10) {
-        const HalfEdgeMesh& a = pool[cases[i].a].halfEdge;
-        const HalfEdgeMesh& b = pool[cases[i].b].halfEdge;
+        const FlatHull& a = flatPool()[cases[i].a];
+        const FlatHull& b = flatPool()[cases[i].b];
         const Transform& bInA = cases[i].bInA;
-        const SatResult pruned = runSat(a, b, bInA);
-        const SatResult unpruned = runSat(a, b, bInA, 0.0f, {}, false);
-        if (std::fabs(unpruned.separation) > 1e-5f && pruned.separated != unpruned.separated)
-            failures.add(i, "verdicts differ");
-        if (!pruned.separated && !unpruned.separated &&
-            std::fabs(pruned.separation - unpruned.separation) > 1e-4f)
-            failures.add(i, "depths differ: " + std::to_string(pruned.separation) + " vs " +
-                                std::to_string(unpruned.separation));
-        // Every pruned candidate is a real axis: its edge-point separation is the support one.
-        const EdgeQuery e = queryEdgeDirections(a, b, bInA);
+        const shared::EdgeQuery e = queryEdgeDirections(a, b, bInA);
         if (e.separation > -1e30f &&
-            std::fabs(e.separation - separationAlong(a, b, bInA, e.axis)) > 1e-4f)
+            std::fabs(e.separation - separationAlong(a, b, bInA, toVec3(e.axis))) > 1e-4f)
             failures.add(i, "pruned edge separation is not the support separation");
     }
     EXPECT_EQ(failures.count(), 0);
 }
 
 TEST(Sat, HintGivesTheSameVerdict) {
-    const std::vector<Shape>& pool = hullPool();
     std::mt19937 rng(99);
-    std::uniform_int_distribution<std::size_t> pick(0, pool.size() - 1);
+    std::uniform_int_distribution<std::size_t> pick(0, hullPool().size() - 1);
     Failures failures;
     for (int i = 0; i < 2000; ++i) {
-        const Shape& a = pool[pick(rng)];
-        const Shape& b = pool[pick(rng)];
-        const Transform bInA = randomPose(a, b, i % 4, rng);
-        const SatResult cold = runSat(a.halfEdge, b.halfEdge, bInA);
+        const std::size_t ia = pick(rng), ib = pick(rng);
+        const FlatHull &a = flatPool()[ia], &b = flatPool()[ib];
+        const Transform bInA = randomPose(ia, ib, i % 4, rng);
+        const shared::SatResult cold = runSat(a, b, bInA);
         // The hint of a slightly different pose, as from the last step.
         const Transform moved{bInA.rotation, bInA.translation + randomDirection(rng) * 0.01f};
-        const SatResult last = runSat(a.halfEdge, b.halfEdge, moved);
-        const SatResult warm = runSat(a.halfEdge, b.halfEdge, bInA, 0.0f,
-                                      SatHint{last.feature, last.indexA, last.indexB});
+        const shared::SatResult last = runSat(a, b, moved);
+        const shared::SatResult warm = runSat(
+            a, b, bInA, 0.0f, shared::makeSatHint(last.feature, last.indexA, last.indexB, 0u));
         if (std::fabs(cold.separation) > 1e-5f && cold.separated != warm.separated)
             failures.add(i, "the hint changed the verdict");
         if (!cold.separated && std::fabs(cold.separation - warm.separation) > 1e-6f)
@@ -188,15 +194,16 @@ TEST(Sat, HintGivesTheSameVerdict) {
     EXPECT_EQ(failures.count(), 0);
 }
 
-TEST(Sat, FindSeparationOnBoxes) {
-    Result<HalfEdgeMesh> box = buildHalfEdgeMesh(boxPolygons(glm::vec3(0.5f)), "box");
-    ASSERT_TRUE(box.ok());
-    EXPECT_FALSE(findSeparation(*box, *box, Transform{glm::mat3(1.0f), {1.01f, 0, 0}}));
-    const auto s = findSeparation(*box, *box, Transform{glm::mat3(1.0f), {0.9f, 0.2f, 0}});
-    ASSERT_TRUE(s);
-    EXPECT_EQ(s->feature, SatFeature::FaceA);
-    EXPECT_NEAR(s->separation, -0.1f, 1e-6f);
-    EXPECT_NEAR(s->axis.x, 1.0f, 1e-6f);
+TEST(Sat, OverlapOfBoxes) {
+    Result<HalfEdgeMesh> mesh = buildHalfEdgeMesh(boxPolygons(glm::vec3(0.5f)), "box");
+    ASSERT_TRUE(mesh.ok());
+    const FlatHull box(*mesh);
+    EXPECT_TRUE(runSat(box, box, Transform{glm::mat3(1.0f), {1.01f, 0, 0}}).separated);
+    const shared::SatResult s = runSat(box, box, Transform{glm::mat3(1.0f), {0.9f, 0.2f, 0}});
+    ASSERT_FALSE(s.separated);
+    EXPECT_EQ(s.feature, RUBBLE_SAT_FACE_A);
+    EXPECT_NEAR(s.separation, -0.1f, 1e-6f);
+    EXPECT_NEAR(s.axis.x, 1.0f, 1e-6f);
 }
 
 } // namespace

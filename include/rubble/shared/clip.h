@@ -1,32 +1,32 @@
-// include/rubble/shared/clip.h: the geometric steps of manifold building for the device narrow
-// phase: Sutherland-Hodgman clipping with feature tags, reduction to four points, closest points
-// of two segments, feature ids. A port of host/collision/clip.cpp and contact_set.h (Gregorius,
-// GDC 2015; Ericson 5.1.9). Buffers are the caller's, in private memory.
+// include/rubble/shared/clip.h: the geometric steps of manifold building in stage narrowPhase
+// (both pipelines): Sutherland-Hodgman clipping with feature tags, reduction to four points,
+// closest points of two segments, feature ids (Gregorius, GDC 2015; Ericson 5.1.9). Buffers are
+// the caller's (private memory on the device).
 #pragma once
 
 #include "rubble/shared/hull.h"
 
 RUBBLE_SHARED_BEGIN
 
-// Contacts are made while the shapes are closer than this, m (kContactMargin).
+// Contacts are made while the shapes are closer than this, m.
 #define RUBBLE_CONTACT_MARGIN 0.004f
-// A manifold never holds more points than this (kMaxContactPoints).
+// A manifold never holds more points than this.
 #define RUBBLE_MAX_CONTACT_POINTS 4u
 // A clip segment tag with this bit runs along the clip line of a reference half-edge.
 #define RUBBLE_CLIP_LINE_TAG 0x4000u
 
-// Feature id kinds, the top two bits (ContactKind).
+// Feature id kinds, the top two bits.
 #define RUBBLE_KIND_FACE_A 0u
 #define RUBBLE_KIND_FACE_B 1u
 #define RUBBLE_KIND_EDGES 2u
 #define RUBBLE_KIND_PRIMITIVE 3u
 
-// 2 bits of kind, then two 15-bit fields (makeFeatureId).
+// 2 bits of kind, then two 15-bit fields.
 RUBBLE_FN uint makeFeatureIdItem(uint kind, uint high, uint low) {
     return (kind << 30) | ((high & 0x7FFFu) << 15) | (low & 0x7FFFu);
 }
 
-// A vertex of the polygon being clipped (ClipVertex).
+// A vertex of the polygon being clipped.
 typedef struct ClipVertex {
     float4 position;
     uint clipEdge; // reference half-edge + 1 whose plane made it; 0: an original
@@ -35,13 +35,22 @@ typedef struct ClipVertex {
     uint pad;
 } ClipVertex;
 
-// One contact point in the frame of its set (LocalContact).
+// One contact point in the frame of its set.
 typedef struct LocalContact {
     float4 position; // midway between the two surfaces, m
     float depth;     // penetration along the normal, m (negative: a gap)
     uint feature;
     uint pad0, pad1;
 } LocalContact;
+
+// Clipping buffers, the caller's: polygon and scratch each with room for an incident face's
+// vertices plus one per reference edge plus one, candidates as many (RUBBLE_CLIP_CAPACITY on the
+// device; the host sizes them from its largest face, HullData::largestFace).
+typedef struct ClipBuffers {
+    ClipVertex* polygon;
+    ClipVertex* scratch;
+    LocalContact* candidates;
+} ClipBuffers;
 
 // 112 bytes: up to four contacts sharing one normal, from body a to body b. The narrow phase
 // works with it in a shape's frame; kernels/sat.cl writes it in the world frame, one per pair.
@@ -69,7 +78,7 @@ RUBBLE_FN ContactManifold emptyContactsItem(void) {
     return m;
 }
 
-// Appends a point while there is room (ContactSet::add).
+// Appends a point while there is room.
 RUBBLE_FN void addContactItem(ContactManifold* m, float4 position, float depth, uint feature) {
     if (m->count >= RUBBLE_MAX_CONTACT_POINTS) return;
     m->points[m->count] = make4(position.x, position.y, position.z, depth);
@@ -78,8 +87,7 @@ RUBBLE_FN void addContactItem(ContactManifold* m, float4 position, float depth, 
 }
 
 // One Sutherland-Hodgman pass: the part of the closed polygon in[0..n) where
-// dot(normal, x) <= offset, into out (room for n + 1); returns the vertices written
-// (clipPolygon).
+// dot(normal, x) <= offset, into out (room for n + 1); returns the vertices written.
 RUBBLE_FN uint clipPolygonItem(const ClipVertex* in, uint n, float4 normal, float offset,
                                uint clipEdge, ClipVertex* out) {
     uint count = 0;
@@ -118,7 +126,7 @@ RUBBLE_FN float max3Item(float x, float y, float z) {
     return m;
 }
 
-// Picks at most four of points[0..n) (reduceContacts): the deepest, the furthest from it, the
+// Picks at most four of points[0..n): the deepest, the furthest from it, the
 // largest triangle with those two, the most area added beyond it. Writes indices to keep.
 RUBBLE_FN uint reduceContactsItem(const LocalContact* points, uint n, float4 normal, uint* keep) {
     if (n <= RUBBLE_MAX_CONTACT_POINTS) {
@@ -176,7 +184,7 @@ RUBBLE_FN uint reduceContactsItem(const LocalContact* points, uint n, float4 nor
     return 4u;
 }
 
-// The closest points of two segments (closestPointsOnSegments).
+// The closest points of two segments.
 typedef struct SegmentPoints {
     float4 c1, c2;
 } SegmentPoints;

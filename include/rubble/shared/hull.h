@@ -1,7 +1,7 @@
-// include/rubble/shared/hull.h: the shapes of a world flattened for the device's SAT narrow phase
-// (host/gpu/hull_data.cpp fills them once per world from host/geometry/half_edge.h's meshes):
+// include/rubble/shared/hull.h: the shapes of a world flattened for the SAT narrow phase
+// (host/collision/hull_data.cpp fills them once per world from host/geometry/half_edge.h's meshes):
 // the per-shape record, half-edges, faces, edge records, vertex rings; rigid transforms as
-// host/collision/transform.h has them; support points by hill climbing (supportVertex).
+// host/collision/transform.h has them; support points by hill climbing.
 // Compiled by the host and by kernels/sat.cl; the arithmetic follows glm's operand order, so
 // that both give the same bits.
 #pragma once

@@ -1,7 +1,7 @@
-// include/rubble/shared/hull_contact.h: the contact manifold of two flattened hulls for the
-// device narrow phase: SAT (shared/sat.h), then a clipped face contact or an edge contact, the
-// feature choice with hysteresis, and the per-pair feature cache between steps. A port of
-// host/collision/hull_contact.cpp, function for function (Gregorius, GDC 2015; report 3.4).
+// include/rubble/shared/hull_contact.h: the contact manifold of two flattened hulls in stage
+// narrowPhase (both pipelines): SAT (shared/sat.h), then a clipped face contact or an edge
+// contact, the feature choice with hysteresis, and the per-pair feature cache between steps
+// (Gregorius, GDC 2015; report 3.4).
 #pragma once
 
 #include "rubble/shared/clip.h"
@@ -9,7 +9,7 @@
 
 RUBBLE_SHARED_BEGIN
 
-// A feature replaces the preferred one only when clearly shallower (hull_contact.cpp).
+// A feature replaces the preferred one only when clearly shallower.
 #define RUBBLE_RELATIVE_FACE_TOLERANCE 0.05f
 #define RUBBLE_RELATIVE_EDGE_TOLERANCE 0.10f
 #define RUBBLE_ABSOLUTE_TOLERANCE 0.0025f // m
@@ -19,20 +19,19 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_REUSE_ROTATION 0.01f
 // A cached edge pair's axis may turn by about 0.5 degrees (cosine) before the full test runs
 // again, as much as a face normal under RUBBLE_REUSE_ROTATION; support points along it this far
-// (m) below its edges' points mean the axis has left the pair's Gauss-map arcs
-// (host/collision/hull_contact.cpp: kReuseAxisCosine, kSupportTolerance).
+// (m) below its edges' points mean the axis has left the pair's Gauss-map arcs.
 #define RUBBLE_REUSE_AXIS_COSINE 0.99996f
 #define RUBBLE_SUPPORT_TOLERANCE 1e-4f
 
-// The contacts of two hulls, or the axis that separates them (HullContact).
+// The contacts of two hulls, or the axis that separates them.
 typedef struct HullContact {
     int separated;
     ContactManifold contacts; // in A's frame, normal from A to B
     SatHint feature;          // the separating axis, or the feature the contacts came from
 } HullContact;
 
-// 96 bytes: what a pair keeps from one step to the next (HullPairCache), one per pair in the
-// device's pair order.
+// 96 bytes: what a pair keeps from one step to the next, one per pair (the device's pair order;
+// SatCollision's CollisionCache::features).
 typedef struct PairCache {
     RigidTransform reference; // b's pose in a's frame when the full test last ran
     SatHint feature;          // last step's separating axis or contact feature
@@ -59,7 +58,7 @@ RUBBLE_FN int clearlyLargerItem(float x, float preferred, float relative) {
     return x > preferred + relative * fabs(preferred) + RUBBLE_ABSOLUTE_TOLERANCE;
 }
 
-// Of the faces around the deepest vertex, the one most anti-parallel to `normal` (incidentFace).
+// Of the faces around the deepest vertex, the one most anti-parallel to `normal`.
 RUBBLE_FN uint incidentFaceItem(Hull mesh, float4 normal, uint deepest) {
     const uint first = mesh.vertexEdge[deepest];
     uint best = mesh.edges[first].face, h = first;
@@ -76,19 +75,19 @@ RUBBLE_FN uint incidentFaceItem(Hull mesh, float4 normal, uint deepest) {
     return best;
 }
 
-// A face contact in the reference hull's frame (clipFaceContact): the incident polygon clipped
+// A face contact in the reference hull's frame: the incident polygon clipped
 // by the side planes of the reference face, the points below its plane plus the margin, reduced
 // to four.
 RUBBLE_FN ContactManifold clipFaceContactItem(Hull ref, FaceQuery query, Hull inc,
-                                              RigidTransform incInRef, float margin, uint kind) {
+                                              RigidTransform incInRef, float margin, uint kind,
+                                              ClipBuffers buffers) {
     const float4 rf = ref.faces[query.face];
     const float4 rfNormal = faceNormalItem(rf);
     const uint rfEdge = ref.faceEdge[query.face];
     const uint incFace =
         incidentFaceItem(inc, transformRotateInverse(incInRef, rfNormal), query.vertex);
-    ClipVertex bufferA[RUBBLE_CLIP_CAPACITY], bufferB[RUBBLE_CLIP_CAPACITY];
-    ClipVertex* polygon = bufferA;
-    ClipVertex* scratch = bufferB;
+    ClipVertex* polygon = buffers.polygon;
+    ClipVertex* scratch = buffers.scratch;
 
     // The incident polygon in the reference frame; each vertex tagged by its half-edge.
     uint n = 0;
@@ -126,7 +125,7 @@ RUBBLE_FN ContactManifold clipFaceContactItem(Hull ref, FaceQuery query, Hull in
     } while (n > 0u && h != rfEdge);
 
     // Below the reference plane plus the margin, midway between the surfaces.
-    LocalContact candidates[RUBBLE_CLIP_CAPACITY];
+    LocalContact* candidates = buffers.candidates;
     uint m = 0;
     for (uint i = 0; i < n; ++i) {
         const ClipVertex v = polygon[i];
@@ -151,8 +150,7 @@ RUBBLE_FN ContactManifold clipFaceContactItem(Hull ref, FaceQuery query, Hull in
     return set;
 }
 
-// The closest points of the two edges, with the SAT's separation along their axis
-// (edgeContact).
+// The closest points of the two edges, with the SAT's separation along their axis.
 RUBBLE_FN ContactManifold edgeContactItem(Hull a, Hull b, RigidTransform bInA, EdgeQuery q) {
     const HullEdge ea = a.edgeRecords[q.edgeA];
     const HullEdge eb = b.edgeRecords[q.edgeB];
@@ -167,11 +165,12 @@ RUBBLE_FN ContactManifold edgeContactItem(Hull a, Hull b, RigidTransform bInA, E
     return set;
 }
 
-// A face contact on B's face, made in B's frame and brought to A's (clipFaceContactOfB).
+// A face contact on B's face, made in B's frame and brought to A's.
 RUBBLE_FN ContactManifold clipFaceContactOfBItem(Hull a, Hull b, RigidTransform bInA,
-                                                 FaceQuery query, float margin) {
-    ContactManifold set =
-        clipFaceContactItem(b, query, a, transformInverse(bInA), margin, RUBBLE_KIND_FACE_B);
+                                                 FaceQuery query, float margin,
+                                                 ClipBuffers buffers) {
+    ContactManifold set = clipFaceContactItem(b, query, a, transformInverse(bInA), margin,
+                                              RUBBLE_KIND_FACE_B, buffers);
     for (uint i = 0; i < set.count; ++i) {
         const float4 p = transformApply(bInA, set.points[i]);
         set.points[i] = make4(p.x, p.y, p.z, set.points[i].w);
@@ -182,21 +181,22 @@ RUBBLE_FN ContactManifold clipFaceContactOfBItem(Hull a, Hull b, RigidTransform 
 
 // Contacts from the face of A (ownerB = 0) or of B the SAT found (collideHulls' tryFace).
 RUBBLE_FN int tryFaceItem(HullContact* r, Hull a, Hull b, RigidTransform bInA, SatResult sat,
-                          float margin, int ownerB) {
+                          float margin, int ownerB, ClipBuffers buffers) {
     if (!ownerB) {
-        r->contacts = clipFaceContactItem(a, sat.faceA, b, bInA, margin, RUBBLE_KIND_FACE_A);
+        r->contacts =
+            clipFaceContactItem(a, sat.faceA, b, bInA, margin, RUBBLE_KIND_FACE_A, buffers);
         r->feature = makeSatHint(RUBBLE_SAT_FACE_A, sat.faceA.face, 0u, sat.faceA.vertex);
         return r->contacts.count > 0u;
     }
-    r->contacts = clipFaceContactOfBItem(a, b, bInA, sat.faceB, margin);
+    r->contacts = clipFaceContactOfBItem(a, b, bInA, sat.faceB, margin, buffers);
     r->feature = makeSatHint(RUBBLE_SAT_FACE_B, 0u, sat.faceB.face, sat.faceB.vertex);
     return r->contacts.count > 0u;
 }
 
-// Collides hull a with hull b, b's pose in a's frame (collideHulls): SAT, then faces over
+// Collides hull a with hull b, b's pose in a's frame: SAT, then faces over
 // edges and last step's face owner over the other unless clearly shallower.
 RUBBLE_FN HullContact collideHullsItem(Hull a, Hull b, RigidTransform bInA, float margin,
-                                       SatHint hint) {
+                                       SatHint hint, ClipBuffers buffers) {
     HullContact r;
     r.separated = 0;
     r.contacts = emptyContactsItem();
@@ -216,11 +216,11 @@ RUBBLE_FN HullContact collideHullsItem(Hull a, Hull b, RigidTransform bInA, floa
     const int useEdges = haveEdges && clearlyLargerItem(sat.edges.separation, useB ? sb : sa,
                                                         RUBBLE_RELATIVE_EDGE_TOLERANCE);
     if (!useEdges) {
-        if (tryFaceItem(&r, a, b, bInA, sat, margin, useB)) return r;
+        if (tryFaceItem(&r, a, b, bInA, sat, margin, useB, buffers)) return r;
         // The clipped overlap held no point: the other face, then the edges, if good enough
         // (not clearly deeper than the best axis).
         if (!clearlyLargerItem(sat.separation, useB ? sa : sb, RUBBLE_RELATIVE_EDGE_TOLERANCE) &&
-            tryFaceItem(&r, a, b, bInA, sat, margin, !useB))
+            tryFaceItem(&r, a, b, bInA, sat, margin, !useB, buffers))
             return r;
         if (!haveEdges ||
             clearlyLargerItem(sat.separation, sat.edges.separation, RUBBLE_RELATIVE_EDGE_TOLERANCE)) {
@@ -233,10 +233,11 @@ RUBBLE_FN HullContact collideHullsItem(Hull a, Hull b, RigidTransform bInA, floa
     return r;
 }
 
-// Contacts from a known feature, skipping the search (collideHullsFromFeature); without a
+// Contacts from a known feature, skipping the search; without a
 // usable feature, the full test.
 RUBBLE_FN HullContact collideHullsFromFeatureItem(Hull a, Hull b, RigidTransform bInA,
-                                                  SatHint feature, float margin) {
+                                                  SatHint feature, float margin,
+                                                  ClipBuffers buffers) {
     HullContact r;
     r.separated = 0;
     r.contacts = emptyContactsItem();
@@ -246,7 +247,7 @@ RUBBLE_FN HullContact collideHullsFromFeatureItem(Hull a, Hull b, RigidTransform
         r.feature.vertex = q.vertex;
         r.separated = q.separation > margin;
         if (!r.separated)
-            r.contacts = clipFaceContactItem(a, q, b, bInA, margin, RUBBLE_KIND_FACE_A);
+            r.contacts = clipFaceContactItem(a, q, b, bInA, margin, RUBBLE_KIND_FACE_A, buffers);
         return r;
     }
     if (feature.feature == RUBBLE_SAT_FACE_B && feature.indexB < b.faceCount) {
@@ -254,7 +255,7 @@ RUBBLE_FN HullContact collideHullsFromFeatureItem(Hull a, Hull b, RigidTransform
             queryFaceItem(b, feature.indexB, a, transformInverse(bInA), feature.vertex);
         r.feature.vertex = q.vertex;
         r.separated = q.separation > margin;
-        if (!r.separated) r.contacts = clipFaceContactOfBItem(a, b, bInA, q, margin);
+        if (!r.separated) r.contacts = clipFaceContactOfBItem(a, b, bInA, q, margin, buffers);
         return r;
     }
     if (feature.feature == RUBBLE_SAT_EDGES && feature.indexA < a.edgeCount &&
@@ -273,7 +274,7 @@ RUBBLE_FN HullContact collideHullsFromFeatureItem(Hull a, Hull b, RigidTransform
             return r;
         }
     }
-    return collideHullsItem(a, b, bInA, margin, feature);
+    return collideHullsItem(a, b, bInA, margin, feature, buffers);
 }
 
 // b's pose in a's frame within the reuse limits of the cache's reference.
@@ -290,8 +291,8 @@ RUBBLE_FN int poseCloseItem(RigidTransform bInA, RigidTransform reference) {
     return c2 <= RUBBLE_REUSE_ROTATION;
 }
 
-// The axis of an edge pair (undirected edge indices of a and b) at b's pose in a's frame
-// (edgePairAxis): the unit cross product of the two edges turned out of a; not valid when the
+// The axis of an edge pair (undirected edge indices of a and b) at b's pose in a's frame:
+// the unit cross product of the two edges turned out of a; not valid when the
 // edges are closer to parallel than RUBBLE_PARALLEL_SINE.
 RUBBLE_FN EdgeAxis edgePairAxisItem(Hull a, uint edgeA, Hull b, uint edgeB, RigidTransform bInA) {
     const HullEdge ea = a.edgeRecords[edgeA];
@@ -301,7 +302,7 @@ RUBBLE_FN EdgeAxis edgePairAxisItem(Hull a, uint edgeA, Hull b, uint edgeB, Rigi
 
 // True while a cached edge pair's axis at this pose is within RUBBLE_REUSE_AXIS_COSINE of its
 // axis at the reference, and the pair still spans a face of the Minkowski difference: along its
-// axis the edges' own points are the support points (edgeAxisHolds).
+// axis the edges' own points are the support points.
 RUBBLE_FN int edgeAxisHoldsItem(Hull a, Hull b, RigidTransform bInA, RigidTransform reference,
                                 SatHint edges) {
     const EdgeAxis now = edgePairAxisItem(a, edges.indexA, b, edges.indexB, bInA);
@@ -313,11 +314,11 @@ RUBBLE_FN int edgeAxisHoldsItem(Hull a, Hull b, RigidTransform bInA, RigidTransf
     return separationAlongItem(a, b, bInA, now.axis) >= byEdges - RUBBLE_SUPPORT_TOLERANCE;
 }
 
-// Collides with the pair's cache (collideHullsCached): the feature is reused while the pose
+// Collides with the pair's cache: the feature is reused while the pose
 // stays close to the reference (and a cached edge pair's axis holds: edgeAxisHoldsItem), else
 // the full test runs and becomes the new reference.
 RUBBLE_FN HullContact collideHullsCachedItem(Hull a, Hull b, RigidTransform bInA, PairCache* cache,
-                                             float margin) {
+                                             float margin, ClipBuffers buffers) {
     int close = cache->reusable && cache->feature.feature != RUBBLE_SAT_NONE &&
                 poseCloseItem(bInA, cache->reference);
     // The axis of two nearly parallel edges swings with the slightest turn (by the turn over
@@ -326,13 +327,14 @@ RUBBLE_FN HullContact collideHullsCachedItem(Hull a, Hull b, RigidTransform bInA
     if (close && cache->feature.feature == RUBBLE_SAT_EDGES)
         close = edgeAxisHoldsItem(a, b, bInA, cache->reference, cache->feature);
     if (close) {
-        const HullContact r = collideHullsFromFeatureItem(a, b, bInA, cache->feature, margin);
+        const HullContact r =
+            collideHullsFromFeatureItem(a, b, bInA, cache->feature, margin, buffers);
         if (r.separated || r.contacts.count > 0u) {
             cache->feature.vertex = r.feature.vertex;
             return r;
         }
     }
-    const HullContact r = collideHullsItem(a, b, bInA, margin, cache->feature);
+    const HullContact r = collideHullsItem(a, b, bInA, margin, cache->feature, buffers);
     cache->feature = r.feature;
     cache->reference = bInA;
     cache->reusable = 1u;

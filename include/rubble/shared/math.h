@@ -24,7 +24,6 @@ RUBBLE_FN float4 vec4(float x, float y, float z) { return make4(x, y, z, 0.0f); 
 RUBBLE_FN float4 add4(float4 a, float4 b) { return make4(a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w); }
 RUBBLE_FN float4 sub4(float4 a, float4 b) { return make4(a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w); }
 RUBBLE_FN float4 scale4(float4 a, float s) { return make4(a.x * s, a.y * s, a.z * s, a.w * s); }
-RUBBLE_FN float4 mul4(float4 a, float4 b) { return make4(a.x * b.x, a.y * b.y, a.z * b.z, a.w * b.w); }
 RUBBLE_FN float dot3(float4 a, float4 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 RUBBLE_FN float4 cross3(float4 a, float4 b) {
     return vec4(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);

@@ -1,7 +1,6 @@
-// include/rubble/shared/narrow_phase.h: the device narrow phase for one pair: dispatch by shape
-// kind to the hull (SAT and clipping), sphere and plane contacts, results brought to the world
-// frame. A port of host/collision/narrow_phase.cpp (collideShapes); kernels/sat.cl runs it once
-// per pair.
+// include/rubble/shared/narrow_phase.h: stage narrowPhase for one pair, both pipelines: dispatch
+// by shape kind to the hull (SAT and clipping), sphere and plane contacts, results brought to the
+// world frame. SatCollision::narrowPhase and kernels/sat.cl run it once per pair.
 #pragma once
 
 #include "rubble/shared/hull_contact.h"
@@ -9,7 +8,7 @@
 
 RUBBLE_SHARED_BEGIN
 
-// A contact set from a shape's frame to the world; flip turns the normal around (toWorld).
+// A contact set from a shape's frame to the world; flip turns the normal around.
 RUBBLE_FN ContactManifold contactsToWorldItem(ContactManifold inShape, RigidTransform t, int flip) {
     ContactManifold w = inShape;
     for (uint i = 0; i < w.count; ++i) {
@@ -21,15 +20,14 @@ RUBBLE_FN ContactManifold contactsToWorldItem(ContactManifold inShape, RigidTran
     return w;
 }
 
-// A plane shape at a body's transform: n' = R n, d' = d + n' . t (worldPlane); xyz normal, w
+// A plane shape at a body's transform: n' = R n, d' = d + n' . t; xyz normal, w
 // offset.
 RUBBLE_FN float4 worldPlaneItem(HullShape s, RigidTransform t) {
     const float4 n = transformRotate(t, faceNormalItem(s.plane));
     return make4(n.x, n.y, n.z, s.plane.w + dot3(n, t.translation));
 }
 
-// A plane against any other shape; the normal points from the plane to the shape
-// (collideWithPlane).
+// A plane against any other shape; the normal points from the plane to the shape.
 RUBBLE_FN ContactManifold collideWithPlaneItem(HullArrays arrays, float4 plane, HullShape other,
                                                RigidTransform t, float margin) {
     const float4 normal = faceNormalItem(plane);
@@ -43,17 +41,19 @@ RUBBLE_FN ContactManifold collideWithPlaneItem(HullArrays arrays, float4 plane, 
                                0);
 }
 
-// Collides shape a at transform ta with shape b at tb, body to world (collideShapes). Hull
-// pairs read and update the cache; other pairs leave it alone. The result is in the world
-// frame, normal from a to b; a and b are left 0 for the caller.
-RUBBLE_FN ContactManifold collideShapesItem(HullArrays arrays, HullShape a, RigidTransform ta,
-                                            HullShape b, RigidTransform tb, PairCache* cache,
-                                            float margin) {
+// Collides shape a at transform ta with shape b at tb, body to world, clipping
+// hull faces in the caller's buffers. Hull pairs read and update the cache; other pairs leave it
+// alone. The result is in the world frame, normal from a to b; a and b are left 0 for the
+// caller.
+RUBBLE_FN ContactManifold collideShapesClippingInItem(HullArrays arrays, HullShape a,
+                                                      RigidTransform ta, HullShape b,
+                                                      RigidTransform tb, PairCache* cache,
+                                                      float margin, ClipBuffers buffers) {
     const int hullA = a.kind == RUBBLE_SHAPE_HULL, hullB = b.kind == RUBBLE_SHAPE_HULL;
     if (hullA && hullB) {
         const HullContact hc =
             collideHullsCachedItem(hullOfItem(arrays, a), hullOfItem(arrays, b),
-                                   transformRelative(ta, tb), cache, margin);
+                                   transformRelative(ta, tb), cache, margin, buffers);
         return contactsToWorldItem(hc.contacts, ta, 0);
     }
     if (a.kind == RUBBLE_SHAPE_PLANE && b.kind != RUBBLE_SHAPE_PLANE)
@@ -76,6 +76,21 @@ RUBBLE_FN ContactManifold collideShapesItem(HullArrays arrays, HullShape a, Rigi
         return contactsToWorldItem(inShape, tb, 1);
     }
     return emptyContactsItem();
+}
+
+// collideShapesClippingInItem with buffers in private memory, for hulls whose faces have at
+// most RUBBLE_HULL_MAX_FACE_VERTICES vertices (the device's; host/gpu/hull_data.cpp refuses
+// larger).
+RUBBLE_FN ContactManifold collideShapesItem(HullArrays arrays, HullShape a, RigidTransform ta,
+                                            HullShape b, RigidTransform tb, PairCache* cache,
+                                            float margin) {
+    ClipVertex polygon[RUBBLE_CLIP_CAPACITY], scratch[RUBBLE_CLIP_CAPACITY];
+    LocalContact candidates[RUBBLE_CLIP_CAPACITY];
+    ClipBuffers buffers;
+    buffers.polygon = polygon;
+    buffers.scratch = scratch;
+    buffers.candidates = candidates;
+    return collideShapesClippingInItem(arrays, a, ta, b, tb, cache, margin, buffers);
 }
 
 RUBBLE_SHARED_END

@@ -1,7 +1,6 @@
 // include/rubble/shared/primitive_contact.h: contacts of spheres and planes with each other and
-// with flattened hulls, for the device narrow phase. A port of
-// host/collision/primitive_contact.cpp, function for function (Ericson 4.3, 5.1, 5.2). Planes
-// are solid below dot(n, x) = d.
+// with flattened hulls in stage narrowPhase, both pipelines (Ericson 4.3, 5.1, 5.2). Planes are
+// solid below dot(n, x) = d.
 #pragma once
 
 #include "rubble/shared/clip.h"
@@ -14,7 +13,7 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_PRIMITIVE_EDGE 2u
 #define RUBBLE_PRIMITIVE_VERTEX 3u
 
-// Two spheres; the normal points from a to b, +y when the centres coincide (collideSpheres).
+// Two spheres; the normal points from a to b, +y when the centres coincide.
 RUBBLE_FN ContactManifold collideSpheresItem(float4 ca, float ra, float4 cb, float rb,
                                              float margin) {
     ContactManifold set = emptyContactsItem();
@@ -30,7 +29,7 @@ RUBBLE_FN ContactManifold collideSpheresItem(float4 ca, float ra, float4 cb, flo
 }
 
 // A hull and a sphere whose centre is in the hull's frame; the normal points from the hull to
-// the sphere (collideHullSphere).
+// the sphere.
 RUBBLE_FN ContactManifold collideHullSphereItem(Hull hull, float4 c, float radius, float margin) {
     ContactManifold set = emptyContactsItem();
     // The face the centre is furthest above (or least below).
@@ -71,7 +70,7 @@ RUBBLE_FN ContactManifold collideHullSphereItem(Hull hull, float4 c, float radiu
             const float4 v1 = hull.vertices[hull.edges[hull.edges[h].next].origin];
             if (dot3(cross3(sub4(v1, v0), faceNormal), sub4(projected, v0)) > 0.0f) {
                 inside = 0;
-                // The closest point of the edge to c (closestOnSegment).
+                // The closest point of the edge to c.
                 const float4 e = sub4(v1, v0);
                 const float e2 = dot3(e, e);
                 const float t = e2 > 0.0f ? clampItem(dot3(sub4(c, v0), e) / e2, 0.0f, 1.0f) : 0.0f;
@@ -110,7 +109,7 @@ RUBBLE_FN ContactManifold collideHullSphereItem(Hull hull, float4 c, float radiu
     return set;
 }
 
-// A plane and a sphere; the normal is the plane's (collidePlaneSphere).
+// A plane and a sphere; the normal is the plane's.
 RUBBLE_FN ContactManifold collidePlaneSphereItem(float4 n, float offset, float4 c, float radius,
                                                  float margin) {
     ContactManifold set = emptyContactsItem();
@@ -207,7 +206,7 @@ RUBBLE_FN uint reducePlaneCandidatesItem(Hull hull, float4 n, float offset, floa
     return 4u;
 }
 
-// A plane in the hull's frame and the hull; the normal is the plane's (collidePlaneHull).
+// A plane in the hull's frame and the hull; the normal is the plane's.
 RUBBLE_FN ContactManifold collidePlaneHullItem(float4 n, float offset, Hull hull, float margin) {
     ContactManifold set = emptyContactsItem();
     set.normal = n;

@@ -1,39 +1,39 @@
-// include/rubble/shared/sat.h: the separating axis test between two flattened hulls, for the
-// device narrow phase (kernels/sat.cl). A port of host/collision/sat.cpp, function for function
-// (queryFace, queryFaceDirections, queryEdgeDirections with Gauss-map pruning, runSat), with the
-// same decisions and operand order (Gregorius, GDC 2013; physics report 3.3).
+// include/rubble/shared/sat.h: the separating axis test between two flattened hulls, part of
+// stage narrowPhase on both pipelines (SatCollision on the CPU, kernels/sat.cl on the device):
+// face queries, the edge query with Gauss-map pruning, runSatItem (Gregorius, GDC 2013; physics
+// report 3.3).
 #pragma once
 
 #include "rubble/shared/hull.h"
 
 RUBBLE_SHARED_BEGIN
 
-// Which feature pair defines an axis (SatFeature).
+// Which feature pair defines an axis.
 #define RUBBLE_SAT_NONE 0u
 #define RUBBLE_SAT_FACE_A 1u
 #define RUBBLE_SAT_FACE_B 2u
 #define RUBBLE_SAT_EDGES 3u
 
-// Edge pairs closer to parallel than this sine give no axis (kParallelSine).
+// Edge pairs closer to parallel than this sine give no axis.
 #define RUBBLE_PARALLEL_SINE 1e-3f
 // The lowest float: a query that has not run.
 #define RUBBLE_LOWEST_FLOAT (-3.40282347e+38f)
 
-// The best face of one hull (FaceQuery).
+// The best face of one hull.
 typedef struct FaceQuery {
     float separation; // m; > 0: a gap
     uint face;        // face of the hull whose faces were tried
     uint vertex;      // the other hull's support vertex for that face
 } FaceQuery;
 
-// The best edge pair (EdgeQuery).
+// The best edge pair.
 typedef struct EdgeQuery {
     float separation;   // m; > 0: a gap
     uint edgeA, edgeB;  // undirected edge indices
     float4 axis;        // unit, A's frame, from A to B
 } EdgeQuery;
 
-// 16 bytes: a feature to test first, kept from last step (SatHint).
+// 16 bytes: a feature to test first, kept from last step.
 typedef struct SatHint {
     uint feature;        // RUBBLE_SAT_*
     uint indexA, indexB; // face of A or B, or edges of A and B
@@ -41,7 +41,7 @@ typedef struct SatHint {
 } SatHint;
 RUBBLE_STATIC_ASSERT_SIZE(SatHint, 16);
 
-// The outcome of one separating axis test (SatResult).
+// The outcome of one separating axis test.
 typedef struct SatResult {
     int separated;
     uint feature;
@@ -86,7 +86,7 @@ RUBBLE_FN SatHint makeSatHint(uint feature, uint indexA, uint indexB, uint verte
 
 RUBBLE_FN float4 faceNormalItem(float4 plane) { return vec4(plane.x, plane.y, plane.z); }
 
-// The unit axis eA x eB turned out of A (edgeAxis).
+// The unit axis eA x eB turned out of A.
 RUBBLE_FN EdgeAxis edgeAxisItem(float4 pointA, float4 dirA, float4 dirB, float4 centroidA) {
     EdgeAxis r;
     r.valid = 0;
@@ -101,14 +101,14 @@ RUBBLE_FN EdgeAxis edgeAxisItem(float4 pointA, float4 dirA, float4 dirB, float4 
     return r;
 }
 
-// Support-point separation along an axis, climbs from vertex 0 of each (separationAlong).
+// Support-point separation along an axis, climbs from vertex 0 of each.
 RUBBLE_FN float separationAlongItem(Hull a, Hull b, RigidTransform bInA, float4 axis) {
     const uint startA = supportVertexItem(a, axis, 0u);
     const uint startB = supportVertexItem(b, transformRotateInverse(bInA, negate4(axis)), 0u);
     return dot3(axis, transformApply(bInA, b.vertices[startB])) - dot3(axis, a.vertices[startA]);
 }
 
-// Face query of one face of a (queryFace).
+// Face query of one face of a.
 RUBBLE_FN FaceQuery queryFaceItem(Hull a, uint face, Hull b, RigidTransform bInA, uint startVertex) {
     const float4 f = a.faces[face];
     const float4 normal = faceNormalItem(f);
@@ -121,7 +121,7 @@ RUBBLE_FN FaceQuery queryFaceItem(Hull a, uint face, Hull b, RigidTransform bInA
     return q;
 }
 
-// Face query over every face of a, stopping above `stopAbove` (queryFaceDirections).
+// Face query over every face of a, stopping above `stopAbove`.
 RUBBLE_FN FaceQuery queryFaceDirectionsItem(Hull a, Hull b, RigidTransform bInA, float stopAbove) {
     FaceQuery best = noFaceQuery();
     uint start = 0u;
@@ -140,7 +140,7 @@ RUBBLE_FN FaceQuery queryFaceDirectionsItem(Hull a, Hull b, RigidTransform bInA,
     return best;
 }
 
-// Edge query over the pairs whose Gauss-map arcs cross (queryEdgeDirections): for each edge of
+// Edge query over the pairs whose Gauss-map arcs cross: for each edge of
 // b, the arc test against every edge of a, in a's order.
 RUBBLE_FN EdgeQuery queryEdgeDirectionsItem(Hull a, Hull b, RigidTransform bInA, float stopAbove) {
     EdgeQuery best = noEdgeQuery();
