@@ -1,6 +1,7 @@
 // host/geometry/half_edge.h: convex polyhedra as half-edge meshes (physics report 3.2.1), with
 // coplanar faces merged, their invariants checked, and support points by hill climbing (3.2.2).
-// The narrow phase (host/collision/sat.cpp, clip.cpp) reads them; built once per shape.
+// The narrow phase (rubble/shared/narrow_phase.h, over the flattened hulls of
+// host/collision/hull_data.h) reads them; built once per shape.
 #pragma once
 
 #include <cstdint>

@@ -98,7 +98,7 @@ TEST_F(DeviceCases, SatSymplecticSpinTurnsByOmegaTimesT) {
     test::expectSpinTurnsByOmegaTimesT(w);
 }
 
-// Waking before the solve with SAT (kernels/pgs.cl, wakeTouchedPairs): the sleeping bodies a
+// Waking before the solve with SAT (kernels/sleep.cl, wakeTouchedPairs): the sleeping bodies a
 // pair joins to a waking one wake before the rows and the collision runs again, so that their
 // mass takes part, to the reference's bounds.
 TEST_F(DeviceCases, SatSleepingRowTakesTheHitWithItsMomentum) {
