@@ -168,7 +168,7 @@ WorldMetrics World::metrics() const {
         const glm::dvec3 p(toVec3(s.bodies.momenta[i].linear)), l(toVec3(s.bodies.momenta[i].angular));
         ++r.dynamicBodies;
         if (m.flags & RUBBLE_BODY_ASLEEP) ++r.asleepBodies;
-        r.kineticEnergy += 0.5 * double(m.mass) * glm::dot(v, v) + 0.5 * glm::dot(w, l);
+        r.kineticEnergy += 0.5 * glm::dot(v, p) + 0.5 * glm::dot(w, l);
         r.potentialEnergy -= double(m.mass) * glm::dot(g, x);
         r.linearMomentum += p;
         r.angularMomentum += glm::cross(x, p) + l;
