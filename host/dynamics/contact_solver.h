@@ -33,12 +33,6 @@ struct SolverScene {
 /// No body: the new index of a removed body in ContactSolver::bodiesChanged.
 inline constexpr std::uint32_t kRemovedBody = 0xffffffffu;
 
-/// What the stage wake did.
-struct WakeReport {
-    std::uint32_t woken = 0;   ///< sleeping bodies it woke
-    bool collideAgain = false; ///< the woken bodies' pairs were not collided: collide again
-};
-
 /// A contact solver's stages, with what they keep between steps.
 class ContactSolver {
   public:
@@ -48,11 +42,13 @@ class ContactSolver {
     virtual ContactForm reads() const = 0;
     /// Stage wake, after narrowPhase: the sleeping bodies that this step's contacts, joints or
     /// impulses from outside touch wake before the rows, so that their mass takes part in the
-    /// solve. `approach` as in buildRows. reads: contacts, bodies, approach, scene
+    /// solve. `approach` as in buildRows. Returns true when the bodies it woke have pairs that
+    /// were not collided while they slept: the caller runs broadPhase and narrowPhase again and
+    /// calls wake once more. reads: contacts, bodies, approach, scene
     /// writes: masses (flags), the solver's sleep state
-    virtual WakeReport wake(const SolverScene& scene, Bodies bodies,
-                            std::span<const shared::BodyVelocity> approach,
-                            const StepContacts& contacts, const StepParams& params) = 0;
+    [[nodiscard]] virtual bool wake(const SolverScene& scene, Bodies bodies,
+                                    std::span<const shared::BodyVelocity> approach,
+                                    const StepContacts& contacts, const StepParams& params) = 0;
     /// Stage buildContactRows. `approach` holds the bodies' velocities before this step's
     /// forces, which restitution measures the approach with (the velocities in `bodies` are
     /// after them). reads: contacts, bodies, approach, scene, params   writes: the rows

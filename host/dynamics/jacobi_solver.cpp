@@ -11,12 +11,10 @@ namespace rubble {
 
 using namespace shared;
 
-WakeReport JacobiSolver::wake(const SolverScene&, Bodies bodies,
-                              std::span<const BodyVelocity> approach, const StepContacts& contacts,
-                              const StepParams&) {
-    WakeReport r;
-    r.woken = wakeTouched(contacts.points, approach, bodies.masses, sleep_);
-    return r;
+bool JacobiSolver::wake(const SolverScene&, Bodies bodies, std::span<const BodyVelocity> approach,
+                        const StepContacts& contacts, const StepParams&) {
+    wakeTouched(contacts.points, approach, bodies.masses, sleep_);
+    return false;
 }
 
 void JacobiSolver::buildRows(const SolverScene& scene, BodiesView bodies,

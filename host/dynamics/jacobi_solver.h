@@ -17,10 +17,11 @@ namespace rubble {
 class JacobiSolver : public ContactSolver {
   public:
     ContactForm reads() const override { return ContactForm::Points; }
-    /// Stage wakeTouched (the device's twin): its woken bodies' contacts come next step.
-    WakeReport wake(const SolverScene& scene, Bodies bodies,
-                    std::span<const shared::BodyVelocity> approach, const StepContacts& contacts,
-                    const StepParams& params) override;
+    /// Stage wakeTouched (the device's twin): its woken bodies' contacts come next step, so it
+    /// never asks for the collision stages again (false).
+    bool wake(const SolverScene& scene, Bodies bodies,
+              std::span<const shared::BodyVelocity> approach, const StepContacts& contacts,
+              const StepParams& params) override;
     /// Stage buildJacobiRows: the body lists, the warm start matched by contact key, a row per
     /// contact point, its approach measured with `approach`. reads: points, poses, approach,
     /// masses, surfaces

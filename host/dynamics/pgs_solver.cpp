@@ -16,15 +16,12 @@ void PgsSolver::prepareRadii(const SolverScene& scene, BodiesView bodies) {
         c.radii[i] = scene.shapes[bodies.shapeOf[i]].boundingRadius;
 }
 
-WakeReport PgsSolver::wake(const SolverScene& scene, Bodies bodies,
-                           std::span<const shared::BodyVelocity> approach,
-                           const StepContacts& contacts, const StepParams&) {
+bool PgsSolver::wake(const SolverScene& scene, Bodies bodies,
+                     std::span<const shared::BodyVelocity> approach, const StepContacts& contacts,
+                     const StepParams&) {
     prepareRadii(scene, bodies);
-    WakeReport r;
-    r.woken = wakeIslands(contacts.manifolds, scene.joined, cache_.radii, bodies.masses, approach,
-                          cache_.sleep);
-    r.collideAgain = r.woken > 0;
-    return r;
+    return wakeIslands(contacts.manifolds, scene.joined, cache_.radii, bodies.masses, approach,
+                       cache_.sleep) > 0;
 }
 
 void PgsSolver::buildRows(const SolverScene& scene, BodiesView bodies,

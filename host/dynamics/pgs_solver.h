@@ -43,10 +43,11 @@ struct SolverCache {
 class PgsSolver final : public ContactSolver {
   public:
     ContactForm reads() const override { return ContactForm::Manifolds; }
-    /// Islands touched by a restless body wake (wakeIslands), with their pairs collided again.
-    WakeReport wake(const SolverScene& scene, Bodies bodies,
-                    std::span<const shared::BodyVelocity> approach, const StepContacts& contacts,
-                    const StepParams& params) override;
+    /// Islands touched by a restless body wake (wakeIslands), with their pairs collided again:
+    /// true when it woke a body.
+    bool wake(const SolverScene& scene, Bodies bodies,
+              std::span<const shared::BodyVelocity> approach, const StepContacts& contacts,
+              const StepParams& params) override;
     /// Contact rows from the manifolds, joint rows (the joints are put in body frames at the
     /// poses of the first step); bounces from the approach in `approach`. reads: manifolds,
     /// poses, velocities, approach, masses, materials, joints, the cache

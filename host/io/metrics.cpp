@@ -45,17 +45,8 @@ nlohmann::ordered_json stagesJson(const Stats& totals, const StageField<Stats> (
 } // namespace
 
 Invariants measureInvariants(const World& world) {
-    Invariants inv;
-    for (std::uint32_t i = 0; i < world.bodyCount(); ++i) {
-        const BodyState b = world.body(i);
-        if (b.isStatic) continue;
-        const glm::dvec3 v(b.linearVelocity), w(b.angularVelocity), p(b.linearMomentum),
-            l(b.angularMomentum), x(b.position);
-        inv.kineticEnergy += 0.5 * glm::dot(v, p) + 0.5 * glm::dot(w, l);
-        inv.linearMomentum += p;
-        inv.angularMomentum += glm::cross(x, p) + l;
-    }
-    return inv;
+    const WorldMetrics m = world.metrics();
+    return Invariants{m.kineticEnergy, m.linearMomentum, m.angularMomentum};
 }
 
 TimeHistogram::TimeHistogram()

@@ -50,7 +50,7 @@ class TimeHistogram {
     double value(std::int64_t rank) const;
 };
 
-/// The world's kinetic energy and momenta now.
+/// The world's kinetic energy and momenta now: those of World::metrics.
 Invariants measureInvariants(const World& world);
 
 /// Collects per-step figures while a world runs, then writes them as JSON.

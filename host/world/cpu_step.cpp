@@ -64,12 +64,12 @@ Status stepCpu(WorldState& s, StepStats& stats) {
     // so that their mass takes part in the solve; pairs not collided while they slept are
     // collided now (each round wakes at least one body).
     for (;;) {
-        WakeReport woke;
+        bool collideAgain = false;
         {
             StageTimer t(stats.islandsMs);
-            woke = s.solver->wake(solverScene, bodies, s.velocitiesAtStart, contacts, p);
+            collideAgain = s.solver->wake(solverScene, bodies, s.velocitiesAtStart, contacts, p);
         }
-        if (!woke.collideAgain) break;
+        if (!collideAgain) break;
         {
             StageTimer t(stats.broadPhaseMs);
             RUBBLE_TRY(s.collision->broadPhase(collisionScene, bodies, p, contacts));

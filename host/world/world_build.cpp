@@ -96,14 +96,21 @@ std::optional<Warning> massRatioWarning(const Scene& scene, const BodyArrays& bo
 
 } // namespace
 
-void appendBodyArrays(BodyArrays& a, const BodyDesc& b, const Shape& shape) {
-    const BodyMass mass = makeMass(b, shape);
-    const BodyPose pose{toFloat4(b.position), toFloat4(glm::normalize(b.orientation))};
+BodyMomentum momentumFromVelocity(const BodyMass& mass, const BodyPose& pose, glm::vec3 linear,
+                                  glm::vec3 angular) {
     const Mat3 inertiaWorld =
         shared::mat3RotateTensor(shared::mat3FromQuat(pose.orientation), mass.inertiaBody);
     BodyMomentum momentum{};
-    momentum.linear = toFloat4(b.linearVelocity * mass.mass);
-    momentum.angular = shared::mat3MulVec(inertiaWorld, toFloat4(b.angularVelocity));
+    momentum.linear = toFloat4(linear * mass.mass);
+    momentum.angular = shared::mat3MulVec(inertiaWorld, toFloat4(angular));
+    return momentum;
+}
+
+void appendBodyArrays(BodyArrays& a, const BodyDesc& b, const Shape& shape) {
+    const BodyMass mass = makeMass(b, shape);
+    const BodyPose pose{toFloat4(b.position), toFloat4(glm::normalize(b.orientation))};
+    const BodyMomentum momentum =
+        momentumFromVelocity(mass, pose, b.linearVelocity, b.angularVelocity);
     a.poses.push_back(pose);
     a.masses.push_back(mass);
     a.momenta.push_back(momentum);

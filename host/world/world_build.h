@@ -10,6 +10,11 @@ namespace rubble {
 
 struct WorldState;
 
+/// A body's momenta from its velocities (world frame): P = m v, L = I_w omega.
+shared::BodyMomentum momentumFromVelocity(const shared::BodyMass& mass,
+                                          const shared::BodyPose& pose, glm::vec3 linear,
+                                          glm::vec3 angular);
+
 /// Appends a body's entries to the body arrays: its mass from `mass` or `density` and `shape`
 /// (static bodies get none), momenta from its velocities, no force. The shape and material
 /// indices are taken as given.

@@ -7,6 +7,7 @@
 
 #include "host/core/math.h"
 #include "host/world/device_step.h"
+#include "host/world/world_build.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -109,12 +110,10 @@ Status World::setVelocity(std::uint32_t i, glm::vec3 linear, glm::vec3 angular) 
     RUBBLE_TRY(beginHostChange(s));
     // The momenta are the state; the velocities are derived from them, as after a step.
     const BodyMass& m = s.bodies.masses[i];
-    const float4 q = s.bodies.poses[i].orientation;
-    const shared::Mat3 inertiaWorld =
-        shared::mat3RotateTensor(shared::mat3FromQuat(q), m.inertiaBody);
-    s.bodies.momenta[i].linear = toFloat4(linear * m.mass);
-    s.bodies.momenta[i].angular = shared::mat3MulVec(inertiaWorld, toFloat4(angular));
-    s.bodies.velocities[i] = shared::velocityFromMomentumItem(s.bodies.momenta[i], m, q);
+    const BodyPose& pose = s.bodies.poses[i];
+    s.bodies.momenta[i] = momentumFromVelocity(m, pose, linear, angular);
+    s.bodies.velocities[i] =
+        shared::velocityFromMomentumItem(s.bodies.momenta[i], m, pose.orientation);
     s.bodies.masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
     return {};
 }
@@ -169,7 +168,7 @@ WorldMetrics World::metrics() const {
         const glm::dvec3 p(toVec3(s.bodies.momenta[i].linear)), l(toVec3(s.bodies.momenta[i].angular));
         ++r.dynamicBodies;
         if (m.flags & RUBBLE_BODY_ASLEEP) ++r.asleepBodies;
-        r.kineticEnergy += 0.5 * double(m.mass) * glm::dot(v, v) + 0.5 * glm::dot(w, l);
+        r.kineticEnergy += 0.5 * glm::dot(v, p) + 0.5 * glm::dot(w, l);
         r.potentialEnergy -= double(m.mass) * glm::dot(g, x);
         r.linearMomentum += p;
         r.angularMomentum += glm::cross(x, p) + l;
