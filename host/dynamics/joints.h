@@ -30,6 +30,7 @@ struct Joint {
     bool active = false;          ///< false when neither body moves in the solve
     glm::vec3 ra{0.0f}, rb{0.0f}; ///< centres of mass to the anchor, m
     glm::mat3 pointMass{0.0f};    ///< (J M^-1 J^T)^-1 of the point rows, kg
+    float dt = 0.0f;              ///< the step the rows look across, s
     glm::vec3 turn[2];            ///< a_1 x b_2, a_1 x c_2: the hinge rows' angular Jacobian on a
     glm::mat2 turnMass{0.0f};     ///< (J M^-1 J^T)^-1 of the hinge rows, kg m^2
 
@@ -49,7 +50,7 @@ std::vector<BodyPair> joinedPairs(std::span<const JointDesc> joints);
 /// current poses; impulses are zeroed without warm starting.
 /// reads: poses, bodies (inverse masses)   writes: joints' rows
 void prepareJoints(std::span<Joint> joints, std::span<const shared::BodyPose> poses,
-                   const SolverBodies& bodies, bool warmStart);
+                   const SolverBodies& bodies, bool warmStart, float dt);
 
 /// Applies the joints' accumulated impulses (warm start). writes: bodies' velocities
 void warmStartJoints(std::span<const Joint> joints, SolverBodies& bodies);

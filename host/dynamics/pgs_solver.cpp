@@ -40,7 +40,7 @@ void PgsSolver::buildRows(const SolverScene& scene, BodiesView bodies,
     const ContactRowSettings settings{params.dt, o.baumgarte, o.slop, o.warmStart};
     buildContactRows(contacts.manifolds, bodies.poses, c.bodies, approach, scene.materials,
                      bodies.materialOf, scene.joined, c.impulses, settings, c.contacts);
-    prepareJoints(c.joints, bodies.poses, c.bodies, o.warmStart);
+    prepareJoints(c.joints, bodies.poses, c.bodies, o.warmStart, params.dt);
 }
 
 Status PgsSolver::solve(const SolverScene&, Bodies bodies, std::span<const shared::BodyVelocity>,

@@ -113,7 +113,7 @@ TEST(PgsJoint, RowsAndVelocityUpdatesMatchTheCpu) {
         SolverBodies bodies;
         gatherSolverMasses(c.masses, c.poses, bodies);
         gatherSolverVelocities(c.velocities, bodies);
-        prepareJoints(c.joints, c.poses, bodies, true);
+        prepareJoints(c.joints, c.poses, bodies, true, 1.0f / 60.0f);
 
         const shared::PgsJoint dj = deviceJoint(c.joints[0]);
         const shared::JacobiBody ja = jacobiBody(c.masses[0], c.poses[0]);
