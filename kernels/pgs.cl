@@ -613,13 +613,13 @@ applyPushes(const uint count, __global const uint* status, __global const Jacobi
 // Stage buildContactRows for joints (prepareJoints): one work-item per joint.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
 prepareJoints(const uint count, __global const PgsJoint* joints, __global const BodyPose* poses,
-              __global const JacobiBody* bodies, const uint warmStart,
+              __global const JacobiBody* bodies, const uint warmStart, const float dt,
               __global PgsJointRow* jointRows) {
     const uint j = get_global_id(0);
     if (j >= count) return;
     const PgsJoint joint = joints[j];
     jointRows[j] = prepareJointItem(joint, jointRows[j], poses[joint.a], poses[joint.b],
-                                    bodies[joint.a], bodies[joint.b], (int)warmStart);
+                                    bodies[joint.a], bodies[joint.b], (int)warmStart, dt);
 }
 
 // The joints' position projection of the groups solved as one (the CPU path's direct

@@ -233,7 +233,7 @@ const std::vector<KernelSignature>& kernelSignatures() {
          {"capacity", "pairCount", "pairs", "manifolds", "velocities", "flags", "restless"}},
         {KernelId::PrepareJoints,
          "prepareJoints",
-         {"count", "joints", "poses", "bodies", "warmStart", "jointRows"}},
+         {"count", "joints", "poses", "bodies", "warmStart", "dt", "jointRows"}},
         {KernelId::ProjectJointGroups,
          "projectJointGroups",
          {"count", "groups", "members", "joints", "masses", "flags", "poses", "rows", "matrix",

@@ -91,6 +91,7 @@ Status Pipeline::summarizePairs(const StepParams& params) {
         .arg(bodies_.poses)
         .arg(bodies_.jacobi)
         .arg(warm)
+        .arg(dt)
         .arg(pgs_.jointRows)
         .run(joints, RUBBLE_GROUP_BODIES);
 }

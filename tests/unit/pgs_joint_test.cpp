@@ -119,7 +119,7 @@ TEST(PgsJoint, RowsAndVelocityUpdatesMatchTheCpu) {
         const shared::JacobiBody ja = jacobiBody(c.masses[0], c.poses[0]);
         const shared::JacobiBody jb = jacobiBody(c.masses[1], c.poses[1]);
         shared::PgsJointRow row{};
-        row = shared::prepareJointItem(dj, row, c.poses[0], c.poses[1], ja, jb, 1);
+        row = shared::prepareJointItem(dj, row, c.poses[0], c.poses[1], ja, jb, 1, 1.0f / 60.0f);
         const Joint& j = c.joints[0];
         expectNear(toVec3(row.ra), j.ra, 1e-6f, "ra", trial);
         expectNear(toVec3(row.rb), j.rb, 1e-6f, "rb", trial);

@@ -50,7 +50,8 @@ typedef struct PgsJointRow {
     float4 turnMass;     // (J M^-1 J^T)^-1 of the hinge rows, kg m^2: (k00, k01, k10, k11)
     float4 pointImpulse; // on b at the anchor (a gets the opposite), N s
     float4 turnImpulse;  // x, y: along turn[0], turn[1] on a (b gets the opposite), N m s
-    float4 state;        // x: 1 when a body moves in this step's solve (the rows are active)
+    float4 state;        // x: 1 when a body moves in this step's solve (the rows are active);
+                         // y: the step the rows look across, s
 } PgsJointRow;
 RUBBLE_STATIC_ASSERT_SIZE(PgsJointRow, 176);
 
@@ -102,11 +103,11 @@ RUBBLE_FN Mat3 safeInverse3Item(Mat3 m) {
 // of both blocks at the current poses; impulses zeroed without warm starting or when neither
 // body moves. `row` holds last step's impulses.
 RUBBLE_FN PgsJointRow prepareJointItem(PgsJoint j, PgsJointRow row, BodyPose pa, BodyPose pb,
-                                       JacobiBody ja, JacobiBody jb, int warmStart) {
+                                       JacobiBody ja, JacobiBody jb, int warmStart, float dt) {
     PgsJointRow r = row;
     const float ima = jointInverseMassItem(ja), imb = jointInverseMassItem(jb);
     const int active = ima > 0.0f || imb > 0.0f;
-    r.state = vec4(active ? 1.0f : 0.0f, 0.0f, 0.0f);
+    r.state = vec4(active ? 1.0f : 0.0f, dt, 0.0f);
     if (!warmStart || !active) {
         r.pointImpulse = vec4(0.0f, 0.0f, 0.0f);
         r.turnImpulse = vec4(0.0f, 0.0f, 0.0f);
@@ -171,6 +172,15 @@ RUBBLE_FN BodyVelocityPair warmStartJointItem(BodyVelocityPair v, PgsJoint j, Pg
     return v;
 }
 
+// A point at r from a centre turning at w leaves its straight-line path over a step of dt by
+// (w dt) x ((w dt) x r) / 2 to second order (the step turns r exactly, the rows see only w x r):
+// the speed that cancels it is minus this, (dt / 2) w x (w x r). Turns above half a radian a step
+// get none (the series no longer holds, and such a link is flung, not swung).
+RUBBLE_FN float4 turnSpeedItem(float4 w, float4 r, float dt) {
+    if (dot3(w, w) * dt * dt > 0.25f) return vec4(0.0f, 0.0f, 0.0f);
+    return scale4(cross3(w, cross3(w, r)), 0.5f * dt);
+}
+
 // 96 bytes, not stored: a joint's velocity update: the velocities, the joint's accumulated
 // impulses, and the largest |change| (N s) in w of pointImpulse.
 typedef struct PgsJointUpdate {
@@ -179,7 +189,8 @@ typedef struct PgsJointUpdate {
     float4 turnImpulse;
 } PgsJointUpdate;
 
-// One Gauss-Seidel update of a joint's blocks toward C' = 0, the change scaled by relaxation
+// One Gauss-Seidel update of a joint's blocks toward C' = 0 (the point block toward the speed
+// that cancels the anchors' parting over the step), the change scaled by relaxation
 // (solveJointVelocity): the hinge block first, then the point block.
 RUBBLE_FN PgsJointUpdate solveJointItem(BodyVelocityPair v, PgsJoint j, PgsJointRow r,
                                         JacobiBody ja, JacobiBody jb, float relaxation) {
@@ -202,8 +213,13 @@ RUBBLE_FN PgsJointUpdate solveJointItem(BodyVelocityPair v, PgsJoint j, PgsJoint
         u.v = applyJointTurnItem(u.v, r, impulse, ja, jb);
         residual = fmax(fabs(impulse.x), fabs(impulse.y));
     }
-    const float4 speed = sub4(add4(u.v.b.linear, cross3(u.v.b.angular, r.rb)),
-                              add4(u.v.a.linear, cross3(u.v.a.angular, r.ra)));
+    // The anchors part by the turns' second-order motion over the step: the rows ask for the
+    // speed that brings them back together at its end, from the velocities as they are now.
+    const float4 parting = sub4(turnSpeedItem(u.v.b.angular, r.rb, r.state.y),
+                                turnSpeedItem(u.v.a.angular, r.ra, r.state.y));
+    const float4 speed = add4(sub4(add4(u.v.b.linear, cross3(u.v.b.angular, r.rb)),
+                                   add4(u.v.a.linear, cross3(u.v.a.angular, r.ra))),
+                              parting);
     const float4 impulse = scale4(mat3MulVec(r.pointMass, speed), -relaxation);
     u.pointImpulse = add4(vec4(u.pointImpulse.x, u.pointImpulse.y, u.pointImpulse.z), impulse);
     u.v = applyJointPointItem(u.v, r, impulse, ja, jb);
