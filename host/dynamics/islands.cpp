@@ -6,30 +6,13 @@
 
 #include "host/core/assert.h"
 #include "host/core/math.h"
+#include "host/core/union_find.h"
 
 namespace rubble {
 namespace {
 
 bool isDynamic(const shared::BodyMass& m) {
     return m.inverseMass > 0.0f;
-}
-
-// Root of i, halving the path on the way.
-std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
-    while (parent[i] != i) {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    return i;
-}
-
-// The smaller root wins, so that the result does not depend on the order of the unions' sides.
-void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
-    const std::uint32_t ra = findRoot(parent, a), rb = findRoot(parent, b);
-    if (ra < rb)
-        parent[rb] = ra;
-    else if (rb < ra)
-        parent[ra] = rb;
 }
 
 // Sized to the bodies at the first call (or after bodies were added or removed); a body asleep
@@ -127,13 +110,12 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
     }
 
     // Islands over dynamic bodies: contacts, joints, and the groups that sleep together.
-    st.parent.resize(n);
-    for (std::uint32_t i = 0; i < n; ++i) st.parent[i] = i;
+    st.islands.reset(n);
     for (const Manifold& m : manifolds)
         if (m.count > 0 && isDynamic(masses[m.a]) && isDynamic(masses[m.b]))
-            unite(st.parent, m.a, m.b);
+            st.islands.unite(m.a, m.b);
     for (const Joint& j : joints)
-        if (isDynamic(masses[j.a]) && isDynamic(masses[j.b])) unite(st.parent, j.a, j.b);
+        if (isDynamic(masses[j.a]) && isDynamic(masses[j.b])) st.islands.unite(j.a, j.b);
     st.groupFirst.assign(n, kNoGroup);
     for (std::uint32_t i = 0; i < n; ++i) {
         // Asleep, or asleep until woken from outside this step: still one of its group.
@@ -142,7 +124,7 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
         if (first == kNoGroup)
             first = i;
         else
-            unite(st.parent, first, i);
+            st.islands.unite(first, i);
     }
 
     // Per island: awake, restless and asleep bodies, and the shortest slow time of the awake.
@@ -153,7 +135,7 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
     SleepReport report;
     for (std::uint32_t i = 0; i < n; ++i) {
         if (!isDynamic(masses[i])) continue;
-        const std::uint32_t r = findRoot(st.parent, i);
+        const std::uint32_t r = st.islands.find(i);
         if (st.awake[r] == 0 && st.asleep[r] == 0) ++report.islands;
         if (masses[i].flags & RUBBLE_BODY_ASLEEP) {
             ++st.asleep[r];
@@ -170,7 +152,7 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
     // and sleep an island over and over.
     for (std::uint32_t i = 0; i < n; ++i) {
         if (!isDynamic(masses[i])) continue;
-        const std::uint32_t r = findRoot(st.parent, i);
+        const std::uint32_t r = st.islands.find(i);
         const bool asleep = (masses[i].flags & RUBBLE_BODY_ASLEEP) != 0;
         if (st.awake[r] > 0) {
             if (st.islandSlowFor[r] >= kTimeToSleep) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "host/collision/contact.h"
+#include "host/core/union_find.h"
 #include "host/dynamics/joints.h"
 #include "rubble/shared/body.h"
 
@@ -24,7 +25,8 @@ struct SleepState {
     std::vector<std::uint32_t> group;    ///< the island it fell asleep with (kNoGroup if awake)
     std::vector<std::uint8_t> wasAsleep; ///< asleep at the end of the last step
     // Scratch reused every step.
-    std::vector<std::uint32_t> parent, groupFirst, awake, asleep, islandRestless;
+    UnionFind islands; ///< this step's islands, over the bodies
+    std::vector<std::uint32_t> groupFirst, awake, asleep, islandRestless;
     std::vector<std::uint8_t> restless, wakeGroup, wakeBody;
     std::vector<float> islandSlowFor;
 };

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "host/core/assert.h"
+#include "host/core/union_find.h"
 #include "host/core/math.h"
 #include "rubble/shared/pgs_joint.h"
 
@@ -192,22 +193,14 @@ bool projectOnce(std::span<const Joint> joints, std::span<const std::uint32_t> m
 
 JointGroups groupJoints(std::span<const Joint> joints, std::span<const shared::BodyMass> masses) {
     // Union-find over moving bodies; each joint joins its group by its first moving body.
-    std::vector<std::uint32_t> parent(masses.size());
-    for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-    auto find = [&](std::uint32_t i) {
-        while (parent[i] != i) i = parent[i] = parent[parent[i]];
-        return i;
-    };
+    UnionFind sets(masses.size());
     auto dynamic = [&](std::uint32_t i) { return masses[i].inverseMass > 0.0f; };
-    for (const Joint& j : joints) {
-        if (!dynamic(j.a) || !dynamic(j.b)) continue;
-        const std::uint32_t ra = find(j.a), rb = find(j.b);
-        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-    }
+    for (const Joint& j : joints)
+        if (dynamic(j.a) && dynamic(j.b)) sets.unite(j.a, j.b);
     // Joints sorted by their group's root, then by index: deterministic.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> keyed;
     for (std::uint32_t j = 0; j < joints.size(); ++j)
-        keyed.push_back({find(dynamic(joints[j].a) ? joints[j].a : joints[j].b), j});
+        keyed.push_back({sets.find(dynamic(joints[j].a) ? joints[j].a : joints[j].b), j});
     std::sort(keyed.begin(), keyed.end());
     JointGroups g;
     for (std::size_t i = 0; i < keyed.size(); ++i) {

@@ -9,6 +9,8 @@
 #include <optional>
 #include <utility>
 
+#include "host/core/union_find.h"
+
 namespace rubble {
 namespace {
 
@@ -88,12 +90,6 @@ Result<std::vector<HalfEdge>> linkPolygons(const ConvexPolygons& p, const std::s
     return edges;
 }
 
-// Union-find over faces, smallest index as the root so that results do not depend on order.
-std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t f) {
-    while (parent[f] != f) f = parent[f] = parent[parent[f]];
-    return f;
-}
-
 // A bound on where a group of faces' vertices lie, kept for groups too large to visit whole:
 // along a unit normal they lie between lo and hi, and all of them within a ball.
 struct SlabBound {
@@ -163,13 +159,12 @@ SlabBound unionBound(const SlabBound& a, const SlabBound& b, const glm::dvec3& n
 std::optional<ConvexPolygons> mergeCoplanarFaces(const ConvexPolygons& p,
                                                  const std::vector<HalfEdge>& edges, float scale) {
     const std::size_t faceCount = p.faces.size();
-    std::vector<std::uint32_t> parent(faceCount);
+    UnionFind faces(faceCount); // smallest index as the root: the result does not depend on order
     std::vector<glm::dvec3> newell(faceCount);
     std::vector<Polygon> members(faceCount); // vertices of each small group, at its root
     std::vector<std::size_t> memberCount(faceCount);
     std::vector<SlabBound> bound(faceCount);
     for (std::uint32_t f = 0; f < faceCount; ++f) {
-        parent[f] = f;
         newell[f] = newellVector(p.faces[f], p.vertices);
         members[f] = p.faces[f];
         memberCount[f] = members[f].size();
@@ -182,8 +177,8 @@ std::optional<ConvexPolygons> mergeCoplanarFaces(const ConvexPolygons& p,
     const double thicknessLimit = double(kMergeDistance) * double(scale);
     for (std::uint32_t h = 0; h < edges.size(); ++h) {
         if (edges[h].twin < h) continue;
-        std::uint32_t f = findRoot(parent, edges[h].face);
-        std::uint32_t g = findRoot(parent, edges[edges[h].twin].face);
+        std::uint32_t f = faces.find(edges[h].face);
+        std::uint32_t g = faces.find(edges[edges[h].twin].face);
         if (f == g) continue;
         const glm::dvec3 nf = glm::normalize(newell[f]), ng = glm::normalize(newell[g]);
         if (glm::dot(nf, ng) < cosMerge) continue;
@@ -206,7 +201,7 @@ std::optional<ConvexPolygons> mergeCoplanarFaces(const ConvexPolygons& p,
             if (merged.hi - merged.lo > thicknessLimit) continue;
         }
         if (g < f) std::swap(f, g);
-        parent[g] = f;
+        faces.unite(f, g); // f, the smaller, stays the root
         newell[f] += newell[g];
         memberCount[f] = together;
         if (exact) {
@@ -223,7 +218,7 @@ std::optional<ConvexPolygons> mergeCoplanarFaces(const ConvexPolygons& p,
     }
 
     std::vector<std::uint32_t> group(faceCount);
-    for (std::uint32_t f = 0; f < faceCount; ++f) group[f] = findRoot(parent, f);
+    for (std::uint32_t f = 0; f < faceCount; ++f) group[f] = faces.find(f);
     auto interior = [&](std::uint32_t h) {
         return group[edges[h].face] == group[edges[edges[h].twin].face];
     };

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "host/core/assert.h"
+#include "host/core/union_find.h"
 #include "host/gpu/hull_data.h"
 #include "host/gpu/pipeline.h"
 
@@ -235,24 +236,17 @@ Status Pipeline::createJoints(const PipelineInput& in) {
     }
     // Joint groups: dynamic bodies joined through dynamic bodies (union-find, as the CPU's
     // groupJoints), for the position projection and for sleeping together.
-    std::vector<std::uint32_t> parent(bodies_.count);
-    for (std::uint32_t i = 0; i < bodies_.count; ++i) parent[i] = i;
-    auto find = [&](std::uint32_t i) {
-        while (parent[i] != i) i = parent[i] = parent[parent[i]];
-        return i;
-    };
-    for (std::uint32_t j = 0; j < g.jointCount; ++j) {
-        if (!g.jointDynamicA[j] || !g.jointDynamicB[j]) continue;
-        const std::uint32_t ra = find(g.jointsHost[j].a), rb = find(g.jointsHost[j].b);
-        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-    }
+    UnionFind sets(bodies_.count);
+    for (std::uint32_t j = 0; j < g.jointCount; ++j)
+        if (g.jointDynamicA[j] && g.jointDynamicB[j])
+            sets.unite(g.jointsHost[j].a, g.jointsHost[j].b);
     // The projection's groups: joints by their group's root, then by index. A group of at most
     // RUBBLE_JOINT_DIRECT_ROWS rows is projected as one; the joints of a larger one are
     // colored for the joint-by-joint sweeps.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> keyed;
     for (std::uint32_t j = 0; j < g.jointCount; ++j) {
         const shared::PgsJoint& joint = g.jointsHost[j];
-        keyed.push_back({find(g.jointDynamicA[j] ? joint.a : joint.b), j});
+        keyed.push_back({sets.find(g.jointDynamicA[j] ? joint.a : joint.b), j});
     }
     std::sort(keyed.begin(), keyed.end());
     std::vector<shared::JointGroup> groups;
@@ -304,7 +298,7 @@ Status Pipeline::createJoints(const PipelineInput& in) {
             groupOf.push_back(RUBBLE_NO_GROUP);
             continue;
         }
-        std::uint32_t& group = groupOfRoot[find(i)];
+        std::uint32_t& group = groupOfRoot[sets.find(i)];
         if (group == RUBBLE_NO_GROUP) group = g.jointGroupCount++;
         groupOf.push_back(group);
     }
