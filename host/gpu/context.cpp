@@ -7,6 +7,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "host/core/clock.h"
 #include "host/gpu/cl_check.h"
 #include "host/gpu/embedded_kernels.h"
 #include "host/gpu/kernel_source.h"
@@ -93,8 +94,7 @@ Result<std::shared_ptr<Context>> Context::create(const RunOptions& run) {
                                     : buildOptionsFor(c->sizes_) + " " + run.buildOptions;
     const cl_int built =
         clBuildProgram(c->program_, 1, &c->device_.id, options.c_str(), nullptr, nullptr);
-    c->buildMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
-                                                            start).count();
+    c->buildMs_ = msSince(start);
     if (built != CL_SUCCESS) {
         std::size_t size = 0;
         std::string log;

@@ -9,21 +9,13 @@
 #include <cstring>
 
 #include "host/core/assert.h"
+#include "host/core/clock.h"
 #include "host/core/limits.h"
 #include "host/core/math.h"
 
 namespace rubble::gpu {
 
 void PipelineDeleter::operator()(Pipeline* p) const { delete p; }
-
-namespace {
-
-double msSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-        .count();
-}
-
-} // namespace
 
 Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
                                         const PipelineInput& in) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "host/core/clock.h"
 #include "host/core/integrate.h"
 #include "host/core/step_params.h"
 #include "host/dynamics/forces.h"
@@ -19,14 +20,11 @@ namespace {
 class StageTimer {
   public:
     explicit StageTimer(double& total) : total_(total), start_(Clock::now()) {}
-    ~StageTimer() {
-        total_ += std::chrono::duration<double, std::milli>(Clock::now() - start_).count();
-    }
+    ~StageTimer() { total_ += msSince(start_); }
     StageTimer(const StageTimer&) = delete;
     StageTimer& operator=(const StageTimer&) = delete;
 
   private:
-    using Clock = std::chrono::steady_clock;
     double& total_;
     Clock::time_point start_;
 };

@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "host/collision/particles.h"
+#include "host/core/clock.h"
 #include "host/core/math.h"
 #include "host/core/step_params.h"
 #include "host/dynamics/forces.h"
@@ -35,11 +36,6 @@ std::vector<shared::PgsJoint> deviceJointsOf(std::span<const Joint> joints) {
         out.push_back(d);
     }
     return out;
-}
-
-double msSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-        .count();
 }
 
 // A world without CPU bodies reports the device's stage times as its stages.

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <new>
 
+#include "host/core/clock.h"
 #include "host/core/math.h"
 #include "host/gpu/pipeline.h"
 #include "host/world/blowup_check.h"
@@ -49,8 +50,7 @@ Status World::step() {
         }
         std::fill(s.bodies.forces.begin(), s.bodies.forces.end(), BodyForce{});
         ++s.step;
-        stats.totalMs = std::chrono::duration<double, std::milli>(
-                            std::chrono::steady_clock::now() - start).count();
+        stats.totalMs = msSince(start);
         RUBBLE_TRY(stepped);
         return checkBlowUp(s);
     }
@@ -65,8 +65,7 @@ Status World::step() {
     RUBBLE_TRY(stepped);
     std::fill(s.bodies.forces.begin(), s.bodies.forces.end(), BodyForce{});
     ++s.step;
-    stats.totalMs =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    stats.totalMs = msSince(start);
 
     if (const auto bad = firstNonFinite(s))
         return makeError(ErrorKind::Numerical, "body " + s.names[*bad],
