@@ -6,6 +6,7 @@
 
 #include "host/core/math.h"
 #include "host/dynamics/contact_rows.h"
+#include "rubble/shared/pgs_joint.h"
 
 namespace rubble {
 namespace {
@@ -92,19 +93,6 @@ std::vector<BodyPair> joinedPairs(std::span<const JointDesc> joints) {
     return pairs;
 }
 
-namespace {
-
-// A point at r from a centre turning at w leaves its straight-line path over a step of dt by
-// (w dt) x ((w dt) x r) / 2 to second order (the step turns r exactly, the rows see only w x r):
-// the speed that cancels it is minus this, (dt / 2) w x (w x r). Turns above half a radian a step
-// get none (the series no longer holds, and such a link is flung, not swung).
-glm::vec3 turnSpeed(glm::vec3 w, glm::vec3 r, float dt) {
-    if (glm::dot(w, w) * dt * dt > 0.25f) return glm::vec3(0.0f);
-    return 0.5f * dt * glm::cross(w, glm::cross(w, r));
-}
-
-} // namespace
-
 void prepareJoints(std::span<Joint> joints, std::span<const shared::BodyPose> poses,
                    const SolverBodies& bodies, bool warmStart, float dt) {
     for (Joint& j : joints) {
@@ -175,8 +163,9 @@ float solveJointVelocity(Joint& j, SolverBodies& bodies, float relaxation) {
                             (fromLanes(a.linear) + glm::cross(fromLanes(a.angular), j.ra));
     // The anchors part by the turns' second-order motion over the step: the rows ask for the
     // speed that brings them back together at its end, from the velocities as they are now.
-    const glm::vec3 parting = turnSpeed(fromLanes(b.angular), j.rb, j.dt) -
-                              turnSpeed(fromLanes(a.angular), j.ra, j.dt);
+    const glm::vec3 parting =
+        toVec3(shared::turnSpeedItem(toFloat4(fromLanes(b.angular)), toFloat4(j.rb), j.dt)) -
+        toVec3(shared::turnSpeedItem(toFloat4(fromLanes(a.angular)), toFloat4(j.ra), j.dt));
     const glm::vec3 impulse = -(j.pointMass * (speed + parting)) * relaxation;
     j.pointImpulse += impulse;
     applyPointImpulse(j, impulse, bodies);
