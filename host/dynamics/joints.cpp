@@ -6,7 +6,6 @@
 
 #include "host/core/math.h"
 #include "host/dynamics/contact_rows.h"
-#include "rubble/shared/pgs_joint.h"
 
 namespace rubble {
 namespace {
@@ -82,6 +81,19 @@ std::vector<Joint> makeJoints(std::span<const JointDesc> descs,
         joints.push_back(j);
     }
     return joints;
+}
+
+shared::PgsJoint sharedJoint(const Joint& j) {
+    shared::PgsJoint d{};
+    d.anchorA = toFloat4(j.anchorA);
+    d.anchorB = toFloat4(j.anchorB);
+    d.axisA = toFloat4(j.axisA);
+    d.perpB[0] = toFloat4(j.perpB[0]);
+    d.perpB[1] = toFloat4(j.perpB[1]);
+    d.type = j.type == JointType::Hinge ? RUBBLE_JOINT_HINGE : RUBBLE_JOINT_BALL;
+    d.a = j.a;
+    d.b = j.b;
+    return d;
 }
 
 std::vector<BodyPair> joinedPairs(std::span<const JointDesc> joints) {

@@ -12,6 +12,7 @@
 #include "host/dynamics/solver_bodies.h"
 #include "rubble/scene.h"
 #include "rubble/shared/body.h"
+#include "rubble/shared/pgs_joint.h"
 
 namespace rubble {
 
@@ -42,6 +43,9 @@ struct Joint {
 /// Joints from their scene descriptions at the initial poses (anchor and axis in world space).
 std::vector<Joint> makeJoints(std::span<const JointDesc> descs,
                               std::span<const shared::BodyPose> poses);
+
+/// A joint as the shared rows (rubble/shared/pgs_joint.h) and the device take it.
+shared::PgsJoint sharedJoint(const Joint& j);
 
 /// The joined body pairs, (min, max), sorted and unique: they do not collide.
 std::vector<BodyPair> joinedPairs(std::span<const JointDesc> joints);

@@ -19,25 +19,6 @@
 namespace rubble {
 namespace {
 
-// The CPU's joints in body frames (makeJoints) as the device's records.
-std::vector<shared::PgsJoint> deviceJointsOf(std::span<const Joint> joints) {
-    std::vector<shared::PgsJoint> out;
-    out.reserve(joints.size());
-    for (const Joint& j : joints) {
-        shared::PgsJoint d{};
-        d.anchorA = toFloat4(j.anchorA);
-        d.anchorB = toFloat4(j.anchorB);
-        d.axisA = toFloat4(j.axisA);
-        d.perpB[0] = toFloat4(j.perpB[0]);
-        d.perpB[1] = toFloat4(j.perpB[1]);
-        d.type = j.type == JointType::Hinge ? RUBBLE_JOINT_HINGE : RUBBLE_JOINT_BALL;
-        d.a = j.a;
-        d.b = j.b;
-        out.push_back(d);
-    }
-    return out;
-}
-
 // A world without CPU bodies reports the device's stage times as its stages.
 void deviceStagesAsStages(StepStats& stats) {
     const DeviceStageMs& d = stats.deviceStages;
@@ -67,7 +48,8 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
         in.shapes = s.shapes;
         in.joined = s.joined;
         if (!s.deviceJointsMade) {
-            s.deviceJoints = deviceJointsOf(makeJoints(s.joints, s.bodies.poses));
+            for (const Joint& j : makeJoints(s.joints, s.bodies.poses))
+                s.deviceJoints.push_back(sharedJoint(j));
             s.deviceJointsMade = true;
         }
         in.joints = s.deviceJoints;

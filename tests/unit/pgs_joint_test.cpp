@@ -78,19 +78,6 @@ glm::vec4 toVec4(shared::float4 q) {
     return glm::vec4(q.x, q.y, q.z, q.w);
 }
 
-shared::PgsJoint deviceJoint(const Joint& j) {
-    shared::PgsJoint d{};
-    d.anchorA = toFloat4(j.anchorA);
-    d.anchorB = toFloat4(j.anchorB);
-    d.axisA = toFloat4(j.axisA);
-    d.perpB[0] = toFloat4(j.perpB[0]);
-    d.perpB[1] = toFloat4(j.perpB[1]);
-    d.type = j.type == JointType::Hinge ? RUBBLE_JOINT_HINGE : RUBBLE_JOINT_BALL;
-    d.a = j.a;
-    d.b = j.b;
-    return d;
-}
-
 shared::JacobiBody jacobiBody(const shared::BodyMass& m, const shared::BodyPose& p) {
     shared::BodyMass mass = m;
     if (m.flags & RUBBLE_BODY_STATIC) mass = shared::wallMassItem(m);
@@ -115,7 +102,7 @@ TEST(PgsJoint, RowsAndVelocityUpdatesMatchTheCpu) {
         gatherSolverVelocities(c.velocities, bodies);
         prepareJoints(c.joints, c.poses, bodies, true, 1.0f / 60.0f);
 
-        const shared::PgsJoint dj = deviceJoint(c.joints[0]);
+        const shared::PgsJoint dj = sharedJoint(c.joints[0]);
         const shared::JacobiBody ja = jacobiBody(c.masses[0], c.poses[0]);
         const shared::JacobiBody jb = jacobiBody(c.masses[1], c.poses[1]);
         shared::PgsJointRow row{};
@@ -160,7 +147,7 @@ TEST(PgsJoint, ProjectionStepMatchesTheCpu) {
 
         int moved = 0;
         const shared::PosePair out = shared::projectJointItem(
-            deviceJoint(c.joints[0]), c.poses[0], c.poses[1], jacobiBody(c.masses[0], c.poses[0]),
+            sharedJoint(c.joints[0]), c.poses[0], c.poses[1], jacobiBody(c.masses[0], c.poses[0]),
             jacobiBody(c.masses[1], c.poses[1]), &moved);
         EXPECT_EQ(moved, 1) << trial;
         const shared::BodyPose device[2] = {out.a, out.b};
@@ -233,7 +220,7 @@ TEST(PgsJoint, GroupProjectionMatchesTheCpu) {
         std::vector<shared::PgsJoint> deviceJoints;
         std::vector<std::uint32_t> members, flags;
         for (std::uint32_t j = 0; j < joints.size(); ++j) {
-            deviceJoints.push_back(deviceJoint(joints[j]));
+            deviceJoints.push_back(sharedJoint(joints[j]));
             members.push_back(j);
         }
         for (const shared::BodyMass& m : masses) flags.push_back(m.flags);
