@@ -1,6 +1,7 @@
 // tests/physics/joints_test.cpp: ball and hinge joints hold their anchors and axes while a chain
 // whips and doors swing (scenes/chain.json, scenes/door.json and a flap).
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <vector>
 
@@ -94,6 +95,7 @@ TEST(Joints, SwingingDoorKeepsItsHinge) {
     // f/2 (w h)^2 of the speed a step, f = m r^2 / (I + m r^2): 2.40 rad/s after 5 s. Measured
     // now: 2.99956.
     EXPECT_NEAR(world.body(door).angularVelocity.y, 3.0f, 0.003f) << "rad/s after 5 s";
+    std::printf("[ door ] %.4f rad/s after 5 s\n", double(world.body(door).angularVelocity.y));
 }
 
 TEST(Joints, FallingFlapKeepsItsHinge) {
@@ -125,6 +127,7 @@ TEST(Joints, FallingFlapKeepsItsHinge) {
     // Nothing takes energy from a frictionless hinge: the flap swings back up to level (measured
     // 0.1 mm short at 60 Hz; the rows asking for no speed at the anchor left it 52.7 mm short).
     EXPECT_GT(back, 2.0f - 0.001f) << "m, the flap's centre on its way back up";
+    std::printf("[ flap ] back up %.1f mm short of level\n", double(2.0f - back) * 1000.0);
     EXPECT_LT(worst.separation, 0.005f);
     EXPECT_LT(worst.axisDegrees, 1.0f);
 }
