@@ -47,11 +47,9 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
         in.collision = CollisionMethod::Sat;
         in.shapes = s.shapes;
         in.joined = s.joined;
-        if (!s.deviceJointsMade) {
+        if (s.deviceJoints.size() != s.joints.size())
             for (const Joint& j : makeJoints(s.joints, s.bodies.poses))
                 s.deviceJoints.push_back(sharedJoint(j));
-            s.deviceJointsMade = true;
-        }
         in.joints = s.deviceJoints;
     } else {
         particles = buildParticleSet(s.shapes, s.materials, s.bodies.view(),

@@ -81,7 +81,6 @@ struct WorldState {
     /// attach (as the CPU solver makes them at its first step) and kept when the device arrays
     /// are built again.
     std::vector<shared::PgsJoint> deviceJoints;
-    bool deviceJointsMade = false;
 
     std::uint32_t bodyCount() const { return bodies.count(); }
     bool isStatic(std::uint32_t i) const { return bodies.isStatic(i); }
