@@ -92,6 +92,11 @@ class Dispatch {
         const cl_mem m = b.mem();
         return bind(sizeof m, &m);
     }
+    /// Binds the arguments `bind(*this)` binds: a run of arguments several kernels share.
+    template <class F> Dispatch& with(F&& bind) {
+        bind(*this);
+        return *this;
+    }
     /// Enqueues `count` work-items in groups of `group` (the global size rounded up).
     Status run(std::size_t count, std::size_t group);
 

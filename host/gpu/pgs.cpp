@@ -44,6 +44,21 @@ Dispatch sweepLaunch(const Context& c, KernelId id, const PgsLaunch& l, const Bu
 
 } // namespace
 
+void Pipeline::bindRowSettings(Dispatch& d, const StepParams& params) const {
+    const SolverOptions& o = params.solver;
+    const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;
+    const cl_uint warm = o.warmStart ? 1u : 0u, previousCapacity = sat_.previous.capacity;
+    d.arg(baumgarte)
+        .arg(slop)
+        .arg(dt)
+        .arg(warm)
+        .arg(previousCapacity)
+        .arg(sat_.previous.count)
+        .arg(sat_.previous.pairs)
+        .arg(sat_.previous.impulseCount)
+        .arg(sat_.previous.impulses);
+}
+
 Status Pipeline::summarizePairs(const StepParams& params) {
     RUBBLE_ASSERT(sat_.enabled);
     const Context& c = *context_;
@@ -54,10 +69,7 @@ Status Pipeline::summarizePairs(const StepParams& params) {
                          &profile_));
     RUBBLE_TRY(fillRange(c, status_, 0u, RUBBLE_STATUS_BOUNCES * sizeof(cl_uint),
                          2 * sizeof(cl_uint), &profile_));
-    const SolverOptions& o = params.solver;
-    const cl_uint capacity = sat_.current.capacity, previousCapacity = sat_.previous.capacity;
-    const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;
-    const cl_uint warm = o.warmStart ? 1u : 0u;
+    const cl_uint capacity = sat_.current.capacity;
     RUBBLE_TRY(Dispatch(c, KernelId::SummarizePairs, &profile_)
                    .arg(capacity)
                    .arg(sat_.current.count)
@@ -68,15 +80,7 @@ Status Pipeline::summarizePairs(const StepParams& params) {
                    .arg(bodies_.velocities)
                    .arg(bodies_.atStart)
                    .arg(contacts_.surfaces)
-                   .arg(baumgarte)
-                   .arg(slop)
-                   .arg(dt)
-                   .arg(warm)
-                   .arg(previousCapacity)
-                   .arg(sat_.previous.count)
-                   .arg(sat_.previous.pairs)
-                   .arg(sat_.previous.impulseCount)
-                   .arg(sat_.previous.impulses)
+                   .with([&](Dispatch& d) { bindRowSettings(d, params); })
                    .arg(pgs_.pairRows)
                    .arg(sat_.current.impulseCount)
                    .arg(sat_.current.impulses)
@@ -84,7 +88,8 @@ Status Pipeline::summarizePairs(const StepParams& params) {
                    .arg(status_)
                    .run(pairStrideItems(), c.workSizes().pairGroup));
     if (pgs_.jointCount == 0) return {};
-    const cl_uint joints = pgs_.jointCount;
+    const cl_uint joints = pgs_.jointCount, warm = params.solver.warmStart ? 1u : 0u;
+    const cl_float dt = params.dt;
     return Dispatch(c, KernelId::PrepareJoints, &profile_)
         .arg(joints)
         .arg(pgs_.joints)
@@ -179,10 +184,6 @@ Status Pipeline::buildPgsRows(const StepParams& params) {
     PgsBuffers& g = pgs_;
     const cl_uint count = cl_uint(g.elementsHost.size());
     if (count == 0) return {};
-    const SolverOptions& o = params.solver;
-    const cl_uint previousCapacity = sat_.previous.capacity;
-    const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;
-    const cl_uint warm = o.warmStart ? 1u : 0u;
     RUBBLE_TRY(Dispatch(c, KernelId::BuildPgsRows, &profile_)
                    .arg(count)
                    .arg(g.elements)
@@ -192,15 +193,7 @@ Status Pipeline::buildPgsRows(const StepParams& params) {
                    .arg(bodies_.atStart)
                    .arg(bodies_.jacobi)
                    .arg(contacts_.surfaces)
-                   .arg(baumgarte)
-                   .arg(slop)
-                   .arg(dt)
-                   .arg(warm)
-                   .arg(previousCapacity)
-                   .arg(sat_.previous.count)
-                   .arg(sat_.previous.pairs)
-                   .arg(sat_.previous.impulseCount)
-                   .arg(sat_.previous.impulses)
+                   .with([&](Dispatch& d) { bindRowSettings(d, params); })
                    .arg(g.normalRows)
                    .arg(g.frictionRows)
                    .arg(g.impulses)

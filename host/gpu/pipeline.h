@@ -425,6 +425,9 @@ class Pipeline {
     /// The global size of a stage whose work-items stride through up to `capacity` items in
     /// groups of `group`: enough groups to fill the device, no more than the items need.
     std::size_t strideItems(std::uint32_t capacity, std::size_t group) const;
+    /// The arguments summarizePairs and buildPgsRows both read, in their kernels' order: the
+    /// rows' settings (baumgarte, slop, dt, warm start) and last step's pairs and impulses.
+    void bindRowSettings(Dispatch& d, const StepParams& params) const;
     /// ... through the contacts.
     std::size_t strideItems() const {
         return strideItems(contacts_.capacity, RUBBLE_GROUP_CONTACTS);
