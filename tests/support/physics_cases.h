@@ -278,6 +278,8 @@ inline void expectStackStands(World& world, float down, float sideways) {
             worstSideways = std::max(worstSideways, std::hypot(p.x, p.z));
         }
     }
+    std::printf("[ stack ] %.4f m below the resting heights, %.4f m off the axis at worst\n",
+                double(worstDown), double(worstSideways));
     EXPECT_LT(worstDown, down) << "m below the resting heights";
     EXPECT_LT(worstSideways, sideways) << "m off the stack's axis";
     for (std::uint32_t i = 1; i < world.bodyCount(); ++i)
