@@ -1,9 +1,13 @@
 // tests/unit/broad_phase_test.cpp: host/collision/broad_phase against brute force O(n^2).
 #include "host/collision/broad_phase.h"
 
+#include <algorithm>
+
 #include <random>
 
 #include <gtest/gtest.h>
+
+#include "rubble/shared/broad_phase.h"
 
 namespace rubble {
 namespace {
@@ -121,6 +125,39 @@ TEST(BroadPhase, RestingGridIsLinear) {
     EXPECT_EQ(pairs.size(), 64u * 64u * 3u);
     // Columns are wider than the boxes: each box sits in at most four.
     EXPECT_LE(scratch.entries.size(), 4 * boxes.size());
+}
+
+// The device's search for last step's pair (shared::findPairItem) against a scan: the index of
+// the pair, or the count when the list does not hold it.
+TEST(BroadPhase, PairSearchMatchesAScan) {
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<std::uint32_t> body(0, 40);
+    for (int trial = 0; trial < 200; ++trial) {
+        std::vector<shared::BodyPairRecord> pairs;
+        const std::uint32_t n = std::uint32_t(trial % 50);
+        for (std::uint32_t k = 0; k < n; ++k) {
+            std::uint32_t a = body(rng), b = body(rng);
+            if (a == b) continue;
+            pairs.push_back({std::min(a, b), std::max(a, b)});
+        }
+        auto before = [](shared::BodyPairRecord x, shared::BodyPairRecord y) {
+            return x.a < y.a || (x.a == y.a && x.b < y.b);
+        };
+        std::sort(pairs.begin(), pairs.end(), before);
+        pairs.erase(std::unique(pairs.begin(), pairs.end(),
+                                [](auto x, auto y) { return x.a == y.a && x.b == y.b; }),
+                    pairs.end());
+        const auto count = std::uint32_t(pairs.size());
+        for (std::uint32_t a = 0; a <= 41; ++a)
+            for (std::uint32_t b = a + 1; b <= 41; b += 3) {
+                const shared::BodyPairRecord pair{a, b};
+                std::uint32_t scan = count;
+                for (std::uint32_t k = 0; k < count; ++k)
+                    if (pairs[k].a == a && pairs[k].b == b) scan = k;
+                ASSERT_EQ(shared::findPairItem(pair, count, pairs.data()), scan)
+                    << "pair (" << a << ", " << b << ") among " << count;
+            }
+    }
 }
 
 } // namespace
