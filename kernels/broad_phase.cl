@@ -3,6 +3,7 @@
 // the pairs sorted by (a, b). The math is in rubble/shared/broad_phase.h; the CPU twin is
 // SatCollision::broadPhase with findPairs (host/collision/sat_collision.cpp, broad_phase.cpp).
 #include "rubble/shared/broad_phase.h"
+#include "rubble/shared/group.h"
 #include "rubble/shared/narrow_phase.h"
 
 // Joined bodies do not collide: binary search in the sorted (min, max) list.
@@ -108,30 +109,34 @@ __kernel void gridSetup(const uint maxCells, __global const GridPartial* partial
 }
 
 // One work-item per body with a box: its (cell, body) entries, one per cell its box touches (at
-// most two cells per axis); a larger box goes to the list of large bodies instead.
+// most two cells per axis); a larger box goes to the list of large bodies instead. The group's
+// entries take their slots together (the sort by cell that follows orders them).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
 gridEntries(const uint count, __global const BodyBox* boxes, __global uint* broadFlags,
             __global const GridParams* grid, __global uint* status, __global uint* keys,
             __global uint* values, __global uint* large) {
+    __local uint slots[2];
     const uint i = get_global_id(0);
-    if (i >= count) return;
-    const uint bf = broadFlags[i];
-    if (bf & RUBBLE_BROAD_NO_BOX) return;
+    const uint bf = i < count ? broadFlags[i] : RUBBLE_BROAD_NO_BOX;
     const GridParams g = grid[0];
-    const BodyBox b = boxes[i];
-    const uint x0 = gridCellItem(b.min.x, g.origin.x, g.inverseCell.x, g.cells[0]);
-    const uint x1 = gridCellItem(b.max.x, g.origin.x, g.inverseCell.x, g.cells[0]);
-    const uint y0 = gridCellItem(b.min.y, g.origin.y, g.inverseCell.y, g.cells[1]);
-    const uint y1 = gridCellItem(b.max.y, g.origin.y, g.inverseCell.y, g.cells[1]);
-    const uint z0 = gridCellItem(b.min.z, g.origin.z, g.inverseCell.z, g.cells[2]);
-    const uint z1 = gridCellItem(b.max.z, g.origin.z, g.inverseCell.z, g.cells[2]);
-    if (x1 - x0 >= g.largeAbove || y1 - y0 >= g.largeAbove || z1 - z0 >= g.largeAbove) {
-        broadFlags[i] = bf | RUBBLE_BROAD_LARGE;
-        large[atomic_inc(&status[RUBBLE_STATUS_LARGE])] = i;
-        return;
+    uint x0 = 0u, x1 = 0u, y0 = 0u, y1 = 0u, z0 = 0u, z1 = 0u, n = 0u;
+    if (!(bf & RUBBLE_BROAD_NO_BOX)) {
+        const BodyBox b = boxes[i];
+        x0 = gridCellItem(b.min.x, g.origin.x, g.inverseCell.x, g.cells[0]);
+        x1 = gridCellItem(b.max.x, g.origin.x, g.inverseCell.x, g.cells[0]);
+        y0 = gridCellItem(b.min.y, g.origin.y, g.inverseCell.y, g.cells[1]);
+        y1 = gridCellItem(b.max.y, g.origin.y, g.inverseCell.y, g.cells[1]);
+        z0 = gridCellItem(b.min.z, g.origin.z, g.inverseCell.z, g.cells[2]);
+        z1 = gridCellItem(b.max.z, g.origin.z, g.inverseCell.z, g.cells[2]);
+        if (x1 - x0 >= g.largeAbove || y1 - y0 >= g.largeAbove || z1 - z0 >= g.largeAbove) {
+            broadFlags[i] = bf | RUBBLE_BROAD_LARGE;
+            large[atomic_inc(&status[RUBBLE_STATUS_LARGE])] = i;
+        } else {
+            n = (x1 - x0 + 1u) * (y1 - y0 + 1u) * (z1 - z0 + 1u);
+        }
     }
-    const uint n = (x1 - x0 + 1u) * (y1 - y0 + 1u) * (z1 - z0 + 1u);
-    uint at = atomic_add(&status[RUBBLE_STATUS_GRID_ENTRIES], n);
+    uint at = groupReserve(slots, n, &status[RUBBLE_STATUS_GRID_ENTRIES]);
+    if (n == 0u) return;
     for (uint x = x0; x <= x1; ++x)
         for (uint y = y0; y <= y1; ++y)
             for (uint z = z0; z <= z1; ++z) {
@@ -152,19 +157,30 @@ gatherCellBoxes(__global const uint* status, __global const uint* values,
     cellBoxes[e] = boxes[values[e]];
 }
 
+// Pairs a work-item of findCellPairs holds before the group takes their slots together; more
+// in one round take a slot each.
+#define RUBBLE_CELL_PAIRS_HELD 8u
+
 // Each entry is tested against the later entries of its cell. A pair that shares several cells
 // is reported by the cell holding the lower corner of the overlap of its boxes only; two
-// inactive bodies are never paired.
+// inactive bodies are never paired. Rounds of one entry per work-item: each round the group's
+// pairs take their slots with one atomic (groupReserve); countPairs and placePairs then order
+// them by (a, b) whatever their slots.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
 findCellPairs(__global const uint* keys, __global const uint* values,
               __global const BodyBox* cellBoxes, __global const GridParams* grid,
               const uint joinedCount, __global const BodyPairRecord* joined, const uint capacity,
               __global BodyPairRecord* pairs, __global uint* status) {
+    __local uint slots[2];
     const uint n = status[RUBBLE_STATUS_GRID_ENTRIES];
     const GridParams g = grid[0];
-    for (uint e = get_global_id(0); e < n; e += get_global_size(0)) {
-        const uint cell = keys[e];
-        const BodyBox bi = cellBoxes[e];
+    for (uint round = get_group_id(0) * get_local_size(0); round < n;
+         round += get_global_size(0)) {
+        const uint e = round + get_local_id(0);
+        BodyPairRecord held[RUBBLE_CELL_PAIRS_HELD];
+        uint count = 0u;
+        const uint cell = e < n ? keys[e] : 0u;
+        const BodyBox bi = cellBoxes[e < n ? e : 0u];
         for (uint f = e + 1u; f < n && keys[f] == cell; ++f) {
             const BodyBox bj = cellBoxes[f];
             if (bi.min.w + bj.min.w == 2.0f || !boxesOverlapItem(bi, bj)) continue;
@@ -174,8 +190,18 @@ findCellPairs(__global const uint* keys, __global const uint* values,
                 gridCellItem(fmax(bi.min.z, bj.min.z), g.origin.z, g.inverseCell.z, g.cells[2]),
                 g);
             if (corner != cell) continue;
-            appendPair(values[e], values[f], joinedCount, joined, capacity, pairs, status);
+            if (count == RUBBLE_CELL_PAIRS_HELD) {
+                appendPair(values[e], values[f], joinedCount, joined, capacity, pairs, status);
+                continue;
+            }
+            BodyPairRecord p;
+            p.a = min(values[e], values[f]);
+            p.b = max(values[e], values[f]);
+            if (!isJoined(p.a, p.b, joinedCount, joined)) held[count++] = p;
         }
+        const uint at = groupReserve(slots, count, &status[RUBBLE_STATUS_PAIRS]);
+        for (uint k = 0; k < count; ++k)
+            if (at + k < capacity) pairs[at + k] = held[k];
     }
 }
 

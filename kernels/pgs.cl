@@ -4,6 +4,7 @@
 // applied after integratePositions. The math is in rubble/shared/pgs_row.h; the CPU twin is
 // PgsSolver (host/dynamics/pgs_solver.cpp).
 #include "rubble/shared/broad_phase.h"
+#include "rubble/shared/group.h"
 #include "rubble/shared/narrow_phase.h"
 #include "rubble/shared/pgs_joint.h"
 
@@ -328,6 +329,9 @@ solvePgs(const uint first, const uint count, const uint serial,
     const int pushes = pushSweep != RUBBLE_PGS_NO_PUSH &&
                        (pushSweep == 0u ||
                         as_float(sweepResidual[pushSweep - 1u]) > RUBBLE_PUSH_TOLERANCE);
+    // The group's largest changes (float bits of values >= 0) of the sweep and the push sweep.
+    __local uint largest[2];
+    groupClear(largest, 2u);
     float residual = 0.0f, pushResidual = 0.0f;
     for (uint i = elementsBegin(count, serial); i < end; ++i) {
         const PgsElement e = elements[first + i];
@@ -338,8 +342,11 @@ solvePgs(const uint first, const uint count, const uint serial,
             pushResidual = fmax(pushResidual,
                                 pushElement(e, normalRows, impulses, pushed, push, relaxation));
     }
-    if (lastSweep && residual > 0.0f) atomic_max(&status[RUBBLE_STATUS_RESIDUAL], as_uint(residual));
-    if (pushResidual > 0.0f) atomic_max(&sweepResidual[pushSweep], as_uint(pushResidual));
+    if (lastSweep && residual > 0.0f) atomic_max(&largest[0], as_uint(residual));
+    if (pushResidual > 0.0f) atomic_max(&largest[1], as_uint(pushResidual));
+    if (!groupDone()) return;
+    if (largest[0] > 0u) atomic_max(&status[RUBBLE_STATUS_RESIDUAL], largest[0]);
+    if (largest[1] > 0u) atomic_max(&sweepResidual[pushSweep], largest[1]);
 }
 
 // When a row may bounce (the non-fused path: the push sweeps run after the velocity sweeps), one
@@ -380,12 +387,15 @@ pushPgs(const uint first, const uint count, const uint serial,
         __global float4* impulses, __global const uint* pushed, __global BodyVelocity* push,
         const float relaxation, const uint sweep, __global uint* sweepResidual) {
     if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
+    __local uint largest;
+    groupClear(&largest, 1u);
     const uint end = elementsEnd(count, serial);
     float residual = 0.0f;
     for (uint i = elementsBegin(count, serial); i < end; ++i)
         residual = fmax(residual, pushElement(elements[first + i], normalRows, impulses, pushed,
                                               push, relaxation));
-    if (residual > 0.0f) atomic_max(&sweepResidual[sweep], as_uint(residual));
+    if (residual > 0.0f) atomic_max(&largest, as_uint(residual));
+    if (groupDone() && largest > 0u) atomic_max(&sweepResidual[sweep], largest);
 }
 
 // One sweep of the restitution pass, one color (or the serial tail), after integratePositions
@@ -399,6 +409,8 @@ bouncePgs(const uint first, const uint count, const uint serial,
           __global const float4* impulses, __global float* bounce,
           __global BodyVelocity* velocities, const uint sweep, __global uint* sweepResidual) {
     if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
+    __local uint largest;
+    groupClear(&largest, 1u);
     const uint end = elementsEnd(count, serial);
     float residual = 0.0f;
     for (uint i = elementsBegin(count, serial); i < end; ++i) {
@@ -420,7 +432,8 @@ bouncePgs(const uint first, const uint count, const uint serial,
         }
         if (changed) storePair(v, e.a, e.b, e.rows, velocities);
     }
-    if (residual > 0.0f) atomic_max(&sweepResidual[sweep], as_uint(residual));
+    if (residual > 0.0f) atomic_max(&largest, as_uint(residual));
+    if (groupDone() && largest > 0u) atomic_max(&sweepResidual[sweep], largest);
 }
 
 // After the restitution pass's sweeps, one color (or the serial tail): each bouncing row's

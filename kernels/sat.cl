@@ -3,10 +3,11 @@
 // rubble/shared/narrow_phase.h (a port of host/collision's narrow phase); the CPU twin is
 // SatCollision::narrowPhase (host/collision/sat_collision.cpp).
 #include "rubble/shared/broad_phase.h"
+#include "rubble/shared/group.h"
 #include "rubble/shared/narrow_phase.h"
 
 // Work-items stride through the pairs (their count is on the device). Each writes its pair's
-// manifold (count 0: no contact) and cache at the pair's index, and adds its points to the
+// manifold (count 0: no contact) and cache at the pair's index; the group adds its points to the
 // status block's contact count and largest depth.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 collideShapes(const uint capacity, __global const uint* pairCount,
@@ -30,6 +31,9 @@ collideShapes(const uint capacity, __global const uint* pairCount,
     arrays.faces = faces;
     arrays.faceEdges = faceEdges;
     arrays.edges = edges;
+    // The group's contact points and deepest point (float bits, depths >= 0).
+    __local uint group[2];
+    groupClear(group, 2u);
     const uint n = min(pairCount[0], capacity);
     const uint previous = min(previousCount[0], previousCapacity);
     for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
@@ -49,7 +53,10 @@ collideShapes(const uint capacity, __global const uint* pairCount,
         if (m.count == 0u) continue;
         float deepest = 0.0f;
         for (uint k = 0; k < m.count; ++k) deepest = fmax(deepest, m.points[k].w);
-        atomic_add(&status[RUBBLE_STATUS_CONTACTS], m.count);
-        if (deepest > 0.0f) atomic_max(&status[RUBBLE_STATUS_PENETRATION], as_uint(deepest));
+        atomic_add(&group[0], m.count);
+        if (deepest > 0.0f) atomic_max(&group[1], as_uint(deepest));
     }
+    if (!groupDone()) return;
+    if (group[0] > 0u) atomic_add(&status[RUBBLE_STATUS_CONTACTS], group[0]);
+    if (group[1] > 0u) atomic_max(&status[RUBBLE_STATUS_PENETRATION], group[1]);
 }
