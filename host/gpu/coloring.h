@@ -10,6 +10,12 @@
 
 namespace rubble::gpu {
 
+/// An element as Coloring::addBySupport takes it: its id and bodies, and which of them move.
+struct ColorElement {
+    std::uint32_t id, a, b;
+    bool movesA, movesB;
+};
+
 /// Greedy coloring in the order elements are added (first fit, as Welsh and Powell's sequential
 /// coloring without the degree sort): an element takes the lowest color that no earlier element
 /// on one of its moving bodies has. A body that does not move (static, asleep, kinematic) joins
@@ -20,6 +26,14 @@ class Coloring {
     void begin(std::uint32_t bodies);
     /// Colors element `id` acting on bodies a and b (each counted only when it moves).
     void add(std::uint32_t id, std::uint32_t a, std::uint32_t b, bool movesA, bool movesB);
+    /// Colors contact elements from the bottom up (after any added one by one): each body's
+    /// level is its distance in elements from a body that does not move; the elements go in
+    /// order of their lower body's level (the given order within a level), and an element
+    /// prefers the color after the one of the element its lower body rests on. A column of
+    /// bodies then runs through the colors upward, so that one sweep of the colors in order
+    /// carries a support up as many bodies as there are colors, as a sequential sweep from the
+    /// bottom does, instead of two (docs/opencl.md, "Coloring by support").
+    void addBySupport(std::span<const ColorElement> elements);
     /// Sorts the elements by color (stably: in the order they were added within a color).
     void finish();
 
@@ -30,7 +44,13 @@ class Coloring {
     std::uint32_t colors() const { return std::uint32_t(start_.empty() ? 0 : start_.size() - 1); }
 
   private:
-    std::uint32_t freeColor(std::uint32_t a, std::uint32_t b, bool movesA, bool movesB);
+    std::uint32_t freeColor(std::uint32_t a, std::uint32_t b, bool movesA, bool movesB,
+                            std::uint32_t preferred);
+    bool taken(std::uint32_t body, std::uint32_t color) const;
+    // The first color from `preferred` on, in turn through the colors taken so far, that
+    // neither moving body has, else the lowest free one above them; marked on both bodies.
+    std::uint32_t take(std::uint32_t a, std::uint32_t b, bool movesA, bool movesB,
+                       std::uint32_t preferred);
     void widen();
 
     std::uint32_t bodies_ = 0;
@@ -38,6 +58,9 @@ class Coloring {
     std::vector<std::uint64_t> used_; ///< per body: the colors its elements took
     std::vector<std::uint32_t> ids_, colorOf_;
     std::vector<std::uint32_t> order_, start_, next_;
+    std::uint32_t colors_ = 0; ///< colors taken so far
+    // addBySupport's scratch: levels, adjacency, the order and each body's support color.
+    std::vector<std::uint32_t> level_, adjacencyStart_, adjacency_, queue_, byLevel_, support_;
 };
 
 } // namespace rubble::gpu

@@ -111,18 +111,21 @@ Status Pipeline::colorPgs() {
     RUBBLE_TRY(download(c, g.pairRows, std::span(g.pairRowsHost)));
     RUBBLE_TRY(download(c, sat_.current.pairs, std::span(g.pairsHost)));
     // Greedy: the joints first (the CPU's sweep solves them before the contacts), then the
-    // pairs in pair order.
+    // pairs with rows from the bottom up (Coloring::addBySupport), each color in pair order.
     Coloring& coloring = g.coloring;
     coloring.begin(bodies_.count);
     for (std::uint32_t j = 0; j < g.jointCount; ++j)
         coloring.add(RUBBLE_PGS_JOINT_ELEMENT | j, g.jointsHost[j].a, g.jointsHost[j].b,
                      g.jointDynamicA[j], g.jointDynamicB[j]);
+    g.contactElements.clear();
     for (std::uint32_t p = 0; p < pairs; ++p) {
         const cl_uint summary = g.pairRowsHost[p];
         if ((summary & RUBBLE_PGS_POINTS) == 0) continue;
-        coloring.add(p, g.pairsHost[p].a, g.pairsHost[p].b, summary & RUBBLE_PGS_MOVES_A,
-                     summary & RUBBLE_PGS_MOVES_B);
+        g.contactElements.push_back({p, g.pairsHost[p].a, g.pairsHost[p].b,
+                                     (summary & RUBBLE_PGS_MOVES_A) != 0,
+                                     (summary & RUBBLE_PGS_MOVES_B) != 0});
     }
+    coloring.addBySupport(g.contactElements);
     coloring.finish();
     // The elements in color order, each pair's rows packed after the last one's, so that a
     // color's sweep reads its rows front to back.

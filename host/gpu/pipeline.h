@@ -169,6 +169,7 @@ struct PgsBuffers {
     std::vector<std::uint8_t> jointDynamicA, jointDynamicB;
     Coloring jointColoring;
     Coloring coloring;
+    std::vector<ColorElement> contactElements; ///< the pairs with rows, for the coloring
     std::vector<cl_uint> pairRowsHost;
     std::vector<shared::BodyPairRecord> pairsHost;
     std::vector<shared::PgsElement> elementsHost;
