@@ -82,12 +82,12 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
     }
 }
 
-// One work-item per element of the step's coloring (joints skip): the rows of the pair's
-// manifold points, packed in color order from the element's first row, warm-started from last
-// step's impulses of the same pair (warmStartMatchItem), and the points' keys for the next
-// step (their impulses are filled in by the last sweep).
+// One work-item per pair with rows, in pair order (`order`: the index of its element): the
+// rows of the pair's manifold points, packed in color order from the element's first row,
+// warm-started from last step's impulses of the same pair (warmStartMatchItem), and the points'
+// keys for the next step (their impulses are filled in by the last sweep).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-buildPgsRows(const uint count, __global const PgsElement* elements,
+buildPgsRows(const uint count, __global const uint* order, __global const PgsElement* elements,
              __global const ContactManifold* manifolds, __global const BodyPose* poses,
              __global const BodyVelocity* velocities, __global const BodyVelocity* approach,
              __global const JacobiBody* bodies, __global const float4* surfaces,
@@ -100,8 +100,7 @@ buildPgsRows(const uint count, __global const PgsElement* elements,
              __global PgsImpulse* kept) {
     const uint i = get_global_id(0);
     if (i >= count) return;
-    const PgsElement e = elements[i];
-    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) return;
+    const PgsElement e = elements[order[i]];
     const uint p = e.id, a = e.a, b = e.b;
     const uint first = e.rows >> RUBBLE_PGS_FIRST_SHIFT, points = e.rows & RUBBLE_PGS_POINTS;
     const uint previous = warmStart ? min(previousCount[0], previousCapacity) : 0u;

@@ -153,7 +153,11 @@ void Coloring::finish() {
     for (std::uint32_t c = 0; c < colors; ++c) start_[c + 1] += start_[c];
     order_.resize(ids_.size());
     next_.assign(start_.begin(), start_.end() - 1);
-    for (std::size_t i = 0; i < ids_.size(); ++i) order_[next_[colorOf_[i]]++] = ids_[i];
+    slots_.resize(ids_.size());
+    for (std::size_t i = 0; i < ids_.size(); ++i) {
+        slots_[i] = next_[colorOf_[i]]++;
+        order_[slots_[i]] = ids_[i];
+    }
 }
 
 } // namespace rubble::gpu

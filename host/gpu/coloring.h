@@ -42,6 +42,8 @@ class Coloring {
     /// Color c is order()[start()[c] .. start()[c + 1]).
     std::span<const std::uint32_t> start() const { return start_; }
     std::uint32_t colors() const { return std::uint32_t(start_.empty() ? 0 : start_.size() - 1); }
+    /// Where each element went in order(), in the order they were added.
+    std::span<const std::uint32_t> slots() const { return slots_; }
 
   private:
     std::uint32_t freeColor(std::uint32_t a, std::uint32_t b, bool movesA, bool movesB,
@@ -57,7 +59,7 @@ class Coloring {
     std::uint32_t words_ = 1;         ///< 64-bit words of each body's mask
     std::vector<std::uint64_t> used_; ///< per body: the colors its elements took
     std::vector<std::uint32_t> ids_, colorOf_;
-    std::vector<std::uint32_t> order_, start_, next_;
+    std::vector<std::uint32_t> order_, start_, next_, slots_;
     std::uint32_t colors_ = 0; ///< colors taken so far
     // addBySupport's scratch: levels, adjacency, the order and each body's support color.
     std::vector<std::uint32_t> level_, adjacencyStart_, adjacency_, queue_, byLevel_, support_;

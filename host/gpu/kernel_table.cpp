@@ -173,6 +173,7 @@ const std::vector<KernelSignature>& kernelSignatures() {
         {KernelId::BuildPgsRows,
          "buildPgsRows",
          {"count",
+          "order",
           "elements",
           "manifolds",
           "poses",

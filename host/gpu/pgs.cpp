@@ -179,16 +179,29 @@ Status Pipeline::colorPgs() {
     RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), g.elements.mem(), CL_FALSE, 0, bytes,
                                          g.elementsHost.data(), 0, nullptr,
                                          profile_.transfer(Transfer::Write, bytes)));
+    // buildPgsRows goes through the pairs' elements in pair order, which reads the manifolds
+    // front to back and nearby bodies together (a color's elements are spread over the pile).
+    const std::span<const std::uint32_t> slots = coloring.slots();
+    g.buildOrderHost.assign(slots.begin() + g.jointCount, slots.end());
+    const std::size_t orderBytes =
+        std::max<std::size_t>(1, g.buildOrderHost.size()) * sizeof(std::uint32_t);
+    RUBBLE_TRY(reserveGrowing(c, g.buildOrder, orderBytes));
+    if (g.buildOrderHost.empty()) return {};
+    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(
+        c.queue(), g.buildOrder.mem(), CL_FALSE, 0, g.buildOrderHost.size() * sizeof(cl_uint),
+        g.buildOrderHost.data(), 0, nullptr,
+        profile_.transfer(Transfer::Write, g.buildOrderHost.size() * sizeof(cl_uint))));
     return {};
 }
 
 Status Pipeline::buildPgsRows(const StepParams& params) {
     const Context& c = *context_;
     PgsBuffers& g = pgs_;
-    const cl_uint count = cl_uint(g.elementsHost.size());
+    const cl_uint count = cl_uint(g.buildOrderHost.size());
     if (count == 0) return {};
     RUBBLE_TRY(Dispatch(c, KernelId::BuildPgsRows, &profile_)
                    .arg(count)
+                   .arg(g.buildOrder)
                    .arg(g.elements)
                    .arg(sat_.manifolds)
                    .arg(bodies_.poses)
@@ -204,7 +217,8 @@ Status Pipeline::buildPgsRows(const StepParams& params) {
                    .run(count, c.workSizes().pairGroup));
     // Per element its record, manifold, both bodies' poses, velocities, JacobiBody and surfaces,
     // last step's run of impulses; per point its rows, impulses and key written.
-    const std::uint64_t perElement = sizeof(shared::PgsElement) + sizeof(shared::ContactManifold) +
+    const std::uint64_t perElement = sizeof(cl_uint) + sizeof(shared::PgsElement) +
+                                     sizeof(shared::ContactManifold) +
                                      2 * (sizeof(shared::BodyPose) + sizeof(shared::BodyVelocity) +
                                           sizeof(shared::JacobiBody) + sizeof(shared::float4)) +
                                      4 * sizeof(shared::PgsImpulse);

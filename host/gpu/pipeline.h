@@ -138,6 +138,7 @@ struct PgsLaunch {
 struct PgsBuffers {
     Buffer pairRows;       ///< per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
     Buffer elements;       ///< this step's PgsElement records, color by color
+    Buffer buildOrder;     ///< the pairs' elements (indices into elements) in pair order
     Buffer normalRows;     ///< PgsNormalRow per point, packed in element order
     Buffer frictionRows;   ///< PgsFrictionRows per point, in the same order
     Buffer impulses;       ///< per point: normal, two friction and push impulses, N s
@@ -170,6 +171,7 @@ struct PgsBuffers {
     Coloring jointColoring;
     Coloring coloring;
     std::vector<ColorElement> contactElements; ///< the pairs with rows, for the coloring
+    std::vector<std::uint32_t> buildOrderHost;
     std::vector<cl_uint> pairRowsHost;
     std::vector<shared::BodyPairRecord> pairsHost;
     std::vector<shared::PgsElement> elementsHost;
