@@ -16,10 +16,11 @@ struct ColorElement {
     bool movesA, movesB;
 };
 
-/// Greedy coloring in the order elements are added (first fit, as Welsh and Powell's sequential
-/// coloring without the degree sort): an element takes the lowest color that no earlier element
-/// on one of its moving bodies has. A body that does not move (static, asleep, kinematic) joins
-/// nothing: its velocity is only read. The result depends on the order alone.
+/// Greedy coloring: add() in the order elements are added (first fit, as Welsh and Powell's
+/// sequential coloring without the degree sort: an element takes the lowest color that no earlier
+/// element on one of its moving bodies has), addBySupport() in an order and with preferred colors
+/// of its own. A body that does not move (static, asleep, kinematic) joins nothing: its velocity
+/// is only read. The result depends on the input alone.
 class Coloring {
   public:
     /// Starts a step's coloring over `bodies` bodies.
@@ -31,8 +32,8 @@ class Coloring {
     /// order of their lower body's level (the given order within a level), and an element
     /// prefers the color after the one of the element its lower body rests on. A column of
     /// bodies then runs through the colors upward, so that one sweep of the colors in order
-    /// carries a support up as many bodies as there are colors, as a sequential sweep from the
-    /// bottom does, instead of two (docs/opencl.md, "Coloring by support").
+    /// carries a support up as many bodies as there are colors (first fit alternates two colors
+    /// up a column: two bodies a sweep) (docs/opencl.md, "Coloring by support").
     void addBySupport(std::span<const ColorElement> elements);
     /// Sorts the elements by color (stably: in the order they were added within a color).
     void finish();
