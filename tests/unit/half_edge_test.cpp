@@ -158,19 +158,6 @@ TEST(HalfEdge, RandomHullsKeepTheInvariants) {
     }
 }
 
-// The OBJ meshes shipped in scenes/meshes.
-Result<Shape> meshShape(const std::string& file) {
-    const std::string path = std::string(RUBBLE_SOURCE_DIR) + "/scenes/meshes/" + file;
-    Result<TriangleMesh> mesh = loadObjMesh(path, 1.0f, file);
-    if (!mesh) return mesh.error();
-    ShapeDesc d;
-    d.type = ShapeType::Mesh;
-    d.where = file;
-    d.points = mesh->vertices;
-    d.triangles = mesh->triangles;
-    return buildShape(d);
-}
-
 ConvexPolygons objTriangles(const std::string& file) {
     const std::string path = std::string(RUBBLE_SOURCE_DIR) + "/scenes/meshes/" + file;
     Result<TriangleMesh> mesh = loadObjMesh(path, 1.0f, file);
@@ -183,13 +170,13 @@ ConvexPolygons objTriangles(const std::string& file) {
 
 TEST(HalfEdge, ObjMeshesGiveValidHulls) {
     for (const char* file : {"rock.obj", "l_block.obj", "bowl.obj"}) {
-        Result<Shape> s = meshShape(file);
+        Result<Shape> s = test::shippedMeshShape(file, 1.0f);
         ASSERT_TRUE(s.ok()) << file << ": " << s.error().describe();
         EXPECT_TRUE(checkHalfEdgeMesh(s->halfEdge, file).ok()) << file;
         EXPECT_TRUE(isClosedMesh(s->mesh)) << file;
     }
     // The L's hull is a prism over a pentagon: the inner corner is cut off.
-    Result<Shape> block = meshShape("l_block.obj");
+    Result<Shape> block = test::shippedMeshShape("l_block.obj", 1.0f);
     ASSERT_TRUE(block.ok());
     EXPECT_EQ(block->halfEdge.faceCount(), 7u);
     EXPECT_EQ(block->halfEdge.edgeCount(), 15u);
