@@ -49,6 +49,17 @@ template <class T> Status upload(const Context& c, Buffer& b, const std::vector<
     return upload(c, b, std::span<const T>(data));
 }
 
+/// Non-blocking copy of a host array into the start of a buffer that already holds it: `data`
+/// must stay put until the queue has run the copy; `profile` (optional) times it.
+template <class T>
+Status enqueueUpload(const Context& c, const Buffer& b, std::span<const T> data, Profile* profile) {
+    if (data.empty()) return {};
+    cl_event* event = profile ? profile->transfer(Transfer::Write, data.size_bytes()) : nullptr;
+    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), b.mem(), CL_FALSE, 0, data.size_bytes(),
+                                         data.data(), 0, nullptr, event));
+    return {};
+}
+
 /// Blocking copy of the start of a buffer into a host array.
 template <class T>
 Status download(const Context& c, const Buffer& b, std::span<T> data) {

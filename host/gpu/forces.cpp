@@ -29,10 +29,9 @@ Status Pipeline::placeObstacles(std::span<const shared::ObstacleState> obstacles
     if (obstacles.empty()) return {};
     // Non-blocking: the copy stays put until the step is met.
     std::copy(obstacles.begin(), obstacles.end(), obstaclesHost_.begin());
-    const std::size_t bytes = obstacles.size_bytes();
-    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), obstacles_.states.mem(), CL_FALSE, 0,
-                                         bytes, obstaclesHost_.data(), 0, nullptr,
-                                         profile_.transfer(Transfer::Write, bytes)));
+    RUBBLE_TRY(enqueueUpload(
+        *context_, obstacles_.states,
+        std::span<const shared::ObstacleState>(obstaclesHost_).first(obstacles.size()), &profile_));
     const cl_uint count = obstacles_.count;
     return Dispatch(*context_, KernelId::PlaceObstacles, &profile_)
         .arg(count)

@@ -172,32 +172,24 @@ Status Pipeline::colorPgs() {
     RUBBLE_TRY(reserveGrowing(c, g.normalRows, rows * sizeof(shared::PgsNormalRow)));
     RUBBLE_TRY(reserveGrowing(c, g.frictionRows, rows * sizeof(shared::PgsFrictionRows)));
     RUBBLE_TRY(reserveGrowing(c, g.impulses, rows * sizeof(shared::float4)));
-    const std::size_t bytes = g.elementsHost.size() * sizeof(shared::PgsElement);
-    RUBBLE_TRY(reserveGrowing(c, g.elements, bytes));
-    // Non-blocking: the elements stay put until the next step's coloring, which waits for this
-    // step first.
-    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), g.elements.mem(), CL_FALSE, 0, bytes,
-                                         g.elementsHost.data(), 0, nullptr,
-                                         profile_.transfer(Transfer::Write, bytes)));
-    // buildPgsRows goes through the pairs' elements in pair order, which reads the manifolds
-    // front to back and nearby bodies together (a color's elements are spread over the pile).
-    const std::span<const std::uint32_t> slots = coloring.slots();
-    g.buildOrderHost.assign(slots.begin() + g.jointCount, slots.end());
-    const std::size_t orderBytes =
-        std::max<std::size_t>(1, g.buildOrderHost.size()) * sizeof(std::uint32_t);
-    RUBBLE_TRY(reserveGrowing(c, g.buildOrder, orderBytes));
-    if (g.buildOrderHost.empty()) return {};
-    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(
-        c.queue(), g.buildOrder.mem(), CL_FALSE, 0, g.buildOrderHost.size() * sizeof(cl_uint),
-        g.buildOrderHost.data(), 0, nullptr,
-        profile_.transfer(Transfer::Write, g.buildOrderHost.size() * sizeof(cl_uint))));
-    return {};
+    const std::span<const shared::PgsElement> elements(g.elementsHost);
+    RUBBLE_TRY(reserveGrowing(c, g.elements, elements.size_bytes()));
+    // Non-blocking: the elements and the build order stay put until the next step's coloring,
+    // which waits for this step first. buildPgsRows goes through the pairs' elements in pair
+    // order (their slots in the coloring; the joints were added first), which reads the
+    // manifolds front to back and nearby bodies together (a color's elements are spread over the
+    // pile).
+    const std::span<const std::uint32_t> buildOrder = coloring.slots().subspan(g.jointCount);
+    RUBBLE_TRY(reserveGrowing(c, g.buildOrder, std::max<std::size_t>(1, buildOrder.size_bytes())));
+    RUBBLE_TRY(enqueueUpload(c, g.elements, elements, &profile_));
+    return enqueueUpload(c, g.buildOrder, buildOrder, &profile_);
 }
 
 Status Pipeline::buildPgsRows(const StepParams& params) {
     const Context& c = *context_;
     PgsBuffers& g = pgs_;
-    const cl_uint count = cl_uint(g.buildOrderHost.size());
+    // The pairs with rows (the coloring's elements after the joints).
+    const cl_uint count = cl_uint(g.coloring.slots().size() - g.jointCount);
     if (count == 0) return {};
     RUBBLE_TRY(Dispatch(c, KernelId::BuildPgsRows, &profile_)
                    .arg(count)

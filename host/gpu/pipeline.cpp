@@ -143,10 +143,7 @@ Status Pipeline::resetStatus() {
     // The SAT method's manifolds live per pair: its contacts never overflow.
     statusInit_[RUBBLE_STATUS_CAPACITY] = sat_.enabled ? 0xffffffffu : contacts_.capacity;
     // Non-blocking: statusInit_ stays put until the step is met.
-    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_FALSE, 0,
-                                         sizeof statusInit_, statusInit_.data(), 0, nullptr,
-                                         profile_.transfer(Transfer::Write, sizeof statusInit_)));
-    return {};
+    return enqueueUpload(*context_, status_, std::span<const cl_uint>(statusInit_), &profile_);
 }
 
 DeviceStatus Pipeline::statusFromSlots() const {

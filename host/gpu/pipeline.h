@@ -171,7 +171,6 @@ struct PgsBuffers {
     Coloring jointColoring;
     Coloring coloring;
     std::vector<ColorElement> contactElements; ///< the pairs with rows, for the coloring
-    std::vector<std::uint32_t> buildOrderHost;
     std::vector<cl_uint> pairRowsHost;
     std::vector<shared::BodyPairRecord> pairsHost;
     std::vector<shared::PgsElement> elementsHost;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <string_view>
 #include <tuple>
 
 #include "gpu_fixture.h"
@@ -239,8 +240,15 @@ std::uint32_t asleepBodies(const World& w) {
     return n;
 }
 
+std::uint64_t launches(const World& w, std::string_view kernel) {
+    for (const DeviceCommandTime& c : w.deviceProfile())
+        if (c.name == kernel) return c.launches;
+    return 0;
+}
+
 // scenes/pyramid_20.json and stack_10.json stand on the device and fall asleep: every crate
-// within 5 cm of where it started after 10 s, none in the floor, all asleep.
+// within 5 cm of where it started after 10 s, none in the floor, all asleep; then a second more
+// builds no rows and sweeps nothing (a pile asleep costs no solve).
 TEST_F(PgsTwin, PyramidAndStackStandAndSleepOnTheDevice) {
     for (const char* name : {"pyramid_20.json", "stack_10.json"}) {
         World w = sceneFile(name, Backend::OpenCl);
@@ -260,6 +268,11 @@ TEST_F(PgsTwin, PyramidAndStackStandAndSleepOnTheDevice) {
         EXPECT_LT(moved, 0.05f) << name;
         EXPECT_GT(lowest, 0.49f) << name; // the lowest crate's centre, half a metre up
         EXPECT_EQ(asleepBodies(w), dynamic) << name;
+        const std::uint64_t built = launches(w, "buildPgsRows"), swept = launches(w, "solvePgs");
+        EXPECT_GT(built, 0u) << name;
+        for (int step = 0; step < 60; ++step) ASSERT_TRUE(w.step().ok()) << name;
+        EXPECT_EQ(launches(w, "buildPgsRows"), built) << name;
+        EXPECT_EQ(launches(w, "solvePgs"), swept) << name;
     }
 }
 
