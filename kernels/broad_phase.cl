@@ -6,28 +6,22 @@
 #include "rubble/shared/group.h"
 #include "rubble/shared/narrow_phase.h"
 
-// Joined bodies do not collide: binary search in the sorted (min, max) list.
-static int isJoined(const uint a, const uint b, const uint joinedCount,
-                    __global const BodyPairRecord* joined) {
-    uint lo = 0, hi = joinedCount;
-    while (lo < hi) {
-        const uint mid = (lo + hi) / 2u;
-        const BodyPairRecord p = joined[mid];
-        if (p.a < a || (p.a == a && p.b < b)) lo = mid + 1u;
-        else hi = mid;
-    }
-    return lo < joinedCount && joined[lo].a == a && joined[lo].b == b;
+// The pair (i, j) in the order a < b, into *pair, and whether it may collide: joined bodies do
+// not (`joined`: the joints' pairs, sorted).
+static int collidingPair(const uint i, const uint j, const uint joinedCount,
+                         __global const BodyPairRecord* joined, BodyPairRecord* pair) {
+    pair->a = min(i, j);
+    pair->b = max(i, j);
+    return findPairItem(*pair, joinedCount, joined) == joinedCount;
 }
 
-// Appends the pair (i, j) in the order a < b unless the bodies are joined; past the capacity it
-// only counts, and the host grows the buffer.
+// Appends the pair (i, j) unless the bodies are joined; past the capacity it only counts, and
+// the host grows the buffer.
 static void appendPair(const uint i, const uint j, const uint joinedCount,
                        __global const BodyPairRecord* joined, const uint capacity,
                        __global BodyPairRecord* pairs, __global uint* status) {
     BodyPairRecord p;
-    p.a = min(i, j);
-    p.b = max(i, j);
-    if (isJoined(p.a, p.b, joinedCount, joined)) return;
+    if (!collidingPair(i, j, joinedCount, joined, &p)) return;
     const uint at = atomic_inc(&status[RUBBLE_STATUS_PAIRS]);
     if (at < capacity) pairs[at] = p;
 }
@@ -195,9 +189,7 @@ findCellPairs(__global const uint* keys, __global const uint* values,
                 continue;
             }
             BodyPairRecord p;
-            p.a = min(values[e], values[f]);
-            p.b = max(values[e], values[f]);
-            if (!isJoined(p.a, p.b, joinedCount, joined)) held[count++] = p;
+            if (collidingPair(values[e], values[f], joinedCount, joined, &p)) held[count++] = p;
         }
         const uint at = groupReserve(slots, count, &status[RUBBLE_STATUS_PAIRS]);
         for (uint k = 0; k < count; ++k)

@@ -5,6 +5,7 @@
 // in rubble/shared/sleep.h; the CPU twins in host/dynamics/sleep.cpp.
 #include "rubble/shared/broad_phase.h"
 #include "rubble/shared/contact_row.h"
+#include "rubble/shared/group.h"
 #include "rubble/shared/narrow_phase.h"
 #include "rubble/shared/pgs_joint.h"
 #include "rubble/shared/sleep.h"
@@ -98,15 +99,11 @@ markRestlessJoints(const uint count, __global const PgsJoint* joints,
 __kernel void sleepBodies(const uint count, __global uint* status, __global uint* flags,
                           __global BodyVelocity* velocities, __global BodyMomentum* momenta,
                           __global float* slowFor, __global uint* restless, const float dt) {
-    __local uint asleep, woken;
+    __local uint totals[2]; // the group's bodies asleep, woken
     const uint i = get_global_id(0);
     // Every work-item reaches both barriers; a step whose contacts overflowed changes nothing.
     const int aborted = status[RUBBLE_STATUS_CONTACTS] > status[RUBBLE_STATUS_CAPACITY];
-    if (get_local_id(0) == 0) {
-        asleep = 0;
-        woken = 0;
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
+    groupClear(totals, 2u);
     if (!aborted && i < count && !(flags[i] & (RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC))) {
         SleepRecord s;
         s.flags = flags[i];
@@ -120,17 +117,15 @@ __kernel void sleepBodies(const uint count, __global uint* status, __global uint
             momenta[i].angular = zero;
         }
         if (!(next.flags & RUBBLE_BODY_ASLEEP) && (s.flags & RUBBLE_BODY_ASLEEP))
-            atomic_inc(&woken);
-        if (next.flags & RUBBLE_BODY_ASLEEP) atomic_inc(&asleep);
+            atomic_inc(&totals[1]);
+        if (next.flags & RUBBLE_BODY_ASLEEP) atomic_inc(&totals[0]);
         flags[i] = next.flags;
         slowFor[i] = next.slowFor;
         restless[i] = 0u;
     }
-    barrier(CLK_LOCAL_MEM_FENCE);
-    if (get_local_id(0) == 0 && !aborted) {
-        if (asleep) atomic_add(&status[RUBBLE_STATUS_ASLEEP], asleep);
-        if (woken) atomic_add(&status[RUBBLE_STATUS_WOKEN], woken);
-    }
+    if (!groupDone() || aborted) return;
+    if (totals[0] > 0u) atomic_add(&status[RUBBLE_STATUS_ASLEEP], totals[0]);
+    if (totals[1] > 0u) atomic_add(&status[RUBBLE_STATUS_WOKEN], totals[1]);
 }
 
 // Jointed bodies sleep and wake by joint group (bodies joined through dynamic bodies), as the
