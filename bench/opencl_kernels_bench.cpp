@@ -423,8 +423,8 @@ void benchCpuSatNarrowPhase(benchmark::State& state) {
 }
 
 // The host's part of the device's PGS step, wall time: colorPgs (the pair summaries and pairs
-// read back, the first-fit coloring, the elements written), after one summarizePairs on the
-// pipeline that kept its features.
+// read back, the coloring by support, the elements and build order written), after one
+// summarizePairs on the pipeline that kept its features.
 void benchSatColoring(benchmark::State& state) {
     SatBenchWorld& b = satWorld();
     if (!b.in) return state.SkipWithError(b.error.c_str());
@@ -438,13 +438,19 @@ void benchSatColoring(benchmark::State& state) {
     }
     state.counters["pairs"] = double(b.counts.pairs);
     state.counters["elements"] = double(p.pgs().elementsHost.size());
-    // The colors' sizes: the two largest (the first two), and the rest.
+    // How many colors, and the largest and smallest color's elements.
     const gpu::Coloring& coloring = p.pgs().coloring;
     const std::span<const std::uint32_t> start = coloring.start();
     state.counters["colors"] = double(coloring.colors());
-    for (std::uint32_t k = 0; k < std::min<std::uint32_t>(2, coloring.colors()); ++k)
-        state.counters[k == 0 ? "first" : "second"] = double(start[k + 1] - start[k]);
-    if (coloring.colors() > 2) state.counters["rest"] = double(start.back() - start[2]);
+    std::uint32_t largest = 0, smallest = ~0u;
+    for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
+        largest = std::max(largest, start[k + 1] - start[k]);
+        smallest = std::min(smallest, start[k + 1] - start[k]);
+    }
+    if (coloring.colors() > 0) {
+        state.counters["largest"] = double(largest);
+        state.counters["smallest"] = double(smallest);
+    }
 }
 
 // The device's narrow phase code (rubble/shared/narrow_phase.h) compiled for the host, on the

@@ -1,4 +1,5 @@
-// host/gpu/coloring.cpp: greedy first-fit coloring of the solve's elements (host/gpu/coloring.h).
+// host/gpu/coloring.cpp: greedy coloring of the solve's elements, first fit or by support
+// (host/gpu/coloring.h).
 #include "host/gpu/coloring.h"
 
 #include <algorithm>
@@ -139,14 +140,14 @@ void Coloring::addBySupport(std::span<const ColorElement> elements) {
             take(x.a, x.b, x.movesA, x.movesB, below == kNoColor ? 0 : below + 1);
         colorOf_[first + e] = c;
         // The first element found between a body and the level below carries its support.
-        if (upperMoves && std::max(la, lb) == std::min(la, lb) + 1 && support_[upper] == kNoColor)
+        // (Breadth-first levels of an element's two ends differ by at most one.)
+        if (upperMoves && la != lb && support_[upper] == kNoColor)
             support_[upper] = c;
     }
 }
 
 void Coloring::finish() {
-    std::uint32_t colors = 0;
-    for (const std::uint32_t c : colorOf_) colors = std::max(colors, c + 1);
+    const std::uint32_t colors = colors_;
     // Counting sort by color.
     start_.assign(std::size_t(colors) + 1, 0);
     for (const std::uint32_t c : colorOf_) ++start_[c + 1];
