@@ -259,11 +259,29 @@ RUBBLE_FN JacobiBody projectionBodyItem(BodyMass m, uint flags, BodyPose pose) {
     return jacobiBodyItem(m, pose.orientation);
 }
 
+// 8 bytes, not stored: the largest |C| of a set of joint rows, of the point rows (m) and of the
+// hinge rows.
+typedef struct JointErrors {
+    float linear, angular;
+} JointErrors;
+
+RUBBLE_FN JointErrors noJointErrorsItem(void) {
+    JointErrors e;
+    e.linear = 0.0f;
+    e.angular = 0.0f;
+    return e;
+}
+
+// Whether rows with these largest errors are within the projection's tolerances.
+RUBBLE_FN int jointErrorsWithinItem(JointErrors e) {
+    return e.linear <= RUBBLE_JOINT_LINEAR_TOLERANCE && e.angular <= RUBBLE_JOINT_ANGULAR_TOLERANCE;
+}
+
 // One joint's rows at the current poses into out[0..): three point rows along the world axes,
-// and for a hinge the two rows a_1 . b_2, a_1 . c_2. Returns the row count (0 when neither body
-// moves).
+// and for a hinge the two rows a_1 . b_2, a_1 . c_2; their errors go into *errors. Returns the
+// row count (0 when neither body moves).
 RUBBLE_FN uint jointRowsItem(PgsJoint j, BodyPose pa, BodyPose pb, JacobiBody ja, JacobiBody jb,
-                             JointPositionRow* out) {
+                             JointPositionRow* out, JointErrors* errors) {
     const float ima = jointInverseMassItem(ja), imb = jointInverseMassItem(jb);
     if (ima == 0.0f && imb == 0.0f) return 0u;
     Mat3 ia = ja.inverseInertiaWorld, ib = jb.inverseInertiaWorld;
@@ -308,6 +326,10 @@ RUBBLE_FN uint jointRowsItem(PgsJoint j, BodyPose pa, BodyPose pb, JacobiBody ja
         r.turnB = mat3MulVec(ib, r.angularB);
         r.a = j.a;
         r.b = j.b;
+        if (r.kind & RUBBLE_JOINT_ROW_POINT)
+            errors->linear = fmax(errors->linear, fabs(r.error));
+        else
+            errors->angular = fmax(errors->angular, fabs(r.error));
         r.kind |= (ima > 0.0f ? RUBBLE_JOINT_ROW_MOVES_A : 0u) |
                   (imb > 0.0f ? RUBBLE_JOINT_ROW_MOVES_B : 0u);
         out[k] = r;
@@ -315,12 +337,13 @@ RUBBLE_FN uint jointRowsItem(PgsJoint j, BodyPose pa, BodyPose pb, JacobiBody ja
     return total;
 }
 
-// Appends one joint's rows at the current poses to rows[n..] (jointRowsItem). Returns the new
-// row count.
+// Appends one joint's rows at the current poses to rows[n..] (jointRowsItem), their errors into
+// *errors. Returns the new row count.
 RUBBLE_FN uint appendJointRowsItem(PgsJoint j, BodyPose pa, BodyPose pb, JacobiBody ja,
-                                   JacobiBody jb, RUBBLE_GLOBAL JointPositionRow* rows, uint n) {
+                                   JacobiBody jb, RUBBLE_GLOBAL JointPositionRow* rows, uint n,
+                                   JointErrors* errors) {
     JointPositionRow own[5];
-    const uint count = jointRowsItem(j, pa, pb, ja, jb, own);
+    const uint count = jointRowsItem(j, pa, pb, ja, jb, own, errors);
     for (uint k = 0; k < count; ++k) rows[n + k] = own[k];
     return n + count;
 }
@@ -345,18 +368,9 @@ RUBBLE_FN PosePair projectJointItem(PgsJoint j, BodyPose pa, BodyPose pb, Jacobi
     *moved = 0;
     // Rows: J on a (linear, angular) and on b, M^-1 J^T, and the error C.
     JointPositionRow rows[5];
-    const int n = (int)jointRowsItem(j, pa, pb, ja, jb, rows);
-    if (n == 0) return out;
-    float linearError = 0.0f, angularError = 0.0f;
-    for (int i = 0; i < n; ++i) {
-        if (rows[i].kind & RUBBLE_JOINT_ROW_POINT)
-            linearError = fmax(linearError, fabs(rows[i].error));
-        else
-            angularError = fmax(angularError, fabs(rows[i].error));
-    }
-    if (linearError <= RUBBLE_JOINT_LINEAR_TOLERANCE &&
-        angularError <= RUBBLE_JOINT_ANGULAR_TOLERANCE)
-        return out;
+    JointErrors errors = noJointErrorsItem();
+    const int n = (int)jointRowsItem(j, pa, pb, ja, jb, rows, &errors);
+    if (n == 0 || jointErrorsWithinItem(errors)) return out;
     // K = J M^-1 J^T (lower triangle), right-hand side -C.
     float k[25], x[5];
     float largest = 0.0f;
@@ -436,21 +450,15 @@ RUBBLE_FN int projectJointGroupItem(RUBBLE_GLOBAL const uint* members, uint coun
     int it = 0;
     for (; it < maxIterations; ++it) {
         uint n = 0;
+        JointErrors errors = noJointErrorsItem();
         for (uint m = 0; m < count; ++m) {
             const PgsJoint j = joints[members[m]];
             const BodyPose pa = poses[j.a], pb = poses[j.b];
             n = appendJointRowsItem(j, pa, pb, projectionBodyItem(masses[j.a], flags[j.a], pa),
-                                    projectionBodyItem(masses[j.b], flags[j.b], pb), rows, n);
+                                    projectionBodyItem(masses[j.b], flags[j.b], pb), rows, n,
+                                    &errors);
         }
-        float linear = 0.0f, angular = 0.0f;
-        for (uint i = 0; i < n; ++i) {
-            if (rows[i].kind & RUBBLE_JOINT_ROW_POINT)
-                linear = fmax(linear, fabs(rows[i].error));
-            else
-                angular = fmax(angular, fabs(rows[i].error));
-        }
-        if (linear <= RUBBLE_JOINT_LINEAR_TOLERANCE && angular <= RUBBLE_JOINT_ANGULAR_TOLERANCE)
-            break;
+        if (jointErrorsWithinItem(errors)) break;
         // K (lower triangle) and -C.
         float largest = 0.0f;
         for (uint i = 0; i < n; ++i) {
