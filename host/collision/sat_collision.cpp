@@ -5,8 +5,10 @@
 
 #include <algorithm>
 
+#include "host/core/assert.h"
 #include "host/core/limits.h"
 #include "host/core/math.h"
+#include "rubble/shared/broad_phase.h"
 #include "rubble/shared/narrow_phase.h"
 
 namespace rubble {
@@ -22,61 +24,42 @@ void flattenScene(const CollisionScene& scene, CollisionCache& c) {
     c.candidates.resize(capacity);
 }
 
-// The world box of a shape: a hull's local box turned (|R| times its half extents), a sphere's
-// centre plus its radius; grown by the margin.
-Aabb worldBox(const Shape& shape, const Transform& t, float margin) {
-    if (shape.type == ShapeType::Sphere) {
-        const glm::vec3 r(shape.radius + margin);
-        return Aabb{t.translation - r, t.translation + r};
-    }
-    const HalfEdgeMesh& m = shape.halfEdge;
-    const glm::vec3 centre = t.apply((m.boundsMin + m.boundsMax) * 0.5f);
-    const glm::vec3 half = (m.boundsMax - m.boundsMin) * 0.5f;
-    glm::vec3 extent(margin);
-    for (int c = 0; c < 3; ++c) // glm is column-major: rotation[c][r]
-        extent += glm::abs(t.rotation[c]) * half[c];
-    return Aabb{centre - extent, centre + extent};
-}
-
-// How much closer two bodies can come this step: their relative translation plus what their
-// turning can add. Bodies falling side by side close nothing, so they get no speculative gap.
-float pairReach(BodiesView bodies, const BodyPair& pair, const std::vector<float>& spin, float dt) {
-    const glm::vec3 relative =
-        toVec3(bodies.velocities[pair.b].linear) - toVec3(bodies.velocities[pair.a].linear);
-    return glm::length(relative) * dt + spin[pair.a] + spin[pair.b];
-}
-
 } // namespace
 
 Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
                                 const StepParams& params, StepContacts& out) {
     CollisionCache& c = cache_;
+    // A stage used without rebuild (tests, benchmarks) flattens the shapes on first use.
+    if (c.hullsOf != scene.shapes.data() || c.hulls.shapes.size() != scene.shapes.size())
+        flattenScene(scene, c);
     const std::uint32_t n = bodies.count();
+    c.transforms.resize(n);
     c.boxes.resize(n);
     c.flags.resize(n);
-    c.reach.resize(n);
     c.spin.resize(n);
     c.planes.clear();
     const float dt = params.dt;
+    // The per-body math is the device's (rubble/shared/broad_phase.h, kernels/broad_phase.cl).
     for (std::uint32_t i = 0; i < n; ++i) {
-        const Shape& shape = scene.shapes[bodies.shapeOf[i]];
-        const Transform t = transformOf(bodies.poses[i]);
+        const shared::HullShape& shape = c.hulls.shapes[bodies.shapeOf[i]];
+        const shared::RigidTransform& t = c.transforms[i] =
+            shared::transformOfPose(bodies.poses[i]);
         // The farthest any point of the body moves this step with its current velocities.
-        c.spin[i] = glm::length(toVec3(bodies.velocities[i].angular)) * shape.boundingRadius * dt;
-        c.reach[i] = glm::length(toVec3(bodies.velocities[i].linear)) * dt + c.spin[i];
+        c.spin[i] = shared::spinItem(bodies.velocities[i], shape.boundingRadius, dt);
         const bool inactive = bodies.isStatic(i) ||
                               (bodies.masses[i].flags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP));
         c.flags[i] = inactive ? kBroadPhaseInactive : 0;
-        if (shape.type == ShapeType::Plane) {
+        if (shape.kind == RUBBLE_SHAPE_PLANE) {
             c.flags[i] |= kBroadPhaseNoBox;
-            const glm::vec3 normal = t.rotate(shape.normal);
-            const float offset = shape.offset + glm::dot(normal, t.translation);
+            const shared::float4 plane = shared::worldPlaneItem(shape, t);
             // Grown by the margin like the boxes.
-            c.planes.push_back(PlaneProxy{i, normal, offset + RUBBLE_CONTACT_MARGIN});
+            c.planes.push_back(PlaneProxy{i, toVec3(plane), plane.w + RUBBLE_CONTACT_MARGIN});
             c.boxes[i] = Aabb{};
             continue;
         }
-        c.boxes[i] = worldBox(shape, t, RUBBLE_CONTACT_MARGIN + c.reach[i]);
+        const float reach = shared::reachItem(bodies.velocities[i], c.spin[i], dt);
+        const shared::BodyBox box = shared::worldBoxItem(shape, t, RUBBLE_CONTACT_MARGIN + reach);
+        c.boxes[i] = Aabb{toVec3(box.min), toVec3(box.max)};
     }
     c.broadPhase.pairLimit = pairBudget(n);
     findPairs(c.boxes, c.flags, c.planes, out.pairs, c.broadPhase);
@@ -94,17 +77,13 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
     return {};
 }
 
-Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
+Status SatCollision::narrowPhase(const CollisionScene&, BodiesView bodies,
                                  const StepParams& params, StepContacts& out) {
     CollisionCache& c = cache_;
-    // A stage used without rebuild (tests, benchmarks) flattens the shapes on first use.
-    if (c.hullsOf != scene.shapes.data() || c.hulls.shapes.size() != scene.shapes.size())
-        flattenScene(scene, c);
+    // The shapes, transforms and spins are the broad phase's of this step.
+    RUBBLE_ASSERT(c.transforms.size() == bodies.count());
     const shared::HullArrays arrays = hullArraysOf(c.hulls);
     const shared::ClipBuffers buffers{c.polygon.data(), c.scratch.data(), c.candidates.data()};
-    c.transforms.resize(bodies.count());
-    for (std::uint32_t i = 0; i < bodies.count(); ++i)
-        c.transforms[i] = shared::transformOfPose(bodies.poses[i]);
     out.manifolds.clear();
     c.nextFeatures.clear();
     std::size_t contacts = 0;
@@ -117,7 +96,9 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
         shared::PairCache cache = cached < c.features.size() && c.features[cached].pair == pair
                                       ? c.features[cached].cache
                                       : shared::emptyPairCacheItem();
-        const float margin = RUBBLE_CONTACT_MARGIN + pairReach(bodies, pair, c.spin, params.dt);
+        const float margin =
+            shared::pairMarginItem(bodies.velocities[pair.a], bodies.velocities[pair.b],
+                                   c.spin[pair.a], c.spin[pair.b], params.dt);
         const shared::ContactManifold found = shared::collideShapesClippingInItem(
             arrays, c.hulls.shapes[bodies.shapeOf[pair.a]], c.transforms[pair.a],
             c.hulls.shapes[bodies.shapeOf[pair.b]], c.transforms[pair.b], &cache, margin, buffers);

@@ -26,10 +26,9 @@ struct CollisionCache {
     /// Last step's features, sorted by pair: the next narrow phase tests them first.
     std::vector<CachedFeature> features;
     std::vector<CachedFeature> nextFeatures; ///< being filled; swapped with features
-    std::vector<shared::RigidTransform> transforms; ///< per body, this step (narrow phase)
+    std::vector<shared::RigidTransform> transforms; ///< per body, this step's broad phase
     std::vector<Aabb> boxes;                 ///< per body, this step, grown by margin and reach
-    std::vector<float> reach;        ///< per body: how far any of its points can move this step, m
-    std::vector<float> spin;         ///< per body: the part of reach due to turning, m
+    std::vector<float> spin; ///< per body: how far its turning can move any of its points, m
     std::vector<std::uint8_t> flags; ///< per body, BroadPhaseFlag
     std::vector<PlaneProxy> planes;
     BroadPhaseScratch broadPhase;
@@ -53,7 +52,7 @@ class SatCollision final : public CollisionStage {
     /// tunnelling through it).
     Status broadPhase(const CollisionScene& scene, BodiesView bodies, const StepParams& params,
                       StepContacts& out) override;
-    /// reads: pairs, poses, shapes, the cache, reach   writes: manifolds (in pair order, pairs
+    /// reads: pairs, velocities, the broad phase's transforms and spins, the cache   writes: manifolds (in pair order, pairs
     /// without contacts left out; as points when the solver reads points), the cache. A pair's
     /// margin is RUBBLE_CONTACT_MARGIN plus how much closer the bodies can come this step (relative
     /// translation plus turning): contacts up to that gap come out with negative depth, and the
