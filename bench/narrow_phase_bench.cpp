@@ -12,10 +12,10 @@
 
 #include "host/collision/hull_data.h"
 #include "host/collision/sat_collision.h"
-#include "host/collision/transform.h"
 #include "host/geometry/shape.h"
 #include "rubble/shared/hull_contact.h"
 #include "support/stage_input.h"
+#include "unit/flat_hull.h"
 
 namespace rubble {
 namespace {
@@ -27,16 +27,6 @@ struct PairSet {
     std::vector<shared::RigidTransform> poses; ///< b's pose in a's frame, two copies of the shape
     shared::Hull of() const { return shared::hullOfItem(hullArraysOf(hull), hull.shapes[0]); }
 };
-
-shared::RigidTransform rigidOf(const Transform& t) {
-    const glm::mat3 rt = glm::transpose(t.rotation);
-    return shared::RigidTransform{shared::Mat3{toFloat4(rt[0]), toFloat4(rt[1]), toFloat4(rt[2])},
-                                  toFloat4(t.translation)};
-}
-
-shared::SatHint noHint() {
-    return shared::makeSatHint(RUBBLE_SAT_NONE, 0u, 0u, 0u);
-}
 
 Shape boxShape() {
     ShapeDesc d;
@@ -75,10 +65,10 @@ PairSet touchingPairs(const Shape& shape) {
         float lo = 0.0f, hi = 2.0f * shape.boundingRadius;
         for (int k = 0; k < 24; ++k) {
             const float mid = 0.5f * (lo + hi);
-            const shared::RigidTransform t = rigidOf(Transform{glm::mat3_cast(q), dir * mid});
-            (shared::runSatItem(m, m, t, 0.0f, noHint()).separated ? hi : lo) = mid;
+            const shared::RigidTransform t = test::rigidOf(Transform{glm::mat3_cast(q), dir * mid});
+            (shared::runSatItem(m, m, t, 0.0f, test::noHint()).separated ? hi : lo) = mid;
         }
-        set.poses.push_back(rigidOf(Transform{glm::mat3_cast(q), dir * (lo - depth(rng))}));
+        set.poses.push_back(test::rigidOf(Transform{glm::mat3_cast(q), dir * (lo - depth(rng))}));
     }
     return set;
 }
@@ -98,7 +88,7 @@ void runSatOver(benchmark::State& state, const PairSet& set) {
     for (auto _ : state)
         for (const shared::RigidTransform& t : set.poses) {
             const shared::SatResult r =
-                shared::runSatItem(m, m, t, RUBBLE_CONTACT_MARGIN, noHint());
+                shared::runSatItem(m, m, t, RUBBLE_CONTACT_MARGIN, test::noHint());
             benchmark::DoNotOptimize(r.separation);
         }
     state.SetItemsProcessed(state.iterations() * std::int64_t(set.poses.size()));
@@ -108,10 +98,8 @@ void runSatOver(benchmark::State& state, const PairSet& set) {
 // (the pose unchanged since the last full test: one support query, then the clipping).
 void runManifoldsOver(benchmark::State& state, const PairSet& set, bool cached) {
     const shared::Hull m = set.of();
-    const std::size_t capacity = 2 * std::size_t(set.hull.largestFace) + 1;
-    std::vector<shared::ClipVertex> polygon(capacity), scratch(capacity);
-    std::vector<shared::LocalContact> candidates(capacity);
-    const shared::ClipBuffers buffers{polygon.data(), scratch.data(), candidates.data()};
+    ClipSpace clip(set.hull.largestFace);
+    const shared::ClipBuffers buffers = clip.buffers();
     std::vector<shared::PairCache> caches(set.poses.size(), shared::emptyPairCacheItem());
     for (std::size_t i = 0; i < set.poses.size(); ++i)
         shared::collideHullsCachedItem(m, m, set.poses[i], &caches[i], RUBBLE_CONTACT_MARGIN,
@@ -122,7 +110,7 @@ void runManifoldsOver(benchmark::State& state, const PairSet& set, bool cached) 
                 cached ? shared::collideHullsCachedItem(m, m, set.poses[i], &caches[i],
                                                         RUBBLE_CONTACT_MARGIN, buffers)
                        : shared::collideHullsItem(m, m, set.poses[i], RUBBLE_CONTACT_MARGIN,
-                                                  noHint(), buffers);
+                                                  test::noHint(), buffers);
             benchmark::DoNotOptimize(c.contacts.count);
         }
     state.SetItemsProcessed(state.iterations() * std::int64_t(set.poses.size()));

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "host/geometry/shape.h"
+#include "rubble/shared/clip.h"
 #include "rubble/shared/hull.h"
 
 namespace rubble {
@@ -28,6 +29,19 @@ struct HullData {
     std::vector<std::uint32_t> faceEdges;
     std::vector<shared::HullEdge> edges;
     std::uint32_t largestFace = 0; ///< most vertices of one face, over every hull
+};
+
+/// The clipping buffers of the shared narrow phase (shared::ClipBuffers) for faces of up to
+/// `largestFace` vertices: a clipped polygon holds at most twice as many plus one.
+struct ClipSpace {
+    std::vector<shared::ClipVertex> polygon, scratch;
+    std::vector<shared::LocalContact> candidates;
+    explicit ClipSpace(std::uint32_t largestFace = 0)
+        : polygon(2 * std::size_t(largestFace) + 1), scratch(polygon.size()),
+          candidates(polygon.size()) {}
+    shared::ClipBuffers buffers() {
+        return shared::ClipBuffers{polygon.data(), scratch.data(), candidates.data()};
+    }
 };
 
 /// Flattens the shapes: boxes, convex shapes and meshes as their half-edge hulls, spheres and

@@ -18,10 +18,7 @@ namespace {
 void flattenScene(const CollisionScene& scene, CollisionCache& c) {
     c.hulls = flattenHulls(scene.shapes);
     c.hullsOf = scene.shapes.data();
-    const std::size_t capacity = 2 * std::size_t(c.hulls.largestFace) + 1;
-    c.polygon.resize(capacity);
-    c.scratch.resize(capacity);
-    c.candidates.resize(capacity);
+    c.clip = ClipSpace(c.hulls.largestFace);
 }
 
 } // namespace
@@ -83,7 +80,7 @@ Status SatCollision::narrowPhase(const CollisionScene&, BodiesView bodies,
     // The shapes, transforms and spins are the broad phase's of this step.
     RUBBLE_ASSERT(c.transforms.size() == bodies.count());
     const shared::HullArrays arrays = hullArraysOf(c.hulls);
-    const shared::ClipBuffers buffers{c.polygon.data(), c.scratch.data(), c.candidates.data()};
+    const shared::ClipBuffers buffers = c.clip.buffers();
     out.manifolds.clear();
     c.nextFeatures.clear();
     std::size_t contacts = 0;

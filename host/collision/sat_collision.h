@@ -10,7 +10,6 @@
 #include "host/collision/broad_phase.h"
 #include "host/collision/collision_stage.h"
 #include "host/collision/hull_data.h"
-#include "host/collision/transform.h"
 #include "rubble/shared/hull_contact.h"
 
 namespace rubble {
@@ -34,9 +33,7 @@ struct CollisionCache {
     BroadPhaseScratch broadPhase;
     HullData hulls;                          ///< the scene's shapes, flattened
     const Shape* hullsOf = nullptr;          ///< the shapes `hulls` was made from
-    std::vector<shared::ClipVertex> polygon; ///< clipping buffers: 2 largestFace + 1 each
-    std::vector<shared::ClipVertex> scratch;
-    std::vector<shared::LocalContact> candidates;
+    ClipSpace clip;                          ///< for the hulls' largest face
 };
 
 /// The SAT collision method.

@@ -52,14 +52,9 @@ inline shared::RigidTransform transformOfDesc(const BodyDesc& b) {
 // The shapes flattened for the narrow phase, with clipping buffers for their largest face.
 struct FlatShapes {
     HullData data;
-    std::vector<shared::ClipVertex> polygon, scratch;
-    std::vector<shared::LocalContact> candidates;
-    explicit FlatShapes(std::span<const Shape> shapes) : data(flattenHulls(shapes)) {
-        const std::size_t n = 2 * std::size_t(data.largestFace) + 1;
-        polygon.resize(n);
-        scratch.resize(n);
-        candidates.resize(n);
-    }
+    ClipSpace clip;
+    explicit FlatShapes(std::span<const Shape> shapes)
+        : data(flattenHulls(shapes)), clip(data.largestFace) {}
 };
 
 // Whether shapes sa and sb touch (a contact with margin 0) with b moved to a's position + t u.
@@ -67,7 +62,7 @@ inline bool touchesAt(FlatShapes& f, std::uint32_t sa, const BodyDesc& a, std::u
                       BodyDesc b, glm::vec3 u, float t) {
     b.position = a.position + u * t;
     shared::PairCache cache = shared::emptyPairCacheItem();
-    const shared::ClipBuffers buffers{f.polygon.data(), f.scratch.data(), f.candidates.data()};
+    const shared::ClipBuffers buffers = f.clip.buffers();
     return shared::collideShapesClippingInItem(hullArraysOf(f.data), f.data.shapes[sa],
                                                transformOfDesc(a), f.data.shapes[sb],
                                                transformOfDesc(b), &cache, 0.0f, buffers)

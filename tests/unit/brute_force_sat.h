@@ -7,7 +7,7 @@
 
 #include <glm/glm.hpp>
 
-#include "host/collision/transform.h"
+#include "transform.h"
 #include "host/geometry/half_edge.h"
 #include "rubble/shared/sat.h"
 

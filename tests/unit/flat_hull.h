@@ -9,7 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "host/collision/hull_data.h"
-#include "host/collision/transform.h"
+#include "transform.h"
 #include "host/core/math.h"
 #include "rubble/shared/narrow_phase.h"
 
@@ -30,19 +30,9 @@ struct FlatHull {
 };
 
 /// Clipping buffers for faces of the two hulls.
-struct ClipSpace {
-    std::vector<shared::ClipVertex> polygon, scratch;
-    std::vector<shared::LocalContact> candidates;
-    ClipSpace(const FlatHull& a, const FlatHull& b) {
-        const std::size_t n = 2 * std::max(a.data.largestFace, b.data.largestFace) + 1;
-        polygon.resize(n);
-        scratch.resize(n);
-        candidates.resize(n);
-    }
-    shared::ClipBuffers buffers() {
-        return shared::ClipBuffers{polygon.data(), scratch.data(), candidates.data()};
-    }
-};
+inline ClipSpace clipSpaceFor(const FlatHull& a, const FlatHull& b) {
+    return ClipSpace(std::max(a.data.largestFace, b.data.largestFace));
+}
 
 inline shared::RigidTransform rigidOf(const Transform& t) {
     const glm::mat3 rt = glm::transpose(t.rotation); // rows of R as glm columns
@@ -101,14 +91,14 @@ inline shared::EdgeQuery queryEdgeDirections(const FlatHull& a, const FlatHull& 
 
 inline HullContact collideHulls(const FlatHull& a, const FlatHull& b, const Transform& bInA,
                                 float margin = kContactMargin, shared::SatHint hint = noHint()) {
-    ClipSpace clip(a, b);
+    ClipSpace clip = clipSpaceFor(a, b);
     return hullContactOf(
         shared::collideHullsItem(a.hull(), b.hull(), rigidOf(bInA), margin, hint, clip.buffers()));
 }
 
 inline HullContact collideHullsCached(const FlatHull& a, const FlatHull& b, const Transform& bInA,
                                       shared::PairCache& cache, float margin = kContactMargin) {
-    ClipSpace clip(a, b);
+    ClipSpace clip = clipSpaceFor(a, b);
     return hullContactOf(shared::collideHullsCachedItem(a.hull(), b.hull(), rigidOf(bInA), &cache,
                                                         margin, clip.buffers()));
 }

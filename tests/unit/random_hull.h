@@ -10,7 +10,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include "host/collision/transform.h"
+#include "transform.h"
 #include "host/geometry/obj_mesh.h"
 #include "host/geometry/shape.h"
 
