@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <set>
 #include <utility>
 #include <vector>
 
@@ -61,7 +60,9 @@ class CheckedJsonReader {
     bool key(Json::string_t& k) {
         Frame& f = frames_.back();
         f.key = k;
-        if (!f.keys.insert(f.key).second && duplicatePath_.empty()) duplicatePath_ = path();
+        // A member is placed once its value is read: the object holds the key already only when
+        // it was given before.
+        if (f.container->contains(f.key) && duplicatePath_.empty()) duplicatePath_ = path();
         return true;
     }
     bool end_object() { return close(); }
@@ -99,7 +100,6 @@ class CheckedJsonReader {
         Json* container;
         bool isArray;
         std::size_t index;
-        std::set<std::string> keys;
         std::string key;
     };
     // Puts v where the parser is (the root, the next element, or the member of the last key).
@@ -120,7 +120,7 @@ class CheckedJsonReader {
     bool open(Json&& container, bool isArray) {
         if (frames_.size() >= kMaxJsonDepth) throw NestedTooDeep{};
         Json& placed = place(std::move(container));
-        frames_.push_back(Frame{&placed, isArray, 0, {}, {}});
+        frames_.push_back(Frame{&placed, isArray, 0, {}});
         return true;
     }
     bool close() {
