@@ -160,16 +160,22 @@ TEST(Sat, PrunedEdgeAxesAreSupportAxes) {
     // Every pruned candidate is a real axis: its edge-point separation is the support one.
     Failures failures;
     const std::vector<Case>& cases = randomCases();
+    int checked = 0; // cases with a candidate edge pair left after the pruning
     for (int i = 0; i < int(cases.size()); i += 10) {
         const FlatHull& a = flatPool()[cases[i].a];
         const FlatHull& b = flatPool()[cases[i].b];
         const Transform& bInA = cases[i].bInA;
         const shared::EdgeQuery e = queryEdgeDirections(a, b, bInA);
-        if (e.separation > -1e30f &&
-            std::fabs(e.separation - separationAlong(a, b, bInA, toVec3(e.axis))) > 1e-4f)
+        if (!(e.separation > -1e30f)) continue;
+        ++checked;
+        if (std::fabs(e.separation - separationAlong(a, b, bInA, toVec3(e.axis))) > 1e-4f)
             failures.add(i, "pruned edge separation is not the support separation");
     }
     EXPECT_EQ(failures.count(), 0);
+    // A pruning that left no candidate would pass the loop above untested.
+    std::printf("[ pruned edges ] %d of %d cases had a candidate\n", checked,
+                (int(cases.size()) + 9) / 10);
+    EXPECT_GT(checked, 500);
 }
 
 TEST(Sat, HintGivesTheSameVerdict) {
