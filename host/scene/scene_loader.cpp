@@ -36,8 +36,7 @@ class SceneLoader {
     Result<Scene> load(const Json& root) {
         ObjectReader top(root, "", file_);
         RUBBLE_TRY(top.checkIsObject());
-        RUBBLE_TRY(top.checkKeys({"format", "version", "name", "simulation", "materials", "shapes",
-                                  "bodies", "generators", "joints", "events"}));
+        RUBBLE_TRY(top.checkKeys(std::span<const std::string_view>(kSceneKeys)));
         RUBBLE_TRY(readHeader(top));
         if (top.has("simulation")) RUBBLE_TRY(readSimulation(ObjectReader(top.at("simulation"), "simulation", file_)));
         RUBBLE_TRY(readMaterials(top));

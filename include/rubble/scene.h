@@ -100,6 +100,11 @@ struct Scene {
     std::optional<std::uint32_t> findBody(std::string_view name) const;
 };
 
+/// The fields a scene file may have at its top level (docs/scene-format.md); any other is refused.
+inline constexpr std::string_view kSceneKeys[] = {"format",    "version", "name",   "simulation",
+                                                  "materials", "shapes",  "bodies", "generators",
+                                                  "joints",    "events"};
+
 /// Reads and checks a scene file. Errors are BadInput (or NotSupported) naming the file and the
 /// JSON path of the field, for example `scenes/a.json: bodies[3].mass: must be > 0, got -1`.
 Result<Scene> loadScene(const std::string& path);

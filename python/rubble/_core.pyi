@@ -10,6 +10,7 @@ import numpy.typing as npt
 
 __version__: str
 OPTION_KEYS: Tuple[str, ...]
+SCENE_KEYS: Tuple[str, ...]
 
 SceneSource = Union[str, os.PathLike[str], Mapping[str, Any]]
 Vec3 = Union[Sequence[float], npt.ArrayLike]

@@ -27,8 +27,7 @@ from rubble._tables import Table, make_table
 
 # World.load's keywords: a grid key among them is an option, any other a path into the scene.
 OPTION_KEYS = _core.OPTION_KEYS
-_TOP_KEYS = ("format", "version", "name", "simulation", "materials", "shapes", "bodies",
-             "generators", "joints", "events")
+_TOP_KEYS = _core.SCENE_KEYS
 _VECTOR_METRICS = ("linear_momentum", "angular_momentum", "centre_of_mass", "lo", "hi")
 _SCALAR_METRICS = ("time", "step", "bodies", "dynamic_bodies", "asleep_bodies",
                    "kinetic_energy", "potential_energy", "max_speed", "contacts",

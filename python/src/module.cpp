@@ -2,6 +2,7 @@
 // keyword options shared by the World and the tools (world_bindings.cpp, tools_bindings.cpp).
 #include <algorithm>
 #include <iterator>
+#include <span>
 #include <string_view>
 
 #include "python/src/bindings.h"
@@ -57,10 +58,11 @@ std::string optionTextOf(const py::handle& v, const std::string& where) {
 }
 
 // kKeywords as a Python tuple.
-py::tuple optionKeys() {
-    py::tuple keys(std::size(kKeywords));
-    for (std::size_t i = 0; i < std::size(kKeywords); ++i)
-        keys[i] = py::str(kKeywords[i].data(), kKeywords[i].size());
+// A list of names as a tuple of str.
+py::tuple tupleOf(std::span<const std::string_view> names) {
+    py::tuple keys(names.size());
+    for (std::size_t i = 0; i < names.size(); ++i)
+        keys[i] = py::str(names[i].data(), names[i].size());
     return keys;
 }
 
@@ -132,7 +134,8 @@ PYBIND11_MODULE(_core, m) {
     m.doc() = "rubble's C++ library: worlds, comparisons, solvers and devices. Use the package "
               "rubble, which re-exports these with its own helpers.";
     m.attr("__version__") = rubble::kVersion;
-    m.attr("OPTION_KEYS") = optionKeys();
+    m.attr("OPTION_KEYS") = tupleOf(kKeywords);
+    m.attr("SCENE_KEYS") = tupleOf(rubble::kSceneKeys);
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
