@@ -47,9 +47,11 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
         in.collision = CollisionMethod::Sat;
         in.shapes = s.shapes;
         in.joined = s.joined;
-        if (s.deviceJoints.size() != s.joints.size())
+        if (s.deviceJoints.size() != s.joints.size()) {
+            s.deviceJoints.clear();
             for (const Joint& j : makeJoints(s.joints, s.bodies.poses))
                 s.deviceJoints.push_back(sharedJoint(j));
+        }
         in.joints = s.deviceJoints;
     } else {
         particles = buildParticleSet(s.shapes, s.materials, s.bodies.view(),
