@@ -231,7 +231,7 @@ __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 countPairs(const uint capacity, __global const uint* status,
            __global const BodyPairRecord* pairs, __global uint* bodyCount) {
     const uint n = min(status[RUBBLE_STATUS_PAIRS], capacity);
-    for (uint p = get_global_id(0); p < n; p += get_global_size(0))
+    for (uint p = blockFirst(n), end = blockEnd(n); p < end; p += get_local_size(0))
         atomic_inc(&bodyCount[pairs[p].a]);
 }
 
@@ -239,7 +239,7 @@ __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 placePairs(const uint capacity, __global const uint* status, __global const BodyPairRecord* in,
            __global uint* cursor, __global BodyPairRecord* out) {
     const uint n = min(status[RUBBLE_STATUS_PAIRS], capacity);
-    for (uint p = get_global_id(0); p < n; p += get_global_size(0)) {
+    for (uint p = blockFirst(n), end = blockEnd(n); p < end; p += get_local_size(0)) {
         const BodyPairRecord pair = in[p];
         out[atomic_inc(&cursor[pair.a])] = pair;
     }

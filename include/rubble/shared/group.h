@@ -34,4 +34,18 @@ static uint groupReserve(__local uint* words, const uint n, __global uint* total
     return words[1] + offset;
 }
 
+// A launch that strides through `n` items (a count the device holds, so the launch has a fixed
+// size): this work-group's block of consecutive items is [blockFirst - local id, blockEnd), its
+// work-items going through it get_local_size(0) apart. Neighbours in a list (the pairs of one
+// body, sorted together) are then handled by one group: on a CPU device one core, with the
+// bodies they share in its cache; on a GPU adjacent work-items still read adjacent items.
+static uint blockSize(const uint n) {
+    const uint size = (uint)get_local_size(0), groups = (uint)get_num_groups(0);
+    return ((n + groups - 1u) / groups + size - 1u) / size * size;
+}
+static uint blockFirst(const uint n) {
+    return min((uint)get_group_id(0) * blockSize(n), n) + (uint)get_local_id(0);
+}
+static uint blockEnd(const uint n) { return min(((uint)get_group_id(0) + 1u) * blockSize(n), n); }
+
 #endif
