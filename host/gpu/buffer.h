@@ -60,6 +60,17 @@ Status enqueueUpload(const Context& c, const Buffer& b, std::span<const T> data,
     return {};
 }
 
+/// Non-blocking copy of the start of a buffer into a host array, which must stay put until the
+/// queue has run it; `profile` (optional) times it.
+template <class T>
+Status enqueueDownload(const Context& c, const Buffer& b, std::span<T> data, Profile* profile) {
+    if (data.empty()) return {};
+    cl_event* event = profile ? profile->transfer(Transfer::Read, data.size_bytes()) : nullptr;
+    RUBBLE_CL_CHECK(clEnqueueReadBuffer(c.queue(), b.mem(), CL_FALSE, 0, data.size_bytes(),
+                                        data.data(), 0, nullptr, event));
+    return {};
+}
+
 /// Blocking copy of the start of a buffer into a host array.
 template <class T>
 Status download(const Context& c, const Buffer& b, std::span<T> data) {

@@ -92,18 +92,27 @@ Status Pipeline::uploadBodies(BodiesView bodies) {
     return uploadMassesAndFlags(bodies.masses);
 }
 
-Status Pipeline::downloadBodies(Bodies bodies) {
+Status Pipeline::enqueueBodyRead(Bodies bodies, Profile* profile) {
     const Context& c = *context_;
-    RUBBLE_TRY(download(c, bodies_.poses, bodies.poses));
-    RUBBLE_TRY(download(c, bodies_.velocities, bodies.velocities));
-    RUBBLE_TRY(download(c, bodies_.momenta, bodies.momenta));
-    std::vector<cl_uint> flags(bodies_.count);
-    RUBBLE_TRY(download(c, bodies_.flags, std::span(flags)));
-    for (std::size_t i = 0; i < flags.size(); ++i) {
+    flagsHost_.resize(bodies_.count);
+    RUBBLE_TRY(enqueueDownload(c, bodies_.poses, bodies.poses, profile));
+    RUBBLE_TRY(enqueueDownload(c, bodies_.velocities, bodies.velocities, profile));
+    RUBBLE_TRY(enqueueDownload(c, bodies_.momenta, bodies.momenta, profile));
+    return enqueueDownload(c, bodies_.flags, std::span(flagsHost_), profile);
+}
+
+void Pipeline::takeSleepFlags(Bodies bodies) const {
+    for (std::size_t i = 0; i < flagsHost_.size(); ++i) {
         if (kinematic_[i]) continue; // the host's own flags
         bodies.masses[i].flags = (bodies.masses[i].flags & ~RUBBLE_BODY_ASLEEP) |
-                                 (flags[i] & RUBBLE_BODY_ASLEEP);
+                                 (flagsHost_[i] & RUBBLE_BODY_ASLEEP);
     }
+}
+
+Status Pipeline::downloadBodies(Bodies bodies) {
+    RUBBLE_TRY(enqueueBodyRead(bodies, nullptr));
+    RUBBLE_TRY(finish());
+    takeSleepFlags(bodies);
     return {};
 }
 
@@ -195,6 +204,11 @@ Status Pipeline::beginStep(const StepParams& params, const StepInputs& in) {
         RUBBLE_TRY(transformParticles());
         RUBBLE_TRY(buildGrid());
         RUBBLE_TRY(enqueueFromCollision(params));
+    }
+    readBack_ = in.readBack;
+    if (readBack_) {
+        RUBBLE_TRY(enqueueBodyRead(*readBack_, &profile_));
+        RUBBLE_CL_CHECK(clFlush(context_->queue()));
     }
     stepPending_ = true;
     return {};
@@ -359,8 +373,11 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
                                              RUBBLE_STATUS_CAPACITY * sizeof(cl_uint),
                                              sizeof capacity, &capacity, 0, nullptr, nullptr));
         RUBBLE_TRY(enqueueFromCollision(params));
+        if (readBack_) RUBBLE_TRY(enqueueBodyRead(*readBack_, &profile_));
         RUBBLE_TRY(finish());
     }
+    if (readBack_) takeSleepFlags(*readBack_);
+    readBack_.reset();
     const DeviceStatus st = statusFromSlots();
     TrafficCounts traffic;
     traffic.bodies = bodies_.count;

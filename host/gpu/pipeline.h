@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -213,6 +214,10 @@ struct StepInputs {
     std::span<const EventDesc> explosions;           ///< due this step
     std::span<const shared::ObstacleState> obstacles; ///< one per obstacle, in obstacle order
     bool gatherObstacleImpulses = false;              ///< two-way coupling
+    /// When set, the step ends by reading every body back into these arrays (as downloadBodies
+    /// does), in the same queue as the step, so that the host waits once: they must stay put
+    /// until endStep.
+    std::optional<Bodies> readBack;
 };
 
 class Pipeline {
@@ -232,6 +237,10 @@ class Pipeline {
     /// Reads poses, velocities, momenta and the sleep flags back into the host arrays, for
     /// whoever asked for the state (World::body, writers, metrics). Errors: Device.
     Status downloadBodies(Bodies bodies);
+    /// Enqueues downloadBodies' reads without waiting; takeSleepFlags then merges the flags, once
+    /// the queue has run them. `profile` (optional) times them. Errors: Device.
+    Status enqueueBodyRead(Bodies bodies, Profile* profile);
+    void takeSleepFlags(Bodies bodies) const;
     /// Reads `count` BodyPose records from body `first` on into `out` (as many bytes), for
     /// drawing. Errors: Device.
     Status downloadPoses(std::uint32_t first, std::uint32_t count, void* out);
@@ -454,6 +463,8 @@ class Pipeline {
     std::uint32_t lcpStride_ = 1;         ///< rows per contact of lcp-jacobi (lcpStride)
     bool forcesOnDevice_ = false;         ///< the device force buffer holds non-zero forces
     bool stepPending_ = false;            ///< beginStep ran, endStep not yet
+    std::optional<Bodies> readBack_;      ///< the step's StepInputs::readBack
+    std::vector<cl_uint> flagsHost_;      ///< the flags read with them
     bool warmSwapped_ = false;            ///< this step's solve kept its contacts for the next
     bool gatherImpulses_ = false;         ///< this step reads the obstacles' impulses
     // Host memory the step's non-blocking transfers read from or write to.

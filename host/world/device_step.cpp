@@ -134,12 +134,16 @@ Status stepDevice(WorldState& s, StepStats& stats) {
         in.obstacles = o->states;
         in.gatherObstacleImpulses = o->coupling == Coupling::TwoWay;
     }
+    // Without a CPU world the step ends by reading the bodies back, which the blow-up watch
+    // reads after every step: in the step's queue the host waits once, not twice.
+    if (!o) in.readBack = s.bodies.view();
     // The device's step is enqueued first; the CPU world steps while it runs; they meet.
     RUBBLE_TRY(p.beginStep(params, in));
     s.hostStale = true;
     Status cpuStepped;
     if (o) cpuStepped = o->cpu->step();
     const Status met = p.endStep(params, s.names, stats);
+    if (met.ok() && in.readBack) s.hostStale = false;
     if (o && in.gatherObstacleImpulses) {
         const std::span<const shared::BodyImpulse> j = p.obstacleImpulses();
         std::copy(j.begin(), j.end(), o->pending.begin());
