@@ -32,6 +32,26 @@ Status Buffer::reserve(cl_context context, std::size_t bytes) {
     return {};
 }
 
+Status writeBytes(const Context& c, const Buffer& b, std::size_t offset, const void* data,
+                  std::size_t bytes, Wait wait, Profile* profile) {
+    if (bytes == 0) return {};
+    cl_event* event = profile ? profile->transfer(Transfer::Write, bytes) : nullptr;
+    const cl_bool blocking = wait == Wait::Done ? CL_TRUE : CL_FALSE;
+    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), b.mem(), blocking, offset, bytes, data, 0,
+                                         nullptr, event));
+    return {};
+}
+
+Status readBytes(const Context& c, const Buffer& b, std::size_t offset, void* data,
+                 std::size_t bytes, Wait wait, Profile* profile) {
+    if (bytes == 0) return {};
+    cl_event* event = profile ? profile->transfer(Transfer::Read, bytes) : nullptr;
+    const cl_bool blocking = wait == Wait::Done ? CL_TRUE : CL_FALSE;
+    RUBBLE_CL_CHECK(clEnqueueReadBuffer(c.queue(), b.mem(), blocking, offset, bytes, data, 0,
+                                        nullptr, event));
+    return {};
+}
+
 Status fill(const Context& c, const Buffer& b, cl_uint value, std::size_t bytes,
             Profile* profile) {
     return fillRange(c, b, value, 0, bytes, profile);

@@ -34,14 +34,24 @@ class Buffer {
     std::size_t bytes_ = 0;
 };
 
+/// How a copy between host and device memory waits.
+enum class Wait { Done, Queued };
+
+/// The copy of `bytes` host bytes into a buffer from byte `offset` on (writeBytes), or of the
+/// buffer's bytes from `offset` on into host memory (readBytes): with Wait::Done the call
+/// returns once it is made; with Wait::Queued it is only enqueued, and the host memory must stay
+/// put until the queue has run it. `profile` (optional) times it. Nothing is enqueued for 0
+/// bytes.
+Status writeBytes(const Context& c, const Buffer& b, std::size_t offset, const void* data,
+                  std::size_t bytes, Wait wait, Profile* profile = nullptr);
+Status readBytes(const Context& c, const Buffer& b, std::size_t offset, void* data,
+                 std::size_t bytes, Wait wait, Profile* profile = nullptr);
+
 /// Blocking copy of a host array into the start of a buffer (reserved to fit).
 template <class T>
 Status upload(const Context& c, Buffer& b, std::span<const T> data) {
     RUBBLE_TRY(b.reserve(c.context(), data.size_bytes()));
-    if (data.empty()) return {};
-    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), b.mem(), CL_TRUE, 0, data.size_bytes(),
-                                         data.data(), 0, nullptr, nullptr));
-    return {};
+    return writeBytes(c, b, 0, data.data(), data.size_bytes(), Wait::Done);
 }
 
 /// The same, of a whole vector.
@@ -53,31 +63,20 @@ template <class T> Status upload(const Context& c, Buffer& b, const std::vector<
 /// must stay put until the queue has run the copy; `profile` (optional) times it.
 template <class T>
 Status enqueueUpload(const Context& c, const Buffer& b, std::span<const T> data, Profile* profile) {
-    if (data.empty()) return {};
-    cl_event* event = profile ? profile->transfer(Transfer::Write, data.size_bytes()) : nullptr;
-    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), b.mem(), CL_FALSE, 0, data.size_bytes(),
-                                         data.data(), 0, nullptr, event));
-    return {};
+    return writeBytes(c, b, 0, data.data(), data.size_bytes(), Wait::Queued, profile);
 }
 
 /// Non-blocking copy of the start of a buffer into a host array, which must stay put until the
 /// queue has run it; `profile` (optional) times it.
 template <class T>
 Status enqueueDownload(const Context& c, const Buffer& b, std::span<T> data, Profile* profile) {
-    if (data.empty()) return {};
-    cl_event* event = profile ? profile->transfer(Transfer::Read, data.size_bytes()) : nullptr;
-    RUBBLE_CL_CHECK(clEnqueueReadBuffer(c.queue(), b.mem(), CL_FALSE, 0, data.size_bytes(),
-                                        data.data(), 0, nullptr, event));
-    return {};
+    return readBytes(c, b, 0, data.data(), data.size_bytes(), Wait::Queued, profile);
 }
 
 /// Blocking copy of the start of a buffer into a host array.
 template <class T>
 Status download(const Context& c, const Buffer& b, std::span<T> data) {
-    if (data.empty()) return {};
-    RUBBLE_CL_CHECK(clEnqueueReadBuffer(c.queue(), b.mem(), CL_TRUE, 0, data.size_bytes(),
-                                        data.data(), 0, nullptr, nullptr));
-    return {};
+    return readBytes(c, b, 0, data.data(), data.size_bytes(), Wait::Done);
 }
 
 /// Blocking copy of the first `count` elements of a buffer into a new vector.

@@ -143,11 +143,7 @@ Status Pipeline::gatherObstacleImpulses() {
                    .arg(obstacles_.impulses)
                    .run(count, RUBBLE_GROUP_BODIES));
     // Read without waiting: the host applies them in the next step.
-    const std::size_t bytes = impulsesHost_.size() * sizeof(shared::BodyImpulse);
-    RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), obstacles_.impulses.mem(), CL_FALSE, 0,
-                                        bytes, impulsesHost_.data(), 0, nullptr,
-                                        profile_.transfer(Transfer::Read, bytes)));
-    return {};
+    return enqueueDownload(*context_, obstacles_.impulses, std::span(impulsesHost_), &profile_);
 }
 
 } // namespace rubble::gpu

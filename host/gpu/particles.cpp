@@ -133,13 +133,8 @@ Status Pipeline::readContactCount() {
                              "to %u and the stage run again\n",
                      st->contacts, st->capacity, grown);
         RUBBLE_TRY(setContactCapacity(grown, true));
-        const cl_uint zero = 0, capacity = contacts_.capacity;
-        RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_TRUE,
-                                             RUBBLE_STATUS_CONTACTS * sizeof(cl_uint),
-                                             sizeof zero, &zero, 0, nullptr, nullptr));
-        RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_TRUE,
-                                             RUBBLE_STATUS_CAPACITY * sizeof(cl_uint),
-                                             sizeof capacity, &capacity, 0, nullptr, nullptr));
+        RUBBLE_TRY(writeStatusSlot(RUBBLE_STATUS_CONTACTS, 0u));
+        RUBBLE_TRY(writeStatusSlot(RUBBLE_STATUS_CAPACITY, contacts_.capacity));
         RUBBLE_TRY(collideParticles());
     }
 }

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 
 #include "host/core/assert.h"
 #include "host/core/clock.h"
@@ -118,12 +119,13 @@ Status Pipeline::downloadBodies(Bodies bodies) {
 
 Status Pipeline::downloadPoses(std::uint32_t first, std::uint32_t count, void* out) {
     RUBBLE_ASSERT(std::size_t(first) + count <= bodies_.count);
-    if (count == 0) return {};
-    RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), bodies_.poses.mem(), CL_TRUE,
-                                        first * sizeof(shared::BodyPose),
-                                        count * sizeof(shared::BodyPose), out, 0, nullptr,
-                                        nullptr));
-    return {};
+    return readBytes(*context_, bodies_.poses, first * sizeof(shared::BodyPose), out,
+                     count * sizeof(shared::BodyPose), Wait::Done);
+}
+
+Status Pipeline::writeStatusSlot(std::uint32_t slot, cl_uint value) {
+    return writeBytes(*context_, status_, slot * sizeof(cl_uint), &value, sizeof value,
+                      Wait::Done);
 }
 
 Status Pipeline::uploadForces(std::span<const shared::BodyForce> forces) {
@@ -172,9 +174,7 @@ DeviceStatus Pipeline::statusFromSlots() const {
 }
 
 Result<DeviceStatus> Pipeline::readStatus() {
-    RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), status_.mem(), CL_TRUE, 0,
-                                        sizeof statusHost_, statusHost_.data(), 0, nullptr,
-                                        nullptr));
+    RUBBLE_TRY(download(*context_, status_, std::span<cl_uint>(statusHost_)));
     return statusFromSlots();
 }
 
@@ -319,9 +319,7 @@ Status Pipeline::clearForces() {
 
 Status Pipeline::enqueueStatusRead() {
     // Non-blocking: statusHost_ stays put until the step is met.
-    RUBBLE_CL_CHECK(clEnqueueReadBuffer(context_->queue(), status_.mem(), CL_FALSE, 0,
-                                        sizeof statusHost_, statusHost_.data(), 0, nullptr,
-                                        profile_.transfer(Transfer::Read, sizeof statusHost_)));
+    RUBBLE_TRY(enqueueDownload(*context_, status_, std::span<cl_uint>(statusHost_), &profile_));
     RUBBLE_CL_CHECK(clFlush(context_->queue()));
     return {};
 }
@@ -337,6 +335,8 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
                          StepStats& stats) {
     RUBBLE_ASSERT(stepPending_);
     stepPending_ = false;
+    // The step's read-back, if it asked for one (its arrays are the caller's till we return).
+    const std::optional<Bodies> readBack = std::exchange(readBack_, std::nullopt);
     const auto waitStart = std::chrono::steady_clock::now();
     RUBBLE_TRY(finish());
     stats.deviceWaitMs = msSince(waitStart);
@@ -364,20 +364,13 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
                              "to %u and the step's contact stages run again\n",
                      st.contacts, st.capacity, grown);
         RUBBLE_TRY(setContactCapacity(grown, true));
-        const cl_uint slots[2] = {0u, 0u};
-        const cl_uint capacity = contacts_.capacity;
-        RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_TRUE,
-                                             RUBBLE_STATUS_CONTACTS * sizeof(cl_uint),
-                                             sizeof slots[0], &slots[0], 0, nullptr, nullptr));
-        RUBBLE_CL_CHECK(clEnqueueWriteBuffer(context_->queue(), status_.mem(), CL_TRUE,
-                                             RUBBLE_STATUS_CAPACITY * sizeof(cl_uint),
-                                             sizeof capacity, &capacity, 0, nullptr, nullptr));
+        RUBBLE_TRY(writeStatusSlot(RUBBLE_STATUS_CONTACTS, 0u));
+        RUBBLE_TRY(writeStatusSlot(RUBBLE_STATUS_CAPACITY, contacts_.capacity));
         RUBBLE_TRY(enqueueFromCollision(params));
-        if (readBack_) RUBBLE_TRY(enqueueBodyRead(*readBack_, &profile_));
+        if (readBack) RUBBLE_TRY(enqueueBodyRead(*readBack, &profile_));
         RUBBLE_TRY(finish());
     }
-    if (readBack_) takeSleepFlags(*readBack_);
-    readBack_.reset();
+    if (readBack) takeSleepFlags(*readBack);
     const DeviceStatus st = statusFromSlots();
     TrafficCounts traffic;
     traffic.bodies = bodies_.count;

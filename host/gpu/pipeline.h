@@ -436,6 +436,8 @@ class Pipeline {
     /// The global size of a stage whose work-items stride through up to `capacity` items in
     /// groups of `group`: enough groups to fill the device, no more than the items need.
     std::size_t strideItems(std::uint32_t capacity, std::size_t group) const;
+    /// Sets one word of the status block (RUBBLE_STATUS_*), blocking. Errors: Device.
+    Status writeStatusSlot(std::uint32_t slot, cl_uint value);
     /// The arguments summarizePairs and buildPgsRows both read, in their kernels' order: the
     /// rows' settings (baumgarte, slop, dt, warm start) and last step's pairs and impulses.
     void bindRowSettings(Dispatch& d, const StepParams& params) const;

@@ -175,10 +175,7 @@ Status Pipeline::uploadPairs(std::span<const BodyPair> pairs) {
     RUBBLE_TRY(upload(c, sat_.current.pairs, records));
     const cl_uint count = cl_uint(pairs.size());
     RUBBLE_TRY(upload(c, sat_.current.count, std::span<const cl_uint>(&count, 1)));
-    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), status_.mem(), CL_TRUE,
-                                         RUBBLE_STATUS_PAIRS * sizeof(cl_uint), sizeof count,
-                                         &count, 0, nullptr, nullptr));
-    return {};
+    return writeStatusSlot(RUBBLE_STATUS_PAIRS, count);
 }
 
 Result<std::vector<BodyPair>> Pipeline::downloadPairs() {

@@ -1,5 +1,5 @@
-// include/rubble/shared/group.h: totals over a work-group, for the kernels only (nothing here
-// is compiled on the host). A kernel whose work-items each add to one global word (a count in
+// include/rubble/shared/group.h: totals over a work-group and each group's block of a strided
+// launch, for the kernels only (nothing here is compiled on the host). A kernel whose work-items each add to one global word (a count in
 // the status block, a largest change, the next free slot of a list) adds to a __local word
 // instead, and one work-item adds the group's total to the global word: one global atomic per
 // group instead of one per work-item. On a CPU device, work-items of groups running on two cores
@@ -35,8 +35,8 @@ static uint groupReserve(__local uint* words, const uint n, __global uint* total
 }
 
 // A launch that strides through `n` items (a count the device holds, so the launch has a fixed
-// size): this work-group's block of consecutive items is [blockFirst - local id, blockEnd), its
-// work-items going through it get_local_size(0) apart. Neighbours in a list (the pairs of one
+// size): this work-group takes a block of consecutive items, ending at blockEnd; work-item k of
+// the group goes through it from its k-th item (blockFirst), get_local_size(0) apart. Neighbours in a list (the pairs of one
 // body, sorted together) are then handled by one group: on a CPU device one core, with the
 // bodies they share in its cache; on a GPU adjacent work-items still read adjacent items.
 static uint blockSize(const uint n) {
