@@ -52,7 +52,9 @@ class SatTwin : public test::GpuTest {
 // crossed edges, apart), three steps each: as placed, moved by up to 0.3 mm (the cached feature
 // is reused), moved by up to 5 mm (the full test, last step's feature first).
 TEST_F(SatTwin, NarrowPhaseMatchesTheCpuOnRandomPairs) {
-    test::PairCases cases = test::makePairCases(20240611u, 4000);
+    // More pairs than the launch has work-items on a two-core device (2 x 32 groups of 64), so
+    // that each work-group goes through its block of pairs (blockFirst, blockEnd) in rounds.
+    test::PairCases cases = test::makePairCases(20240611u, 9000);
     test::StageInput& in = cases.in;
     gpu::PipelineHandle device = satPipeline(in);
     gpu::Pipeline& p = *device;
