@@ -32,24 +32,34 @@ Status Buffer::reserve(cl_context context, std::size_t bytes) {
     return {};
 }
 
+namespace {
+// writeBytes and readBytes: one OpenCL call or the other, the rest alike.
+Status copyBytes(const Context& c, const Buffer& b, Transfer kind, std::size_t offset, void* data,
+                 std::size_t bytes, Wait wait, Profile* profile) {
+    if (bytes == 0) return {};
+    cl_event* event = profile ? profile->transfer(kind, bytes) : nullptr;
+    const cl_bool blocking = wait == Wait::Done ? CL_TRUE : CL_FALSE;
+    const bool write = kind == Transfer::Write;
+    const cl_int status =
+        write ? clEnqueueWriteBuffer(c.queue(), b.mem(), blocking, offset, bytes, data, 0, nullptr,
+                                     event)
+              : clEnqueueReadBuffer(c.queue(), b.mem(), blocking, offset, bytes, data, 0, nullptr,
+                                    event);
+    if (status != CL_SUCCESS)
+        return clError(write ? "clEnqueueWriteBuffer" : "clEnqueueReadBuffer", status);
+    return {};
+}
+} // namespace
+
 Status writeBytes(const Context& c, const Buffer& b, std::size_t offset, const void* data,
                   std::size_t bytes, Wait wait, Profile* profile) {
-    if (bytes == 0) return {};
-    cl_event* event = profile ? profile->transfer(Transfer::Write, bytes) : nullptr;
-    const cl_bool blocking = wait == Wait::Done ? CL_TRUE : CL_FALSE;
-    RUBBLE_CL_CHECK(clEnqueueWriteBuffer(c.queue(), b.mem(), blocking, offset, bytes, data, 0,
-                                         nullptr, event));
-    return {};
+    // clEnqueueWriteBuffer only reads `data`.
+    return copyBytes(c, b, Transfer::Write, offset, const_cast<void*>(data), bytes, wait, profile);
 }
 
 Status readBytes(const Context& c, const Buffer& b, std::size_t offset, void* data,
                  std::size_t bytes, Wait wait, Profile* profile) {
-    if (bytes == 0) return {};
-    cl_event* event = profile ? profile->transfer(Transfer::Read, bytes) : nullptr;
-    const cl_bool blocking = wait == Wait::Done ? CL_TRUE : CL_FALSE;
-    RUBBLE_CL_CHECK(clEnqueueReadBuffer(c.queue(), b.mem(), blocking, offset, bytes, data, 0,
-                                        nullptr, event));
-    return {};
+    return copyBytes(c, b, Transfer::Read, offset, data, bytes, wait, profile);
 }
 
 Status fill(const Context& c, const Buffer& b, cl_uint value, std::size_t bytes,
