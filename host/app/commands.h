@@ -64,6 +64,7 @@ struct RunArgs {
     std::string out;
     int every = 1;
     std::string metrics;
+    std::string trace; ///< the device's commands as Chrome trace events (opencl backend)
     bool quiet = false;
 };
 int runCommand(const RunArgs& args);

@@ -31,6 +31,8 @@ int main(int argc, char** argv) {
     runCmd->add_option("--out", run.out, "Trajectory file, .csv or .jsonl");
     runCmd->add_option("--every", run.every, "Write every K-th step (step 0 always)");
     runCmd->add_option("--metrics", run.metrics, "Summary file, .json");
+    runCmd->add_option("--trace", run.trace,
+                       "The OpenCL device's commands of every step, .json (Chrome trace events)");
     runCmd->add_flag("--quiet", run.quiet, "No progress bar");
 
     ValidateArgs validate;

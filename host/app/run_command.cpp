@@ -11,6 +11,7 @@
 #include "host/app/commands.h"
 #include "host/core/math.h"
 #include "host/io/metrics.h"
+#include "host/io/trace.h"
 #include "host/io/trajectory_writer.h"
 #include "rubble/world.h"
 
@@ -98,6 +99,11 @@ int runCommand(const RunArgs& args) {
     if (!scene) return report(scene.error());
     if (Status s = applyOverrides(args.overrides, *scene); !s) return report(s.error());
     if (args.every < 1) return report(makeError(ErrorKind::BadInput, "--every", "must be 1 or more"));
+    // A trace is the device's commands: the cpu backend has none to give.
+    if (!args.trace.empty() && scene->simulation.backend != Backend::OpenCl)
+        return report(makeError(ErrorKind::BadInput, "--trace",
+                                "records the OpenCL device's commands, and this run's backend "
+                                "is cpu (add --backend opencl)"));
     RunOptions run = args.run;
     run.stop = &gStop;
     Result<World> world = World::create(*scene, run);
@@ -105,12 +111,22 @@ int runCommand(const RunArgs& args) {
     reportWarnings(*world);
 
     // Every output is created before the first step: a missing or read-only folder fails now,
-    // not after the run (the metrics file first: dropped unwritten, it leaves nothing).
+    // not after the run (the metrics and trace files first: dropped unwritten, they leave
+    // nothing).
     std::optional<AtomicFile> metricsFile;
     if (!args.metrics.empty()) {
         Result<AtomicFile> m = AtomicFile::create(args.metrics);
         if (!m) return report(m.error());
         metricsFile.emplace(std::move(*m));
+    }
+    std::optional<AtomicFile> traceFile;
+    std::optional<TraceRecorder> trace;
+    if (!args.trace.empty()) {
+        Result<AtomicFile> t = AtomicFile::create(args.trace);
+        if (!t) return report(makeError(t.error().kind, "--trace", t.error().describe()));
+        traceFile.emplace(std::move(*t));
+        trace.emplace();
+        if (Status s = trace->start(*world); !s) return report(s.error());
     }
     std::optional<TrajectoryWriter> out;
     if (!args.out.empty()) {
@@ -135,10 +151,12 @@ int runCommand(const RunArgs& args) {
     if (driftFrom == 0) snapshot(*world, before);
     for (int step = 1; step <= steps; ++step) {
         if (gStop) break;
+        const Clock::time_point stepBegin = Clock::now();
         if (Status s = world->step(); !s) {
             if (s.error().kind != ErrorKind::Interrupted) failure = s.error();
             break;
         }
+        if (trace) trace->afterStep(*world, stepBegin, Clock::now());
         metrics.afterStep(*world);
         if (step == driftFrom) snapshot(*world, before);
         if (out && step % args.every == 0)
@@ -167,6 +185,13 @@ int runCommand(const RunArgs& args) {
         const double interval = double(world->stepIndex() - driftFrom) * scene->simulation.dt;
         metrics.setQuality(assessQuality(qualityBodies(*world), now, before, interval));
         if (Status s = metricsFile->commit(metrics.toJson(*world)); !s) return report(s.error());
+    }
+    // A run that blew up keeps the trace of the steps it completed, without the clocks'
+    // second sample.
+    if (traceFile) {
+        if (!failure)
+            if (Status s = trace->finish(*world); !s) return report(s.error());
+        if (Status s = traceFile->commit(trace->toJson(*world)); !s) return report(s.error());
     }
     if (failure) {
         const int code = report(*failure);

@@ -73,10 +73,10 @@ Status enqueueDownload(const Context& c, const Buffer& b, std::span<T> data, Pro
     return readBytes(c, b, 0, data.data(), data.size_bytes(), Wait::Queued, profile);
 }
 
-/// Blocking copy of the start of a buffer into a host array.
+/// Blocking copy of the start of a buffer into a host array; `profile` (optional) times it.
 template <class T>
-Status download(const Context& c, const Buffer& b, std::span<T> data) {
-    return readBytes(c, b, 0, data.data(), data.size_bytes(), Wait::Done);
+Status download(const Context& c, const Buffer& b, std::span<T> data, Profile* profile = nullptr) {
+    return readBytes(c, b, 0, data.data(), data.size_bytes(), Wait::Done, profile);
 }
 
 /// Blocking copy of the first `count` elements of a buffer into a new vector.

@@ -108,8 +108,8 @@ Status Pipeline::colorPgs() {
     const std::uint32_t pairs = std::min(statusFromSlots().pairs, sat_.current.capacity);
     g.pairRowsHost.resize(pairs);
     g.pairsHost.resize(pairs);
-    RUBBLE_TRY(download(c, g.pairRows, std::span(g.pairRowsHost)));
-    RUBBLE_TRY(download(c, sat_.current.pairs, std::span(g.pairsHost)));
+    RUBBLE_TRY(download(c, g.pairRows, std::span(g.pairRowsHost), &profile_));
+    RUBBLE_TRY(download(c, sat_.current.pairs, std::span(g.pairsHost), &profile_));
     // Greedy: the joints first (the CPU's sweep solves them before the contacts), then the
     // pairs with rows from the bottom up (Coloring::addBySupport), each color in pair order.
     Coloring& coloring = g.coloring;

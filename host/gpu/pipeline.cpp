@@ -174,7 +174,9 @@ DeviceStatus Pipeline::statusFromSlots() const {
 }
 
 Result<DeviceStatus> Pipeline::readStatus() {
-    RUBBLE_TRY(download(*context_, status_, std::span<cl_uint>(statusHost_)));
+    // Timed: in a step it is the device's work while the host waits (a read outside a step is
+    // dropped with the records at the next beginStep).
+    RUBBLE_TRY(download(*context_, status_, std::span<cl_uint>(statusHost_), &profile_));
     return statusFromSlots();
 }
 

@@ -395,6 +395,8 @@ class Pipeline {
     Status finish();
     /// Device time of each kernel and transfer over the steps so far.
     std::vector<CommandTotals> profileTotals() const { return profile_.totals(); }
+    /// The commands of the last step that was met, in the order they were enqueued.
+    std::span<const CommandTime> lastCommands() const { return profile_.lastCommands(); }
     /// Adds the device times of the commands enqueued since the last step was met (or the last
     /// call; all must have completed) to the totals, kernels' bytes from `counts`: for
     /// benchmarks of single stages. Errors: Device.

@@ -2,6 +2,7 @@
 #include "host/gpu/profile.h"
 
 #include <algorithm>
+#include <chrono>
 #include <limits>
 
 #include "host/gpu/cl_check.h"
@@ -28,7 +29,52 @@ double& stageField(DeviceStageMs& s, DeviceStage stage) {
     return s.sleep;
 }
 
+std::int64_t hostNowNs() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+
 } // namespace
+
+std::string_view stageName(DeviceStage stage) {
+    switch (stage) {
+    case DeviceStage::ApplyForces: return "apply_forces";
+    case DeviceStage::IntegrateVelocities: return "integrate_velocities";
+    case DeviceStage::BroadPhase: return "broad_phase";
+    case DeviceStage::NarrowPhase: return "narrow_phase";
+    case DeviceStage::BuildContactRows: return "build_contact_rows";
+    case DeviceStage::Solve: return "solve";
+    case DeviceStage::IntegratePositions: return "integrate_positions";
+    case DeviceStage::Sleep:
+    case DeviceStage::Count: break;
+    }
+    return "sleep";
+}
+
+Result<DeviceClockSample> sampleClock(cl_command_queue queue, int tries) {
+    // An idle queue: each marker runs as soon as it is enqueued, and the wait is short.
+    RUBBLE_CL_CHECK(clFinish(queue));
+    DeviceClockSample best;
+    for (int t = 0; t < tries; ++t) {
+        cl_event marker = nullptr;
+        const std::int64_t before = hostNowNs();
+        RUBBLE_CL_CHECK(clEnqueueMarkerWithWaitList(queue, 0, nullptr, &marker));
+        const std::int64_t after = hostNowNs();
+        cl_ulong queued = 0;
+        const cl_int waited = clWaitForEvents(1, &marker);
+        const cl_int read = waited != CL_SUCCESS
+                                ? waited
+                                : clGetEventProfilingInfo(marker, CL_PROFILING_COMMAND_QUEUED,
+                                                          sizeof queued, &queued, nullptr);
+        clReleaseEvent(marker);
+        if (waited != CL_SUCCESS) return clError("clWaitForEvents", waited);
+        if (read != CL_SUCCESS) return clError("clGetEventProfilingInfo", read);
+        if (t == 0 || after - before < best.hostAfterNs - best.hostBeforeNs)
+            best = DeviceClockSample{queued, before, after};
+    }
+    return best;
+}
 
 Profile::Profile() {
     totals_.resize(kKernels + static_cast<unsigned>(Transfer::Count));
@@ -64,10 +110,15 @@ Result<DeviceTimes> Profile::collect(const TrafficCounts& counts) {
     DeviceTimes t;
     cl_ulong first = std::numeric_limits<cl_ulong>::max(), last = 0;
     Status failed;
+    lastCommands_.clear();
     for (Record& r : records_) {
         if (!r.event || !failed.ok()) continue;
-        cl_ulong start = 0, end = 0;
+        cl_ulong queued = 0, submit = 0, start = 0, end = 0;
         failed = [&]() -> Status {
+            RUBBLE_CL_CHECK(clGetEventProfilingInfo(r.event, CL_PROFILING_COMMAND_QUEUED,
+                                                    sizeof queued, &queued, nullptr));
+            RUBBLE_CL_CHECK(clGetEventProfilingInfo(r.event, CL_PROFILING_COMMAND_SUBMIT,
+                                                    sizeof submit, &submit, nullptr));
             RUBBLE_CL_CHECK(clGetEventProfilingInfo(r.event, CL_PROFILING_COMMAND_START,
                                                     sizeof start, &start, nullptr));
             RUBBLE_CL_CHECK(clGetEventProfilingInfo(r.event, CL_PROFILING_COMMAND_END, sizeof end,
@@ -75,6 +126,8 @@ Result<DeviceTimes> Profile::collect(const TrafficCounts& counts) {
             return {};
         }();
         if (!failed.ok()) continue;
+        lastCommands_.push_back(
+            CommandTime{totals_[r.command].name, r.stage, queued, submit, start, end});
         const double ms = end > start ? double(end - start) * 1e-6 : 0.0;
         first = std::min(first, start);
         last = std::max(last, end);
@@ -88,6 +141,7 @@ Result<DeviceTimes> Profile::collect(const TrafficCounts& counts) {
                            : kernelBytes(KernelId(r.command), counts);
     }
     discard();
+    if (!failed.ok()) lastCommands_.clear();
     RUBBLE_TRY(failed);
     if (last > first) t.spanMs = double(last - first) * 1e-6;
     return t;

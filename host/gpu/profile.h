@@ -1,11 +1,13 @@
 // host/gpu/profile.h: the device time of every command of a step, from OpenCL profiling events:
-// summed by stage for the step's StepStats, and by kernel or transfer over the whole run.
+// summed by stage for the step's StepStats, by kernel or transfer over the whole run, and kept
+// command by command for the last step (rubble run --trace).
 #pragma once
 
 #include <CL/cl.h>
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -40,6 +42,22 @@ struct CommandTotals {
     std::uint64_t bytes = 0; ///< bytes moved: a transfer's, or a kernel's (host/gpu/traffic.h)
 };
 
+/// The name of a stage as the metrics' device_stages_ms has it (`build_contact_rows`).
+std::string_view stageName(DeviceStage stage);
+
+/// One command of the last step: its profiling times on the device's clock, ns.
+struct CommandTime {
+    std::string_view name; ///< the kernel's, or the transfer's (`(read from device)`)
+    DeviceStage stage;
+    cl_ulong queued, submit, start, end;
+};
+
+/// The device's clock against the host's steady clock: the CL_PROFILING_COMMAND_QUEUED time of a
+/// marker, taken when the host enqueues it, and the host's time just before and after the
+/// enqueue; of `tries` markers, the one whose enqueue took least. Waits for the queue to empty.
+/// Errors: Device.
+Result<DeviceClockSample> sampleClock(cl_command_queue queue, int tries = 20);
+
 /// What one step's commands took on the device.
 struct DeviceTimes {
     double busyMs = 0;   ///< sum of the commands' durations
@@ -70,6 +88,8 @@ class Profile {
     Result<DeviceTimes> collect(const TrafficCounts& counts = {});
     /// Releases the recorded events without reading them (a step that failed).
     void discard();
+    /// The commands the last collect() read, in the order they were enqueued.
+    std::span<const CommandTime> lastCommands() const { return lastCommands_; }
 
     /// Totals over the run, kernels in KernelId order then transfers; commands never run are
     /// left out.
@@ -87,6 +107,7 @@ class Profile {
     cl_event* add(unsigned command, std::size_t bytes);
     DeviceStage stage_ = DeviceStage::ApplyForces;
     std::vector<Record> records_;
+    std::vector<CommandTime> lastCommands_; // reused: a warm step allocates nothing
     std::vector<CommandTotals> totals_;
 };
 

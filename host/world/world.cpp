@@ -173,6 +173,20 @@ std::vector<DeviceCommandTime> World::deviceProfile() const {
         out.push_back(DeviceCommandTime{std::string(c.name), c.ms, c.launches, c.bytes});
     return out;
 }
+std::vector<DeviceCommand> World::lastDeviceCommands() const {
+    std::vector<DeviceCommand> out;
+    if (!s_->device) return out;
+    for (const gpu::CommandTime& c : s_->device->lastCommands())
+        out.push_back(DeviceCommand{c.name, gpu::stageName(c.stage), c.queued, c.submit, c.start,
+                                    c.end});
+    return out;
+}
+Result<DeviceClockSample> World::sampleDeviceClock() const {
+    if (!s_->device)
+        return makeError(ErrorKind::NotSupported, "sampleDeviceClock",
+                         "the cpu backend has no OpenCL device");
+    return gpu::sampleClock(s_->device->context().queue());
+}
 std::span<const ShapeGeometry> World::shapes() const { return s_->geometry; }
 const ShapeGeometry& World::shape(std::uint32_t shape) const { return s_->geometry.at(shape); }
 std::uint32_t World::bodyShape(std::uint32_t body) const { return s_->bodies.shapeOf.at(body); }

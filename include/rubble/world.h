@@ -106,6 +106,28 @@ struct DeviceCommandTime {
     std::uint64_t bytes = 0;    ///< moved: a transfer's, or a kernel's (counted from its code)
 };
 
+/// One command the OpenCL device ran in the last step, from its profiling event: the times are
+/// the device clock's (CL_PROFILING_COMMAND_QUEUED, _SUBMIT, _START, _END), ns from a zero of the
+/// device's own (DeviceClockSample relates it to the host's clock).
+struct DeviceCommand {
+    std::string_view name;  ///< the kernel, or the transfer (`(write to device)`); static text
+    std::string_view stage; ///< its stage, a key of the metrics' device_stages_ms; static text
+    std::uint64_t queuedNs = 0; ///< the host enqueued it
+    std::uint64_t submitNs = 0; ///< the queue handed it to the device
+    std::uint64_t startNs = 0;  ///< it began to run
+    std::uint64_t endNs = 0;    ///< it was done
+};
+
+/// One moment seen on both clocks: the device clock's time at which the host enqueued a marker
+/// (its CL_PROFILING_COMMAND_QUEUED), and the host's std::chrono::steady_clock just before and
+/// just after the enqueue, ns since the steady clock's epoch. The device time lies between the
+/// two host times, so device - host is known to within half their difference.
+struct DeviceClockSample {
+    std::uint64_t deviceNs = 0;
+    std::int64_t hostBeforeNs = 0;
+    std::int64_t hostAfterNs = 0;
+};
+
 /// A body's pose for drawing, 32 bytes: the layout of the device's pose records, so that bodies on
 /// the OpenCL device are read into it without conversion.
 struct BodyTransform {
@@ -259,6 +281,14 @@ class World {
     std::string deviceName() const;
     /// Device time of each kernel and transfer over the steps so far (empty on the cpu backend).
     std::vector<DeviceCommandTime> deviceProfile() const;
+    /// The device's commands of the last step in the order they were enqueued, which is the
+    /// order the device's in-order queue ran them in (empty on the cpu backend and before the
+    /// first step).
+    std::vector<DeviceCommand> lastDeviceCommands() const;
+    /// Relates the device's clock to the host's: enqueues a few markers on the device's queue
+    /// and waits for them (call it between steps; the bodies are not touched). Errors:
+    /// NotSupported on the cpu backend, Device.
+    Result<DeviceClockSample> sampleDeviceClock() const;
 
     /// The shapes of the scene, by index, as built (centre of mass at the origin).
     std::span<const ShapeGeometry> shapes() const;

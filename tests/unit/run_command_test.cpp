@@ -104,6 +104,19 @@ TEST(RunCommand, NonFiniteStateStopsCleanlyAndKeepsWhatWasWritten) {
         EXPECT_EQ(l[i].find("inf"), std::string::npos) << "a non-finite row was written: " << l[i];
 }
 
+// The trace is the OpenCL device's commands: asked of the cpu backend, the run is refused before
+// it starts, naming the option, and leaves no file.
+TEST(RunCommand, TraceWithoutADeviceIsRefused) {
+    const std::string dir = test::tempDir("run_trace_cpu");
+    test::writeText(dir + "/s.json", kScene);
+    const test::CommandResult r =
+        test::runRubble("run " + dir + "/s.json --trace " + dir + "/t.json --quiet");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("--trace"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("cpu"), std::string::npos) << r.output;
+    EXPECT_EQ(test::runShell("ls " + dir).output, "s.json\n");
+}
+
 TEST(RunCommand, VersionAndHelp) {
     test::CommandResult r = test::runRubble("--version");
     EXPECT_EQ(r.exitCode, 0);
