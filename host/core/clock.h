@@ -2,10 +2,16 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 
 namespace rubble {
 
 using Clock = std::chrono::steady_clock;
+
+/// A time point as nanoseconds since the clock's epoch.
+inline std::int64_t steadyNs(Clock::time_point t) {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+}
 
 /// Milliseconds of wall time since `start`.
 inline double msSince(Clock::time_point start) {

@@ -395,7 +395,10 @@ class Pipeline {
     Status finish();
     /// Device time of each kernel and transfer over the steps so far.
     std::vector<CommandTotals> profileTotals() const { return profile_.totals(); }
-    /// The commands of the last step that was met, in the order they were enqueued.
+    /// Whether the steps keep each command's times for lastCommands().
+    void keepCommands(bool keep) { profile_.keepCommands(keep); }
+    /// The commands of the last step that was met, in the order they were enqueued (none unless
+    /// kept).
     std::span<const CommandTime> lastCommands() const { return profile_.lastCommands(); }
     /// Adds the device times of the commands enqueued since the last step was met (or the last
     /// call; all must have completed) to the totals, kernels' bytes from `counts`: for

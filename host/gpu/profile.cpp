@@ -2,9 +2,9 @@
 #include "host/gpu/profile.h"
 
 #include <algorithm>
-#include <chrono>
 #include <limits>
 
+#include "host/core/clock.h"
 #include "host/gpu/cl_check.h"
 
 namespace rubble::gpu {
@@ -27,12 +27,6 @@ double& stageField(DeviceStageMs& s, DeviceStage stage) {
     case DeviceStage::Count: break;
     }
     return s.sleep;
-}
-
-std::int64_t hostNowNs() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch())
-        .count();
 }
 
 } // namespace
@@ -58,9 +52,9 @@ Result<DeviceClockSample> sampleClock(cl_command_queue queue, int tries) {
     DeviceClockSample best;
     for (int t = 0; t < tries; ++t) {
         cl_event marker = nullptr;
-        const std::int64_t before = hostNowNs();
+        const std::int64_t before = steadyNs(Clock::now());
         RUBBLE_CL_CHECK(clEnqueueMarkerWithWaitList(queue, 0, nullptr, &marker));
-        const std::int64_t after = hostNowNs();
+        const std::int64_t after = steadyNs(Clock::now());
         cl_ulong queued = 0;
         const cl_int waited = clWaitForEvents(1, &marker);
         const cl_int read = waited != CL_SUCCESS
@@ -115,10 +109,12 @@ Result<DeviceTimes> Profile::collect(const TrafficCounts& counts) {
         if (!r.event || !failed.ok()) continue;
         cl_ulong queued = 0, submit = 0, start = 0, end = 0;
         failed = [&]() -> Status {
-            RUBBLE_CL_CHECK(clGetEventProfilingInfo(r.event, CL_PROFILING_COMMAND_QUEUED,
-                                                    sizeof queued, &queued, nullptr));
-            RUBBLE_CL_CHECK(clGetEventProfilingInfo(r.event, CL_PROFILING_COMMAND_SUBMIT,
-                                                    sizeof submit, &submit, nullptr));
+            if (keepCommands_) {
+                RUBBLE_CL_CHECK(clGetEventProfilingInfo(r.event, CL_PROFILING_COMMAND_QUEUED,
+                                                        sizeof queued, &queued, nullptr));
+                RUBBLE_CL_CHECK(clGetEventProfilingInfo(r.event, CL_PROFILING_COMMAND_SUBMIT,
+                                                        sizeof submit, &submit, nullptr));
+            }
             RUBBLE_CL_CHECK(clGetEventProfilingInfo(r.event, CL_PROFILING_COMMAND_START,
                                                     sizeof start, &start, nullptr));
             RUBBLE_CL_CHECK(clGetEventProfilingInfo(r.event, CL_PROFILING_COMMAND_END, sizeof end,
@@ -126,8 +122,9 @@ Result<DeviceTimes> Profile::collect(const TrafficCounts& counts) {
             return {};
         }();
         if (!failed.ok()) continue;
-        lastCommands_.push_back(
-            CommandTime{totals_[r.command].name, r.stage, queued, submit, start, end});
+        if (keepCommands_)
+            lastCommands_.push_back(
+                CommandTime{totals_[r.command].name, r.stage, queued, submit, start, end});
         const double ms = end > start ? double(end - start) * 1e-6 : 0.0;
         first = std::min(first, start);
         last = std::max(last, end);

@@ -88,7 +88,10 @@ class Profile {
     Result<DeviceTimes> collect(const TrafficCounts& counts = {});
     /// Releases the recorded events without reading them (a step that failed).
     void discard();
-    /// The commands the last collect() read, in the order they were enqueued.
+    /// Whether collect() keeps each command's times for lastCommands() (two more queries per
+    /// command: only while someone reads them, rubble run --trace).
+    void keepCommands(bool keep) { keepCommands_ = keep; }
+    /// The commands the last collect() read, in the order they were enqueued (none unless kept).
     std::span<const CommandTime> lastCommands() const { return lastCommands_; }
 
     /// Totals over the run, kernels in KernelId order then transfers; commands never run are
@@ -107,6 +110,7 @@ class Profile {
     cl_event* add(unsigned command, std::size_t bytes);
     DeviceStage stage_ = DeviceStage::ApplyForces;
     std::vector<Record> records_;
+    bool keepCommands_ = false;
     std::vector<CommandTime> lastCommands_; // reused: a warm step allocates nothing
     std::vector<CommandTotals> totals_;
 };

@@ -14,10 +14,6 @@ constexpr int kPid = 1;
 constexpr int kDeviceTid = 1; // the device's in-order queue
 constexpr int kHostTid = 2;   // World::step on the host
 
-std::int64_t steadyNs(Clock::time_point t) {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
-}
-
 // device - host, ns, taking the device's reading at the middle of the host's two.
 double offsetNs(const DeviceClockSample& s) {
     return double(s.deviceNs) - 0.5 * (double(s.hostBeforeNs) + double(s.hostAfterNs));
@@ -39,7 +35,8 @@ nlohmann::ordered_json nameEvent(const char* what, int tid, const std::string& n
 
 } // namespace
 
-Status TraceRecorder::start(const World& world) {
+Status TraceRecorder::start(World& world) {
+    world.keepDeviceCommands(true);
     Result<DeviceClockSample> s = world.sampleDeviceClock();
     RUBBLE_TRY(s);
     first_ = *s;

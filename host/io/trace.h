@@ -21,9 +21,9 @@ namespace rubble {
 /// commands, 3.3 MB); the text written at the end is about 175 bytes per command.
 class TraceRecorder {
   public:
-    /// Relates the clocks before the first step. Errors: NotSupported on the cpu backend,
-    /// Device.
-    Status start(const World& world);
+    /// Has the world keep its steps' device commands and relates the clocks before the first
+    /// step. Errors: NotSupported on the cpu backend, Device.
+    Status start(World& world);
     /// Records the step that just ran: its device commands, and its host span, the wall time
     /// from `begin` to `end` around World::step.
     void afterStep(const World& world, Clock::time_point begin, Clock::time_point end);

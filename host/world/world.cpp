@@ -173,6 +173,9 @@ std::vector<DeviceCommandTime> World::deviceProfile() const {
         out.push_back(DeviceCommandTime{std::string(c.name), c.ms, c.launches, c.bytes});
     return out;
 }
+void World::keepDeviceCommands(bool keep) {
+    if (s_->device) s_->device->keepCommands(keep);
+}
 std::vector<DeviceCommand> World::lastDeviceCommands() const {
     std::vector<DeviceCommand> out;
     if (!s_->device) return out;

@@ -281,9 +281,12 @@ class World {
     std::string deviceName() const;
     /// Device time of each kernel and transfer over the steps so far (empty on the cpu backend).
     std::vector<DeviceCommandTime> deviceProfile() const;
+    /// Whether the steps from now on keep each device command's times for lastDeviceCommands()
+    /// (off by default: two more profiling queries per command). No effect on the cpu backend.
+    void keepDeviceCommands(bool keep);
     /// The device's commands of the last step in the order they were enqueued, which is the
-    /// order the device's in-order queue ran them in (empty on the cpu backend and before the
-    /// first step).
+    /// order the device's in-order queue ran them in (empty on the cpu backend, before the
+    /// first step, and unless keepDeviceCommands(true)).
     std::vector<DeviceCommand> lastDeviceCommands() const;
     /// Relates the device's clock to the host's: enqueues a few markers on the device's queue
     /// and waits for them (call it between steps; the bodies are not touched). Errors:

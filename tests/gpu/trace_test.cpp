@@ -158,7 +158,10 @@ TEST_F(Trace, TheWorldGivesItsLastStepsCommandsInTimeOrder) {
     Result<World> made = World::create(*scene, run);
     ASSERT_TRUE(made.ok()) << made.error().describe();
     World& w = *made;
+    // Not kept unless asked.
+    ASSERT_TRUE(w.step().ok());
     EXPECT_TRUE(w.lastDeviceCommands().empty());
+    w.keepDeviceCommands(true);
     Result<DeviceClockSample> before = w.sampleDeviceClock();
     ASSERT_TRUE(before.ok()) << before.error().describe();
     EXPECT_LE(before->hostBeforeNs, before->hostAfterNs);
