@@ -2,6 +2,7 @@
 #include "host/gpu/profile.h"
 
 #include <algorithm>
+#include <iterator>
 #include <limits>
 
 #include "host/core/clock.h"
@@ -14,36 +15,17 @@ constexpr unsigned kKernels = static_cast<unsigned>(KernelId::Count);
 constexpr std::string_view kTransferNames[] = {"(write to device)", "(read from device)",
                                                "(copy on device)", "(fill on device)"};
 
+static_assert(std::size(kDeviceStageFields) == static_cast<std::size_t>(DeviceStage::Count),
+              "kDeviceStageFields has one entry per DeviceStage, in its order");
+
 double& stageField(DeviceStageMs& s, DeviceStage stage) {
-    switch (stage) {
-    case DeviceStage::ApplyForces: return s.applyForces;
-    case DeviceStage::IntegrateVelocities: return s.integrateVelocities;
-    case DeviceStage::BroadPhase: return s.broadPhase;
-    case DeviceStage::NarrowPhase: return s.narrowPhase;
-    case DeviceStage::BuildContactRows: return s.buildContactRows;
-    case DeviceStage::Solve: return s.solve;
-    case DeviceStage::IntegratePositions: return s.integratePositions;
-    case DeviceStage::Sleep:
-    case DeviceStage::Count: break;
-    }
-    return s.sleep;
+    return s.*kDeviceStageFields[static_cast<unsigned>(stage)].ms;
 }
 
 } // namespace
 
 std::string_view stageName(DeviceStage stage) {
-    switch (stage) {
-    case DeviceStage::ApplyForces: return "apply_forces";
-    case DeviceStage::IntegrateVelocities: return "integrate_velocities";
-    case DeviceStage::BroadPhase: return "broad_phase";
-    case DeviceStage::NarrowPhase: return "narrow_phase";
-    case DeviceStage::BuildContactRows: return "build_contact_rows";
-    case DeviceStage::Solve: return "solve";
-    case DeviceStage::IntegratePositions: return "integrate_positions";
-    case DeviceStage::Sleep:
-    case DeviceStage::Count: break;
-    }
-    return "sleep";
+    return kDeviceStageFields[static_cast<unsigned>(stage)].name;
 }
 
 Result<DeviceClockSample> sampleClock(cl_command_queue queue, int tries) {

@@ -21,7 +21,8 @@ namespace rubble::gpu {
 /// Commands that are not kernels, counted beside them.
 enum class Transfer : unsigned { Write, Read, Copy, Fill, Count };
 
-/// The stage a command belongs to; each is a field of DeviceStageMs.
+/// The stage a command belongs to, in the order of kDeviceStageFields (rubble/world.h), which
+/// names it and gives its field of DeviceStageMs.
 enum class DeviceStage : unsigned {
     ApplyForces,
     IntegrateVelocities,

@@ -9,8 +9,9 @@
 namespace rubble {
 namespace {
 
-// The stages of a step as the metrics file names them (stages_ms, device_stages_ms), each with
-// the field that times it; the recorder sums and writes them from these tables alone.
+// The stages of a step as the metrics file names them (stages_ms; device_stages_ms from
+// kDeviceStageFields, rubble/world.h), each with the field that times it; the recorder sums and
+// writes them from these tables alone.
 template <class Stats> struct StageField {
     const char* name;
     double Stats::*ms;
@@ -25,20 +26,11 @@ constexpr StageField<StepStats> kCpuStages[] = {
     {"integrate_positions", &StepStats::integratePositionsMs},
     {"solve_positions", &StepStats::solvePositionsMs},
     {"islands", &StepStats::islandsMs}};
-constexpr StageField<DeviceStageMs> kDeviceStages[] = {
-    {"apply_forces", &DeviceStageMs::applyForces},
-    {"integrate_velocities", &DeviceStageMs::integrateVelocities},
-    {"broad_phase", &DeviceStageMs::broadPhase},
-    {"narrow_phase", &DeviceStageMs::narrowPhase},
-    {"build_contact_rows", &DeviceStageMs::buildContactRows},
-    {"solve", &DeviceStageMs::solve},
-    {"integrate_positions", &DeviceStageMs::integratePositions},
-    {"sleep", &DeviceStageMs::sleep}};
 
-template <class Stats, std::size_t N>
-nlohmann::ordered_json stagesJson(const Stats& totals, const StageField<Stats> (&fields)[N]) {
+template <class Stats, class Field, std::size_t N>
+nlohmann::ordered_json stagesJson(const Stats& totals, const Field (&fields)[N]) {
     nlohmann::ordered_json j;
-    for (const StageField<Stats>& f : fields) j[f.name] = totals.*f.ms;
+    for (const Field& f : fields) j[std::string(f.name)] = totals.*f.ms;
     return j;
 }
 
@@ -98,7 +90,7 @@ void MetricsRecorder::afterStep(const World& world) {
     hostMs_.add(s.hostMs);
     deviceBusyMs_ += s.deviceMs;
     deviceHiddenTotalMs_ += s.deviceHiddenMs;
-    for (const StageField<DeviceStageMs>& f : kDeviceStages)
+    for (const DeviceStageField& f : kDeviceStageFields)
         deviceStages_.*f.ms += s.deviceStages.*f.ms;
     wallS_ += s.totalMs / 1000.0;
     largestPenetration_ = std::max(largestPenetration_, s.largestPenetration);
@@ -169,7 +161,7 @@ std::string MetricsRecorder::toJson(const World& world) const {
         j["device_wait_ms_per_step"] = {{"median", deviceWaitMs_.percentile(0.5)}};
         j["device_hidden_ms_per_step"] = {{"median", deviceHiddenMs_.percentile(0.5)}};
         j["device_hidden_share"] = busy > 0 ? hidden / busy : 0.0;
-        j["device_stages_ms"] = stagesJson(deviceStages_, kDeviceStages);
+        j["device_stages_ms"] = stagesJson(deviceStages_, kDeviceStageFields);
         nlohmann::ordered_json kernels = nlohmann::ordered_json::array();
         for (const DeviceCommandTime& c : world.deviceProfile())
             kernels.push_back(

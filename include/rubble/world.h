@@ -72,6 +72,24 @@ struct DeviceStageMs {
     double sleep = 0;               ///< sleeping and waking, impulses gathered for the host
 };
 
+/// A stage of DeviceStageMs: its name in the metrics file (device_stages_ms) and in a trace
+/// (`cat`), and its field.
+struct DeviceStageField {
+    std::string_view name;
+    double DeviceStageMs::*ms;
+};
+
+/// The device's stages in the order of a step.
+inline constexpr DeviceStageField kDeviceStageFields[] = {
+    {"apply_forces", &DeviceStageMs::applyForces},
+    {"integrate_velocities", &DeviceStageMs::integrateVelocities},
+    {"broad_phase", &DeviceStageMs::broadPhase},
+    {"narrow_phase", &DeviceStageMs::narrowPhase},
+    {"build_contact_rows", &DeviceStageMs::buildContactRows},
+    {"solve", &DeviceStageMs::solve},
+    {"integrate_positions", &DeviceStageMs::integratePositions},
+    {"sleep", &DeviceStageMs::sleep}};
+
 /// Milliseconds spent in each stage of the last step, and what it produced. The stage fields
 /// are host wall time of the CPU pipeline; a world whose every moving body is on the OpenCL
 /// device has no CPU stages and reports its device stage times there instead.
