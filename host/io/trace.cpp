@@ -45,9 +45,7 @@ Status TraceRecorder::start(World& world) {
 
 void TraceRecorder::afterStep(const World& world, Clock::time_point begin, Clock::time_point end) {
     const auto step = std::uint32_t(world.stepIndex());
-    for (const DeviceCommand& c : world.lastDeviceCommands())
-        commands_.push_back(
-            Command{step, c.name, c.stage, c.queuedNs, c.submitNs, c.startNs, c.endNs});
+    for (const DeviceCommand& c : world.lastDeviceCommands()) commands_.push_back(Command{step, c});
     steps_.push_back(HostStep{step, steadyNs(begin), steadyNs(end), world.lastStep().deviceWaitMs});
 }
 
@@ -66,7 +64,7 @@ std::string TraceRecorder::toJson(const World& world) const {
     const double offset = offsetNs(first_);
     const double within = 0.5 * double(first_.hostAfterNs - first_.hostBeforeNs);
     // Zero is the earliest event: the first step's start on the host, or the first command.
-    double origin = commands_.empty() ? 0.0 : double(commands_.front().start);
+    double origin = commands_.empty() ? 0.0 : double(commands_.front().command.startNs);
     if (mapped && !steps_.empty())
         origin = commands_.empty() ? double(steps_.front().begin) + offset
                                    : std::min(origin, double(steps_.front().begin) + offset);
@@ -80,18 +78,18 @@ std::string TraceRecorder::toJson(const World& world) const {
     add(nameEvent("process_name", kDeviceTid, "rubble run " + world.sceneName()));
     add(nameEvent("thread_name", kDeviceTid, "device queue: " + world.deviceName()));
     if (mapped) add(nameEvent("thread_name", kHostTid, "host: World::step"));
-    for (const Command& c : commands_) {
+    for (const auto& [step, c] : commands_) {
         nlohmann::ordered_json e;
         e["name"] = c.name;
         e["cat"] = c.stage;
         e["ph"] = "X";
-        e["ts"] = us(double(c.start) - origin);
-        e["dur"] = us(double(c.end - c.start));
+        e["ts"] = us(double(c.startNs) - origin);
+        e["dur"] = us(double(c.endNs - c.startNs));
         e["pid"] = kPid;
         e["tid"] = kDeviceTid;
-        e["args"] = {{"step", c.step},
-                     {"queued_to_start_us", us(double(c.start - c.queued))},
-                     {"submit_to_start_us", us(double(c.start - c.submit))}};
+        e["args"] = {{"step", step},
+                     {"queued_to_start_us", us(double(c.startNs - c.queuedNs))},
+                     {"submit_to_start_us", us(double(c.startNs - c.submitNs))}};
         add(e);
     }
     if (mapped)

@@ -39,8 +39,7 @@ class TraceRecorder {
   private:
     struct Command {
         std::uint32_t step;
-        std::string_view name, stage;
-        std::uint64_t queued, submit, start, end; // device clock, ns
+        DeviceCommand command;
     };
     struct HostStep {
         std::uint32_t step;
