@@ -49,11 +49,11 @@ class SatCollision final : public CollisionStage {
     /// tunnelling through it).
     Status broadPhase(const CollisionScene& scene, BodiesView bodies, const StepParams& params,
                       StepContacts& out) override;
-    /// reads: pairs, velocities, the broad phase's transforms and spins, the cache   writes: manifolds (in pair order, pairs
-    /// without contacts left out; as points when the solver reads points), the cache. A pair's
-    /// margin is RUBBLE_CONTACT_MARGIN plus how much closer the bodies can come this step (relative
-    /// translation plus turning): contacts up to that gap come out with negative depth, and the
-    /// solver lets them close only that far.
+    /// reads: pairs, velocities, the broad phase's transforms and spins, the cache   writes:
+    /// manifolds (in pair order, pairs without contacts left out; as points when the solver reads
+    /// points), the cache. A pair's margin is RUBBLE_CONTACT_MARGIN plus how much closer the
+    /// bodies can come this step (relative translation plus turning): contacts up to that gap
+    /// come out with negative depth, and the solver lets them close only that far.
     Status narrowPhase(const CollisionScene& scene, BodiesView bodies,
                        const StepParams& params, StepContacts& out) override;
     /// The manifolds' points (manifoldsToContacts).
