@@ -453,6 +453,29 @@ void benchSatColoring(benchmark::State& state) {
     }
 }
 
+// The coloring itself, without the transfers around it: Coloring::addBySupport and finish over
+// the elements colorPgs listed (the pairs with rows of the same step as benchSatColoring).
+void benchSatColoringOnHost(benchmark::State& state) {
+    SatBenchWorld& b = satWorld();
+    if (!b.in) return state.SkipWithError(b.error.c_str());
+    gpu::Pipeline& p = *b.warm;
+    Status s = p.summarizePairs(b.in->params());
+    if (s) s = p.readStatus().status();
+    if (s) s = p.colorPgs();
+    if (s) s = p.finish();
+    if (!s) return state.SkipWithError(s.error().describe().c_str());
+    const std::vector<gpu::ColorElement> elements = p.pgs().contactElements;
+    gpu::Coloring coloring;
+    for (auto _ : state) {
+        coloring.begin(b.in->bodies.count());
+        coloring.addBySupport(elements);
+        coloring.finish();
+        benchmark::DoNotOptimize(coloring.colors());
+    }
+    state.counters["elements"] = double(elements.size());
+    state.counters["colors"] = double(coloring.colors());
+}
+
 // The device's narrow phase code (rubble/shared/narrow_phase.h) compiled for the host, on the
 // same pairs, one thread, with an empty cache (range 0) or last run's (range 1): how much of
 // the kernel's time is the code and how much the OpenCL compiler and runtime.
@@ -536,6 +559,7 @@ BENCHMARK(rubble::benchSatNarrowPhase)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(rubble::benchSatColoring)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(rubble::benchSatColoringOnHost)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK(rubble::benchTransformParticles)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(rubble::benchBuildGrid)->Unit(benchmark::kMillisecond)->UseRealTime();
