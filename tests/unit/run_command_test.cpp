@@ -27,11 +27,17 @@ std::vector<std::string> lines(const std::string& text) {
     return out;
 }
 
+// Writes `scene` to dir/s.json and runs `rubble run dir/s.json ARGS`.
+test::CommandResult runScene(const std::string& dir, const std::string& scene,
+                             const std::string& args) {
+    test::writeText(dir + "/s.json", scene);
+    return test::runRubble("run " + dir + "/s.json " + args);
+}
+
 TEST(RunCommand, WritesCsvEveryKthStep) {
     const std::string dir = test::tempDir("run_csv");
-    test::writeText(dir + "/s.json", kScene);
     const test::CommandResult r =
-        test::runRubble("run " + dir + "/s.json --out " + dir + "/t.csv --every 2 --quiet");
+        runScene(dir, kScene, "--out " + dir + "/t.csv --every 2 --quiet");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("two balls: 5 steps, 2 bodies"), std::string::npos) << r.output;
     const std::vector<std::string> l = lines(test::readText(dir + "/t.csv"));
@@ -45,9 +51,8 @@ TEST(RunCommand, WritesCsvEveryKthStep) {
 
 TEST(RunCommand, WritesJsonLinesWithTheSameFields) {
     const std::string dir = test::tempDir("run_jsonl");
-    test::writeText(dir + "/s.json", kScene);
     const test::CommandResult r =
-        test::runRubble("run " + dir + "/s.json --out " + dir + "/t.jsonl --steps 3 --quiet");
+        runScene(dir, kScene, "--out " + dir + "/t.jsonl --steps 3 --quiet");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const std::vector<std::string> l = lines(test::readText(dir + "/t.jsonl"));
     ASSERT_EQ(l.size(), 4u);
@@ -66,9 +71,7 @@ TEST(RunCommand, WritesJsonLinesWithTheSameFields) {
 
 TEST(RunCommand, WritesMetricsWithTheDocumentedKeys) {
     const std::string dir = test::tempDir("run_metrics");
-    test::writeText(dir + "/s.json", kScene);
-    const test::CommandResult r =
-        test::runRubble("run " + dir + "/s.json --metrics " + dir + "/m.json --quiet");
+    const test::CommandResult r = runScene(dir, kScene, "--metrics " + dir + "/m.json --quiet");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const nlohmann::json m = nlohmann::json::parse(test::readText(dir + "/m.json"));
     for (const char* k :
@@ -92,9 +95,7 @@ TEST(RunCommand, NonFiniteStateStopsCleanlyAndKeepsWhatWasWritten) {
     std::string scene = kScene;
     scene.replace(scene.find("\"linear_velocity\": [1, 0, 0]"), 28,
                   "\"linear_velocity\": [3e38, 0, 0]");
-    test::writeText(dir + "/s.json", scene);
-    const test::CommandResult r =
-        test::runRubble("run " + dir + "/s.json --out " + dir + "/t.csv --quiet --dt 1");
+    const test::CommandResult r = runScene(dir, scene, "--out " + dir + "/t.csv --quiet --dt 1");
     EXPECT_EQ(r.exitCode, 3) << r.output;
     EXPECT_NE(r.output.find("body b"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("not finite after step"), std::string::npos) << r.output;
@@ -108,9 +109,7 @@ TEST(RunCommand, NonFiniteStateStopsCleanlyAndKeepsWhatWasWritten) {
 // it starts, naming the option, and leaves no file.
 TEST(RunCommand, TraceWithoutADeviceIsRefused) {
     const std::string dir = test::tempDir("run_trace_cpu");
-    test::writeText(dir + "/s.json", kScene);
-    const test::CommandResult r =
-        test::runRubble("run " + dir + "/s.json --trace " + dir + "/t.json --quiet");
+    const test::CommandResult r = runScene(dir, kScene, "--trace " + dir + "/t.json --quiet");
     EXPECT_EQ(r.exitCode, 2) << r.output;
     EXPECT_NE(r.output.find("--trace"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("cpu"), std::string::npos) << r.output;
@@ -321,9 +320,7 @@ TEST(RunCommand, BlowUpsAreTheRunsFailure) {
     };
     for (const Case& c : cases) {
         const std::string dir = test::tempDir(std::string("run_blowup_") + c.name);
-        test::writeText(dir + "/s.json", c.scene);
-        const test::CommandResult r =
-            test::runRubble("run " + dir + "/s.json --quiet --out " + dir + "/t.csv");
+        const test::CommandResult r = runScene(dir, c.scene, "--quiet --out " + dir + "/t.csv");
         EXPECT_EQ(r.exitCode, 3) << c.name << ": " << r.output;
         EXPECT_NE(r.output.find(c.message), std::string::npos) << c.name << ": " << r.output;
         EXPECT_TRUE(std::ifstream(dir + "/t.csv").good()) << c.name;
