@@ -1,6 +1,6 @@
 // kernels/broad_phase.cl: entry points of the SAT broad phase on the device (computeAabbs, then
-// findPairs on a uniform grid): world boxes, the grid's cells and entries, candidate pairs, and
-// the pairs sorted by (a, b). The math is in rubble/shared/broad_phase.h; the CPU twin is
+// findPairs by sweep and prune in columns): world boxes, the columns and their entries sorted
+// along the sweep axis, candidate pairs, and the pairs sorted by (a, b). The math is in rubble/shared/broad_phase.h; the CPU twin is
 // SatCollision::broadPhase with findPairs (host/collision/sat_collision.cpp, broad_phase.cpp).
 #include "rubble/shared/broad_phase.h"
 #include "rubble/shared/group.h"
@@ -58,7 +58,7 @@ computeAabbs(const uint count, const float dt, __global const HullShape* shapes,
     broadFlags[i] = bf;
 }
 
-// The grid's bounds and mean box widths, RUBBLE_SORT_ITEMS work-items each over a chunk of the
+// The boxes' bounds and mean widths, RUBBLE_SORT_ITEMS work-items each over a chunk of the
 // bodies (then gridSetup adds the chunks up in order).
 __kernel void gridBounds(const uint count, __global const BodyBox* boxes,
                          __global const uint* broadFlags, __global GridPartial* partials) {
@@ -83,9 +83,9 @@ __kernel void gridBounds(const uint count, __global const BodyBox* boxes,
     partials[t] = p;
 }
 
-// One work-item: the grid over the boxes (gridSetupItem).
-__kernel void gridSetup(const uint maxCells, __global const GridPartial* partials,
-                        __global GridParams* grid) {
+// One work-item: the columns over the boxes (gridSetupItem).
+__kernel void gridSetup(const uint maxCells, const uint sweepBits,
+                        __global const GridPartial* partials, __global GridParams* grid) {
     if (get_global_id(0) != 0) return;
     GridPartial sum;
     sum.lo = vec4(INFINITY, INFINITY, INFINITY);
@@ -99,12 +99,13 @@ __kernel void gridSetup(const uint maxCells, __global const GridPartial* partial
         sum.widthSum = add4(sum.widthSum, p.widthSum);
         sum.count += p.count;
     }
-    grid[0] = gridSetupItem(sum, maxCells);
+    grid[0] = gridSetupItem(sum, maxCells, sweepBits);
 }
 
-// One work-item per body with a box: its (cell, body) entries, one per cell its box touches (at
-// most two cells per axis); a larger box goes to the list of large bodies instead. The group's
-// entries take their slots together (the sort by cell that follows orders them).
+// One work-item per body with a box: its (key, body) entries, one per column its box touches (at
+// most two per axis), keyed by the column and, below it, where the box starts along the sweep
+// axis; a larger box goes to the list of large bodies instead. The group's entries take their
+// slots together (the sort by key that follows orders them).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
 gridEntries(const uint count, __global const BodyBox* boxes, __global uint* broadFlags,
             __global const GridParams* grid, __global uint* status, __global uint* keys,
@@ -113,9 +114,10 @@ gridEntries(const uint count, __global const BodyBox* boxes, __global uint* broa
     const uint i = get_global_id(0);
     const uint bf = i < count ? broadFlags[i] : RUBBLE_BROAD_NO_BOX;
     const GridParams g = grid[0];
-    uint x0 = 0u, x1 = 0u, y0 = 0u, y1 = 0u, z0 = 0u, z1 = 0u, n = 0u;
+    uint x0 = 0u, x1 = 0u, y0 = 0u, y1 = 0u, z0 = 0u, z1 = 0u, n = 0u, start = 0u;
     if (!(bf & RUBBLE_BROAD_NO_BOX)) {
         const BodyBox b = boxes[i];
+        start = sweepKeyItem(axisItem(b.min, g.sweepAxis), g);
         x0 = gridCellItem(b.min.x, g.origin.x, g.inverseCell.x, g.cells[0]);
         x1 = gridCellItem(b.max.x, g.origin.x, g.inverseCell.x, g.cells[0]);
         y0 = gridCellItem(b.min.y, g.origin.y, g.inverseCell.y, g.cells[1]);
@@ -134,13 +136,13 @@ gridEntries(const uint count, __global const BodyBox* boxes, __global uint* broa
     for (uint x = x0; x <= x1; ++x)
         for (uint y = y0; y <= y1; ++y)
             for (uint z = z0; z <= z1; ++z) {
-                keys[at] = gridKeyItem(x, y, z, g);
+                keys[at] = (gridKeyItem(x, y, z, g) << g.sweepBits) | start;
                 values[at] = i;
                 ++at;
             }
 }
 
-// The entries sorted by cell: each entry's box in the same order, so that a cell's boxes are
+// The entries sorted by key: each entry's box in the same order, so that a column's boxes are
 // read from consecutive memory.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
 gatherCellBoxes(__global const uint* status, __global const uint* values,
@@ -155,9 +157,10 @@ gatherCellBoxes(__global const uint* status, __global const uint* values,
 // in one round take a slot each.
 #define RUBBLE_CELL_PAIRS_HELD 8u
 
-// Each entry is tested against the later entries of its cell. A pair that shares several cells
-// is reported by the cell holding the lower corner of the overlap of its boxes only; two
-// inactive bodies are never paired. Rounds of one entry per work-item: each round the group's
+// Each entry is tested against the later entries of its column up to the first that starts past
+// its end along the sweep axis (in sweep steps: a key above `limit`, which also ends the column).
+// A pair that shares several columns is reported by the column holding the lower corner of the
+// overlap of its boxes only; two inactive bodies are never paired. Rounds of one entry per work-item: each round the group's
 // pairs take their slots with one atomic (groupReserve); countPairs and placePairs then order
 // them by (a, b) whatever their slots.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
@@ -173,9 +176,10 @@ findCellPairs(__global const uint* keys, __global const uint* values,
         const uint e = round + get_local_id(0);
         BodyPairRecord held[RUBBLE_CELL_PAIRS_HELD];
         uint count = 0u;
-        const uint cell = e < n ? keys[e] : 0u;
+        const uint key = e < n ? keys[e] : 0u, cell = key >> g.sweepBits;
         const BodyBox bi = cellBoxes[e < n ? e : 0u];
-        for (uint f = e + 1u; f < n && keys[f] == cell; ++f) {
+        const uint limit = (cell << g.sweepBits) | sweepKeyItem(axisItem(bi.max, g.sweepAxis), g);
+        for (uint f = e + 1u; f < n && keys[f] <= limit; ++f) {
             const BodyBox bj = cellBoxes[f];
             if (bi.min.w + bj.min.w == 2.0f || !boxesOverlapItem(bi, bj)) continue;
             const uint corner = gridKeyItem(

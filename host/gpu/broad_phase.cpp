@@ -1,6 +1,6 @@
 // host/gpu/broad_phase.cpp: dispatch of the SAT broad phase on the device (kernels/
-// broad_phase.cl): computeAabbs, then findPairs on a uniform grid with the pairs sorted by
-// (a, b). The CPU twin is SatCollision::broadPhase and findPairs (host/collision/).
+// broad_phase.cl): computeAabbs, then findPairs by sweep and prune in columns with the pairs
+// sorted by (a, b). The CPU twin is SatCollision::broadPhase and findPairs (host/collision/).
 #include <algorithm>
 #include <cstdio>
 
@@ -37,23 +37,25 @@ Status Pipeline::findPairs() {
     const Context& c = *context_;
     const WorkSizes& sizes = c.workSizes();
     const cl_uint count = bodies_.count;
-    const cl_uint entries = 8 * count, capacity = sat_.current.capacity;
+    const cl_uint entries = 4 * count, capacity = sat_.current.capacity;
     // The pair, entry and large-body counters start at zero.
     const std::size_t counters = RUBBLE_STATUS_LARGE - RUBBLE_STATUS_PAIRS + 1;
     RUBBLE_TRY(fillRange(c, status_, 0u, RUBBLE_STATUS_PAIRS * sizeof(cl_uint),
                          counters * sizeof(cl_uint), &profile_));
     RUBBLE_TRY(fill(c, sat_.bodyCount, 0u, std::size_t(count) * sizeof(cl_uint), &profile_));
 
-    // The grid: bounds and mean widths, then each body's cells, sorted by cell.
+    // The columns: bounds and mean widths, then each body's entries, sorted by column and by
+    // start along the sweep axis.
     RUBBLE_TRY(Dispatch(c, KernelId::GridBounds, &profile_)
                    .arg(count)
                    .arg(sat_.boxes)
                    .arg(sat_.broadFlags)
                    .arg(sat_.partials)
                    .run(sizes.sortItems, sizes.broadGroup));
-    const cl_uint maxCells = cl_uint(1) << sat_.gridBits;
+    const cl_uint maxCells = cl_uint(1) << sat_.gridBits, sweepBits = sat_.sweepBits;
     RUBBLE_TRY(Dispatch(c, KernelId::GridSetup, &profile_)
                    .arg(maxCells)
+                   .arg(sweepBits)
                    .arg(sat_.partials)
                    .arg(sat_.grid)
                    .run(1, 1));
@@ -68,9 +70,9 @@ Status Pipeline::findPairs() {
                    .arg(sat_.large)
                    .run(count, sizes.broadGroup));
     RUBBLE_TRY(radixSort(sat_.keys, sat_.values, sat_.keysAlt, sat_.valuesAlt, entries,
-                         sat_.gridBits, RUBBLE_STATUS_GRID_ENTRIES));
+                         sat_.gridBits + sat_.sweepBits, RUBBLE_STATUS_GRID_ENTRIES));
 
-    // Candidate pairs from the cells, then from the planes and the large bodies.
+    // Candidate pairs from the columns, then from the planes and the large bodies.
     const std::size_t entryItems = strideItems(entries, sizes.broadGroup);
     RUBBLE_TRY(Dispatch(c, KernelId::GatherCellBoxes, &profile_)
                    .arg(status_)

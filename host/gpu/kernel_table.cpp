@@ -103,7 +103,7 @@ const std::vector<KernelSignature>& kernelSignatures() {
          {"count", "dt", "shapes", "shapeOf", "poses", "velocities", "flags", "boxes", "spin",
           "broadFlags"}},
         {KernelId::GridBounds, "gridBounds", {"count", "boxes", "broadFlags", "partials"}},
-        {KernelId::GridSetup, "gridSetup", {"maxCells", "partials", "grid"}},
+        {KernelId::GridSetup, "gridSetup", {"maxCells", "sweepBits", "partials", "grid"}},
         {KernelId::GridEntries,
          "gridEntries",
          {"count", "boxes", "broadFlags", "grid", "status", "keys", "values", "large"}},

@@ -96,12 +96,13 @@ struct PairSet {
 };
 
 /// The SAT collision method on the device, made only for a world that collides with SAT: the
-/// shapes' hulls (host/gpu/hull_data.h), per-body boxes and flags, the broad phase's grid, the
-/// pairs, and the manifolds (ContactManifold, one per pair in pair order; count 0: no contact).
+/// shapes' hulls (host/gpu/hull_data.h), per-body boxes and flags, the broad phase's columns,
+/// the pairs, and the manifolds (ContactManifold, one per pair in pair order; count 0: no contact).
 struct SatBuffers {
     bool enabled = false;
     std::uint32_t planeCount = 0, joinedCount = 0;
-    std::uint32_t gridBits = 0;          ///< the grid's cell keys are below 2^gridBits
+    std::uint32_t gridBits = 0;  ///< the columns' keys are below 2^gridBits
+    std::uint32_t sweepBits = 0; ///< the sweep keys' bits, below the column's in an entry's key
     std::uint32_t previousPairCount = 0; ///< pairs of the last step met (byte counts)
     // Hulls, once per world.
     Buffer shapes, shapeOf, vertices, vertexEdges, neighbourStart, neighbours, halfEdges, faces,

@@ -12,13 +12,23 @@
 namespace rubble::gpu {
 namespace {
 
-// The bits of a grid of at least 4096 cells and two per body, so that cells of two mean box
-// widths rarely have to be widened.
+// The bits of a grid of at least 4096 columns and one per four bodies: columns of two mean box
+// widths over one layer of bodies hold about that many, and a pile holds more. Columns widened
+// to fit cost longer sweeps, not more entries; fewer key bits cost fewer passes of the sort.
 std::uint32_t gridBitsFor(std::uint32_t bodies) {
-    const std::uint64_t cells = std::max<std::uint64_t>(4096, 2 * std::uint64_t(bodies));
+    const std::uint64_t cells = std::max<std::uint64_t>(4096, std::uint64_t(bodies) / 4);
     std::uint32_t bits = 1;
     while ((std::uint64_t(1) << bits) < cells) ++bits;
     return bits;
+}
+
+// The sweep keys' bits below a column key of gridBits: at least 12 (steps of 1/4096 of the
+// boxes' range), filling the sort's last digit, within 32 bits in all.
+std::uint32_t sweepBitsFor(std::uint32_t gridBits) {
+    const std::uint32_t digit = RUBBLE_SORT_DIGIT_BITS;
+    const std::uint32_t total =
+        std::min<std::uint32_t>(32, (gridBits + 12 + digit - 1) / digit * digit);
+    return total - gridBits;
 }
 
 } // namespace
@@ -62,14 +72,15 @@ Status Pipeline::createSat(const PipelineInput& in) {
     RUBBLE_TRY(s.bodyStart.reserve(c.context(), (n + 1) * sizeof(cl_uint)));
     RUBBLE_TRY(s.cursor.reserve(c.context(), (n + 1) * sizeof(cl_uint)));
     RUBBLE_TRY(s.large.reserve(c.context(), n * sizeof(cl_uint)));
-    // The grid: at most 8 entries (2 x 2 x 2 cells) per body.
+    // The columns: at most 4 entries (2 x 2 columns) per body.
     s.gridBits = gridBitsFor(n);
+    s.sweepBits = sweepBitsFor(s.gridBits);
     RUBBLE_TRY(
         s.partials.reserve(c.context(), c.workSizes().sortItems * sizeof(shared::GridPartial)));
     RUBBLE_TRY(s.grid.reserve(c.context(), sizeof(shared::GridParams)));
     for (Buffer* b : {&s.keys, &s.values, &s.keysAlt, &s.valuesAlt})
-        RUBBLE_TRY(b->reserve(c.context(), 8 * std::size_t(n) * sizeof(cl_uint)));
-    RUBBLE_TRY(s.cellBoxes.reserve(c.context(), 8 * std::size_t(n) * sizeof(shared::BodyBox)));
+        RUBBLE_TRY(b->reserve(c.context(), 4 * std::size_t(n) * sizeof(cl_uint)));
+    RUBBLE_TRY(s.cellBoxes.reserve(c.context(), 4 * std::size_t(n) * sizeof(shared::BodyBox)));
 
     // Pairs: a first guess of four per body; last step's set is empty.
     for (PairSet* set : {&s.current, &s.previous}) {

@@ -288,6 +288,30 @@ TEST_F(SatTwin, BroadPhaseMatchesTheCpu) {
                 total);
 }
 
+// The columns sweep along the axis where the boxes spread most: the same scene stretched along
+// each axis in turn (and, last, squeezed to a sheet one crate thick), so that each is the sweep
+// axis once, finds the CPU's pairs: an entry's sweep stops at the first entry of its column that
+// starts past its end, and no pair may be lost to the stop or to the choice of axis.
+TEST_F(SatTwin, BroadPhaseMatchesTheCpuWhicheverAxisIsSwept) {
+    const glm::vec3 stretches[] = {
+        {4.0f, 1.0f, 0.25f}, {0.25f, 6.0f, 0.25f}, {0.25f, 1.0f, 4.0f}, {1.0f, 0.0f, 1.0f}};
+    for (const glm::vec3& stretch : stretches) {
+        test::StageInput in = broadPhaseScene(17, 600, true);
+        for (std::uint32_t i = 2; i + 2 < in.bodies.count(); ++i) {
+            shared::float4& at = in.bodies.poses[i].position;
+            at = shared::vec4(at.x * stretch.x, at.y * stretch.y, at.z * stretch.z);
+        }
+        gpu::PipelineHandle device = satPipeline(in);
+        SatCollision cpu(ContactForm::Manifolds);
+        const BothPairs both = findBoth(*device, cpu, in);
+        ASSERT_GT(both.cpu.size(), 100u);
+        EXPECT_EQ(both.device, both.cpu)
+            << "stretched by (" << stretch.x << ", " << stretch.y << ", " << stretch.z
+            << "): " << both.device.size() << " pairs on the device, " << both.cpu.size()
+            << " on the CPU";
+    }
+}
+
 // More pairs than the buffers hold at first (four per body): they grow and the pairs are found
 // again, all of them.
 TEST_F(SatTwin, APairOverflowGrowsTheBuffers) {

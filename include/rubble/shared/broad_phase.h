@@ -1,7 +1,7 @@
 // include/rubble/shared/broad_phase.h: the device broad phase's records and per-element math:
 // world boxes grown by the margin and each body's reach this step, planes as the CPU pairs them
-// (host/collision/sat_collision.cpp and broad_phase.cpp), and the uniform grid the device finds
-// candidate pairs on (kernels/broad_phase.cl).
+// (host/collision/sat_collision.cpp and broad_phase.cpp), and the columns the device sweeps for
+// candidate pairs (kernels/broad_phase.cl), as the CPU's findPairs does.
 #pragma once
 
 #include "rubble/shared/clip.h"
@@ -44,13 +44,17 @@ RUBBLE_FN uint findPairItem(BodyPairRecord pair, uint count,
     return lo < count && pairs[lo].a == pair.a && pairs[lo].b == pair.b ? lo : count;
 }
 
-// 64 bytes: the uniform grid of one step, from the boxes' bounds and mean widths.
+// 64 bytes: the columns of one step, from the boxes' bounds and mean widths: a grid of cells over
+// two axes, one cell along the third (the sweep axis, where the boxes spread most), along which
+// a column's entries are sorted by their start.
 typedef struct GridParams {
     float4 origin;      // lowest corner of the boxes, m
-    float4 inverseCell; // 1 / cell width per axis, 1/m
-    uint cells[4];      // cells per axis (x, y, z); w: their product
+    float4 inverseCell; // 1 / cell width per axis, 1/m; on the sweep axis, sweep steps per m
+    uint cells[4];      // cells per axis (x, y, z; 1 on the sweep axis); w: their product
     uint largeAbove;    // a body spanning more cells than this on an axis is large (2)
-    uint pad0, pad1, pad2;
+    uint sweepAxis;     // 0, 1 or 2
+    uint sweepBits;     // the sweep key's bits, below the column's in an entry's key
+    uint pad0;
 } GridParams;
 RUBBLE_STATIC_ASSERT_SIZE(GridParams, 64);
 
@@ -133,24 +137,44 @@ RUBBLE_FN uint gridKeyItem(uint x, uint y, uint z, GridParams g) {
     return (x * g.cells[1] + y) * g.cells[2] + z;
 }
 
+// Component `axis` (0, 1, 2) of v.
+RUBBLE_FN float axisItem(float4 v, uint axis) {
+    return axis == 0u ? v.x : (axis == 1u ? v.y : v.z);
+}
+
+// Where x lies along the sweep axis, in the sweepBits steps of the boxes' range: never
+// decreasing in x, so that an entry whose start is past another's end in steps starts past it.
+RUBBLE_FN uint sweepKeyItem(float x, GridParams g) {
+    const uint a = g.sweepAxis;
+    const float top = (float)((1u << g.sweepBits) - 1u);
+    return (uint)clampItem((x - axisItem(g.origin, a)) * axisItem(g.inverseCell, a), 0.0f, top);
+}
+
 // At most this many cells along one axis of the grid.
 #define RUBBLE_GRID_MAX_CELLS_PER_AXIS 1024u
 
-// The grid over boxes whose bounds and summed widths are `sum`: cells two mean box widths wide
-// on each axis (so that a typical box touches one or two per axis), widened until there are at
-// most maxCells in all. Which cells a box is in changes how many candidates are tested, never
-// which pairs are found.
-RUBBLE_FN GridParams gridSetupItem(GridPartial sum, uint maxCells) {
+// The columns over boxes whose bounds and summed widths are `sum`: the sweep axis is the one
+// of widest range (the lowest of equal ones); the other two are cut into cells two mean box
+// widths wide (so that a typical box touches one or two per axis), widened until there are at
+// most maxCells in all; the sweep axis's range is cut into 2^sweepBits steps. Which columns a
+// box is in changes how many candidates are tested, never which pairs are found.
+RUBBLE_FN GridParams gridSetupItem(GridPartial sum, uint maxCells, uint sweepBits) {
     GridParams g;
     g.origin = vec4(0.0f, 0.0f, 0.0f);
-    g.inverseCell = vec4(1.0f, 1.0f, 1.0f);
+    g.inverseCell = vec4(0.0f, 0.0f, 0.0f);
     g.cells[0] = g.cells[1] = g.cells[2] = g.cells[3] = 1u;
     g.largeAbove = 2u;
-    g.pad0 = g.pad1 = g.pad2 = 0u;
+    g.sweepAxis = 0u;
+    g.sweepBits = sweepBits;
+    g.pad0 = 0u;
     if (sum.count == 0u) return g;
     g.origin = sum.lo;
     const float range[3] = {sum.hi.x - sum.lo.x, sum.hi.y - sum.lo.y, sum.hi.z - sum.lo.z};
     const float widths[3] = {sum.widthSum.x, sum.widthSum.y, sum.widthSum.z};
+    uint axis = 0u;
+    for (uint a = 1u; a < 3u; ++a)
+        if (range[a] > range[axis]) axis = a;
+    g.sweepAxis = axis;
     float cell[3];
     for (uint a = 0; a < 3u; ++a) {
         cell[a] = fmax(2.0f * widths[a] / (float)sum.count,
@@ -160,8 +184,9 @@ RUBBLE_FN GridParams gridSetupItem(GridPartial sum, uint maxCells) {
     for (uint tries = 0; tries < 64u; ++tries) {
         uint total = 1u;
         for (uint a = 0; a < 3u; ++a) {
-            g.cells[a] =
-                (uint)fmin(floor(range[a] / cell[a]) + 1.0f, (float)RUBBLE_GRID_MAX_CELLS_PER_AXIS);
+            g.cells[a] = a == axis ? 1u
+                                   : (uint)fmin(floor(range[a] / cell[a]) + 1.0f,
+                                                (float)RUBBLE_GRID_MAX_CELLS_PER_AXIS);
             total *= g.cells[a];
         }
         g.cells[3] = total;
@@ -169,10 +194,16 @@ RUBBLE_FN GridParams gridSetupItem(GridPartial sum, uint maxCells) {
         for (uint a = 0; a < 3u; ++a) cell[a] *= 1.26f;
     }
     if (g.cells[3] > maxCells) {
-        // Never reached in practice (the widths grow by 1.26^64); one cell is always right.
+        // Never reached in practice (the widths grow by 1.26^64); one column is always right.
         g.cells[0] = g.cells[1] = g.cells[2] = g.cells[3] = 1u;
     }
     g.inverseCell = vec4(1.0f / cell[0], 1.0f / cell[1], 1.0f / cell[2]);
+    // The sweep: its range in steps (none when the boxes all start at one place).
+    const float steps = (float)((1u << sweepBits) - 1u);
+    const float sweepScale = range[axis] > 0.0f ? steps / range[axis] : 0.0f;
+    if (axis == 0u) g.inverseCell.x = sweepScale;
+    if (axis == 1u) g.inverseCell.y = sweepScale;
+    if (axis == 2u) g.inverseCell.z = sweepScale;
     return g;
 }
 

@@ -100,8 +100,9 @@
                                                                             F(GridParams, inverseCell) F(                                       \
                                                                                 GridParams,                                                     \
                                                                                 cells) F(GridParams,                                            \
-                                                                                         largeAbove) F(GridParams,                              \
-                                                                                                       pad2) X(GridPartial)                     \
+                                                                                         largeAbove) F(GridParams, sweepAxis)                   \
+                                                                                F(GridParams, sweepBits) F(GridParams, pad0)                    \
+                                                                                X(GridPartial)                     \
                                                                                 F(GridPartial, lo) F(GridPartial, hi) F(                        \
                                                                                     GridPartial,                                                \
                                                                                     widthSum) F(GridPartial, count)                             \
