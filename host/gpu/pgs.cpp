@@ -44,6 +44,11 @@ Dispatch sweepLaunch(const Context& c, KernelId id, const PgsLaunch& l, const Bu
 
 } // namespace
 
+void Pipeline::bindPairs(Dispatch& d) const {
+    const cl_uint capacity = sat_.current.capacity;
+    d.arg(capacity).arg(sat_.current.count).arg(sat_.current.pairs);
+}
+
 void Pipeline::bindRowSettings(Dispatch& d, const StepParams& params) const {
     const SolverOptions& o = params.solver;
     const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;
@@ -69,11 +74,8 @@ Status Pipeline::summarizePairs(const StepParams& params) {
                          &profile_));
     RUBBLE_TRY(fillRange(c, status_, 0u, RUBBLE_STATUS_BOUNCES * sizeof(cl_uint),
                          2 * sizeof(cl_uint), &profile_));
-    const cl_uint capacity = sat_.current.capacity;
     RUBBLE_TRY(Dispatch(c, KernelId::SummarizePairs, &profile_)
-                   .arg(capacity)
-                   .arg(sat_.current.count)
-                   .arg(sat_.current.pairs)
+                   .with([&](Dispatch& d) { bindPairs(d); })
                    .arg(sat_.manifolds)
                    .arg(bodies_.jacobi)
                    .arg(bodies_.poses)

@@ -447,6 +447,9 @@ class Pipeline {
     /// The arguments summarizePairs and buildPgsRows both read, in their kernels' order: the
     /// rows' settings (baumgarte, slop, dt, warm start) and last step's pairs and impulses.
     void bindRowSettings(Dispatch& d, const StepParams& params) const;
+    /// The arguments the kernels that go through this step's pairs read first, in their order:
+    /// the pair buffers' capacity, the pair count (on the device) and the pairs.
+    void bindPairs(Dispatch& d) const;
     /// ... through the contacts.
     std::size_t strideItems() const {
         return strideItems(contacts_.capacity, RUBBLE_GROUP_CONTACTS);

@@ -142,12 +142,10 @@ Status Pipeline::narrowPhase(float dt) {
     // The contact count and the largest depth are this stage's.
     for (const cl_uint slot : {RUBBLE_STATUS_CONTACTS, RUBBLE_STATUS_PENETRATION})
         RUBBLE_TRY(fillRange(c, status_, 0u, slot * sizeof(cl_uint), sizeof(cl_uint), &profile_));
-    const cl_uint capacity = s.current.capacity, previousCapacity = s.previous.capacity;
+    const cl_uint previousCapacity = s.previous.capacity;
     const cl_float step = dt;
     return Dispatch(c, KernelId::CollideShapes, &profile_)
-        .arg(capacity)
-        .arg(s.current.count)
-        .arg(s.current.pairs)
+        .with([&](Dispatch& d) { bindPairs(d); })
         .arg(previousCapacity)
         .arg(s.previous.count)
         .arg(s.previous.pairs)

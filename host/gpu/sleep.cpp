@@ -20,11 +20,8 @@ Status Pipeline::wakeTouched() {
 
 Status Pipeline::wakeTouchedPairs() {
     const Context& c = *context_;
-    const cl_uint capacity = sat_.current.capacity;
     RUBBLE_TRY(Dispatch(c, KernelId::WakeTouchedPairs, &profile_)
-                   .arg(capacity)
-                   .arg(sat_.current.count)
-                   .arg(sat_.current.pairs)
+                   .with([&](Dispatch& d) { bindPairs(d); })
                    .arg(sat_.manifolds)
                    .arg(bodies_.atStart)
                    .arg(bodies_.flags)
@@ -59,11 +56,8 @@ Status Pipeline::sleepBodies(float dt) {
     // Restless marks from the contacts: the Jacobi rows, or the SAT method's pairs with points.
     if (sat_.enabled) {
         const Context& c = *context_;
-        const cl_uint capacity = sat_.current.capacity;
         RUBBLE_TRY(Dispatch(c, KernelId::MarkRestlessPairs, &profile_)
-                       .arg(capacity)
-                       .arg(sat_.current.count)
-                       .arg(sat_.current.pairs)
+                       .with([&](Dispatch& d) { bindPairs(d); })
                        .arg(sat_.manifolds)
                        .arg(bodies_.velocities)
                        .arg(bodies_.flags)
