@@ -23,7 +23,7 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
                __global const BodyVelocity* velocities, __global const BodyVelocity* approach,
                __global const float4* surfaces, const float baumgarte, const float slop,
                const float dt, const uint warmStart, const uint previousCapacity,
-               __global const uint* previousCount, __global const BodyPairRecord* previousPairs,
+               __global const uint* previousCount, __global const uint* previousOf,
                __global const uint* previousImpulseCount,
                __global const PgsImpulse* previousImpulses, __global uint* pairRows,
                __global uint* impulseCount, __global PgsImpulse* kept, __global uint* pushed,
@@ -74,7 +74,7 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
         pairRows[p] = 0u;
         uint keep = 0u;
         if (count > 0u) {
-            const uint q = findPairItem(pair, previous, previousPairs);
+            const uint q = previousOf[p];
             keep = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
             for (uint k = 0; k < keep; ++k) kept[4u * p + k] = previousImpulses[4u * q + k];
         }
@@ -93,7 +93,7 @@ buildPgsRows(const uint count, __global const uint* order, __global const PgsEle
              __global const JacobiBody* bodies, __global const float4* surfaces,
              const float baumgarte, const float slop,
              const float dt, const uint warmStart, const uint previousCapacity,
-             __global const uint* previousCount, __global const BodyPairRecord* previousPairs,
+             __global const uint* previousCount, __global const uint* previousOf,
              __global const uint* previousImpulseCount,
              __global const PgsImpulse* previousImpulses, __global PgsNormalRow* normalRows,
              __global PgsFrictionRows* frictionRows, __global float4* impulses,
@@ -104,10 +104,7 @@ buildPgsRows(const uint count, __global const uint* order, __global const PgsEle
     const uint p = e.id, a = e.a, b = e.b;
     const uint first = e.rows >> RUBBLE_PGS_FIRST_SHIFT, points = e.rows & RUBBLE_PGS_POINTS;
     const uint previous = warmStart ? min(previousCount[0], previousCapacity) : 0u;
-    BodyPairRecord pair;
-    pair.a = a;
-    pair.b = b;
-    const uint q = findPairItem(pair, previous, previousPairs);
+    const uint q = previousOf[p];
     const uint oldCount = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
     const ContactManifold m = manifolds[p];
     const JacobiBody ja = bodies[a], jb = bodies[b];

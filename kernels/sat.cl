@@ -7,8 +7,10 @@
 #include "rubble/shared/narrow_phase.h"
 
 // Work-items stride through the pairs (their count is on the device). Each writes its pair's
-// manifold (count 0: no contact) and cache at the pair's index; the group adds its points to the
-// status block's contact count and largest depth.
+// manifold (count 0: no contact), cache and index among last step's pairs (previousOf: last
+// step's count when the pair is new; the rows' kernels read it instead of searching again) at
+// the pair's index; the group adds its points to the status block's contact count and largest
+// depth.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 collideShapes(const uint capacity, __global const uint* pairCount,
               __global const BodyPairRecord* pairs, const uint previousCapacity,
@@ -21,7 +23,7 @@ collideShapes(const uint capacity, __global const uint* pairCount,
               __global const HullHalfEdge* halfEdges, __global const float4* faces,
               __global const uint* faceEdges, __global const HullEdge* edges, const float dt,
               __global PairCache* features, __global ContactManifold* manifolds,
-              __global uint* status) {
+              __global uint* previousOf, __global uint* status) {
     HullArrays arrays;
     arrays.vertices = vertices;
     arrays.vertexEdges = vertexEdges;
@@ -41,6 +43,7 @@ collideShapes(const uint capacity, __global const uint* pairCount,
         const BodyPairRecord pair = pairs[p];
         // Last step's cache of the pair; none when the pair is new.
         const uint q = findPairItem(pair, previous, previousPairs);
+        previousOf[p] = q;
         PairCache cache = q < previous ? previousFeatures[q] : emptyPairCacheItem();
         const float margin =
             pairMarginItem(velocities[pair.a], velocities[pair.b], spin[pair.a], spin[pair.b], dt);

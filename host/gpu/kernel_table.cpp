@@ -26,7 +26,7 @@ const std::vector<KernelSignature>& kernelSignatures() {
                                       "warmStart",
                                       "previousCapacity",
                                       "previousCount",
-                                      "previousPairs",
+                                      "previousOf",
                                       "previousImpulseCount",
                                       "previousImpulses"};
     static const std::vector<KernelSignature> table = {
@@ -165,6 +165,7 @@ const std::vector<KernelSignature>& kernelSignatures() {
                            "dt",
                            "features",
                            "manifolds",
+                           "previousOf",
                            "status"})},
         {KernelId::SummarizePairs, "summarizePairs",
          join(pairs, Names{"manifolds", "bodies", "poses", "velocities", "approach", "surfaces"},

@@ -59,7 +59,7 @@ void Pipeline::bindRowSettings(Dispatch& d, const StepParams& params) const {
         .arg(warm)
         .arg(previousCapacity)
         .arg(sat_.previous.count)
-        .arg(sat_.previous.pairs)
+        .arg(sat_.previousOf)
         .arg(sat_.previous.impulseCount)
         .arg(sat_.previous.impulses);
 }

@@ -122,6 +122,9 @@ struct SatBuffers {
     Buffer found, bodyCount, bodyStart, cursor;
     PairSet current, previous;
     Buffer manifolds; ///< ContactManifold per pair of `current`, in pair order
+    /// Per pair of `current`: its index among last step's pairs (collideShapes), last step's
+    /// count when it is new; summarizePairs and buildPgsRows read it.
+    Buffer previousOf;
 };
 
 /// One launch of the device's sweeps: a color's elements [first, first + count) of the

@@ -117,6 +117,7 @@ Status Pipeline::setPairCapacity(std::uint32_t capacity) {
     RUBBLE_TRY(s.current.features.reserve(c.context(), n * sizeof(shared::PairCache)));
     RUBBLE_TRY(s.found.reserve(c.context(), n * sizeof(shared::BodyPairRecord)));
     RUBBLE_TRY(s.manifolds.reserve(c.context(), n * sizeof(shared::ContactManifold)));
+    RUBBLE_TRY(s.previousOf.reserve(c.context(), n * sizeof(cl_uint)));
     RUBBLE_TRY(s.current.impulseCount.reserve(c.context(), n * sizeof(cl_uint)));
     RUBBLE_TRY(s.current.impulses.reserve(c.context(), 4 * n * sizeof(shared::PgsImpulse)));
     RUBBLE_TRY(pgs_.pairRows.reserve(c.context(), n * sizeof(cl_uint)));
@@ -166,6 +167,7 @@ Status Pipeline::narrowPhase(float dt) {
         .arg(step)
         .arg(s.current.features)
         .arg(s.manifolds)
+        .arg(s.previousOf)
         .arg(status_)
         .run(pairStrideItems(), c.workSizes().pairGroup);
 }
