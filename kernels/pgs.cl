@@ -287,14 +287,16 @@ static float pushElement(const PgsElement e, __global const PgsNormalRow* normal
                          __global float4* impulses, __global const uint* pushed,
                          __global BodyVelocity* push, const float relaxation) {
     if (e.id & RUBBLE_PGS_JOINT_ELEMENT) return 0.0f;
-    const int touched = pushed[e.a] || pushed[e.b];
+    // A row that pushes, or bounces, marked its moving bodies: with neither marked every row
+    // below is passed over and the velocities go back unchanged, so nothing is read or written.
+    if (!pushed[e.a] && !pushed[e.b]) return 0.0f;
     BodyVelocityPair v = loadPair(e.a, e.b, push);
     const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
     float residual = 0.0f;
     for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
+        // Every row of the element, at its push speed (a row that bounces aims at its lift too:
+        // markBounces wrote the target).
         const PgsNormalRow r = normalRows[row + k];
-        // A row that bounces aims at its lift too (markBounces wrote the target).
-        if (r.speeds.y <= 0.0f && !touched) continue;
         float4 l = impulses[row + k];
         const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.y, l.w, relaxation);
         v = u.v;
