@@ -1,7 +1,8 @@
 // kernels/broad_phase.cl: entry points of the SAT broad phase on the device (computeAabbs, then
 // findPairs by sweep and prune in columns): world boxes, the columns and their entries sorted
-// along the sweep axis, candidate pairs, and the pairs sorted by (a, b). The math is in rubble/shared/broad_phase.h; the CPU twin is
-// SatCollision::broadPhase with findPairs (host/collision/sat_collision.cpp, broad_phase.cpp).
+// along the sweep axis, candidate pairs, and the pairs sorted by (a, b). The math is in
+// rubble/shared/broad_phase.h; the CPU twin is SatCollision::broadPhase with findPairs
+// (host/collision/sat_collision.cpp, broad_phase.cpp).
 #include "rubble/shared/broad_phase.h"
 #include "rubble/shared/group.h"
 #include "rubble/shared/narrow_phase.h"
@@ -160,9 +161,9 @@ gatherCellBoxes(__global const uint* status, __global const uint* values,
 // Each entry is tested against the later entries of its column up to the first that starts past
 // its end along the sweep axis (in sweep steps: a key above `limit`, which also ends the column).
 // A pair that shares several columns is reported by the column holding the lower corner of the
-// overlap of its boxes only; two inactive bodies are never paired. Rounds of one entry per work-item: each round the group's
-// pairs take their slots with one atomic (groupReserve); countPairs and placePairs then order
-// them by (a, b) whatever their slots.
+// overlap of its boxes only; two inactive bodies are never paired. Rounds of one entry per
+// work-item: each round the group's pairs take their slots with one atomic (groupReserve);
+// countPairs and placePairs then order them by (a, b) whatever their slots.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
 findCellPairs(__global const uint* keys, __global const uint* values,
               __global const BodyBox* cellBoxes, __global const GridParams* grid,
