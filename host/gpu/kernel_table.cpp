@@ -20,15 +20,10 @@ const std::vector<KernelSignature>& kernelSignatures() {
     // pairs (Pipeline::bindPairs) and the rows' settings (Pipeline::bindRowSettings).
     static const Names sweep = {"first", "count", "serial", "elements"};
     static const Names pairs = {"capacity", "pairCount", "pairs"};
-    static const Names rowSettings = {"baumgarte",
-                                      "slop",
-                                      "dt",
-                                      "warmStart",
-                                      "previousCapacity",
-                                      "previousCount",
-                                      "previousOf",
-                                      "previousImpulseCount",
-                                      "previousImpulses"};
+    static const Names rowSettings = {
+        "baumgarte",        "slop",          "dt",         "warmStart",
+        "previousCapacity", "previousCount", "previousOf", "previousImpulseCount",
+        "previousImpulses"};
     static const std::vector<KernelSignature> table = {
         {KernelId::IntegrateVelocities,
          "integrateVelocities",
