@@ -312,6 +312,19 @@ TEST_F(SatTwin, BroadPhaseMatchesTheCpuWhicheverAxisIsSwept) {
     }
 }
 
+// Every small body at one point: their boxes all overlap, so that each entry's sweep runs to the
+// end of its column, and every pair of them is found, as on the CPU.
+TEST_F(SatTwin, BroadPhaseMatchesTheCpuWithEveryBoxInOnePlace) {
+    test::StageInput in = broadPhaseScene(21, 60, false);
+    for (std::uint32_t i = 2; i + 2 < in.bodies.count(); ++i)
+        in.bodies.poses[i].position = shared::vec4(1.0f, 2.0f, 3.0f);
+    gpu::PipelineHandle device = satPipeline(in);
+    SatCollision cpu(ContactForm::Manifolds);
+    const BothPairs both = findBoth(*device, cpu, in);
+    ASSERT_GE(both.cpu.size(), std::size_t(60 * 59 / 2));
+    EXPECT_EQ(both.device, both.cpu);
+}
+
 // More pairs than the buffers hold at first (four per body): they grow and the pairs are found
 // again, all of them.
 TEST_F(SatTwin, APairOverflowGrowsTheBuffers) {
