@@ -403,7 +403,7 @@ class Pipeline {
     void keepCommands(bool keep) { profile_.keepCommands(keep); }
     /// The commands of the last step that was met, in the order they were enqueued (none unless
     /// kept).
-    std::span<const CommandTime> lastCommands() const { return profile_.lastCommands(); }
+    std::span<const DeviceCommand> lastCommands() const { return profile_.lastCommands(); }
     /// Adds the device times of the commands enqueued since the last step was met (or the last
     /// call; all must have completed) to the totals, kernels' bytes from `counts`: for
     /// benchmarks of single stages. Errors: Device.

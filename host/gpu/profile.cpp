@@ -105,8 +105,8 @@ Result<DeviceTimes> Profile::collect(const TrafficCounts& counts) {
         }();
         if (!failed.ok()) continue;
         if (keepCommands_)
-            lastCommands_.push_back(
-                CommandTime{totals_[r.command].name, r.stage, queued, submit, start, end});
+            lastCommands_.push_back(DeviceCommand{totals_[r.command].name, stageName(r.stage),
+                                                  queued, submit, start, end});
         const double ms = end > start ? double(end - start) * 1e-6 : 0.0;
         first = std::min(first, start);
         last = std::max(last, end);

@@ -46,13 +46,6 @@ struct CommandTotals {
 /// The name of a stage as the metrics' device_stages_ms has it (`build_contact_rows`).
 std::string_view stageName(DeviceStage stage);
 
-/// One command of the last step: its profiling times on the device's clock, ns.
-struct CommandTime {
-    std::string_view name; ///< the kernel's, or the transfer's (`(read from device)`)
-    DeviceStage stage;
-    cl_ulong queued, submit, start, end;
-};
-
 /// The device's clock against the host's steady clock: the CL_PROFILING_COMMAND_QUEUED time of a
 /// marker, taken when the host enqueues it, and the host's time just before and after the
 /// enqueue; of `tries` markers, the one whose enqueue took least. Waits for the queue to empty.
@@ -93,7 +86,7 @@ class Profile {
     /// command: only while someone reads them, rubble run --trace).
     void keepCommands(bool keep) { keepCommands_ = keep; }
     /// The commands the last collect() read, in the order they were enqueued (none unless kept).
-    std::span<const CommandTime> lastCommands() const { return lastCommands_; }
+    std::span<const DeviceCommand> lastCommands() const { return lastCommands_; }
 
     /// Totals over the run, kernels in KernelId order then transfers; commands never run are
     /// left out.
@@ -112,7 +105,7 @@ class Profile {
     DeviceStage stage_ = DeviceStage::ApplyForces;
     std::vector<Record> records_;
     bool keepCommands_ = false;
-    std::vector<CommandTime> lastCommands_; // reused: a warm step allocates nothing
+    std::vector<DeviceCommand> lastCommands_; // reused: a warm step allocates nothing
     std::vector<CommandTotals> totals_;
 };
 

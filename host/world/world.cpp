@@ -176,13 +176,9 @@ std::vector<DeviceCommandTime> World::deviceProfile() const {
 void World::keepDeviceCommands(bool keep) {
     if (s_->device) s_->device->keepCommands(keep);
 }
-std::vector<DeviceCommand> World::lastDeviceCommands() const {
-    std::vector<DeviceCommand> out;
-    if (!s_->device) return out;
-    for (const gpu::CommandTime& c : s_->device->lastCommands())
-        out.push_back(DeviceCommand{c.name, gpu::stageName(c.stage), c.queued, c.submit, c.start,
-                                    c.end});
-    return out;
+std::span<const DeviceCommand> World::lastDeviceCommands() const {
+    if (!s_->device) return {};
+    return s_->device->lastCommands();
 }
 Result<DeviceClockSample> World::sampleDeviceClock() const {
     if (!s_->device)

@@ -304,8 +304,8 @@ class World {
     void keepDeviceCommands(bool keep);
     /// The device's commands of the last step in the order they were enqueued, which is the
     /// order the device's in-order queue ran them in (empty on the cpu backend, before the
-    /// first step, and unless keepDeviceCommands(true)).
-    std::vector<DeviceCommand> lastDeviceCommands() const;
+    /// first step, and unless keepDeviceCommands(true)); valid until the next step.
+    std::span<const DeviceCommand> lastDeviceCommands() const;
     /// Relates the device's clock to the host's: enqueues a few markers on the device's queue
     /// and waits for them (call it between steps; the bodies are not touched). Errors:
     /// NotSupported on the cpu backend, Device.

@@ -166,7 +166,7 @@ TEST_F(Trace, TheWorldGivesItsLastStepsCommandsInTimeOrder) {
     ASSERT_TRUE(before.ok()) << before.error().describe();
     EXPECT_LE(before->hostBeforeNs, before->hostAfterNs);
     ASSERT_TRUE(w.step().ok());
-    const std::vector<DeviceCommand> commands = w.lastDeviceCommands();
+    const std::span<const DeviceCommand> commands = w.lastDeviceCommands();
     ASSERT_FALSE(commands.empty());
     for (const DeviceCommand& c : commands) {
         EXPECT_LE(c.queuedNs, c.submitNs) << c.name;
