@@ -9,13 +9,9 @@
 namespace rubble {
 namespace {
 
-// The stages of a step as the metrics file names them (stages_ms; device_stages_ms from
+// The CPU's stages of a step as the metrics file names them (stages_ms; device_stages_ms from
 // kDeviceStageFields, rubble/world.h), each with the field that times it; the recorder sums and
 // writes them from these tables alone.
-template <class Stats> struct StageField {
-    const char* name;
-    double Stats::*ms;
-};
 constexpr StageField<StepStats> kCpuStages[] = {
     {"apply_forces", &StepStats::applyForcesMs},
     {"integrate_velocities", &StepStats::integrateVelocitiesMs},
@@ -27,10 +23,10 @@ constexpr StageField<StepStats> kCpuStages[] = {
     {"solve_positions", &StepStats::solvePositionsMs},
     {"islands", &StepStats::islandsMs}};
 
-template <class Stats, class Field, std::size_t N>
-nlohmann::ordered_json stagesJson(const Stats& totals, const Field (&fields)[N]) {
+template <class Stats, std::size_t N>
+nlohmann::ordered_json stagesJson(const Stats& totals, const StageField<Stats> (&fields)[N]) {
     nlohmann::ordered_json j;
-    for (const Field& f : fields) j[std::string(f.name)] = totals.*f.ms;
+    for (const StageField<Stats>& f : fields) j[std::string(f.name)] = totals.*f.ms;
     return j;
 }
 

@@ -72,12 +72,13 @@ struct DeviceStageMs {
     double sleep = 0;               ///< sleeping and waking, impulses gathered for the host
 };
 
-/// A stage of DeviceStageMs: its name in the metrics file (device_stages_ms) and in a trace
-/// (`cat`), and its field.
-struct DeviceStageField {
+/// A stage of a step's times (`Stats`: DeviceStageMs, or StepStats for the CPU's stages): its
+/// name in the metrics file (device_stages_ms, stages_ms) and in a trace (`cat`), and its field.
+template <class Stats> struct StageField {
     std::string_view name;
-    double DeviceStageMs::*ms;
+    double Stats::*ms;
 };
+using DeviceStageField = StageField<DeviceStageMs>;
 
 /// The device's stages in the order of a step.
 inline constexpr DeviceStageField kDeviceStageFields[] = {
