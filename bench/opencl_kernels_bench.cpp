@@ -422,6 +422,13 @@ void benchCpuSatNarrowPhase(benchmark::State& state) {
     state.counters["contacts"] = double(out.contactCount);
 }
 
+// The pair summaries of the pipeline that kept its features, and the status read after them, as
+// colorPgs expects them.
+Status summarizeWarm(SatBenchWorld& b) {
+    RUBBLE_TRY(b.warm->summarizePairs(b.in->params()));
+    return b.warm->readStatus().status();
+}
+
 // The host's part of the device's PGS step, wall time: colorPgs (the pair summaries and pairs
 // read back, the coloring by support, the elements and build order written), after one
 // summarizePairs on the pipeline that kept its features.
@@ -429,8 +436,7 @@ void benchSatColoring(benchmark::State& state) {
     SatBenchWorld& b = satWorld();
     if (!b.in) return state.SkipWithError(b.error.c_str());
     gpu::Pipeline& p = *b.warm;
-    Status s = p.summarizePairs(b.in->params());
-    if (s) s = p.readStatus().status();
+    Status s = summarizeWarm(b);
     for (auto _ : state) {
         if (s) s = p.colorPgs();
         if (s) s = p.finish();
@@ -459,8 +465,7 @@ void benchSatColoringOnHost(benchmark::State& state) {
     SatBenchWorld& b = satWorld();
     if (!b.in) return state.SkipWithError(b.error.c_str());
     gpu::Pipeline& p = *b.warm;
-    Status s = p.summarizePairs(b.in->params());
-    if (s) s = p.readStatus().status();
+    Status s = summarizeWarm(b);
     if (s) s = p.colorPgs();
     if (s) s = p.finish();
     if (!s) return state.SkipWithError(s.error().describe().c_str());
