@@ -37,10 +37,25 @@ def fit_exponent(xs, ys):
     return sum((a - mx) * (b - my) for a, b in zip(lx, ly)) / var if var > 0 else float("nan")
 
 
+def read_results(path):
+    """The rows of a CSV that bench/run wrote; exits naming the file when it is not one."""
+    try:
+        with open(path) as f:
+            reader = csv.DictReader(f)
+            rows = list(reader)
+            columns = reader.fieldnames or []
+    except OSError as e:
+        sys.exit("bench/plot.py: %s: %s" % (path, e.strerror))
+    missing = [c for c in ("scene", "config", "status") if c not in columns]
+    if missing:
+        sys.exit("bench/plot.py: %s is not a CSV of bench/run (no column %s)" % (
+            path, ", ".join(missing)))
+    return rows
+
+
 def print_table(path):
     """Every row of the CSV, failures included, as Markdown."""
-    with open(path) as f:
-        rows = list(csv.DictReader(f))
+    rows = read_results(path)
 
     def num(r, key, fmt, scale=1.0):
         v = r.get(key, "")
@@ -50,12 +65,14 @@ def print_table(path):
           "| drift m/s | energy J | ratio |")
     print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
     for r in rows:
+        # A run with --seeds names each row's seed after its scene.
+        scene = r["scene"] + (" seed %s" % r["seed"] if r.get("seed") else "")
         if r["status"] != "ok":
             reason = r["status"].split("(")[0].strip()
-            print("| %s | %s | | %s | | | | | | | | |" % (r["scene"], r["config"], reason[:90]))
+            print("| %s | %s | | %s | | | | | | | | |" % (scene, r["config"], reason[:90]))
             continue
         print("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
-            r["scene"], r["config"], r["bodies"], num(r, "median_ms", "%.3g"), num(r, "p90_ms", "%.3g"),
+            scene, r["config"], r["bodies"], num(r, "median_ms", "%.3g"), num(r, "p90_ms", "%.3g"),
             num(r, "mean_ms", "%.3g"), num(r, "peak_mib", "%.0f"), r.get("sunk", "-") or "-",
             num(r, "floor_penetration_m", "%.1f", 1000.0), num(r, "mean_drift_m_per_s", "%.3f"),
             num(r, "kinetic_energy_j", "%.3g"), num(r, "ratio_to_reference", "%.2f")))
@@ -71,10 +88,13 @@ def main():
     if args.table:
         print_table(args.results)
         return
-    with open(args.results) as f:
-        rows = [r for r in csv.DictReader(f) if r["status"] == "ok" and r["scene"].startswith("debris_")]
+    rows = [r for r in read_results(args.results)
+            if r["status"] == "ok" and r["scene"].startswith("debris_")]
     if not rows:
         sys.exit("bench/plot.py: %s has no successful debris_* rows to plot" % args.results)
+    if any(r.get("seed") for r in rows):
+        sys.exit("bench/plot.py: %s is a run over seeds (bench/run --seeds), one row per seed: "
+                 "plot a run without --seeds, or print it with --table" % args.results)
     os.makedirs(args.out, exist_ok=True)
 
     fig, ax = plt.subplots(figsize=(7, 4.5), dpi=110)

@@ -85,3 +85,28 @@ def test_two_seeds_two_piles(rubble_binary, tmp_path):
     metrics = json.loads((tmp_path / "m.json").read_text())
     assert float(rows[0]["kinetic_energy_j"]) == pytest.approx(
         metrics["quality"]["kinetic_energy"], rel=1e-9)
+
+
+def test_the_plots_take_a_run_over_seeds_as_a_table_only(rubble_binary, tmp_path):
+    plot = ["/usr/bin/python3", str(REPO / "bench" / "plot.py")]
+    probe = subprocess.run(plot[:1] + ["-c", "import matplotlib"], capture_output=True)
+    if probe.returncode != 0:
+        pytest.skip("bench/plot.py needs Debian's python3-matplotlib under /usr/bin/python3")
+    out = tmp_path / "seeds.csv"
+    subprocess.run([sys.executable, str(SCRIPT), "--build", str(rubble_binary.parent),
+                    "--scenes", "debris_1k", "--configs", "cpu-sat-pgs", "--seeds", "3-4",
+                    "--steps", "5", "--out", str(out)], check=True, capture_output=True,
+                   cwd=REPO, timeout=600)
+    table = subprocess.run(plot + [str(out), "--table"], capture_output=True, text=True)
+    assert table.returncode == 0, table.stderr
+    assert "| debris_1k seed 3 | cpu-sat-pgs |" in table.stdout
+    assert "| debris_1k seed 4 | cpu-sat-pgs |" in table.stdout
+    figures = subprocess.run(plot + [str(out), "--out", str(tmp_path / "images")],
+                             capture_output=True, text=True)
+    assert figures.returncode != 0 and "bench/run --seeds" in figures.stderr
+    assert not (tmp_path / "images").exists()
+    # A CSV that bench/run did not write is refused by name, not with a traceback.
+    other = tmp_path / "other.csv"
+    other.write_text("workers,seconds\n1,2.0\n")
+    refused = subprocess.run(plot + [str(other), "--table"], capture_output=True, text=True)
+    assert refused.returncode != 0 and "is not a CSV of bench/run" in refused.stderr
