@@ -174,13 +174,18 @@ static uint jointMoves(const JacobiBody ja, const JacobiBody jb) {
            (jointInverseMassItem(jb) > 0.0f ? RUBBLE_PGS_MOVES_B : 0u);
 }
 
-// The elements of one launch: one per work-item for a color, or, for the serial tail (the
-// last colors, too small to be worth a launch each), all of them in order on work-item 0,
-// which is Gauss-Seidel in color order.
-static uint elementsBegin(const uint count, const uint serial) {
+// The elements of one launch: one per work-item for a color; for the serial tail (the last
+// colors, too small to be worth a launch each), all of them in order on work-item 0, which is
+// Gauss-Seidel in color order; for blocks, block g's (blockStarts[g] to blockStarts[g + 1]) in
+// order on work-item 0 of group g.
+static uint elementsBegin(const uint count, const uint serial, __global const uint* blockStarts) {
+    if (serial == RUBBLE_PGS_BLOCKS)
+        return get_local_id(0) == 0u ? blockStarts[get_group_id(0)] : 0u;
     return serial ? 0u : min((uint)get_global_id(0), count);
 }
-static uint elementsEnd(const uint count, const uint serial) {
+static uint elementsEnd(const uint count, const uint serial, __global const uint* blockStarts) {
+    if (serial == RUBBLE_PGS_BLOCKS)
+        return get_local_id(0) == 0u ? min(blockStarts[get_group_id(0) + 1u], count) : 0u;
     if (serial) return get_global_id(0) == 0u ? count : 0u;
     return min((uint)get_global_id(0) + 1u, count);
 }
@@ -220,26 +225,42 @@ static void warmStartElement(const PgsElement e, __global const PgsNormalRow* no
 // Warm start, one color (or the serial tail).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 warmStartPgs(const uint first, const uint count, const uint serial,
-             __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+             __global const PgsElement* elements, __global const uint* blockStarts,
+             __global const PgsNormalRow* normalRows,
              __global const PgsFrictionRows* frictionRows, __global const float4* impulses,
              __global const PgsJoint* joints, __global const PgsJointRow* jointRows,
              __global const JacobiBody* bodies, __global BodyVelocity* velocities) {
-    const uint end = elementsEnd(count, serial);
-    for (uint i = elementsBegin(count, serial); i < end; ++i)
+    const uint end = elementsEnd(count, serial, blockStarts);
+    for (uint i = elementsBegin(count, serial, blockStarts); i < end; ++i)
         warmStartElement(elements[first + i], normalRows, frictionRows, impulses, joints,
                          jointRows, bodies, velocities);
 }
 
-// One velocity sweep of one element: a joint's blocks (solveJointVelocity); a pair's normal
-// rows, then its points' friction pairs (bounded by this sweep's normal impulses), as
-// solveContactSweep orders them within a pair. The last sweep also writes the impulses kept
-// for the next step's warm start. Returns the largest |change|, N s.
+// Which rows of an element a pass over it solves (`part` of solveElement), and of which of its
+// points (`slot`: one, or all).
+#define RUBBLE_PGS_ALL_SLOTS 0xffu
+#define RUBBLE_PGS_NORMALS 1u
+#define RUBBLE_PGS_FRICTION 2u
+
+// One velocity sweep of one element, or of one part of it: a joint's blocks
+// (solveJointVelocity) with the normal rows; a pair's normal rows, then its points' friction
+// pairs (bounded by this sweep's normal impulses). A color solves both parts of each element in
+// turn; a block solves every element's normal rows, then every element's friction rows, as
+// solveContactSweep does. The last sweep's friction part also writes the impulses kept for the
+// next step's warm start. Returns the largest |change|, N s.
 static float solveElement(const PgsElement e, __global const PgsNormalRow* normalRows,
                           __global const PgsFrictionRows* frictionRows, __global float4* impulses,
                           __global const PgsJoint* joints, __global PgsJointRow* jointRows,
                           __global const JacobiBody* bodies, __global BodyVelocity* velocities,
                           const float relaxation, const uint lastSweep,
-                          __global PgsImpulse* kept) {
+                          __global PgsImpulse* kept, const uint part, const uint slot) {
+    if ((e.id & RUBBLE_PGS_JOINT_ELEMENT) && (!(part & RUBBLE_PGS_NORMALS) || slot > 0u))
+        return 0.0f;
+    // One point (slot < 4) or all of them (RUBBLE_PGS_ALL_SLOTS).
+    const uint points = e.rows & RUBBLE_PGS_POINTS;
+    const uint from = slot == RUBBLE_PGS_ALL_SLOTS ? 0u : slot;
+    const uint to = slot == RUBBLE_PGS_ALL_SLOTS ? points : min(slot + 1u, points);
+    if (!(e.id & RUBBLE_PGS_JOINT_ELEMENT) && from >= to) return 0.0f;
     BodyVelocityPair v = loadPair(e.a, e.b, velocities);
     if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
         const uint j = e.id & ~RUBBLE_PGS_JOINT_ELEMENT;
@@ -251,17 +272,23 @@ static float solveElement(const PgsElement e, __global const PgsNormalRow* norma
         return u.pointImpulse.w;
     }
     float residual = 0.0f;
-    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT, points = e.rows & RUBBLE_PGS_POINTS;
+    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
     float4 l[4];
-    for (uint k = 0; k < points; ++k) {
-        const PgsNormalRow r = normalRows[row + k];
+    for (uint k = from; k < to; ++k) {
         l[k] = impulses[row + k];
+        if (!(part & RUBBLE_PGS_NORMALS)) continue;
+        const PgsNormalRow r = normalRows[row + k];
         const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.x, l[k].x, relaxation);
         v = u.v;
         l[k].x = u.accumulated;
         residual = fmax(residual, fabs(u.applied));
     }
-    for (uint k = 0; k < points; ++k) {
+    if (!(part & RUBBLE_PGS_FRICTION)) {
+        for (uint k = from; k < to; ++k) impulses[row + k].x = l[k].x;
+        storePair(v, e.a, e.b, e.rows, velocities);
+        return residual;
+    }
+    for (uint k = from; k < to; ++k) {
         const PgsFrictionRows r = frictionRows[row + k];
         const PgsFrictionUpdate u = solvePgsFrictionItem(r, v, l[k].x, l[k].y, l[k].z, relaxation);
         v = u.v;
@@ -316,14 +343,15 @@ static float pushElement(const PgsElement e, __global const PgsNormalRow* normal
 // RUBBLE_PUSH_TOLERANCE does nothing: the pass has converged.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 solvePgs(const uint first, const uint count, const uint serial,
-         __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+         __global const PgsElement* elements, __global const uint* blockStarts,
+         __global const PgsNormalRow* normalRows,
          __global const PgsFrictionRows* frictionRows, __global float4* impulses,
          __global const PgsJoint* joints, __global PgsJointRow* jointRows,
          __global const JacobiBody* bodies, __global BodyVelocity* velocities,
          const float relaxation, const uint lastSweep, __global PgsImpulse* kept,
          __global uint* status, const uint pushSweep, __global const uint* pushed,
          __global BodyVelocity* push, __global uint* sweepResidual) {
-    const uint end = elementsEnd(count, serial);
+    const uint end = elementsEnd(count, serial, blockStarts);
     const int pushes = pushSweep != RUBBLE_PGS_NO_PUSH &&
                        (pushSweep == 0u ||
                         as_float(sweepResidual[pushSweep - 1u]) > RUBBLE_PUSH_TOLERANCE);
@@ -331,14 +359,39 @@ solvePgs(const uint first, const uint count, const uint serial,
     __local uint largest[2];
     groupClear(largest, 2u);
     float residual = 0.0f, pushResidual = 0.0f;
-    for (uint i = elementsBegin(count, serial); i < end; ++i) {
-        const PgsElement e = elements[first + i];
-        residual = fmax(residual, solveElement(e, normalRows, frictionRows, impulses, joints,
-                                               jointRows, bodies, velocities, relaxation,
-                                               lastSweep, kept));
-        if (pushes)
-            pushResidual = fmax(pushResidual,
-                                pushElement(e, normalRows, impulses, pushed, push, relaxation));
+    const uint begin = elementsBegin(count, serial, blockStarts);
+    if (serial != RUBBLE_PGS_BLOCKS) {
+        // A color: each element's normal rows, then its friction rows, then its push rows.
+        for (uint i = begin; i < end; ++i) {
+            const PgsElement e = elements[first + i];
+            residual = fmax(residual, solveElement(e, normalRows, frictionRows, impulses, joints,
+                                                   jointRows, bodies, velocities, relaxation,
+                                                   lastSweep, kept, RUBBLE_PGS_NORMALS |
+                                                   RUBBLE_PGS_FRICTION, RUBBLE_PGS_ALL_SLOTS));
+            if (pushes)
+                pushResidual = fmax(pushResidual, pushElement(e, normalRows, impulses, pushed,
+                                                              push, relaxation));
+        }
+    } else {
+        // A block, in order: the normal rows as the CPU's sweep goes through them
+        // (interleaveContactRows: every element's first point, then every second point, ...),
+        // then each element's friction rows, and its push rows.
+        for (uint slot = 0u; slot < 4u; ++slot) // a manifold has at most four points
+            for (uint i = begin; i < end; ++i)
+                residual = fmax(residual, solveElement(elements[first + i], normalRows,
+                                                       frictionRows, impulses, joints, jointRows,
+                                                       bodies, velocities, relaxation, lastSweep,
+                                                       kept, RUBBLE_PGS_NORMALS, slot));
+        for (uint i = begin; i < end; ++i) {
+            const PgsElement e = elements[first + i];
+            residual = fmax(residual, solveElement(e, normalRows, frictionRows, impulses, joints,
+                                                   jointRows, bodies, velocities, relaxation,
+                                                   lastSweep, kept, RUBBLE_PGS_FRICTION,
+                                                   RUBBLE_PGS_ALL_SLOTS));
+            if (pushes)
+                pushResidual = fmax(pushResidual, pushElement(e, normalRows, impulses, pushed,
+                                                              push, relaxation));
+        }
     }
     if (lastSweep && residual > 0.0f) atomic_max(&largest[0], as_uint(residual));
     if (pushResidual > 0.0f) atomic_max(&largest[1], as_uint(pushResidual));
@@ -381,15 +434,16 @@ markBounces(const uint count, __global const PgsElement* elements,
 // within RUBBLE_PUSH_TOLERANCE does nothing.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 pushPgs(const uint first, const uint count, const uint serial,
-        __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+        __global const PgsElement* elements, __global const uint* blockStarts,
+        __global const PgsNormalRow* normalRows,
         __global float4* impulses, __global const uint* pushed, __global BodyVelocity* push,
         const float relaxation, const uint sweep, __global uint* sweepResidual) {
     if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
     __local uint largest;
     groupClear(&largest, 1u);
-    const uint end = elementsEnd(count, serial);
+    const uint end = elementsEnd(count, serial, blockStarts);
     float residual = 0.0f;
-    for (uint i = elementsBegin(count, serial); i < end; ++i)
+    for (uint i = elementsBegin(count, serial, blockStarts); i < end; ++i)
         residual = fmax(residual, pushElement(elements[first + i], normalRows, impulses, pushed,
                                               push, relaxation));
     if (residual > 0.0f) atomic_max(&largest, as_uint(residual));
@@ -403,15 +457,16 @@ pushPgs(const uint first, const uint count, const uint serial,
 // nothing.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 bouncePgs(const uint first, const uint count, const uint serial,
-          __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+          __global const PgsElement* elements, __global const uint* blockStarts,
+          __global const PgsNormalRow* normalRows,
           __global const float4* impulses, __global float* bounce,
           __global BodyVelocity* velocities, const uint sweep, __global uint* sweepResidual) {
     if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
     __local uint largest;
     groupClear(&largest, 1u);
-    const uint end = elementsEnd(count, serial);
+    const uint end = elementsEnd(count, serial, blockStarts);
     float residual = 0.0f;
-    for (uint i = elementsBegin(count, serial); i < end; ++i) {
+    for (uint i = elementsBegin(count, serial, blockStarts); i < end; ++i) {
         const PgsElement e = elements[first + i];
         if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
         const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
@@ -440,12 +495,13 @@ bouncePgs(const uint first, const uint count, const uint serial,
 // their orientations (PgsSolver::solvePositions).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 bounceMomenta(const uint first, const uint count, const uint serial,
-              __global const PgsElement* elements, __global const PgsNormalRow* normalRows,
+              __global const PgsElement* elements, __global const uint* blockStarts,
+              __global const PgsNormalRow* normalRows,
               __global const float4* impulses, __global const float* bounce,
               __global BodyMomentum* momenta, __global const BodyMass* masses,
               __global const BodyPose* poses, __global BodyVelocity* velocities) {
-    const uint end = elementsEnd(count, serial);
-    for (uint i = elementsBegin(count, serial); i < end; ++i) {
+    const uint end = elementsEnd(count, serial, blockStarts);
+    for (uint i = elementsBegin(count, serial, blockStarts); i < end; ++i) {
         const PgsElement e = elements[first + i];
         if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
         const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;

@@ -45,6 +45,7 @@ WorkSizes workSizesFor(const DeviceInfo& device) {
     w.pairGroup = group;
     const std::uint64_t lanes = std::uint64_t(std::max<std::uint32_t>(1, device.computeUnits)) * 64;
     w.sortItems = std::clamp<std::uint32_t>(floorPow2(2 * lanes - 1), 256, 4096);
+    w.pgsBlocks = device.cpu ? 4 * std::max<std::uint32_t>(1, device.computeUnits) : 0;
     return w;
 }
 

@@ -26,6 +26,9 @@ struct WorkSizes {
     std::uint32_t sortItems = RUBBLE_SORT_ITEMS;   ///< work-items of a radix sort pass
     std::uint32_t broadGroup = RUBBLE_GROUP_BROAD; ///< work-group of the SAT broad phase
     std::uint32_t pairGroup = RUBBLE_GROUP_PAIRS;  ///< work-group of the SAT narrow phase, pairs
+    /// Blocks of the device's Gauss-Seidel solve (host/gpu/pgs.cpp): on a CPU device four per
+    /// compute unit, each run in order by one work-item; 0 on a GPU, whose lanes want colors.
+    std::uint32_t pgsBlocks = 0;
 };
 
 /// The work sizes for a device: work-groups of 64 (or the device's largest, if smaller: a

@@ -86,6 +86,9 @@ Result<std::vector<DeviceInfo>> listDevices() {
             d.maxAllocation = allocation;
             d.maxWorkGroupSize = group;
             d.localMemory = local;
+            cl_device_type type = 0;
+            RUBBLE_CL_CHECK(clGetDeviceInfo(id, CL_DEVICE_TYPE, sizeof type, &type, nullptr));
+            d.cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
             devices.push_back(std::move(d));
         }
     }

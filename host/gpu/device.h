@@ -24,6 +24,7 @@ struct DeviceInfo {
     std::uint64_t maxAllocation = 0; ///< bytes, largest single buffer
     std::uint64_t maxWorkGroupSize = 0; ///< CL_DEVICE_MAX_WORK_GROUP_SIZE, work-items
     std::uint64_t localMemory = 0;      ///< CL_DEVICE_LOCAL_MEM_SIZE, bytes per work-group
+    bool cpu = false;                   ///< CL_DEVICE_TYPE_CPU: cores, not lanes by the thousand
     cl_platform_id platformId = nullptr;
     cl_device_id id = nullptr;
 };

@@ -35,10 +35,10 @@ Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes) {
 
 // A sweep kernel's launch over one color (or the serial tail), its first arguments bound: the
 // launch's first element, count and serial flag, and the step's elements.
-Dispatch sweepLaunch(const Context& c, KernelId id, const PgsLaunch& l, const Buffer& elements,
+Dispatch sweepLaunch(const Context& c, KernelId id, const PgsLaunch& l, const PgsBuffers& g,
                      Profile* profile) {
     Dispatch d(c, id, profile);
-    d.arg(l.first).arg(l.count).arg(l.serial).arg(elements);
+    d.arg(l.first).arg(l.count).arg(l.serial).arg(g.elements).arg(g.blockStarts);
     return d;
 }
 
@@ -112,14 +112,13 @@ Status Pipeline::colorPgs() {
     g.pairsHost.resize(pairs);
     RUBBLE_TRY(download(c, g.pairRows, std::span(g.pairRowsHost), &profile_));
     RUBBLE_TRY(download(c, sat_.current.pairs, std::span(g.pairsHost), &profile_));
-    // Greedy: the joints first (the CPU's sweep solves them before the contacts), then the
-    // pairs with rows from the bottom up (Coloring::addBySupport), each color in pair order.
-    Coloring& coloring = g.coloring;
-    coloring.begin(bodies_.count);
-    for (std::uint32_t j = 0; j < g.jointCount; ++j)
-        coloring.add(RUBBLE_PGS_JOINT_ELEMENT | j, g.jointsHost[j].a, g.jointsHost[j].b,
-                     g.jointDynamicA[j], g.jointDynamicB[j]);
+    // The elements: the joints first (the CPU's sweep solves them before the contacts), then the
+    // pairs with rows in pair order.
     g.contactElements.clear();
+    for (std::uint32_t j = 0; j < g.jointCount; ++j)
+        g.contactElements.push_back({RUBBLE_PGS_JOINT_ELEMENT | j, g.jointsHost[j].a,
+                                     g.jointsHost[j].b, g.jointDynamicA[j] != 0,
+                                     g.jointDynamicB[j] != 0});
     for (std::uint32_t p = 0; p < pairs; ++p) {
         const cl_uint summary = g.pairRowsHost[p];
         if ((summary & RUBBLE_PGS_POINTS) == 0) continue;
@@ -127,50 +126,102 @@ Status Pipeline::colorPgs() {
                                      (summary & RUBBLE_PGS_MOVES_A) != 0,
                                      (summary & RUBBLE_PGS_MOVES_B) != 0});
     }
-    coloring.addBySupport(g.contactElements);
-    coloring.finish();
-    // The elements in color order, each pair's rows packed after the last one's, so that a
-    // color's sweep reads its rows front to back.
-    const std::span<const std::uint32_t> order = coloring.order(), start = coloring.start();
-    g.elementsHost.resize(order.size());
-    g.colorPoints.assign(coloring.colors(), 0);
-    std::uint32_t rows = 0;
-    for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
-        for (std::uint32_t i = start[k]; i < start[k + 1]; ++i) {
-            const std::uint32_t id = order[i];
-            shared::PgsElement& e = g.elementsHost[i];
-            e.id = id;
-            if (id & RUBBLE_PGS_JOINT_ELEMENT) {
-                const shared::PgsJoint& joint = g.jointsHost[id & ~RUBBLE_PGS_JOINT_ELEMENT];
-                e.a = joint.a;
-                e.b = joint.b;
-                e.rows = 0;
-                continue;
-            }
-            const cl_uint summary = g.pairRowsHost[id];
-            const std::uint32_t points = summary & RUBBLE_PGS_POINTS;
-            e.a = g.pairsHost[id].a;
-            e.b = g.pairsHost[id].b;
-            e.rows = (rows << RUBBLE_PGS_FIRST_SHIFT) | summary;
-            rows += points;
-            g.colorPoints[k] += points;
-        }
+    const std::span<const ColorElement> all(g.contactElements);
+    // Blocks (a CPU device): the bodies cut into ranges of indices, an element whose moving
+    // bodies are all in one range goes to that range's block, in the order above; a block runs
+    // in order on one work-item, as the CPU's sweep does (docs/opencl.md, "Blocks"). The rest,
+    // between blocks, and every element on a GPU, are colored.
+    const std::uint32_t blocks = pgsBlocks_, bodies = bodies_.count;
+    constexpr std::uint32_t kColored = 0xffffffffu;
+    auto blockOf = [&](const ColorElement& x) {
+        auto of = [&](std::uint32_t body) {
+            return std::uint32_t(std::uint64_t(body) * blocks / std::max(bodies, 1u));
+        };
+        if (blocks == 0 || (!x.movesA && !x.movesB)) return kColored;
+        if (x.movesA && x.movesB) return of(x.a) == of(x.b) ? of(x.a) : kColored;
+        return of(x.movesA ? x.a : x.b);
+    };
+    g.blockStartsHost.assign(std::size_t(blocks) + 1, 0);
+    g.coloredHost.clear();
+    for (std::uint32_t k = 0; k < all.size(); ++k) {
+        const std::uint32_t b = blockOf(all[k]);
+        if (b == kColored)
+            g.coloredHost.push_back(k);
+        else
+            ++g.blockStartsHost[b + 1];
     }
+    for (std::uint32_t b = 0; b < blocks; ++b) g.blockStartsHost[b + 1] += g.blockStartsHost[b];
+    const std::uint32_t inBlocks = blocks > 0 ? g.blockStartsHost[blocks] : 0;
+    // Where each element goes: its block's next place, or its place among the colors after
+    // the blocks.
+    g.placeHost.resize(all.size());
+    g.nextHost.assign(g.blockStartsHost.begin(), g.blockStartsHost.end());
+    for (std::uint32_t k = 0; k < all.size(); ++k) {
+        const std::uint32_t b = blockOf(all[k]);
+        if (b != kColored) g.placeHost[k] = g.nextHost[b]++;
+    }
+    // The colored elements: greedy, joints one by one, the pairs from the bottom up
+    // (Coloring::addBySupport), each color in pair order.
+    Coloring& coloring = g.coloring;
+    coloring.begin(bodies);
+    std::size_t coloredJoints = 0;
+    while (coloredJoints < g.coloredHost.size() &&
+           (all[g.coloredHost[coloredJoints]].id & RUBBLE_PGS_JOINT_ELEMENT)) {
+        const ColorElement& x = all[g.coloredHost[coloredJoints++]];
+        coloring.add(x.id, x.a, x.b, x.movesA, x.movesB);
+    }
+    g.coloredPairs.clear();
+    for (std::size_t i = coloredJoints; i < g.coloredHost.size(); ++i)
+        g.coloredPairs.push_back(all[g.coloredHost[i]]);
+    coloring.addBySupport(g.coloredPairs);
+    coloring.finish();
+    for (std::size_t i = 0; i < g.coloredHost.size(); ++i)
+        g.placeHost[g.coloredHost[i]] = inBlocks + coloring.slots()[i];
+    // The elements in that order, each pair's rows packed after the last one's, so that a
+    // launch reads its rows front to back.
+    g.elementsHost.resize(all.size());
+    for (std::uint32_t k = 0; k < all.size(); ++k) {
+        shared::PgsElement& e = g.elementsHost[g.placeHost[k]];
+        e.id = all[k].id;
+        e.a = all[k].a;
+        e.b = all[k].b;
+        e.rows = 0;
+    }
+    g.pointsHost.assign(all.size() + 1, 0);
+    std::uint32_t rows = 0;
+    for (std::uint32_t i = 0; i < all.size(); ++i) {
+        shared::PgsElement& e = g.elementsHost[i];
+        if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
+        const cl_uint summary = g.pairRowsHost[e.id];
+        e.rows = (rows << RUBBLE_PGS_FIRST_SHIFT) | summary;
+        rows += summary & RUBBLE_PGS_POINTS;
+        g.pointsHost[i + 1] = rows;
+    }
+    for (std::uint32_t i = 0; i < all.size(); ++i)
+        g.pointsHost[i + 1] = std::max(g.pointsHost[i + 1], g.pointsHost[i]);
     g.rowCount = rows;
+    auto pointsIn = [&](std::uint32_t first, std::uint32_t count) {
+        return g.pointsHost[first + count] - g.pointsHost[first];
+    };
+    g.launches.clear();
+    if (inBlocks > 0)
+        g.launches.push_back({0, inBlocks, RUBBLE_PGS_BLOCKS, pointsIn(0, inBlocks), blocks});
     // One launch per color, but the last colors, once together they hold no more than
     // kSerialElements, in one launch on one work-item (a launch costs more than they do).
+    const std::span<const std::uint32_t> start = coloring.start();
     std::uint32_t tail = coloring.colors();
     while (tail > 0 && start[coloring.colors()] - start[tail - 1] <= kSerialElements) --tail;
     if (coloring.colors() - tail < 2) tail = coloring.colors(); // nothing to merge
-    g.launches.clear();
-    for (std::uint32_t k = 0; k < tail; ++k)
-        g.launches.push_back({start[k], start[k + 1] - start[k], 0u, g.colorPoints[k]});
-    if (tail < coloring.colors()) {
-        PgsLaunch serial{start[tail], start[coloring.colors()] - start[tail], 1u, 0};
-        for (std::uint32_t k = tail; k < coloring.colors(); ++k) serial.points += g.colorPoints[k];
-        g.launches.push_back(serial);
+    for (std::uint32_t k = 0; k < tail; ++k) {
+        const std::uint32_t first = inBlocks + start[k], count = start[k + 1] - start[k];
+        g.launches.push_back({first, count, RUBBLE_PGS_PER_ITEM, pointsIn(first, count), 0});
     }
-    if (order.empty()) return {};
+    if (tail < coloring.colors()) {
+        const std::uint32_t first = inBlocks + start[tail];
+        const std::uint32_t count = start[coloring.colors()] - start[tail];
+        g.launches.push_back({first, count, RUBBLE_PGS_SERIAL, pointsIn(first, count), 0});
+    }
+    if (all.empty()) return {};
     RUBBLE_TRY(reserveGrowing(c, g.normalRows, rows * sizeof(shared::PgsNormalRow)));
     RUBBLE_TRY(reserveGrowing(c, g.frictionRows, rows * sizeof(shared::PgsFrictionRows)));
     RUBBLE_TRY(reserveGrowing(c, g.impulses, rows * sizeof(shared::float4)));
@@ -181,17 +232,22 @@ Status Pipeline::colorPgs() {
     // order (their slots in the coloring; the joints were added first), which reads the
     // manifolds front to back and nearby bodies together (a color's elements are spread over the
     // pile).
-    const std::span<const std::uint32_t> buildOrder = coloring.slots().subspan(g.jointCount);
+    const std::span<const std::uint32_t> buildOrder =
+        std::span<const std::uint32_t>(g.placeHost).subspan(g.jointCount);
     RUBBLE_TRY(reserveGrowing(c, g.buildOrder, std::max<std::size_t>(1, buildOrder.size_bytes())));
+    const std::span<const std::uint32_t> blockStarts(g.blockStartsHost);
+    RUBBLE_TRY(
+        reserveGrowing(c, g.blockStarts, std::max<std::size_t>(4, blockStarts.size_bytes())));
     RUBBLE_TRY(enqueueUpload(c, g.elements, elements, &profile_));
+    if (!blockStarts.empty()) RUBBLE_TRY(enqueueUpload(c, g.blockStarts, blockStarts, &profile_));
     return enqueueUpload(c, g.buildOrder, buildOrder, &profile_);
 }
 
 Status Pipeline::buildPgsRows(const StepParams& params) {
     const Context& c = *context_;
     PgsBuffers& g = pgs_;
-    // The pairs with rows (the coloring's elements after the joints).
-    const cl_uint count = cl_uint(g.coloring.slots().size() - g.jointCount);
+    // The pairs with rows (the step's elements after the joints).
+    const cl_uint count = cl_uint(g.placeHost.size() - g.jointCount);
     if (count == 0) return {};
     RUBBLE_TRY(Dispatch(c, KernelId::BuildPgsRows, &profile_)
                    .arg(count)
@@ -232,7 +288,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
     RUBBLE_TRY(copyVelocities(bodies_.before));
     if (o.warmStart) {
         for (const PgsLaunch& l : g.launches) {
-            RUBBLE_TRY(sweepLaunch(c, KernelId::WarmStartPgs, l, g.elements, &profile_)
+            RUBBLE_TRY(sweepLaunch(c, KernelId::WarmStartPgs, l, g, &profile_)
                            .arg(g.normalRows)
                            .arg(g.frictionRows)
                            .arg(g.impulses)
@@ -263,7 +319,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
         const cl_uint last = it + 1 == o.iterations ? 1u : 0u;
         const cl_uint pushSweep = fused ? cl_uint(it) : RUBBLE_PGS_NO_PUSH;
         for (const PgsLaunch& l : g.launches) {
-            RUBBLE_TRY(sweepLaunch(c, KernelId::SolvePgs, l, g.elements, &profile_)
+            RUBBLE_TRY(sweepLaunch(c, KernelId::SolvePgs, l, g, &profile_)
                            .arg(g.normalRows)
                            .arg(g.frictionRows)
                            .arg(g.impulses)
@@ -303,7 +359,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
                               g.rowCount * (sizeof(shared::PgsNormalRow) + sizeof(shared::float4)));
         for (cl_uint sweep = 0; sweep < sweeps; ++sweep) {
             for (const PgsLaunch& l : g.launches) {
-                RUBBLE_TRY(sweepLaunch(c, KernelId::PushPgs, l, g.elements, &profile_)
+                RUBBLE_TRY(sweepLaunch(c, KernelId::PushPgs, l, g, &profile_)
                                .arg(g.normalRows)
                                .arg(g.impulses)
                                .arg(g.pushed)
@@ -374,7 +430,7 @@ Status Pipeline::bouncePgs(const StepParams& params) {
     };
     for (cl_uint sweep = 0; sweep < sweeps; ++sweep) {
         for (const PgsLaunch& l : g.launches) {
-            RUBBLE_TRY(sweepLaunch(c, KernelId::BouncePgs, l, g.elements, &profile_)
+            RUBBLE_TRY(sweepLaunch(c, KernelId::BouncePgs, l, g, &profile_)
                            .arg(g.normalRows)
                            .arg(g.impulses)
                            .arg(g.bounce)
@@ -386,7 +442,7 @@ Status Pipeline::bouncePgs(const StepParams& params) {
         }
     }
     for (const PgsLaunch& l : g.launches) {
-        RUBBLE_TRY(sweepLaunch(c, KernelId::BounceMomenta, l, g.elements, &profile_)
+        RUBBLE_TRY(sweepLaunch(c, KernelId::BounceMomenta, l, g, &profile_)
                        .arg(g.normalRows)
                        .arg(g.impulses)
                        .arg(g.bounce)

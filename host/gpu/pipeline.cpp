@@ -32,6 +32,7 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
     const Context& c = *p->context_;
     p->bodies_.count = std::uint32_t(n);
     p->deterministic_ = in.deterministic;
+    p->pgsBlocks_ = in.pgsBlocks >= 0 ? std::uint32_t(in.pgsBlocks) : c.workSizes().pgsBlocks;
     p->lcpStride_ = lcpStride(in.surfaces, bodies.masses);
     p->kinematic_.assign(n, 0);
     std::copy(kinematic.begin(), kinematic.begin() + std::min(kinematic.size(), n),

@@ -130,11 +130,15 @@ struct SatBuffers {
 /// One launch of the device's sweeps: a color's elements [first, first + count) of the
 /// step's order, or, serial, the last colors together on one work-item.
 struct PgsLaunch {
-    cl_uint first = 0, count = 0, serial = 0;
+    cl_uint first = 0, count = 0, serial = RUBBLE_PGS_PER_ITEM;
     std::uint32_t points = 0; ///< rows, for the byte counts
-    /// Work-items of the launch in groups of `group`: one per element, or one group for the
-    /// serial tail (its work-item 0 runs it).
-    std::size_t items(std::size_t group) const { return serial ? group : count; }
+    std::uint32_t blocks = 0; ///< RUBBLE_PGS_BLOCKS: how many (PgsBuffers::blockStarts)
+    /// Work-items of the launch in groups of `group`: one per element, one group for the serial
+    /// tail (its work-item 0 runs it), or one group per block.
+    std::size_t items(std::size_t group) const {
+        if (serial == RUBBLE_PGS_BLOCKS) return std::size_t(blocks) * group;
+        return serial ? group : count;
+    }
 };
 
 /// Projected Gauss-Seidel on the device (host/gpu/pgs.cpp, kernels/pgs.cl), for a world that
@@ -144,6 +148,7 @@ struct PgsBuffers {
     Buffer pairRows;       ///< per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
     Buffer elements;       ///< this step's PgsElement records, color by color
     Buffer buildOrder;     ///< the pairs' elements (indices into elements) in pair order
+    Buffer blockStarts;    ///< the blocks' first elements, and the end of the last
     Buffer normalRows;     ///< PgsNormalRow per point, packed in element order
     Buffer frictionRows;   ///< PgsFrictionRows per point, in the same order
     Buffer impulses;       ///< per point: normal, two friction and push impulses, N s
@@ -175,11 +180,14 @@ struct PgsBuffers {
     std::vector<std::uint8_t> jointDynamicA, jointDynamicB;
     Coloring jointColoring;
     Coloring coloring;
-    std::vector<ColorElement> contactElements; ///< the pairs with rows, for the coloring
+    std::vector<ColorElement> contactElements; ///< the joints, then the pairs with rows
+    std::vector<ColorElement> coloredPairs;    ///< the pairs with rows between blocks
+    std::vector<std::uint32_t> coloredHost;    ///< the elements between blocks (indices)
+    std::vector<std::uint32_t> placeHost;      ///< each element's place in elementsHost
+    std::vector<std::uint32_t> blockStartsHost, nextHost, pointsHost;
     std::vector<cl_uint> pairRowsHost;
     std::vector<shared::BodyPairRecord> pairsHost;
     std::vector<shared::PgsElement> elementsHost;
-    std::vector<std::uint32_t> colorPoints; ///< rows (points) of each color, for the byte counts
     std::vector<PgsLaunch> launches;        ///< this step's launches of each sweep
 };
 
@@ -205,6 +213,7 @@ struct PipelineInput {
     /// device, placed by each step's obstacles, whose list is these bodies' indices in order.
     std::span<const std::uint8_t> kinematic;
     bool deterministic = false; ///< contacts sorted by key so that atomics cannot reorder sums
+    int pgsBlocks = -1;         ///< RunOptions::pgsBlocks
     /// The world's collision method: with Sat the SAT buffers are made (and `shapes` must hold
     /// every shape the bodies use); with Particles nothing of SAT is.
     CollisionMethod collision = CollisionMethod::Particles;
@@ -474,6 +483,7 @@ class Pipeline {
     LcpBuffers lcp_;
     std::vector<std::uint8_t> kinematic_; ///< per body, as created
     bool deterministic_ = false;          ///< contacts sorted before the rows
+    std::uint32_t pgsBlocks_ = 0;         ///< blocks of the PGS solve (0: colors only)
     std::uint32_t lcpStride_ = 1;         ///< rows per contact of lcp-jacobi (lcpStride)
     bool forcesOnDevice_ = false;         ///< the device force buffer holds non-zero forces
     bool stepPending_ = false;            ///< beginStep ran, endStep not yet

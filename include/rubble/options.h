@@ -98,6 +98,10 @@ struct RunOptions {
     std::string device;    ///< OpenCL device by name fragment or index; empty: the first one
     std::string kernelDir; ///< load kernels/*.cl from here instead of the embedded text
     bool deterministic = false; ///< device rows sorted by key so atomics cannot reorder sums
+    /// Blocks of the device's Gauss-Seidel solve (docs/opencl.md, "Blocks"): -1 as the device
+    /// suits (a CPU device four per compute unit, a GPU none), 0 every element colored, N > 0
+    /// that many blocks.
+    int pgsBlocks = -1;
     /// Options added to every OpenCL program build (`-cl-opt-disable` for Oclgrind).
     std::string buildOptions;
     /// Set to true (by a signal handler, another thread) to stop: World::step checks it between
