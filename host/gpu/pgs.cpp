@@ -1,7 +1,8 @@
 // host/gpu/pgs.cpp: dispatch of projected Gauss-Seidel on the device (kernels/pgs.cl): the rows
-// of each pair's manifold, the host's coloring of the step's elements, then warm start,
-// velocity sweeps and the split position pass, one launch per color, and the pushes after
-// integratePositions. The CPU twin is PgsSolver (host/dynamics/pgs_solver.cpp).
+// of each pair's manifold, the host's split of the step's elements into blocks (a CPU device)
+// and colors, then warm start, velocity sweeps and the split position pass, one launch for the
+// blocks and one per color, and the pushes after integratePositions. The CPU twin is PgsSolver
+// (host/dynamics/pgs_solver.cpp).
 #include <algorithm>
 
 #include "host/core/assert.h"

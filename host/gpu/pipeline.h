@@ -146,7 +146,7 @@ struct PgsLaunch {
 /// and the split position pass's per-body state.
 struct PgsBuffers {
     Buffer pairRows;       ///< per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
-    Buffer elements;       ///< this step's PgsElement records, color by color
+    Buffer elements;       ///< this step's PgsElement records, block by block, then by color
     Buffer buildOrder;     ///< the pairs' elements (indices into elements) in pair order
     Buffer blockStarts;    ///< the blocks' first elements, and the end of the last
     Buffer normalRows;     ///< PgsNormalRow per point, packed in element order
