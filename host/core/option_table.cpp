@@ -204,6 +204,12 @@ const std::vector<Option>& table() {
             {.name = "deterministic",
              .uses = kEverywhere,
              .help = "Sort device rows so runs repeat bit for bit"}),
+        runOption<&RunOptions::pgsBlocks>(
+            {.name = "pgs-blocks",
+             .uses = kEverywhere,
+             .range = {.min = -1, .max = 65536},
+             .help = "Blocks of the device's PGS solve: -1 as the device suits (4 per compute "
+                     "unit on a CPU device, none on a GPU), 0 every element colored"}),
         runOption<&RunOptions::buildOptions>(
             {.name = "build-options",
              .uses = kUseFlag,

@@ -37,6 +37,7 @@ RunOptions otherRun() {
     r.device = "1";
     r.kernelDir = "kernels";
     r.deterministic = true;
+    r.pgsBlocks = 3;
     r.buildOptions = "-cl-opt-disable";
     return r;
 }
