@@ -471,7 +471,7 @@ void benchSatColoringOnHost(benchmark::State& state) {
     if (!s) return state.SkipWithError(s.error().describe().c_str());
     // Every pair with rows colored (as a GPU colors them; a CPU device colors only the few
     // between its blocks). debris_16k has no joints: the elements are the pairs.
-    const std::vector<gpu::ColorElement> elements = p.pgs().contactElements;
+    const std::vector<gpu::ColorElement> elements = p.pgs().stepElements;
     gpu::Coloring coloring;
     for (auto _ : state) {
         coloring.begin(b.in->bodies.count());

@@ -174,19 +174,19 @@ static uint jointMoves(const JacobiBody ja, const JacobiBody jb) {
            (jointInverseMassItem(jb) > 0.0f ? RUBBLE_PGS_MOVES_B : 0u);
 }
 
-// The elements of one launch: one per work-item for a color; for the serial tail (the last
-// colors, too small to be worth a launch each), all of them in order on work-item 0, which is
-// Gauss-Seidel in color order; for blocks, block g's (blockStarts[g] to blockStarts[g + 1]) in
-// order on work-item 0 of group g.
-static uint elementsBegin(const uint count, const uint serial, __global const uint* blockStarts) {
-    if (serial == RUBBLE_PGS_BLOCKS)
-        return get_local_id(0) == 0u ? blockStarts[get_group_id(0)] : 0u;
-    return serial ? 0u : min((uint)get_global_id(0), count);
+// The elements of one launch, by its `mode`: RUBBLE_PGS_PER_ITEM, one per work-item (a color);
+// RUBBLE_PGS_SERIAL, all of them in order on work-item 0 (the serial tail: the last colors, too
+// small to be worth a launch each; Gauss-Seidel in color order); RUBBLE_PGS_BLOCKS, block g's
+// (blockStarts[g] to blockStarts[g + 1]) in order on work-item 0 of group g.
+static uint elementsBegin(const uint count, const uint mode, __global const uint* blockStarts) {
+    if (mode == RUBBLE_PGS_BLOCKS) return get_local_id(0) == 0u ? blockStarts[get_group_id(0)] : 0u;
+    if (mode == RUBBLE_PGS_SERIAL) return 0u;
+    return min((uint)get_global_id(0), count);
 }
-static uint elementsEnd(const uint count, const uint serial, __global const uint* blockStarts) {
-    if (serial == RUBBLE_PGS_BLOCKS)
+static uint elementsEnd(const uint count, const uint mode, __global const uint* blockStarts) {
+    if (mode == RUBBLE_PGS_BLOCKS)
         return get_local_id(0) == 0u ? min(blockStarts[get_group_id(0) + 1u], count) : 0u;
-    if (serial) return get_global_id(0) == 0u ? count : 0u;
+    if (mode == RUBBLE_PGS_SERIAL) return get_global_id(0) == 0u ? count : 0u;
     return min((uint)get_global_id(0) + 1u, count);
 }
 
@@ -222,16 +222,16 @@ static void warmStartElement(const PgsElement e, __global const PgsNormalRow* no
     storePair(v, e.a, e.b, e.rows, velocities);
 }
 
-// Warm start, one color (or the serial tail).
+// Warm start, one launch (a color, the serial tail or the blocks).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-warmStartPgs(const uint first, const uint count, const uint serial,
+warmStartPgs(const uint first, const uint count, const uint mode,
              __global const PgsElement* elements, __global const uint* blockStarts,
              __global const PgsNormalRow* normalRows,
              __global const PgsFrictionRows* frictionRows, __global const float4* impulses,
              __global const PgsJoint* joints, __global const PgsJointRow* jointRows,
              __global const JacobiBody* bodies, __global BodyVelocity* velocities) {
-    const uint end = elementsEnd(count, serial, blockStarts);
-    for (uint i = elementsBegin(count, serial, blockStarts); i < end; ++i)
+    const uint end = elementsEnd(count, mode, blockStarts);
+    for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
         warmStartElement(elements[first + i], normalRows, frictionRows, impulses, joints,
                          jointRows, bodies, velocities);
 }
@@ -335,14 +335,14 @@ static float pushElement(const PgsElement e, __global const PgsNormalRow* normal
     return residual;
 }
 
-// One velocity sweep, one color (or the serial tail); the last sweep's largest |change| goes
-// to the status block. The split position pass's sweep of the same number runs in the same
-// launch (pushSweep; RUBBLE_PGS_NO_PUSH when no row pushes): it reads the same rows but its own
-// velocities and impulses, so the two passes do not see each other, as on the CPU, where it
-// runs after the velocity solve. A push sweep after one whose largest change was within
-// RUBBLE_PUSH_TOLERANCE does nothing: the pass has converged.
+// One velocity sweep, one launch (a color, the serial tail or the blocks); the last sweep's
+// largest |change| goes to the status block. The split position pass's sweep of the same number
+// runs in the same launch (pushSweep; RUBBLE_PGS_NO_PUSH when no row pushes): it reads the same
+// rows but its own velocities and impulses, so the two passes do not see each other, as on the
+// CPU, where it runs after the velocity solve. A push sweep after one whose largest change was
+// within RUBBLE_PUSH_TOLERANCE does nothing: the pass has converged.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-solvePgs(const uint first, const uint count, const uint serial,
+solvePgs(const uint first, const uint count, const uint mode,
          __global const PgsElement* elements, __global const uint* blockStarts,
          __global const PgsNormalRow* normalRows,
          __global const PgsFrictionRows* frictionRows, __global float4* impulses,
@@ -351,7 +351,7 @@ solvePgs(const uint first, const uint count, const uint serial,
          const float relaxation, const uint lastSweep, __global PgsImpulse* kept,
          __global uint* status, const uint pushSweep, __global const uint* pushed,
          __global BodyVelocity* push, __global uint* sweepResidual) {
-    const uint end = elementsEnd(count, serial, blockStarts);
+    const uint end = elementsEnd(count, mode, blockStarts);
     const int pushes = pushSweep != RUBBLE_PGS_NO_PUSH &&
                        (pushSweep == 0u ||
                         as_float(sweepResidual[pushSweep - 1u]) > RUBBLE_PUSH_TOLERANCE);
@@ -359,8 +359,8 @@ solvePgs(const uint first, const uint count, const uint serial,
     __local uint largest[2];
     groupClear(largest, 2u);
     float residual = 0.0f, pushResidual = 0.0f;
-    const uint begin = elementsBegin(count, serial, blockStarts);
-    if (serial != RUBBLE_PGS_BLOCKS) {
+    const uint begin = elementsBegin(count, mode, blockStarts);
+    if (mode != RUBBLE_PGS_BLOCKS) {
         // A color: each element's normal rows, then its friction rows, then its push rows.
         for (uint i = begin; i < end; ++i) {
             const PgsElement e = elements[first + i];
@@ -429,11 +429,12 @@ markBounces(const uint count, __global const PgsElement* elements,
     atomic_or(&status[RUBBLE_STATUS_PUSHED], 1u);
 }
 
-// One sweep of the split position pass alone, one color (or the serial tail): the non-fused
+// One sweep of the split position pass alone, one launch (a color, the serial tail or the
+// blocks): the non-fused
 // path, after the velocity sweeps (and markBounces). A sweep after one whose largest change was
 // within RUBBLE_PUSH_TOLERANCE does nothing.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-pushPgs(const uint first, const uint count, const uint serial,
+pushPgs(const uint first, const uint count, const uint mode,
         __global const PgsElement* elements, __global const uint* blockStarts,
         __global const PgsNormalRow* normalRows,
         __global float4* impulses, __global const uint* pushed, __global BodyVelocity* push,
@@ -441,22 +442,22 @@ pushPgs(const uint first, const uint count, const uint serial,
     if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
     __local uint largest;
     groupClear(&largest, 1u);
-    const uint end = elementsEnd(count, serial, blockStarts);
+    const uint end = elementsEnd(count, mode, blockStarts);
     float residual = 0.0f;
-    for (uint i = elementsBegin(count, serial, blockStarts); i < end; ++i)
+    for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
         residual = fmax(residual, pushElement(elements[first + i], normalRows, impulses, pushed,
                                               push, relaxation));
     if (residual > 0.0f) atomic_max(&largest, as_uint(residual));
     if (groupDone() && largest > 0u) atomic_max(&sweepResidual[sweep], largest);
 }
 
-// One sweep of the restitution pass, one color (or the serial tail), after integratePositions
+// One sweep of the restitution pass, one launch (as the sweeps), after integratePositions
 // (solveRestitution): each row that bounces gives its bodies back its bounce speed along the
 // normal (solvePgsBounceItem) on the velocities, its impulse accumulated in `bounce` (from zero
 // at sweep 0). A sweep after one whose largest change was within RUBBLE_PUSH_TOLERANCE does
 // nothing.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-bouncePgs(const uint first, const uint count, const uint serial,
+bouncePgs(const uint first, const uint count, const uint mode,
           __global const PgsElement* elements, __global const uint* blockStarts,
           __global const PgsNormalRow* normalRows,
           __global const float4* impulses, __global float* bounce,
@@ -464,9 +465,9 @@ bouncePgs(const uint first, const uint count, const uint serial,
     if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
     __local uint largest;
     groupClear(&largest, 1u);
-    const uint end = elementsEnd(count, serial, blockStarts);
+    const uint end = elementsEnd(count, mode, blockStarts);
     float residual = 0.0f;
-    for (uint i = elementsBegin(count, serial, blockStarts); i < end; ++i) {
+    for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i) {
         const PgsElement e = elements[first + i];
         if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
         const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
@@ -489,19 +490,19 @@ bouncePgs(const uint first, const uint count, const uint serial,
     if (groupDone() && largest > 0u) atomic_max(&sweepResidual[sweep], largest);
 }
 
-// After the restitution pass's sweeps, one color (or the serial tail): each bouncing row's
+// After the restitution pass's sweeps, one launch (as the sweeps): each bouncing row's
 // impulse goes into its moving bodies' momenta (P += lambda_b n, L += lambda_b (r x n) on b, the
 // opposite on a: addBounceImpulses), and those bodies' velocities follow from their momenta at
 // their orientations (PgsSolver::solvePositions).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-bounceMomenta(const uint first, const uint count, const uint serial,
+bounceMomenta(const uint first, const uint count, const uint mode,
               __global const PgsElement* elements, __global const uint* blockStarts,
               __global const PgsNormalRow* normalRows,
               __global const float4* impulses, __global const float* bounce,
               __global BodyMomentum* momenta, __global const BodyMass* masses,
               __global const BodyPose* poses, __global BodyVelocity* velocities) {
-    const uint end = elementsEnd(count, serial, blockStarts);
-    for (uint i = elementsBegin(count, serial, blockStarts); i < end; ++i) {
+    const uint end = elementsEnd(count, mode, blockStarts);
+    for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i) {
         const PgsElement e = elements[first + i];
         if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
         const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;

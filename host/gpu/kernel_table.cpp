@@ -18,7 +18,7 @@ const std::vector<KernelSignature>& kernelSignatures() {
     // Runs of arguments that several kernels take in the same order, each bound by one helper of
     // the pipeline: a sweep's launch over a color (sweepLaunch in host/gpu/pgs.cpp), this step's
     // pairs (Pipeline::bindPairs) and the rows' settings (Pipeline::bindRowSettings).
-    static const Names sweep = {"first", "count", "serial", "elements", "blockStarts"};
+    static const Names sweep = {"first", "count", "mode", "elements", "blockStarts"};
     static const Names pairs = {"capacity", "pairCount", "pairs"};
     static const Names rowSettings = {
         "baumgarte",        "slop",          "dt",         "warmStart",

@@ -34,12 +34,12 @@ Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes) {
     return b.reserve(c.context(), std::max<std::size_t>(bytes + bytes / 2, 4096));
 }
 
-// A sweep kernel's launch over one color (or the serial tail), its first arguments bound: the
-// launch's first element, count and serial flag, and the step's elements.
+// A sweep kernel's launch (a color, the serial tail or the blocks), its first arguments bound:
+// the launch's first element, count and mode, the step's elements and the blocks' starts.
 Dispatch sweepLaunch(const Context& c, KernelId id, const PgsLaunch& l, const PgsBuffers& g,
                      Profile* profile) {
     Dispatch d(c, id, profile);
-    d.arg(l.first).arg(l.count).arg(l.serial).arg(g.elements).arg(g.blockStarts);
+    d.arg(l.first).arg(l.count).arg(l.mode).arg(g.elements).arg(g.blockStarts);
     return d;
 }
 
@@ -115,19 +115,19 @@ Status Pipeline::colorPgs() {
     RUBBLE_TRY(download(c, sat_.current.pairs, std::span(g.pairsHost), &profile_));
     // The elements: the joints first (the CPU's sweep solves them before the contacts), then the
     // pairs with rows in pair order.
-    g.contactElements.clear();
+    g.stepElements.clear();
     for (std::uint32_t j = 0; j < g.jointCount; ++j)
-        g.contactElements.push_back({RUBBLE_PGS_JOINT_ELEMENT | j, g.jointsHost[j].a,
+        g.stepElements.push_back({RUBBLE_PGS_JOINT_ELEMENT | j, g.jointsHost[j].a,
                                      g.jointsHost[j].b, g.jointDynamicA[j] != 0,
                                      g.jointDynamicB[j] != 0});
     for (std::uint32_t p = 0; p < pairs; ++p) {
         const cl_uint summary = g.pairRowsHost[p];
         if ((summary & RUBBLE_PGS_POINTS) == 0) continue;
-        g.contactElements.push_back({p, g.pairsHost[p].a, g.pairsHost[p].b,
+        g.stepElements.push_back({p, g.pairsHost[p].a, g.pairsHost[p].b,
                                      (summary & RUBBLE_PGS_MOVES_A) != 0,
                                      (summary & RUBBLE_PGS_MOVES_B) != 0});
     }
-    const std::span<const ColorElement> all(g.contactElements);
+    const std::span<const ColorElement> all(g.stepElements);
     // Blocks (a CPU device): the bodies cut into ranges of indices, an element whose moving
     // bodies are all in one range goes to that range's block, in the order above; a block runs
     // in order on one work-item, as the CPU's sweep does (docs/opencl.md, "Blocks"). The rest,
@@ -142,25 +142,25 @@ Status Pipeline::colorPgs() {
         if (x.movesA && x.movesB) return of(x.a) == of(x.b) ? of(x.a) : kColored;
         return of(x.movesA ? x.a : x.b);
     };
+    // A counting sort by block, stable: each block's elements in the order above.
+    g.blockOfHost.resize(all.size());
     g.blockStartsHost.assign(std::size_t(blocks) + 1, 0);
     g.coloredHost.clear();
     for (std::uint32_t k = 0; k < all.size(); ++k) {
-        const std::uint32_t b = blockOf(all[k]);
+        const std::uint32_t b = g.blockOfHost[k] = blockOf(all[k]);
         if (b == kColored)
             g.coloredHost.push_back(k);
         else
             ++g.blockStartsHost[b + 1];
     }
     for (std::uint32_t b = 0; b < blocks; ++b) g.blockStartsHost[b + 1] += g.blockStartsHost[b];
-    const std::uint32_t inBlocks = blocks > 0 ? g.blockStartsHost[blocks] : 0;
-    // Where each element goes: its block's next place, or its place among the colors after
-    // the blocks.
+    const std::uint32_t inBlocks = g.blockStartsHost[blocks];
+    // Where each element goes: its block's next place, or (below) its place among the colors
+    // after the blocks.
     g.placeHost.resize(all.size());
     g.nextHost.assign(g.blockStartsHost.begin(), g.blockStartsHost.end());
-    for (std::uint32_t k = 0; k < all.size(); ++k) {
-        const std::uint32_t b = blockOf(all[k]);
-        if (b != kColored) g.placeHost[k] = g.nextHost[b]++;
-    }
+    for (std::uint32_t k = 0; k < all.size(); ++k)
+        if (g.blockOfHost[k] != kColored) g.placeHost[k] = g.nextHost[g.blockOfHost[k]]++;
     // The colored elements: greedy, joints one by one, the pairs from the bottom up
     // (Coloring::addBySupport), each color in pair order.
     Coloring& coloring = g.coloring;
@@ -188,18 +188,18 @@ Status Pipeline::colorPgs() {
         e.b = all[k].b;
         e.rows = 0;
     }
+    // pointsHost[i]: the rows before element i (a joint has none).
     g.pointsHost.assign(all.size() + 1, 0);
     std::uint32_t rows = 0;
     for (std::uint32_t i = 0; i < all.size(); ++i) {
         shared::PgsElement& e = g.elementsHost[i];
-        if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
-        const cl_uint summary = g.pairRowsHost[e.id];
-        e.rows = (rows << RUBBLE_PGS_FIRST_SHIFT) | summary;
-        rows += summary & RUBBLE_PGS_POINTS;
+        if (!(e.id & RUBBLE_PGS_JOINT_ELEMENT)) {
+            const cl_uint summary = g.pairRowsHost[e.id];
+            e.rows = (rows << RUBBLE_PGS_FIRST_SHIFT) | summary;
+            rows += summary & RUBBLE_PGS_POINTS;
+        }
         g.pointsHost[i + 1] = rows;
     }
-    for (std::uint32_t i = 0; i < all.size(); ++i)
-        g.pointsHost[i + 1] = std::max(g.pointsHost[i + 1], g.pointsHost[i]);
     g.rowCount = rows;
     auto pointsIn = [&](std::uint32_t first, std::uint32_t count) {
         return g.pointsHost[first + count] - g.pointsHost[first];
@@ -236,11 +236,13 @@ Status Pipeline::colorPgs() {
     const std::span<const std::uint32_t> buildOrder =
         std::span<const std::uint32_t>(g.placeHost).subspan(g.jointCount);
     RUBBLE_TRY(reserveGrowing(c, g.buildOrder, std::max<std::size_t>(1, buildOrder.size_bytes())));
+    // The blocks' starts go up only when there are blocks (a launch of another mode binds the
+    // buffer but reads nothing of it).
     const std::span<const std::uint32_t> blockStarts(g.blockStartsHost);
     RUBBLE_TRY(
         reserveGrowing(c, g.blockStarts, std::max<std::size_t>(4, blockStarts.size_bytes())));
     RUBBLE_TRY(enqueueUpload(c, g.elements, elements, &profile_));
-    if (!blockStarts.empty()) RUBBLE_TRY(enqueueUpload(c, g.blockStarts, blockStarts, &profile_));
+    if (inBlocks > 0) RUBBLE_TRY(enqueueUpload(c, g.blockStarts, blockStarts, &profile_));
     return enqueueUpload(c, g.buildOrder, buildOrder, &profile_);
 }
 

@@ -127,17 +127,17 @@ struct SatBuffers {
     Buffer previousOf;
 };
 
-/// One launch of the device's sweeps: a color's elements [first, first + count) of the
-/// step's order, or, serial, the last colors together on one work-item.
+/// One launch of the device's sweeps over the elements [first, first + count) of the step's
+/// order, by `mode` (RUBBLE_PGS_*): a color's, one per work-item; the last colors together on
+/// one work-item (serial); or the blocks, one work-group each.
 struct PgsLaunch {
-    cl_uint first = 0, count = 0, serial = RUBBLE_PGS_PER_ITEM;
+    cl_uint first = 0, count = 0, mode = RUBBLE_PGS_PER_ITEM;
     std::uint32_t points = 0; ///< rows, for the byte counts
     std::uint32_t blocks = 0; ///< RUBBLE_PGS_BLOCKS: how many (PgsBuffers::blockStarts)
-    /// Work-items of the launch in groups of `group`: one per element, one group for the serial
-    /// tail (its work-item 0 runs it), or one group per block.
+    /// Work-items of the launch in groups of `group`.
     std::size_t items(std::size_t group) const {
-        if (serial == RUBBLE_PGS_BLOCKS) return std::size_t(blocks) * group;
-        return serial ? group : count;
+        if (mode == RUBBLE_PGS_BLOCKS) return std::size_t(blocks) * group;
+        return mode == RUBBLE_PGS_SERIAL ? group : count;
     }
 };
 
@@ -180,10 +180,11 @@ struct PgsBuffers {
     std::vector<std::uint8_t> jointDynamicA, jointDynamicB;
     Coloring jointColoring;
     Coloring coloring;
-    std::vector<ColorElement> contactElements; ///< the joints, then the pairs with rows
+    std::vector<ColorElement> stepElements;    ///< the joints, then the pairs with rows
     std::vector<ColorElement> coloredPairs;    ///< the pairs with rows between blocks
     std::vector<std::uint32_t> coloredHost;    ///< the elements between blocks (indices)
     std::vector<std::uint32_t> placeHost;      ///< each element's place in elementsHost
+    std::vector<std::uint32_t> blockOfHost;    ///< each element's block, or all ones: colored
     std::vector<std::uint32_t> blockStartsHost, nextHost, pointsHost;
     std::vector<cl_uint> pairRowsHost;
     std::vector<shared::BodyPairRecord> pairsHost;

@@ -30,7 +30,7 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_PGS_FIRST_SHIFT 5u
 // An element of the device's solve that is a joint (its index in the low bits), not a pair.
 #define RUBBLE_PGS_JOINT_ELEMENT 0x80000000u
-// How a sweep kernel's launch goes through its elements (its `serial` argument): one per
+// How a sweep kernel's launch goes through its elements (its `mode` argument): one per
 // work-item (a color), all of them in order on work-item 0 (the serial tail), or in blocks:
 // work-item 0 of group g runs block g's elements in order (blockStarts), the blocks sharing no
 // body that moves.
