@@ -43,15 +43,17 @@ inline Result<DeviceStage> deviceStage(std::shared_ptr<gpu::Context> context, St
 }
 
 /// The input's bodies on a new pipeline of `context` made for the SAT method (hulls, boxes,
-/// pairs, manifolds; no particles). Errors: those of Pipeline::create.
+/// pairs, manifolds; no particles), its PGS in `pgsBlocks` blocks (RunOptions::pgsBlocks).
+/// Errors: those of Pipeline::create.
 inline Result<gpu::PipelineHandle> satPipeline(std::shared_ptr<gpu::Context> context,
-                                               const StageInput& in) {
+                                               const StageInput& in, int pgsBlocks = -1) {
     gpu::PipelineInput input;
     input.bodies = in.bodies.view();
     input.surfaces = in.surfaces;
     input.collision = CollisionMethod::Sat;
     input.shapes = in.shapes;
     input.joined = in.joined;
+    input.pgsBlocks = pgsBlocks;
     return gpu::Pipeline::create(std::move(context), input);
 }
 
