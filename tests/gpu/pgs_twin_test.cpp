@@ -70,6 +70,17 @@ const char* kRowScene = R"({"format": "rubble-scene", "version": 1, "name": "row
     {"name": "gap", "shape": "crate", "mass": 1, "position": [0, 0.503, 4],
      "orientation": [0.9999, 0.01, 0, 0], "linear_velocity": [0, -1, 0]}]})";
 
+// The device's stages of a step on the state as loaded, up to the split of its elements into
+// blocks and colors (colorPgs).
+Status colorStep(gpu::Pipeline& p, const StepParams& params) {
+    RUBBLE_TRY(p.resetStatus());
+    RUBBLE_TRY(p.broadPhase(params.dt));
+    RUBBLE_TRY(p.narrowPhase(params.dt));
+    RUBBLE_TRY(p.summarizePairs(params));
+    RUBBLE_TRY(p.readStatus());
+    return p.colorPgs();
+}
+
 bool sameBits(shared::float4 a, shared::float4 b) {
     return a.x == b.x && a.y == b.y && a.z == b.z && std::memcmp(&a, &b, 12) == 0;
 }
@@ -103,12 +114,8 @@ TEST_F(PgsTwin, RowsAreTheCpuRowsBitForBit) {
     Result<gpu::PipelineHandle> made = test::satPipeline(context(), in);
     ASSERT_TRUE(made.ok()) << made.error().describe();
     gpu::Pipeline& p = **made;
-    ASSERT_TRUE(p.resetStatus().ok());
-    ASSERT_TRUE(p.broadPhase(params.dt).ok());
-    ASSERT_TRUE(p.narrowPhase(params.dt).ok());
-    ASSERT_TRUE(p.summarizePairs(params).ok());
-    ASSERT_TRUE(p.readStatus().ok());
-    ASSERT_TRUE(p.colorPgs().ok());
+    const Status colored = colorStep(p, params);
+    ASSERT_TRUE(colored.ok()) << colored.error().describe();
     ASSERT_TRUE(p.buildPgsRows(params).ok());
     ASSERT_TRUE(p.finish().ok());
     Result<std::vector<shared::PgsNormalRow>> normals = p.downloadPgsNormalRows();
@@ -237,12 +244,8 @@ TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
     Result<gpu::PipelineHandle> made = test::satPipeline(context(), in, 4);
     ASSERT_TRUE(made.ok()) << made.error().describe();
     gpu::Pipeline& p = **made;
-    ASSERT_TRUE(p.resetStatus().ok());
-    ASSERT_TRUE(p.broadPhase(params.dt).ok());
-    ASSERT_TRUE(p.narrowPhase(params.dt).ok());
-    ASSERT_TRUE(p.summarizePairs(params).ok());
-    ASSERT_TRUE(p.readStatus().ok());
-    ASSERT_TRUE(p.colorPgs().ok());
+    const Status colored = colorStep(p, params);
+    ASSERT_TRUE(colored.ok()) << colored.error().describe();
     ASSERT_TRUE(p.finish().ok());
     const gpu::PgsBuffers& g = p.pgs();
 
