@@ -236,7 +236,8 @@ __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 countPairs(const uint capacity, __global const uint* status,
            __global const BodyPairRecord* pairs, __global uint* bodyCount) {
     const uint n = min(status[RUBBLE_STATUS_PAIRS], capacity);
-    for (uint p = blockFirst(n), end = blockEnd(n); p < end; p += get_local_size(0))
+    const ItemRange r = itemRange(n);
+    for (uint p = r.first; p < r.end; p += r.step)
         atomic_inc(&bodyCount[pairs[p].a]);
 }
 
@@ -244,7 +245,8 @@ __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 placePairs(const uint capacity, __global const uint* status, __global const BodyPairRecord* in,
            __global uint* cursor, __global BodyPairRecord* out) {
     const uint n = min(status[RUBBLE_STATUS_PAIRS], capacity);
-    for (uint p = blockFirst(n), end = blockEnd(n); p < end; p += get_local_size(0)) {
+    const ItemRange r = itemRange(n);
+    for (uint p = r.first; p < r.end; p += r.step) {
         const BodyPairRecord pair = in[p];
         out[atomic_inc(&cursor[pair.a])] = pair;
     }

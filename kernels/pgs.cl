@@ -30,7 +30,8 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
                __global uint* status) {
     const uint n = min(pairCount[0], capacity);
     const uint previous = warmStart ? min(previousCount[0], previousCapacity) : 0u;
-    for (uint p = blockFirst(n), end = blockEnd(n); p < end; p += get_local_size(0)) {
+    const ItemRange r = itemRange(n);
+    for (uint p = r.first; p < r.end; p += r.step) {
         const uint count = manifolds[p].count;
         const BodyPairRecord pair = pairs[p];
         const uint movesA = jointInverseMassItem(bodies[pair.a]) > 0.0f;

@@ -38,8 +38,8 @@ collideShapes(const uint capacity, __global const uint* pairCount,
     groupClear(group, 2u);
     const uint n = min(pairCount[0], capacity);
     const uint previous = min(previousCount[0], previousCapacity);
-    const uint end = blockEnd(n);
-    for (uint p = blockFirst(n); p < end; p += get_local_size(0)) {
+    const ItemRange r = itemRange(n);
+    for (uint p = r.first; p < r.end; p += r.step) {
         const BodyPairRecord pair = pairs[p];
         // Last step's cache of the pair; none when the pair is new.
         const uint q = findPairItem(pair, previous, previousPairs);

@@ -59,7 +59,8 @@ wakeTouchedPairs(const uint capacity, __global const uint* pairCount,
                  __global const BodyVelocity* approach, __global uint* flags,
                  __global float* slowFor, __global uint* status) {
     const uint n = min(pairCount[0], capacity);
-    for (uint p = blockFirst(n), end = blockEnd(n); p < end; p += get_local_size(0))
+    const ItemRange r = itemRange(n);
+    for (uint p = r.first; p < r.end; p += r.step)
         if (manifolds[p].count > 0u)
             wakeTouchedBodies(pairs[p].a, pairs[p].b, approach, flags, slowFor, status);
 }
@@ -80,7 +81,8 @@ markRestlessPairs(const uint capacity, __global const uint* pairCount,
                   __global const BodyVelocity* velocities, __global const uint* flags,
                   __global uint* restless) {
     const uint n = min(pairCount[0], capacity);
-    for (uint p = blockFirst(n), end = blockEnd(n); p < end; p += get_local_size(0))
+    const ItemRange r = itemRange(n);
+    for (uint p = r.first; p < r.end; p += r.step)
         if (manifolds[p].count > 0u)
             markRestlessBodies(pairs[p].a, pairs[p].b, velocities, flags, restless);
 }

@@ -46,13 +46,15 @@ WorkSizes workSizesFor(const DeviceInfo& device) {
     const std::uint64_t lanes = std::uint64_t(std::max<std::uint32_t>(1, device.computeUnits)) * 64;
     w.sortItems = std::clamp<std::uint32_t>(floorPow2(2 * lanes - 1), 256, 4096);
     w.pgsBlocks = device.cpu ? 4 * std::max<std::uint32_t>(1, device.computeUnits) : 0;
+    w.contiguousItems = device.cpu;
     return w;
 }
 
 std::string buildOptionsFor(const WorkSizes& sizes) {
     return std::string(kBuildOptions) + " -DRUBBLE_SORT_ITEMS=" + std::to_string(sizes.sortItems) +
            "u -DRUBBLE_GROUP_BROAD=" + std::to_string(sizes.broadGroup) +
-           "u -DRUBBLE_GROUP_PAIRS=" + std::to_string(sizes.pairGroup) + "u";
+           "u -DRUBBLE_GROUP_PAIRS=" + std::to_string(sizes.pairGroup) +
+           "u -DRUBBLE_CONTIGUOUS_ITEMS=" + (sizes.contiguousItems ? "1" : "0");
 }
 
 Context::~Context() {

@@ -29,6 +29,11 @@ struct WorkSizes {
     /// Blocks of the device's Gauss-Seidel solve (host/gpu/pgs.cpp): on a CPU device four per
     /// compute unit, each run in order by one work-item; 0 on a GPU, whose lanes want colors.
     std::uint32_t pgsBlocks = 0;
+    /// Whether each work-item of a strided launch takes a run of consecutive items (a CPU
+    /// device: one core goes through a group's work-items in turn) or its group's items one
+    /// group-width apart (a GPU: adjacent lanes read adjacent items); RUBBLE_CONTIGUOUS_ITEMS,
+    /// itemRangeItem in rubble/shared/group.h.
+    bool contiguousItems = false;
 };
 
 /// The work sizes for a device: work-groups of 64 (or the device's largest, if smaller: a

@@ -1,8 +1,13 @@
 // tests/unit/context_test.cpp: host/gpu/context: the work sizes the program is built with, from
-// a device's reported limits.
+// a device's reported limits; the split of a strided launch's items (rubble/shared/group.h).
 #include "host/gpu/context.h"
 
+#include <algorithm>
+#include <vector>
+
 #include <gtest/gtest.h>
+
+#include "rubble/shared/group.h"
 
 namespace rubble {
 namespace {
@@ -21,6 +26,13 @@ TEST(WorkSizes, PoclsTwoCoresGetTheDefaults) {
     EXPECT_EQ(w.sortItems, RUBBLE_SORT_ITEMS);
     EXPECT_EQ(w.broadGroup, 64u);
     EXPECT_EQ(w.pairGroup, 64u);
+}
+
+TEST(WorkSizes, ACpuDeviceTakesItsItemsInRunsAndAGpuOneGroupWidthApart) {
+    gpu::DeviceInfo cpu = device(2, 4096), gpu = device(40, 1024);
+    cpu.cpu = true;
+    EXPECT_TRUE(gpu::workSizesFor(cpu).contiguousItems);
+    EXPECT_FALSE(gpu::workSizesFor(gpu).contiguousItems);
 }
 
 TEST(WorkSizes, ALargeGpuGetsMoreSortItems) {
@@ -48,6 +60,49 @@ TEST(WorkSizes, BuildOptionsDefineThem) {
     EXPECT_NE(o.find("-DRUBBLE_SORT_ITEMS=1024u"), std::string::npos) << o;
     EXPECT_NE(o.find("-DRUBBLE_GROUP_BROAD=32u"), std::string::npos) << o;
     EXPECT_NE(o.find("-DRUBBLE_GROUP_PAIRS=16u"), std::string::npos) << o;
+    EXPECT_NE(o.find("-DRUBBLE_CONTIGUOUS_ITEMS=0"), std::string::npos) << o;
+    w.contiguousItems = true;
+    EXPECT_NE(gpu::buildOptionsFor(w).find("-DRUBBLE_CONTIGUOUS_ITEMS=1"), std::string::npos);
+}
+
+// A strided launch's split of n items (itemRangeItem), both ways, for item counts around the
+// launch's size (none, fewer than its work-items, a few per work-item, uneven): every item is
+// taken by exactly one work-item; a group's items lie in one block of consecutive items, the
+// groups' blocks in group order; with runs, each work-item's items are consecutive and follow
+// the previous work-item's.
+TEST(ItemRange, EveryItemOnceInItsGroupsBlock) {
+    const std::uint32_t groups = 8, size = 4;
+    for (const int contiguous : {0, 1})
+        for (const std::uint32_t n : {0u, 1u, 5u, 31u, 32u, 33u, 100u, 257u, 1000u}) {
+            std::vector<int> taken(n, 0);
+            std::uint32_t lastGroupEnd = 0, lastItemEnd = 0;
+            for (std::uint32_t g = 0; g < groups; ++g) {
+                std::uint32_t lo = n, hi = 0, inGroup = 0;
+                for (std::uint32_t k = 0; k < size; ++k) {
+                    const shared::ItemRange r =
+                        shared::itemRangeItem(n, groups, size, g, k, contiguous);
+                    EXPECT_EQ(r.step, contiguous ? 1u : size);
+                    if (contiguous && r.first < r.end) {
+                        EXPECT_EQ(r.first, lastItemEnd) << "n " << n << " group " << g;
+                        lastItemEnd = r.end;
+                    }
+                    for (std::uint32_t p = r.first; p < r.end; p += r.step) {
+                        ASSERT_LT(p, n);
+                        ++taken[p];
+                        ++inGroup;
+                        lo = std::min(lo, p);
+                        hi = std::max(hi, p + 1);
+                    }
+                }
+                if (lo < hi) {
+                    EXPECT_EQ(hi - lo, inGroup) << "n " << n << " group " << g;
+                    EXPECT_GE(lo, lastGroupEnd) << "n " << n << " group " << g;
+                    lastGroupEnd = hi;
+                }
+            }
+            for (std::uint32_t p = 0; p < n; ++p)
+                EXPECT_EQ(taken[p], 1) << "item " << p << " of " << n << ", runs " << contiguous;
+        }
 }
 
 } // namespace

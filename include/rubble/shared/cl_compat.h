@@ -26,6 +26,7 @@ struct alignas(16) float4 {
     float x, y, z, w;
 };
 typedef std::uint32_t uint;
+typedef std::uint64_t ulong;
 using std::fabs;
 using std::floor;
 using std::isfinite;

@@ -1,13 +1,61 @@
-// include/rubble/shared/group.h: totals over a work-group and each group's block of a strided
-// launch, for the kernels only (nothing here is compiled on the host). A kernel whose work-items
-// each add to one global word (a count in the status block, a largest change, the next free slot of
-// a list) adds to a __local word instead, and one work-item adds the group's total to the global
-// word: one global atomic per group instead of one per work-item. On a CPU device, work-items of
-// groups running on two cores that update one word move its cache line back and forth between the
-// cores: `perf annotate` of debris_16k put 7 % of solvePgs, 8 % of collideShapes and 81 % of
-// gridEntries on such atomics (docs/opencl.md). Each function holds barriers: every work-item of
-// the group calls it.
+// include/rubble/shared/group.h: totals over a work-group and each work-item's share of a strided
+// launch. A kernel whose work-items each add to one global word (a count in the status block, a
+// largest change, the next free slot of a list) adds to a __local word instead, and one work-item
+// adds the group's total to the global word: one global atomic per group instead of one per
+// work-item. On a CPU device, work-items of groups running on two cores that update one word move
+// its cache line back and forth between the cores: `perf annotate` of debris_16k put 7 % of
+// solvePgs, 8 % of collideShapes and 81 % of gridEntries on such atomics (docs/opencl.md). Each
+// group function holds barriers: every work-item of the group calls it. The split of a launch's
+// items (itemRangeItem) compiles on the host too, for its tests.
 #pragma once
+
+#include "rubble/shared/cl_compat.h"
+
+// 1 on a CPU device: each work-item of a strided launch takes a run of consecutive items; 0 (a
+// GPU) the items of its group one group-width apart (itemRangeItem). The host sets it with the
+// work sizes (WorkSizes::contiguousItems).
+#ifndef RUBBLE_CONTIGUOUS_ITEMS
+#define RUBBLE_CONTIGUOUS_ITEMS 0
+#endif
+
+RUBBLE_SHARED_BEGIN
+
+// Work-item `item` of group `group` (of `groups` groups of `size`) in a launch that strides
+// through `n` items: from `first` below `end`, `step` apart.
+typedef struct ItemRange {
+    uint first, end, step;
+} ItemRange;
+
+// The group takes a block of consecutive items (blockSize: a multiple of the group's size).
+// Neighbours in a list (the pairs of one body, sorted together) are then handled by one group.
+// Within the block, with `contiguous`, work-item k takes the k-th of `size` equal runs: on a CPU
+// device the work-items of a group run one after the other on one core, each reading its run
+// front to back, which the core's prefetcher follows (items a group-width apart are 64 records
+// apart, more than a page for the narrow phase's 96-byte caches, and each read missed the
+// cache). Without, work-item k goes through the block from its k-th item, `size` apart: on a GPU
+// adjacent work-items read adjacent items at once.
+RUBBLE_FN ItemRange itemRangeItem(uint n, uint groups, uint size, uint group, uint item,
+                                  int contiguous) {
+    const uint perGroup = (n + groups - 1u) / groups;
+    const uint block = (perGroup + size - 1u) / size * size;
+    const ulong start = (ulong)group * block;
+    ItemRange r;
+    if (contiguous) {
+        const uint run = block / size;
+        const ulong first = start + (ulong)item * run;
+        r.first = (uint)(first < n ? first : n);
+        r.end = (uint)(first + run < n ? first + run : n);
+        r.step = 1u;
+    } else {
+        const ulong end = start + block;
+        r.first = (uint)(start < n ? start : n) + item;
+        r.end = (uint)(end < n ? end : n);
+        r.step = size;
+    }
+    return r;
+}
+
+RUBBLE_SHARED_END
 
 #ifdef __OPENCL_C_VERSION__
 
@@ -35,19 +83,11 @@ static uint groupReserve(__local uint* words, const uint n, __global uint* total
     return words[1] + offset;
 }
 
-// A launch that strides through `n` items (a count the device holds, so the launch has a fixed
-// size): this work-group takes a block of consecutive items, ending at blockEnd; work-item k of
-// the group goes through it from its k-th item (blockFirst), get_local_size(0) apart. Neighbours
-// in a list (the pairs of one body, sorted together) are then handled by one group: on a CPU
-// device one core, with the bodies they share in its cache; on a GPU adjacent work-items still
-// read adjacent items.
-static uint blockSize(const uint n) {
-    const uint size = (uint)get_local_size(0), groups = (uint)get_num_groups(0);
-    return ((n + groups - 1u) / groups + size - 1u) / size * size;
+// This work-item's items of a launch that strides through `n` items (a count the device holds,
+// so the launch has a fixed size): `for (p = r.first; p < r.end; p += r.step)`.
+static ItemRange itemRange(const uint n) {
+    return itemRangeItem(n, (uint)get_num_groups(0), (uint)get_local_size(0),
+                         (uint)get_group_id(0), (uint)get_local_id(0), RUBBLE_CONTIGUOUS_ITEMS);
 }
-static uint blockFirst(const uint n) {
-    return min((uint)get_group_id(0) * blockSize(n), n) + (uint)get_local_id(0);
-}
-static uint blockEnd(const uint n) { return min(((uint)get_group_id(0) + 1u) * blockSize(n), n); }
 
 #endif
