@@ -39,10 +39,14 @@ collideShapes(const uint capacity, __global const uint* pairCount,
     const uint n = min(pairCount[0], capacity);
     const uint previous = min(previousCount[0], previousCapacity);
     const ItemRange r = itemRange(n);
+    // The work-item's pairs come in (a, b) order: last step's index of each is at or past where
+    // the one before it was, usually the next one.
+    uint from = 0u;
     for (uint p = r.first; p < r.end; p += r.step) {
         const BodyPairRecord pair = pairs[p];
         // Last step's cache of the pair; none when the pair is new.
-        const uint q = findPairItem(pair, previous, previousPairs);
+        const uint q = findPairFromItem(pair, from, previous, previousPairs);
+        if (q < previous) from = q + 1u;
         previousOf[p] = q;
         PairCache cache = q < previous ? previousFeatures[q] : emptyPairCacheItem();
         const float margin =

@@ -127,8 +127,9 @@ TEST(BroadPhase, RestingGridIsLinear) {
     EXPECT_LE(scratch.entries.size(), 4 * boxes.size());
 }
 
-// The device's search for last step's pair (shared::findPairItem) against a scan: the index of
-// the pair, or the count when the list does not hold it.
+// The device's search for last step's pair (shared::findPairItem, findPairFromItem) against a
+// scan: the index of the pair, or the count when the list does not hold it, from any start at or
+// before its place.
 TEST(BroadPhase, PairSearchMatchesAScan) {
     std::mt19937 rng(7);
     std::uniform_int_distribution<std::uint32_t> body(0, 40);
@@ -156,6 +157,15 @@ TEST(BroadPhase, PairSearchMatchesAScan) {
                     if (pairs[k].a == a && pairs[k].b == b) scan = k;
                 ASSERT_EQ(shared::findPairItem(pair, count, pairs.data()), scan)
                     << "pair (" << a << ", " << b << ") among " << count;
+                // From any index at or before the pair's place (the pairs before it sort
+                // before it), as collideShapes searches from the last pair it found.
+                std::uint32_t place = 0;
+                while (place < count && before(pairs[place], pair)) ++place;
+                for (std::uint32_t from = 0; from <= place; ++from) {
+                    ASSERT_EQ(shared::lowerPairItem(pair, from, count, pairs.data()), place);
+                    ASSERT_EQ(shared::findPairFromItem(pair, from, count, pairs.data()), scan)
+                        << "pair (" << a << ", " << b << ") from " << from;
+                }
             }
     }
 }

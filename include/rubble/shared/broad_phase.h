@@ -28,20 +28,37 @@ typedef struct BodyPairRecord {
 } BodyPairRecord;
 RUBBLE_STATIC_ASSERT_SIZE(BodyPairRecord, 8);
 
-// The index of the pair (a, b) among `count` pairs sorted by (a, b), or `count` when it is not
-// among them: a binary search, as the device finds this step's pair among last step's.
-RUBBLE_FN uint findPairItem(BodyPairRecord pair, uint count,
-                            RUBBLE_GLOBAL const BodyPairRecord* pairs) {
-    uint lo = 0, hi = count;
+// Where the pair (a, b) is, or would be, among `count` pairs sorted by (a, b), searched from
+// index `from` on (every pair before it sorts before the pair): the first index from `from` whose
+// pair does not sort before it (`count` when none), a binary search after a look at `from`
+// itself, where a caller going through its own sorted pairs in order usually finds the next one.
+RUBBLE_FN uint lowerPairItem(BodyPairRecord pair, uint from, uint count,
+                             RUBBLE_GLOBAL const BodyPairRecord* pairs) {
+    uint lo = from, hi = count;
+    if (lo < hi && pairs[lo].a == pair.a && pairs[lo].b == pair.b) return lo;
     while (lo < hi) {
-        const uint mid = (lo + hi) / 2u;
+        const uint mid = lo + (hi - lo) / 2u;
         const BodyPairRecord p = pairs[mid];
         if (p.a < pair.a || (p.a == pair.a && p.b < pair.b))
             lo = mid + 1u;
         else
             hi = mid;
     }
+    return lo;
+}
+
+// The index of the pair (a, b) among `count` pairs sorted by (a, b), or `count` when it is not
+// among them, searched from `from` (lowerPairItem).
+RUBBLE_FN uint findPairFromItem(BodyPairRecord pair, uint from, uint count,
+                                RUBBLE_GLOBAL const BodyPairRecord* pairs) {
+    const uint lo = lowerPairItem(pair, from, count, pairs);
     return lo < count && pairs[lo].a == pair.a && pairs[lo].b == pair.b ? lo : count;
+}
+
+// ... searched from the first: as the device finds a joined pair.
+RUBBLE_FN uint findPairItem(BodyPairRecord pair, uint count,
+                            RUBBLE_GLOBAL const BodyPairRecord* pairs) {
+    return findPairFromItem(pair, 0u, count, pairs);
 }
 
 // 64 bytes: the columns of one step, from the boxes' bounds and mean widths: a grid of cells over
