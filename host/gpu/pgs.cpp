@@ -111,7 +111,8 @@ Status Pipeline::colorPgs() {
     const std::uint32_t pairs = std::min(statusFromSlots().pairs, sat_.current.capacity);
     g.pairRowsHost.resize(pairs);
     g.pairsHost.resize(pairs);
-    RUBBLE_TRY(download(c, g.pairRows, std::span(g.pairRowsHost), &profile_));
+    // Both reads queued, then one wait (the device idles until the coloring's upload).
+    RUBBLE_TRY(enqueueDownload(c, g.pairRows, std::span(g.pairRowsHost), &profile_));
     RUBBLE_TRY(download(c, sat_.current.pairs, std::span(g.pairsHost), &profile_));
     // The elements: the joints first (the CPU's sweep solves them before the contacts), then the
     // pairs with rows in pair order.
