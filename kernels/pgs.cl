@@ -255,7 +255,10 @@ static float solveElement(const PgsElement e, __global const PgsNormalRow* norma
                           __global const JacobiBody* bodies, __global BodyVelocity* velocities,
                           const float relaxation, const uint lastSweep,
                           __global PgsImpulse* kept, const uint part, const uint slot) {
-    if ((e.id & RUBBLE_PGS_JOINT_ELEMENT) && (!(part & RUBBLE_PGS_NORMALS) || slot > 0u))
+    // A joint's blocks go with the normal rows: with all of them (a color), or with the first
+    // point's (a block's pass over every element's first point).
+    if ((e.id & RUBBLE_PGS_JOINT_ELEMENT) &&
+        (!(part & RUBBLE_PGS_NORMALS) || (slot != RUBBLE_PGS_ALL_SLOTS && slot > 0u)))
         return 0.0f;
     // One point (slot < 4) or all of them (RUBBLE_PGS_ALL_SLOTS).
     const uint points = e.rows & RUBBLE_PGS_POINTS;

@@ -26,7 +26,7 @@ typedef struct ItemRange {
     uint first, end, step;
 } ItemRange;
 
-// The group takes a block of consecutive items (blockSize: a multiple of the group's size).
+// The group takes a block of consecutive items (`block`, a multiple of the group's size).
 // Neighbours in a list (the pairs of one body, sorted together) are then handled by one group.
 // Within the block, with `contiguous`, work-item k takes the k-th of `size` equal runs: on a CPU
 // device the work-items of a group run one after the other on one core, each reading its run
