@@ -2,6 +2,7 @@
 // integratePositions) and the momentum update after the solve; the math is in
 // rubble/shared/body.h, the CPU twins in host/core/integrate.cpp.
 #include "rubble/shared/body.h"
+#include "rubble/shared/contact_row.h"
 
 // Kinematic bodies keep the velocity the host gave them; sleeping ones keep their state unless
 // the host put a force on them, which wakes them. Every body's velocities before the forces go
@@ -46,14 +47,18 @@ __kernel void absorbVelocityChange(const uint count, __global BodyMomentum* mome
 }
 
 // status[RUBBLE_STATUS_NONFINITE] keeps the lowest index of a body whose pose is not finite.
-// Nothing moves in a step whose contacts overflowed: the host runs its second half again.
+// Nothing moves in a step whose contacts overflowed: the host runs its second half again. With
+// `pushesFollow` (applyPushes is the next kernel, PGS's split position pass having pushed), a
+// body that moved in the solve (`bodies`: its JacobiBody) gets its velocities from applyPushes,
+// at its pushed orientation, and none here.
 __kernel void integratePositions(const uint count, __global uint* status,
                                  __global const uint* flags, __global BodyPose* poses,
                                  __global BodyVelocity* velocities,
                                  __global const BodyVelocity* atStart,
                                  __global const BodyMomentum* momenta,
                                  __global const BodyMass* masses, const float dt,
-                                 const uint symplectic) {
+                                 const uint symplectic, __global const JacobiBody* bodies,
+                                 const uint pushesFollow) {
     const uint i = get_global_id(0);
     if (i >= count) return;
     if (status[RUBBLE_STATUS_CONTACTS] > status[RUBBLE_STATUS_CAPACITY]) return;
@@ -64,7 +69,8 @@ __kernel void integratePositions(const uint count, __global uint* status,
                               ? integratePositionSymplecticItem(poses[i], velocities[i], p, m, dt)
                               : integratePositionItem(poses[i], atStart[i], dt);
     poses[i] = pose;
-    velocities[i] = velocityFromMomentumItem(p, m, pose.orientation);
+    if (!pushesFollow || !(bodies[i].inverseInertiaWorld.r0.w > 0.0f))
+        velocities[i] = velocityFromMomentumItem(p, m, pose.orientation);
     const float4 x = pose.position, q = pose.orientation;
     if (!isfinite(x.x + x.y + x.z + q.x + q.y + q.z + q.w + p.linear.x + p.linear.y +
                   p.linear.z + p.angular.x + p.angular.y + p.angular.z))

@@ -34,9 +34,9 @@ Status Pipeline::absorbVelocityChange() {
         .run(count, RUBBLE_GROUP_BODIES);
 }
 
-Status Pipeline::integratePositions(float dt, bool symplectic) {
+Status Pipeline::integratePositions(float dt, bool symplectic, bool pushesFollow) {
     const cl_uint count = bodies_.count;
-    const cl_uint isSymplectic = symplectic ? 1u : 0u;
+    const cl_uint isSymplectic = symplectic ? 1u : 0u, follow = pushesFollow ? 1u : 0u;
     return Dispatch(*context_, KernelId::IntegratePositions, &profile_)
         .arg(count)
         .arg(status_)
@@ -48,6 +48,8 @@ Status Pipeline::integratePositions(float dt, bool symplectic) {
         .arg(bodies_.masses)
         .arg(dt)
         .arg(isSymplectic)
+        .arg(bodies_.jacobi)
+        .arg(follow)
         .run(count, RUBBLE_GROUP_BODIES);
 }
 

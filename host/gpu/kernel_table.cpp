@@ -35,7 +35,7 @@ const std::vector<KernelSignature>& kernelSignatures() {
         {KernelId::IntegratePositions,
          "integratePositions",
          {"count", "status", "flags", "poses", "velocities", "atStart", "momenta", "masses", "dt",
-          "symplectic"}},
+          "symplectic", "bodies", "pushesFollow"}},
         {KernelId::MeasureLayout, "measureLayout", {"out"}},
         {KernelId::TransformParticles,
          "transformParticles",

@@ -261,7 +261,8 @@ Status Pipeline::enqueueSatSolve(const StepParams& params) {
     profile_.setStage(DeviceStage::Solve);
     RUBBLE_TRY(solvePgs(params));
     profile_.setStage(DeviceStage::IntegratePositions);
-    RUBBLE_TRY(integratePositions(dt, params.symplectic()));
+    // Without a bounce nothing between the two reads the velocities applyPushes derives again.
+    RUBBLE_TRY(integratePositions(dt, params.symplectic(), pgs_.pushes && !pgs_.bounces));
     // As PgsSolver::solvePositions: bounces from the contact, the pushes, the joints.
     RUBBLE_TRY(bouncePgs(params));
     RUBBLE_TRY(applyPushes(dt));

@@ -278,7 +278,9 @@ class Pipeline {
     // Stages, each the twin of the CPU function of the same name. They only enqueue.
     Status integrateVelocities(shared::float4 gravity, float dt);
     Status absorbVelocityChange();
-    Status integratePositions(float dt, bool symplectic);
+    /// `pushesFollow`: applyPushes comes next and derives the velocities of the bodies that moved
+    /// in the solve (PGS on the device, a row pushed, none bounces), so this leaves theirs.
+    Status integratePositions(float dt, bool symplectic, bool pushesFollow = false);
     /// Copies the velocities into `to` (atStart or before).
     Status copyVelocities(Buffer& to);
     Status transformParticles();
