@@ -69,7 +69,7 @@ __kernel void integratePositions(const uint count, __global uint* status,
                               ? integratePositionSymplecticItem(poses[i], velocities[i], p, m, dt)
                               : integratePositionItem(poses[i], atStart[i], dt);
     poses[i] = pose;
-    if (!pushesFollow || !(bodies[i].inverseInertiaWorld.r0.w > 0.0f))
+    if (!pushesFollow || !movesInSolveItem(bodies[i]))
         velocities[i] = velocityFromMomentumItem(p, m, pose.orientation);
     const float4 x = pose.position, q = pose.orientation;
     if (!isfinite(x.x + x.y + x.z + q.x + q.y + q.z + q.w + p.linear.x + p.linear.y +

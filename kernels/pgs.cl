@@ -255,16 +255,17 @@ static float solveElement(const PgsElement e, __global const PgsNormalRow* norma
                           __global const JacobiBody* bodies, __global BodyVelocity* velocities,
                           const float relaxation, const uint lastSweep,
                           __global PgsImpulse* kept, const uint part, const uint slot) {
-    // A joint's blocks go with the normal rows: with all of them (a color), or with the first
-    // point's (a block's pass over every element's first point).
-    if ((e.id & RUBBLE_PGS_JOINT_ELEMENT) &&
-        (!(part & RUBBLE_PGS_NORMALS) || (slot != RUBBLE_PGS_ALL_SLOTS && slot > 0u)))
-        return 0.0f;
-    // One point (slot < 4) or all of them (RUBBLE_PGS_ALL_SLOTS).
+    // One point (slot < 4) or all of them (RUBBLE_PGS_ALL_SLOTS). A joint's blocks go with the
+    // normal rows of the pass that starts at the first point (a color's, or a block's pass over
+    // every element's first point).
     const uint points = e.rows & RUBBLE_PGS_POINTS;
     const uint from = slot == RUBBLE_PGS_ALL_SLOTS ? 0u : slot;
     const uint to = slot == RUBBLE_PGS_ALL_SLOTS ? points : min(slot + 1u, points);
-    if (!(e.id & RUBBLE_PGS_JOINT_ELEMENT) && from >= to) return 0.0f;
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
+        if (!(part & RUBBLE_PGS_NORMALS) || from > 0u) return 0.0f;
+    } else if (from >= to) {
+        return 0.0f;
+    }
     BodyVelocityPair v = loadPair(e.a, e.b, velocities);
     if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
         const uint j = e.id & ~RUBBLE_PGS_JOINT_ELEMENT;
@@ -673,7 +674,7 @@ applyPushes(const uint count, __global const uint* status, __global const Jacobi
             __global BodyVelocity* velocities, const float dt) {
     const uint i = get_global_id(0);
     if (i >= count || !status[RUBBLE_STATUS_PUSHED]) return;
-    if (!(bodies[i].inverseInertiaWorld.r0.w > 0.0f)) return;
+    if (!movesInSolveItem(bodies[i])) return;
     const BodyVelocity v = push[i];
     BodyPose pose = poses[i];
     pose.position = add4(pose.position, scale4(v.linear, dt));

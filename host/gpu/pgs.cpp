@@ -311,7 +311,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
     g.bounces = o.iterations > 0 && !g.launches.empty() && statusHost_[RUBBLE_STATUS_BOUNCES] != 0;
     g.pushes = o.iterations > 0 && !g.launches.empty() &&
                (statusHost_[RUBBLE_STATUS_PUSHED] != 0 || g.bounces);
-    const bool pushes = g.pushes, fused = pushes && !g.bounces;
+    const bool pushes = g.pushes, fused = g.fusedPushes();
     const std::size_t sweeps = std::size_t(std::max(o.iterations, 0));
     if (pushes) {
         const std::size_t n = bodies_.count;

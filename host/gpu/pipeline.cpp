@@ -262,7 +262,7 @@ Status Pipeline::enqueueSatSolve(const StepParams& params) {
     RUBBLE_TRY(solvePgs(params));
     profile_.setStage(DeviceStage::IntegratePositions);
     // Without a bounce nothing between the two reads the velocities applyPushes derives again.
-    RUBBLE_TRY(integratePositions(dt, params.symplectic(), pgs_.pushes && !pgs_.bounces));
+    RUBBLE_TRY(integratePositions(dt, params.symplectic(), pgs_.fusedPushes()));
     // As PgsSolver::solvePositions: bounces from the contact, the pushes, the joints.
     RUBBLE_TRY(bouncePgs(params));
     RUBBLE_TRY(applyPushes(dt));

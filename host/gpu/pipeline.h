@@ -159,6 +159,9 @@ struct PgsBuffers {
     Buffer bounceResidual; ///< per restitution sweep: the largest change, float bits
     bool bounces = false;  ///< this step: a row may bounce (the non-fused path runs)
     bool pushes = false;   ///< this step: the split position pass ran (applyPushes moves)
+    /// The split pass's sweeps run in the velocity sweeps' launches and applyPushes follows
+    /// integratePositions directly (a row pushed, none bounces).
+    bool fusedPushes() const { return pushes && !bounces; }
     // The layer pass's scratch (layerPgs): per body its layer and marks, the rows' lists, the
     // histogram of lower layers.
     Buffer layer, loaded, layerRows, layerSorted, layerHistogram;

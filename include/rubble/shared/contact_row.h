@@ -203,6 +203,10 @@ typedef struct JacobiBody {
 } JacobiBody;
 RUBBLE_STATIC_ASSERT_SIZE(JacobiBody, 48);
 
+// Whether the body takes part in this step's solve as a body that moves (a sleeping, static or
+// kinematic one has a zero inverse mass in its record: a wall).
+RUBBLE_FN int movesInSolveItem(JacobiBody j) { return j.inverseInertiaWorld.r0.w > 0.0f; }
+
 RUBBLE_FN JacobiBody jacobiBodyItem(BodyMass m, float4 orientation) {
     JacobiBody j;
     j.inverseInertiaWorld = inverseInertiaWorldItem(m, orientation);
