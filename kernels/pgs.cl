@@ -243,6 +243,22 @@ warmStartPgs(const uint first, const uint count, const uint mode,
 #define RUBBLE_PGS_NORMALS 1u
 #define RUBBLE_PGS_FRICTION 2u
 
+// The first point and the end of the points a pass over an element of `points` points takes.
+static uint slotFrom(const uint slot) { return slot == RUBBLE_PGS_ALL_SLOTS ? 0u : slot; }
+static uint slotEnd(const uint points, const uint slot) {
+    return slot == RUBBLE_PGS_ALL_SLOTS ? points : min(slot + 1u, points);
+}
+
+// A launch's passes over its elements for the rows of one kind: a block's go through every
+// element's first point, then every second point, ... (the CPU's row order,
+// interleaveContactRows: in a block elements share bodies, so the order is the solver's), a
+// color's take each element whole in one pass (its elements share no body, so any order gives
+// the same bits).
+static uint slotPasses(const uint mode) { return mode == RUBBLE_PGS_BLOCKS ? 4u : 1u; }
+static uint passSlot(const uint mode, const uint pass) {
+    return mode == RUBBLE_PGS_BLOCKS ? pass : RUBBLE_PGS_ALL_SLOTS;
+}
+
 // One velocity sweep of one element, or of one part of it: a joint's blocks
 // (solveJointVelocity) with the normal rows; a pair's normal rows, then its points' friction
 // pairs (bounded by this sweep's normal impulses). A color solves both parts of each element in
@@ -258,9 +274,7 @@ static float solveElement(const PgsElement e, __global const PgsNormalRow* norma
     // One point (slot < 4) or all of them (RUBBLE_PGS_ALL_SLOTS). A joint's blocks go with the
     // normal rows of the pass that starts at the first point (a color's, or a block's pass over
     // every element's first point).
-    const uint points = e.rows & RUBBLE_PGS_POINTS;
-    const uint from = slot == RUBBLE_PGS_ALL_SLOTS ? 0u : slot;
-    const uint to = slot == RUBBLE_PGS_ALL_SLOTS ? points : min(slot + 1u, points);
+    const uint from = slotFrom(slot), to = slotEnd(e.rows & RUBBLE_PGS_POINTS, slot);
     if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
         if (!(part & RUBBLE_PGS_NORMALS) || from > 0u) return 0.0f;
     } else if (from >= to) {
@@ -311,21 +325,23 @@ static float solveElement(const PgsElement e, __global const PgsNormalRow* norma
     return residual;
 }
 
-// One sweep of the split position pass for one element: the normal rows that push, and those
-// that touch a body a push moves, on the push velocities toward the rows' push speeds (their
-// accumulated push impulses in w of each impulse record, zero when built); joints are
-// projected after integratePositions instead. Returns the largest |change|, N s.
+// One sweep of the split position pass for one element, or for one of its points (`slot`, as
+// solveElement's): the normal rows that push, and those that touch a body a push moves, on the
+// push velocities toward the rows' push speeds (their accumulated push impulses in w of each
+// impulse record, zero when built); joints are projected after integratePositions instead.
+// Returns the largest |change|, N s.
 static float pushElement(const PgsElement e, __global const PgsNormalRow* normalRows,
                          __global float4* impulses, __global const uint* pushed,
-                         __global BodyVelocity* push, const float relaxation) {
-    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) return 0.0f;
+                         __global BodyVelocity* push, const float relaxation, const uint slot) {
+    const uint from = slotFrom(slot), to = slotEnd(e.rows & RUBBLE_PGS_POINTS, slot);
+    if ((e.id & RUBBLE_PGS_JOINT_ELEMENT) || from >= to) return 0.0f;
     // A row that pushes, or bounces, marked its moving bodies: with neither marked every row
     // below is passed over and the velocities go back unchanged, so nothing is read or written.
     if (!pushed[e.a] && !pushed[e.b]) return 0.0f;
     BodyVelocityPair v = loadPair(e.a, e.b, push);
     const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
     float residual = 0.0f;
-    for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
+    for (uint k = from; k < to; ++k) {
         // Every row of the element, at its push speed (a row that bounces aims at its lift too:
         // markBounces wrote the target).
         const PgsNormalRow r = normalRows[row + k];
@@ -375,28 +391,31 @@ solvePgs(const uint first, const uint count, const uint mode,
                                                    RUBBLE_PGS_FRICTION, RUBBLE_PGS_ALL_SLOTS));
             if (pushes)
                 pushResidual = fmax(pushResidual, pushElement(e, normalRows, impulses, pushed,
-                                                              push, relaxation));
+                                                              push, relaxation,
+                                                              RUBBLE_PGS_ALL_SLOTS));
         }
     } else {
-        // A block, in order: the normal rows as the CPU's sweep goes through them
-        // (interleaveContactRows: every element's first point, then every second point, ...),
-        // then each element's friction rows, and its push rows.
-        for (uint slot = 0u; slot < 4u; ++slot) // a manifold has at most four points
+        // A block, in order: the normal rows as the CPU's sweep goes through them (slotPasses),
+        // then each element's friction rows (element by element: taken by point, as the CPU
+        // takes them, they cost a fifth more time on debris_64k, docs/opencl.md), then the
+        // push rows in the CPU's order again.
+        for (uint pass = 0u; pass < slotPasses(mode); ++pass)
             for (uint i = begin; i < end; ++i)
                 residual = fmax(residual, solveElement(elements[first + i], normalRows,
                                                        frictionRows, impulses, joints, jointRows,
                                                        bodies, velocities, relaxation, lastSweep,
-                                                       kept, RUBBLE_PGS_NORMALS, slot));
-        for (uint i = begin; i < end; ++i) {
-            const PgsElement e = elements[first + i];
-            residual = fmax(residual, solveElement(e, normalRows, frictionRows, impulses, joints,
-                                                   jointRows, bodies, velocities, relaxation,
-                                                   lastSweep, kept, RUBBLE_PGS_FRICTION,
-                                                   RUBBLE_PGS_ALL_SLOTS));
-            if (pushes)
-                pushResidual = fmax(pushResidual, pushElement(e, normalRows, impulses, pushed,
-                                                              push, relaxation));
-        }
+                                                       kept, RUBBLE_PGS_NORMALS,
+                                                       passSlot(mode, pass)));
+        for (uint i = begin; i < end; ++i)
+            residual = fmax(residual, solveElement(elements[first + i], normalRows, frictionRows,
+                                                   impulses, joints, jointRows, bodies,
+                                                   velocities, relaxation, lastSweep, kept,
+                                                   RUBBLE_PGS_FRICTION, RUBBLE_PGS_ALL_SLOTS));
+        for (uint pass = 0u; pushes && pass < slotPasses(mode); ++pass)
+            for (uint i = begin; i < end; ++i)
+                pushResidual = fmax(pushResidual,
+                                    pushElement(elements[first + i], normalRows, impulses,
+                                                pushed, push, relaxation, passSlot(mode, pass)));
     }
     if (lastSweep && residual > 0.0f) atomic_max(&largest[0], as_uint(residual));
     if (pushResidual > 0.0f) atomic_max(&largest[1], as_uint(pushResidual));
@@ -447,13 +466,41 @@ pushPgs(const uint first, const uint count, const uint mode,
     if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
     __local uint largest;
     groupClear(&largest, 1u);
+    const uint begin = elementsBegin(count, mode, blockStarts);
     const uint end = elementsEnd(count, mode, blockStarts);
     float residual = 0.0f;
-    for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
-        residual = fmax(residual, pushElement(elements[first + i], normalRows, impulses, pushed,
-                                              push, relaxation));
+    for (uint pass = 0u; pass < slotPasses(mode); ++pass)
+        for (uint i = begin; i < end; ++i)
+            residual = fmax(residual, pushElement(elements[first + i], normalRows, impulses,
+                                                  pushed, push, relaxation, passSlot(mode, pass)));
     if (residual > 0.0f) atomic_max(&largest, as_uint(residual));
     if (groupDone() && largest > 0u) atomic_max(&sweepResidual[sweep], largest);
+}
+
+// One sweep of the restitution pass for one element, or for one of its points (`slot`): each of
+// its rows that bounces, on the velocities. Returns the largest |change|, N s.
+static float bounceElement(const PgsElement e, __global const PgsNormalRow* normalRows,
+                           __global const float4* impulses, __global float* bounce,
+                           __global BodyVelocity* velocities, const uint sweep, const uint slot) {
+    const uint from = slotFrom(slot), to = slotEnd(e.rows & RUBBLE_PGS_POINTS, slot);
+    if ((e.id & RUBBLE_PGS_JOINT_ELEMENT) || from >= to) return 0.0f;
+    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+    BodyVelocityPair v = loadPair(e.a, e.b, velocities);
+    float residual = 0.0f;
+    int changed = 0;
+    for (uint k = from; k < to; ++k) {
+        const PgsNormalRow r = normalRows[row + k];
+        const float impulse = impulses[row + k].x;
+        if (!pgsBouncesItem(r, impulse)) continue;
+        const float start = sweep == 0u ? 0.0f : bounce[row + k];
+        const PgsUpdate u = solvePgsBounceItem(r, v, start, impulse);
+        v = u.v;
+        bounce[row + k] = u.accumulated;
+        residual = fmax(residual, fabs(u.applied));
+        changed = 1;
+    }
+    if (changed) storePair(v, e.a, e.b, e.rows, velocities);
+    return residual;
 }
 
 // One sweep of the restitution pass, one launch (as the sweeps), after integratePositions
@@ -470,27 +517,14 @@ bouncePgs(const uint first, const uint count, const uint mode,
     if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
     __local uint largest;
     groupClear(&largest, 1u);
+    const uint begin = elementsBegin(count, mode, blockStarts);
     const uint end = elementsEnd(count, mode, blockStarts);
     float residual = 0.0f;
-    for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i) {
-        const PgsElement e = elements[first + i];
-        if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
-        const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
-        BodyVelocityPair v = loadPair(e.a, e.b, velocities);
-        int changed = 0;
-        for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
-            const PgsNormalRow r = normalRows[row + k];
-            const float impulse = impulses[row + k].x;
-            if (!pgsBouncesItem(r, impulse)) continue;
-            const float start = sweep == 0u ? 0.0f : bounce[row + k];
-            const PgsUpdate u = solvePgsBounceItem(r, v, start, impulse);
-            v = u.v;
-            bounce[row + k] = u.accumulated;
-            residual = fmax(residual, fabs(u.applied));
-            changed = 1;
-        }
-        if (changed) storePair(v, e.a, e.b, e.rows, velocities);
-    }
+    for (uint pass = 0u; pass < slotPasses(mode); ++pass)
+        for (uint i = begin; i < end; ++i)
+            residual = fmax(residual, bounceElement(elements[first + i], normalRows, impulses,
+                                                    bounce, velocities, sweep,
+                                                    passSlot(mode, pass)));
     if (residual > 0.0f) atomic_max(&largest, as_uint(residual));
     if (groupDone() && largest > 0u) atomic_max(&sweepResidual[sweep], largest);
 }
