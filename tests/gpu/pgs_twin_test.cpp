@@ -73,6 +73,19 @@ const char* kRowScene = R"({"format": "rubble-scene", "version": 1, "name": "row
     {"name": "gap", "shape": "crate", "mass": 1, "position": [0, 0.503, 4],
      "orientation": [0.9999, 0.01, 0, 0], "linear_velocity": [0, -1, 0]}]})";
 
+// A scene of unit crates ("crate", 1 m on a side) on a floor, at 60 Hz with 10 sweeps, every
+// material of friction `friction` and restitution 0: `bodies` follow the floor in its list.
+std::string cratesOnTheFloor(float friction, const std::string& bodies) {
+    return R"({"format": "rubble-scene", "version": 1, "name": "crates",
+      "simulation": {"dt": 0.016666667, "solver": {"iterations": 10}},
+      "materials": {"default": {"friction": )" +
+           std::to_string(friction) + R"(, "restitution": 0.0}},
+      "shapes": {"ground": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
+                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
+      "bodies": [{"name": "floor", "shape": "ground", "static": true},)" +
+           bodies + "]}";
+}
+
 // The device's stages of a step on the state as loaded, up to the split of its elements into
 // blocks and colors (colorPgs).
 Status colorStep(gpu::Pipeline& p, const StepParams& params) {
@@ -318,12 +331,7 @@ TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
 // the CPU here; colored, the falling crate's row meets the spinning one after all of its floor
 // rows, not between them, and the two part by 2.5e-4 m/s.
 TEST_F(PgsTwin, OneBlockSweepsTheRowsInTheCpuOrder) {
-    const std::string json = R"({"format": "rubble-scene", "version": 1, "name": "order",
-      "simulation": {"dt": 0.016666667, "solver": {"iterations": 10}},
-      "materials": {"default": {"friction": 0.5, "restitution": 0.0}},
-      "shapes": {"ground": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
-                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
-      "bodies": [{"name": "floor", "shape": "ground", "static": true},
+    const std::string json = cratesOnTheFloor(0.5f, R"(
         {"name": "spin", "shape": "crate", "mass": 1,
          "position": [4.1812286, 0.50881904, 7.8187733],
          "orientation": [0.99986434, -0.0074397363, 0.0146920215, -0.00031289086],
@@ -331,7 +339,7 @@ TEST_F(PgsTwin, OneBlockSweepsTheRowsInTheCpuOrder) {
          "angular_velocity": [2.7548244, 0.121502586, 2.5118194]},
         {"name": "fall", "shape": "crate", "mass": 1, "position": [4.200001, 1.6712749, 7.800001],
          "orientation": [0.9987707, -0.03938799, -0.0064735194, -0.029390443],
-         "linear_velocity": [0, -5.3954997, 0]}]})";
+         "linear_velocity": [0, -5.3954997, 0]})");
     World cpu = world(json, Backend::Cpu), oneBlock = world(json, Backend::OpenCl, 1);
     World colored = world(json, Backend::OpenCl, 0);
     ASSERT_TRUE(cpu.step().ok());
@@ -362,18 +370,13 @@ TEST_F(PgsTwin, OneBlockSweepsTheRowsInTheCpuOrder) {
 // rows element by element, as the blocks swept them before, part from it by 0.36 mm in the first
 // step and 1.3 mm by step 30 (the crates rise on other tilts), and colored by 0.62 mm.
 TEST_F(PgsTwin, OneBlockPushesInTheCpuOrder) {
-    const std::string json = R"({"format": "rubble-scene", "version": 1, "name": "push",
-      "simulation": {"dt": 0.016666667, "solver": {"iterations": 10}},
-      "materials": {"default": {"friction": 0.0, "restitution": 0.0}},
-      "shapes": {"ground": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
-                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
-      "bodies": [{"name": "floor", "shape": "ground", "static": true},
+    const std::string json = cratesOnTheFloor(0.0f, R"(
         {"name": "s0", "shape": "crate", "mass": 2, "position": [0, 0.48, 0],
          "orientation": [0.9999, 0.01, 0, 0.005]},
         {"name": "s1", "shape": "crate", "mass": 2, "position": [0.05, 1.45, 0],
          "orientation": [0.9998, 0, 0.02, 0.01]},
         {"name": "s2", "shape": "crate", "mass": 2, "position": [-0.04, 2.42, 0.03],
-         "orientation": [0.9999, -0.01, 0, 0.008]}]})";
+         "orientation": [0.9999, -0.01, 0, 0.008]})");
     World cpu = world(json, Backend::Cpu), oneBlock = world(json, Backend::OpenCl, 1);
     World colored = world(json, Backend::OpenCl, 0);
     // The largest difference of any position or orientation component from the CPU's.
