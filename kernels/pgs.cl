@@ -84,8 +84,8 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
 }
 
 // One work-item per pair with rows, in pair order (`order`: the index of its element): the
-// rows of the pair's manifold points, packed in color order from the element's first row,
-// warm-started from last step's impulses of the same pair (warmStartMatchItem), and the points'
+// rows of the pair's manifold points where its element places them (PgsElement: the friction
+// rows from its first row, the normal rows and impulses at normal[k]), warm-started from last step's impulses of the same pair (warmStartMatchItem), and the points'
 // keys for the next step (their impulses are filled in by the last sweep).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 buildPgsRows(const uint count, __global const uint* order, __global const PgsElement* elements,
@@ -141,9 +141,9 @@ buildPgsRows(const uint count, __global const uint* order, __global const PgsEle
             start.y = dot3(from.friction, row.friction.tangent[0]);
             start.z = dot3(from.friction, row.friction.tangent[1]);
         }
-        normalRows[first + k] = row.normal;
+        normalRows[e.normal[k]] = row.normal;
         frictionRows[first + k] = row.friction;
-        impulses[first + k] = start;
+        impulses[e.normal[k]] = start;
         // What the next step starts from if no sweep runs; the last sweep overwrites it.
         PgsImpulse key = keys[k];
         key.normal = start.x;
@@ -207,15 +207,15 @@ static void warmStartElement(const PgsElement e, __global const PgsNormalRow* no
         storePair(v, e.a, e.b, jointMoves(ja, jb), velocities);
         return;
     }
-    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+    const uint friction = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
     for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
-        const float4 l = impulses[row + k];
+        const float4 l = impulses[e.normal[k]];
         if (l.x != 0.0f) {
-            const PgsNormalRow r = normalRows[row + k];
+            const PgsNormalRow r = normalRows[e.normal[k]];
             v = applyPgsRowItem(v, r.normal, r.turnA, r.turnB, r.speeds.z, r.speeds.w, l.x);
         }
         if (l.y == 0.0f && l.z == 0.0f) continue;
-        const PgsFrictionRows f = frictionRows[row + k];
+        const PgsFrictionRows f = frictionRows[friction + k];
         const float ima = f.inverseMass.x, imb = f.inverseMass.y;
         if (l.y != 0.0f) v = applyPgsRowItem(v, f.tangent[0], f.turnA[0], f.turnB[0], ima, imb, l.y);
         if (l.z != 0.0f) v = applyPgsRowItem(v, f.tangent[1], f.turnA[1], f.turnB[1], ima, imb, l.z);
@@ -291,30 +291,30 @@ static float solveElement(const PgsElement e, __global const PgsNormalRow* norma
         return u.pointImpulse.w;
     }
     float residual = 0.0f;
-    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+    const uint friction = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
     float4 l[4];
     for (uint k = from; k < to; ++k) {
-        l[k] = impulses[row + k];
+        l[k] = impulses[e.normal[k]];
         if (!(part & RUBBLE_PGS_NORMALS)) continue;
-        const PgsNormalRow r = normalRows[row + k];
+        const PgsNormalRow r = normalRows[e.normal[k]];
         const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.x, l[k].x, relaxation);
         v = u.v;
         l[k].x = u.accumulated;
         residual = fmax(residual, fabs(u.applied));
     }
     if (!(part & RUBBLE_PGS_FRICTION)) {
-        for (uint k = from; k < to; ++k) impulses[row + k].x = l[k].x;
+        for (uint k = from; k < to; ++k) impulses[e.normal[k]].x = l[k].x;
         storePair(v, e.a, e.b, e.rows, velocities);
         return residual;
     }
     for (uint k = from; k < to; ++k) {
-        const PgsFrictionRows r = frictionRows[row + k];
+        const PgsFrictionRows r = frictionRows[friction + k];
         const PgsFrictionUpdate u = solvePgsFrictionItem(r, v, l[k].x, l[k].y, l[k].z, relaxation);
         v = u.v;
         l[k].y = u.impulse.x;
         l[k].z = u.impulse.y;
         residual = fmax(residual, u.impulse.z);
-        impulses[row + k] = l[k];
+        impulses[e.normal[k]] = l[k];
         if (lastSweep) {
             kept[4u * e.id + k].normal = l[k].x;
             kept[4u * e.id + k].friction =
@@ -339,17 +339,16 @@ static float pushElement(const PgsElement e, __global const PgsNormalRow* normal
     // below is passed over and the velocities go back unchanged, so nothing is read or written.
     if (!pushed[e.a] && !pushed[e.b]) return 0.0f;
     BodyVelocityPair v = loadPair(e.a, e.b, push);
-    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
     float residual = 0.0f;
     for (uint k = from; k < to; ++k) {
         // Every row of the element, at its push speed (a row that bounces aims at its lift too:
         // markBounces wrote the target).
-        const PgsNormalRow r = normalRows[row + k];
-        float4 l = impulses[row + k];
+        const PgsNormalRow r = normalRows[e.normal[k]];
+        float4 l = impulses[e.normal[k]];
         const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.y, l.w, relaxation);
         v = u.v;
         l.w = u.accumulated;
-        impulses[row + k] = l;
+        impulses[e.normal[k]] = l;
         residual = fmax(residual, fabs(u.applied));
     }
     storePair(v, e.a, e.b, e.rows, push);
@@ -437,14 +436,13 @@ markBounces(const uint count, __global const PgsElement* elements,
     if (i >= count) return;
     const PgsElement e = elements[i];
     if (e.id & RUBBLE_PGS_JOINT_ELEMENT) return;
-    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
     int lifts = 0;
     for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
-        const PgsNormalRow r = normalRows[row + k];
-        const float impulse = impulses[row + k].x;
+        const PgsNormalRow r = normalRows[e.normal[k]];
+        const float impulse = impulses[e.normal[k]].x;
         if (!pgsBouncesItem(r, impulse)) continue;
         const float target = pgsPushTargetItem(r, impulse);
-        normalRows[row + k].speeds.y = target;
+        normalRows[e.normal[k]].speeds.y = target;
         lifts |= target > 0.0f;
     }
     if (!lifts) return;
@@ -484,18 +482,17 @@ static float bounceElement(const PgsElement e, __global const PgsNormalRow* norm
                            __global BodyVelocity* velocities, const uint sweep, const uint slot) {
     const uint from = slotFrom(slot), to = slotEnd(e.rows & RUBBLE_PGS_POINTS, slot);
     if ((e.id & RUBBLE_PGS_JOINT_ELEMENT) || from >= to) return 0.0f;
-    const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
     BodyVelocityPair v = loadPair(e.a, e.b, velocities);
     float residual = 0.0f;
     int changed = 0;
     for (uint k = from; k < to; ++k) {
-        const PgsNormalRow r = normalRows[row + k];
-        const float impulse = impulses[row + k].x;
+        const PgsNormalRow r = normalRows[e.normal[k]];
+        const float impulse = impulses[e.normal[k]].x;
         if (!pgsBouncesItem(r, impulse)) continue;
-        const float start = sweep == 0u ? 0.0f : bounce[row + k];
+        const float start = sweep == 0u ? 0.0f : bounce[e.normal[k]];
         const PgsUpdate u = solvePgsBounceItem(r, v, start, impulse);
         v = u.v;
-        bounce[row + k] = u.accumulated;
+        bounce[e.normal[k]] = u.accumulated;
         residual = fmax(residual, fabs(u.applied));
         changed = 1;
     }
@@ -544,12 +541,11 @@ bounceMomenta(const uint first, const uint count, const uint mode,
     for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i) {
         const PgsElement e = elements[first + i];
         if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
-        const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
         int bounced = 0;
         for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
-            const PgsNormalRow r = normalRows[row + k];
-            if (!pgsBouncesItem(r, impulses[row + k].x)) continue;
-            const float l = bounce[row + k];
+            const PgsNormalRow r = normalRows[e.normal[k]];
+            if (!pgsBouncesItem(r, impulses[e.normal[k]].x)) continue;
+            const float l = bounce[e.normal[k]];
             const float4 linear = scale4(r.normal, l);
             if (r.speeds.z > 0.0f) {
                 momenta[e.a].linear = sub4(momenta[e.a].linear, linear);
@@ -577,7 +573,7 @@ bounceMomenta(const uint first, const uint count, const uint mode,
 
 // The row `entry` of the layer pass's lists names: element index << 2 | point.
 static uint layerRow(const uint entry, __global const PgsElement* elements) {
-    return (elements[entry >> 2].rows >> RUBBLE_PGS_FIRST_SHIFT) + (entry & 3u);
+    return elements[entry >> 2].normal[entry & 3u];
 }
 
 // The layer pass (shock propagation; PgsSolver's solveLayers, then its rows on the split pass's
@@ -608,9 +604,8 @@ __kernel void layerPgs(const uint count, __global const PgsElement* elements,
     for (uint i = 0; i < count && !any; ++i) {
         const PgsElement e = elements[i];
         if (e.id & RUBBLE_PGS_JOINT_ELEMENT || loaded[e.a] || loaded[e.b]) continue;
-        const uint row = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
         for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
-            const PgsNormalRow r = normalRows[row + k];
+            const PgsNormalRow r = normalRows[e.normal[k]];
             any = any || heavyOverItem(r.speeds.z, r.speeds.w) ||
                   heavyOverItem(r.speeds.w, r.speeds.z);
         }

@@ -184,24 +184,39 @@ Status Pipeline::colorPgs() {
     g.elementsHost.resize(all.size());
     for (std::uint32_t k = 0; k < all.size(); ++k) {
         shared::PgsElement& e = g.elementsHost[g.placeHost[k]];
+        e = shared::PgsElement{};
         e.id = all[k].id;
         e.a = all[k].a;
         e.b = all[k].b;
-        e.rows = 0;
     }
-    // pointsHost[i]: the rows before element i (a joint has none).
+    // pointsHost[i]: the rows before element i (a joint has none). An element of a color has
+    // its normal rows where its friction rows are; a block's are placed by point below.
     g.pointsHost.assign(all.size() + 1, 0);
     std::uint32_t rows = 0;
     for (std::uint32_t i = 0; i < all.size(); ++i) {
         shared::PgsElement& e = g.elementsHost[i];
         if (!(e.id & RUBBLE_PGS_JOINT_ELEMENT)) {
             const cl_uint summary = g.pairRowsHost[e.id];
+            const std::uint32_t points = summary & RUBBLE_PGS_POINTS;
+            RUBBLE_ASSERT(points <= 4);
             e.rows = (rows << RUBBLE_PGS_FIRST_SHIFT) | summary;
-            rows += summary & RUBBLE_PGS_POINTS;
+            for (std::uint32_t k = 0; k < points; ++k) e.normal[k] = rows + k;
+            rows += points;
         }
         g.pointsHost[i + 1] = rows;
     }
     g.rowCount = rows;
+    // A block's normal rows (and impulses) within its range of rows by point: every element's
+    // first point, then every second point, ..., the order its passes read them in (solvePgs),
+    // so that each pass reads them front to back as the CPU's sweep reads its interleaved rows.
+    for (std::uint32_t b = 0; b < blocks && inBlocks > 0; ++b) {
+        const std::uint32_t from = g.blockStartsHost[b], to = g.blockStartsHost[b + 1];
+        std::uint32_t next = g.pointsHost[from];
+        for (std::uint32_t k = 0; k < 4; ++k)
+            for (std::uint32_t i = from; i < to; ++i)
+                if (g.pointsHost[i + 1] - g.pointsHost[i] > k) g.elementsHost[i].normal[k] = next++;
+        RUBBLE_ASSERT(next == g.pointsHost[to]);
+    }
     auto pointsIn = [&](std::uint32_t first, std::uint32_t count) {
         return g.pointsHost[first + count] - g.pointsHost[first];
     };

@@ -139,13 +139,16 @@ TEST_F(PgsTwin, RowsAreTheCpuRowsBitForBit) {
     Result<std::vector<shared::ContactManifold>> manifolds = p.downloadManifolds();
     ASSERT_TRUE(normals.ok() && frictions.ok() && manifolds.ok());
 
-    // The device's rows by (a, b, feature).
-    std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, std::uint32_t> device;
+    // The device's rows by (a, b, feature): the normal row's and the friction rows' places.
+    std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>,
+             std::pair<std::uint32_t, std::uint32_t>>
+        device;
     for (const shared::PgsElement& e : p.pgs().elementsHost) {
         if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
         const shared::ContactManifold& m = (*manifolds)[e.id];
         for (std::uint32_t k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k)
-            device[{e.a, e.b, m.features[k]}] = (e.rows >> RUBBLE_PGS_FIRST_SHIFT) + k;
+            device[{e.a, e.b, m.features[k]}] = {e.normal[k],
+                                                 (e.rows >> RUBBLE_PGS_FIRST_SHIFT) + k};
     }
     ASSERT_EQ(device.size(), rows.size());
     ASSERT_GE(rows.size(), 16u); // the stack's faces, the slider, the ball, the gap
@@ -154,8 +157,8 @@ TEST_F(PgsTwin, RowsAreTheCpuRowsBitForBit) {
         const ContactKey& key = rows.keys[i];
         const auto found = device.find({key.a, key.b, key.feature});
         ASSERT_NE(found, device.end()) << "row of " << key.a << "-" << key.b;
-        const shared::PgsNormalRow& dn = (*normals)[found->second];
-        const shared::PgsFrictionRows& df = (*frictions)[found->second];
+        const shared::PgsNormalRow& dn = (*normals)[found->second.first];
+        const shared::PgsFrictionRows& df = (*frictions)[found->second.second];
         const NormalRow& n = rows.normals[i];
         const FrictionRows& f = rows.frictions[i];
         const std::string where = "row of " + std::to_string(key.a) + "-" + std::to_string(key.b);
@@ -239,7 +242,8 @@ TEST_F(PgsTwin, AStackOfThreeMatchesTheCpu) {
 // The split into blocks, on a 5 x 2 x 4 block of touching crates in 4 blocks: every element of
 // the step placed once; the blocks share no body that moves (they run side by side), and each
 // holds its elements in pair order (the CPU's order); the elements between blocks colored, no
-// two of a launch on one moving body; the rows packed in the elements' order.
+// two of a launch on one moving body; the friction rows packed in the elements' order, a block's
+// normal rows by point.
 TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
     std::string json = R"({"format": "rubble-scene", "version": 1, "name": "blocks",
       "simulation": {"dt": 0.016666667, "solver": {"iterations": 10}},
@@ -314,13 +318,41 @@ TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
             }
         }
     }
-    // The rows packed in the elements' order.
+    // The friction rows packed in the elements' order.
     std::uint32_t row = 0;
     for (const shared::PgsElement& e : g.elementsHost) {
         EXPECT_EQ(e.rows >> RUBBLE_PGS_FIRST_SHIFT, row);
         row += e.rows & RUBBLE_PGS_POINTS;
     }
     EXPECT_EQ(row, g.rowCount);
+    // The normal rows: each place once; a block's by point from its first row (every element's
+    // first point, then every second, ...), so that its passes read them front to back; a
+    // color's element's where its friction rows are.
+    auto points = [](const shared::PgsElement& e) { return e.rows & RUBBLE_PGS_POINTS; };
+    std::set<std::uint32_t> normals;
+    std::uint32_t multiPoint = 0;
+    for (std::uint32_t b = 0; b < 4; ++b) {
+        const std::uint32_t from = g.blockStartsHost[b], to = g.blockStartsHost[b + 1];
+        std::uint32_t next = g.elementsHost[from].rows >> RUBBLE_PGS_FIRST_SHIFT;
+        for (std::uint32_t k = 0; k < 4; ++k)
+            for (std::uint32_t i = from; i < to; ++i) {
+                const shared::PgsElement& e = g.elementsHost[i];
+                if (k >= points(e)) continue;
+                EXPECT_EQ(e.normal[k], next++) << "block " << b << ", element " << i << ", point "
+                                               << k;
+                EXPECT_TRUE(normals.insert(e.normal[k]).second);
+                multiPoint += k == 1;
+            }
+    }
+    EXPECT_GE(multiPoint, 8u); // the order differs from the elements' on these
+    for (std::uint32_t i = blocks.count; i < g.elementsHost.size(); ++i) {
+        const shared::PgsElement& e = g.elementsHost[i];
+        for (std::uint32_t k = 0; k < points(e); ++k) {
+            EXPECT_EQ(e.normal[k], (e.rows >> RUBBLE_PGS_FIRST_SHIFT) + k);
+            EXPECT_TRUE(normals.insert(e.normal[k]).second);
+        }
+    }
+    EXPECT_EQ(normals.size(), g.rowCount);
 }
 
 // A crate spinning onto the floor (four points apart by 1 - 17 mm) under one falling 10 cm
