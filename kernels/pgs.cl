@@ -396,25 +396,28 @@ solvePgs(const uint first, const uint count, const uint mode,
     } else {
         // A block, in order: the normal rows as the CPU's sweep goes through them (slotPasses),
         // then each element's friction rows (element by element: taken by point, as the CPU
-        // takes them, they cost a fifth more time on debris_64k, docs/opencl.md), then the
-        // push rows in the CPU's order again.
+        // takes them, they cost a fifth more time on debris_64k, docs/opencl.md). The push
+        // rows go in the CPU's order too, each pass beside the normal rows' pass of the same
+        // point, which has just read the row: the split pass reads and writes only its own
+        // velocities and its impulses' w, so neither pass sees the other and each gives the
+        // same bits as after the whole velocity sweep, with the rows read once.
         for (uint pass = 0u; pass < slotPasses(mode); ++pass)
-            for (uint i = begin; i < end; ++i)
-                residual = fmax(residual, solveElement(elements[first + i], normalRows,
-                                                       frictionRows, impulses, joints, jointRows,
-                                                       bodies, velocities, relaxation, lastSweep,
-                                                       kept, RUBBLE_PGS_NORMALS,
-                                                       passSlot(mode, pass)));
+            for (uint i = begin; i < end; ++i) {
+                const PgsElement e = elements[first + i];
+                residual = fmax(residual, solveElement(e, normalRows, frictionRows, impulses,
+                                                       joints, jointRows, bodies, velocities,
+                                                       relaxation, lastSweep, kept,
+                                                       RUBBLE_PGS_NORMALS, passSlot(mode, pass)));
+                if (pushes)
+                    pushResidual = fmax(pushResidual,
+                                        pushElement(e, normalRows, impulses, pushed, push,
+                                                    relaxation, passSlot(mode, pass)));
+            }
         for (uint i = begin; i < end; ++i)
             residual = fmax(residual, solveElement(elements[first + i], normalRows, frictionRows,
                                                    impulses, joints, jointRows, bodies,
                                                    velocities, relaxation, lastSweep, kept,
                                                    RUBBLE_PGS_FRICTION, RUBBLE_PGS_ALL_SLOTS));
-        for (uint pass = 0u; pushes && pass < slotPasses(mode); ++pass)
-            for (uint i = begin; i < end; ++i)
-                pushResidual = fmax(pushResidual,
-                                    pushElement(elements[first + i], normalRows, impulses,
-                                                pushed, push, relaxation, passSlot(mode, pass)));
     }
     if (lastSweep && residual > 0.0f) atomic_max(&largest[0], as_uint(residual));
     if (pushResidual > 0.0f) atomic_max(&largest[1], as_uint(pushResidual));
