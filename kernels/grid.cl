@@ -100,16 +100,22 @@ __kernel void permuteContacts(__global const uint* status, __global const uint* 
     for (uint i = get_global_id(0); i < n; i += get_global_size(0)) out[i] = in[order[i]];
 }
 
-// Deterministic mode: each contact's sort key and index, for a pass of the stable sort by
-// (particleA, featureB): first by featureB (`order` unused), then by particleA in the order the
-// first pass left.
+// Each contact's sort key and index for one pass of the stable sort of the contacts (`field`,
+// RUBBLE_CONTACT_KEY_*): by (particleA, featureB) in deterministic mode, first by featureB
+// (`order` unused) then by particleA in the order the first pass left; for projected
+// Gauss-Seidel, then by the pair's higher body and its lower one, so that the contacts go by
+// (pair, particleA, featureB), the CPU's order (particleContactsToManifolds).
 __kernel void contactKeys(__global const uint* status, __global const ParticleContact* contacts,
-                          __global const uint* order, const uint byParticle, __global uint* keys,
+                          __global const uint* order, const uint field, __global uint* keys,
                           __global uint* values) {
     const uint n = liveContactsItem(status[RUBBLE_STATUS_CONTACTS], status[RUBBLE_STATUS_CAPACITY]);
     for (uint i = get_global_id(0); i < n; i += get_global_size(0)) {
-        const uint c = byParticle ? order[i] : i;
-        keys[i] = byParticle ? contacts[c].particleA : contacts[c].featureB;
+        const uint c = field == RUBBLE_CONTACT_KEY_FEATURE ? i : order[i];
+        const ParticleContact x = contacts[c];
+        keys[i] = field == RUBBLE_CONTACT_KEY_FEATURE    ? x.featureB
+                  : field == RUBBLE_CONTACT_KEY_PARTICLE ? x.particleA
+                  : field == RUBBLE_CONTACT_KEY_HIGHER   ? max(x.a, x.b)
+                                                         : min(x.a, x.b);
         values[i] = c;
     }
 }

@@ -1,6 +1,7 @@
 // kernels/particles.cl: entry points of OpenCL stages 2 and 4 (transformParticles,
-// collideParticles); the math is in rubble/shared/particle.h, the CPU twins in
-// host/collision/particles.cpp.
+// collideParticles, and particlePairs for projected Gauss-Seidel); the math is in
+// rubble/shared/particle.h, the CPU twins in host/collision/particles.cpp.
+#include "rubble/shared/broad_phase.h"
 #include "rubble/shared/particle.h"
 
 // Particles of sleeping bodies keep their world positions: their bodies do not move.
@@ -105,5 +106,37 @@ __kernel void collideParticles(const uint count, const uint staticCount,
         c.particleA = order[slot];
         c.featureB = count + k;
         appendContact(c, capacity, contacts, status);
+    }
+}
+
+// Particle contacts into projected Gauss-Seidel (solver pgs), one work-item per contact
+// (striding), after the contacts' sort by (pair, particleA, featureB): each contact becomes a
+// pair of one point in the pair arrays the SAT method's narrow phase fills (particleManifoldItem,
+// as the CPU's particleContactsToManifolds), with its key, and last step's place of the same
+// contact (`previousOf`; last step's count when it is new), from which the rows warm-start. The
+// pairs' count is the contacts'.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_CONTACTS, 1, 1))) void
+particlePairs(__global uint* status, __global const ParticleContact* contacts,
+              const uint previousCapacity, __global const uint* previousCount,
+              __global const ParticleContactKey* previousKeys, __global uint* pairCount,
+              __global BodyPairRecord* pairs, __global ContactManifold* manifolds,
+              __global ParticleContactKey* keys, __global uint* previousOf) {
+    const uint n = liveContactsItem(status[RUBBLE_STATUS_CONTACTS], status[RUBBLE_STATUS_CAPACITY]);
+    const uint previous = min(previousCount[0], previousCapacity);
+    if (get_global_id(0) == 0u) {
+        pairCount[0] = n;
+        status[RUBBLE_STATUS_PAIRS] = n;
+    }
+    for (uint i = get_global_id(0); i < n; i += get_global_size(0)) {
+        const ParticleContact c = contacts[i];
+        const ContactManifold m = particleManifoldItem(c);
+        BodyPairRecord pair;
+        pair.a = m.a;
+        pair.b = m.b;
+        pairs[i] = pair;
+        manifolds[i] = m;
+        const ParticleContactKey key = particleContactKeyItem(c);
+        keys[i] = key;
+        previousOf[i] = findParticleKeyItem(key, previous, previousKeys);
     }
 }

@@ -505,8 +505,9 @@ static float bounceElement(const PgsElement e, __global const PgsNormalRow* norm
 
 // One sweep of the restitution pass, one launch (as the sweeps), after integratePositions
 // (solveRestitution): each row that bounces gives its bodies back its bounce speed along the
-// normal (solvePgsBounceItem) on the velocities, its impulse accumulated in `bounce` (from zero
-// at sweep 0). A sweep after one whose largest change was within RUBBLE_PUSH_TOLERANCE does
+// normal (solvePgsBounceItem) on the velocities the sweeps left (a copy: integratePositions has
+// derived the bodies' own again at their new orientations), its impulse accumulated in `bounce`
+// (from zero at sweep 0). A sweep after one whose largest change was within RUBBLE_PUSH_TOLERANCE does
 // nothing.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 bouncePgs(const uint first, const uint count, const uint mode,

@@ -187,8 +187,7 @@ void particleContactsToManifolds(std::span<const ParticleContact> contacts,
         m.points[0].position = toVec3(c.point);
         m.points[0].depth = c.point.w;
         m.points[0].normal = m.normal;
-        // The two particles name the contact while they keep touching (warm starting).
-        m.points[0].feature = c.particleA * 2654435761u ^ c.featureB;
+        m.points[0].feature = shared::particleFeatureItem(c.particleA, c.featureB);
         manifolds.push_back(m);
     }
     // The reference solver expects manifolds grouped by pair.

@@ -62,7 +62,7 @@ const std::vector<KernelSignature>& kernelSignatures() {
         {KernelId::PermuteContacts, "permuteContacts", {"status", "order", "in", "out"}},
         {KernelId::ContactKeys,
          "contactKeys",
-         {"status", "contacts", "order", "byParticle", "keys", "values"}},
+         {"status", "contacts", "order", "field", "keys", "values"}},
         {KernelId::CountBodyContacts,
          "countBodyContacts",
          {"status", "contacts", "flags", "bodyCount"}},
@@ -227,6 +227,10 @@ const std::vector<KernelSignature>& kernelSignatures() {
          "wakeJointGroups",
          {"count", "jointBodies", "groupOf", "flags", "slowFor", "groupVotes", "pass", "status"}},
         {KernelId::FillWords, "fillWords", {"count", "value", "out"}},
+        {KernelId::ParticlePairs,
+         "particlePairs",
+         {"status", "contacts", "previousCapacity", "previousCount", "previousKeys", "pairCount",
+          "pairs", "manifolds", "keys", "previousOf"}},
     };
     return table;
 }

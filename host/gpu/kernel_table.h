@@ -74,6 +74,7 @@ enum class KernelId : unsigned {
     HoldJointGroups,
     WakeJointGroups,
     FillWords,
+    ParticlePairs,
     Count
 };
 

@@ -64,7 +64,9 @@ Status Pipeline::setContactCapacity(std::uint32_t capacity, bool growable) {
     for (Buffer* b : {&contacts_.sortKeys, &contacts_.sortValues, &contacts_.sortKeysAlt,
                       &contacts_.sortValuesAlt})
         RUBBLE_TRY(b->reserve(c.context(), n * sizeof(cl_uint)));
-    // Last step's contacts keep their size: the next step reads them before they change.
+    // Last step's contacts keep their size: the next step reads them before they change. With
+    // PGS each contact is a pair.
+    if (particlePgs_ && sat_.current.capacity < capacity) RUBBLE_TRY(setPairCapacity(capacity));
     return {};
 }
 
@@ -139,31 +141,38 @@ Status Pipeline::readContactCount() {
     }
 }
 
-Status Pipeline::sortContacts() {
+Status Pipeline::sortContacts(bool byPair) {
     const cl_uint capacity = contacts_.capacity;
     auto bitsFor = [](std::uint64_t values) {
         std::uint32_t bits = 1;
         while (bits < 32 && (std::uint64_t(1) << bits) < values) ++bits;
         return bits;
     };
-    // Two stable passes make the order of (particleA, featureB), which names a contact.
+    // Stable passes from the last field of the order to its first: (particleA, featureB), which
+    // names a contact, and before it, for PGS, the pair (lower, higher body).
     const std::uint32_t featureBits = bitsFor(std::uint64_t(particles_.count) +
                                               particles_.staticCount);
     const std::uint32_t particleBits = bitsFor(particles_.count);
-    for (const cl_uint byParticle : {0u, 1u}) {
-        // The second pass reads the first's order; keys and values are then written afresh.
-        if (byParticle) std::swap(contacts_.sortValues, contacts_.sortKeysAlt);
+    const std::uint32_t bodyBits = bitsFor(bodies_.count);
+    const cl_uint passes = byPair ? 4u : 2u;
+    for (cl_uint field = RUBBLE_CONTACT_KEY_FEATURE; field < passes; ++field) {
+        // A pass after the first reads the last one's order; keys and values are then written
+        // afresh.
+        if (field != RUBBLE_CONTACT_KEY_FEATURE)
+            std::swap(contacts_.sortValues, contacts_.sortKeysAlt);
         RUBBLE_TRY(Dispatch(*context_, KernelId::ContactKeys, &profile_)
                        .arg(status_)
                        .arg(contacts_.contacts)
                        .arg(contacts_.sortKeysAlt)
-                       .arg(byParticle)
+                       .arg(field)
                        .arg(contacts_.sortKeys)
                        .arg(contacts_.sortValues)
                        .run(strideItems(), RUBBLE_GROUP_CONTACTS));
+        const std::uint32_t bits = field == RUBBLE_CONTACT_KEY_FEATURE    ? featureBits
+                                   : field == RUBBLE_CONTACT_KEY_PARTICLE ? particleBits
+                                                                          : bodyBits;
         RUBBLE_TRY(radixSort(contacts_.sortKeys, contacts_.sortValues, contacts_.sortKeysAlt,
-                             contacts_.sortValuesAlt, capacity,
-                             byParticle ? particleBits : featureBits, RUBBLE_STATUS_CONTACTS));
+                             contacts_.sortValuesAlt, capacity, bits, RUBBLE_STATUS_CONTACTS));
     }
     std::swap(contacts_.contacts, contacts_.unsorted);
     return Dispatch(*context_, KernelId::PermuteContacts, &profile_)
@@ -171,6 +180,23 @@ Status Pipeline::sortContacts() {
         .arg(contacts_.sortValues)
         .arg(contacts_.unsorted)
         .arg(contacts_.contacts)
+        .run(strideItems(), RUBBLE_GROUP_CONTACTS);
+}
+
+Status Pipeline::particlePairs() {
+    const SatBuffers& s = sat_;
+    const cl_uint previousCapacity = s.previous.capacity;
+    return Dispatch(*context_, KernelId::ParticlePairs, &profile_)
+        .arg(status_)
+        .arg(contacts_.contacts)
+        .arg(previousCapacity)
+        .arg(s.previous.count)
+        .arg(s.previous.keys)
+        .arg(s.current.count)
+        .arg(s.current.pairs)
+        .arg(s.manifolds)
+        .arg(s.current.keys)
+        .arg(s.previousOf)
         .run(strideItems(), RUBBLE_GROUP_CONTACTS);
 }
 

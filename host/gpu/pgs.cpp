@@ -66,7 +66,7 @@ void Pipeline::bindRowSettings(Dispatch& d, const StepParams& params) const {
 }
 
 Status Pipeline::summarizePairs(const StepParams& params) {
-    RUBBLE_ASSERT(sat_.enabled);
+    RUBBLE_ASSERT(pairPgs());
     const Context& c = *context_;
     RUBBLE_TRY(prepareJacobiBodies());
     RUBBLE_TRY(fill(c, pgs_.pushed, 0u, std::size_t(bodies_.count) * sizeof(cl_uint), &profile_));
@@ -429,6 +429,10 @@ Status Pipeline::solvePgs(const StepParams& params) {
                               g.rowCount * sizeof(shared::PgsNormalRow) +
                               n * (sizeof(shared::JacobiBody) + 2 * sizeof(cl_uint)));
     }
+    if (g.bounces) {
+        RUBBLE_TRY(reserveGrowing(c, g.solved, bodies_.count * sizeof(shared::BodyVelocity)));
+        RUBBLE_TRY(copyVelocities(g.solved));
+    }
     return absorbVelocityChange();
 }
 
@@ -453,7 +457,7 @@ Status Pipeline::bouncePgs(const StepParams& params) {
                            .arg(g.normalRows)
                            .arg(g.impulses)
                            .arg(g.bounce)
-                           .arg(bodies_.velocities)
+                           .arg(g.solved)
                            .arg(sweep)
                            .arg(g.bounceResidual)
                            .run(l.items(group), group));

@@ -32,6 +32,7 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
     const Context& c = *p->context_;
     p->bodies_.count = std::uint32_t(n);
     p->deterministic_ = in.deterministic;
+    p->particlePgs_ = in.collision == CollisionMethod::Particles && in.particlePgs;
     p->pgsBlocks_ = in.pgsBlocks >= 0 ? std::uint32_t(in.pgsBlocks) : c.workSizes().pgsBlocks;
     p->lcpStride_ = lcpStride(in.surfaces, bodies.masses);
     p->kinematic_.assign(n, 0);
@@ -49,6 +50,8 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
     RUBBLE_TRY(p->uploadBodies(bodies));
     RUBBLE_TRY(p->uploadParticles(in.particles, bodies, in.surfaces));
     if (in.collision == CollisionMethod::Sat) RUBBLE_TRY(p->createSat(in));
+    // Particles with PGS: a pair of one point per contact, as many pairs as contacts.
+    if (p->particlePgs_) RUBBLE_TRY(p->createPairArrays(in, p->contacts_.capacity));
 
     // The host's bodies, in index order: the order of each step's obstacle states.
     std::vector<cl_uint> obstacles;
@@ -202,6 +205,13 @@ Status Pipeline::beginStep(const StepParams& params, const StepInputs& in) {
         // SAT and PGS: the host waits once, after the rows, to color them.
         RUBBLE_TRY(enqueueSatCollision(params));
         RUBBLE_TRY(enqueueSatSolve(params));
+    } else if (particlePgs_) {
+        // Particles and PGS: the same, from the particles' contacts.
+        profile_.setStage(DeviceStage::BroadPhase);
+        RUBBLE_TRY(transformParticles());
+        RUBBLE_TRY(buildGrid());
+        RUBBLE_TRY(enqueueParticlePgs(params));
+        RUBBLE_TRY(enqueueSatSolve(params));
     } else {
         profile_.setStage(DeviceStage::BroadPhase);
         RUBBLE_TRY(transformParticles());
@@ -251,6 +261,45 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
                      "and the step's collision run again\n",
                      st->pairs, sat_.current.capacity, grown);
         RUBBLE_TRY(setPairCapacity(grown));
+    }
+    RUBBLE_TRY(colorPgs());
+    return buildPgsRows(params);
+}
+
+Status Pipeline::enqueueParticlePgs(const StepParams& params) {
+    for (;;) {
+        profile_.setStage(DeviceStage::NarrowPhase);
+        RUBBLE_TRY(collideParticles());
+        RUBBLE_TRY(sortContacts(true));
+        RUBBLE_TRY(particlePairs());
+        // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
+        profile_.setStage(DeviceStage::Sleep);
+        RUBBLE_TRY(wakeTouchedPairs());
+        profile_.setStage(DeviceStage::BuildContactRows);
+        RUBBLE_TRY(summarizePairs(params));
+        Result<DeviceStatus> st = readStatus();
+        RUBBLE_TRY(st);
+        if (st->contacts <= st->capacity) break;
+        // The stages after collision saw no contacts: grow the buffers (the pairs' with them)
+        // within the particles' budget and collide again.
+        if (!contacts_.growable)
+            return makeError(ErrorKind::Numerical, "collideParticles",
+                             "contact overflow: " + std::to_string(st->contacts) +
+                                 " contacts do not fit the buffer of " +
+                                 std::to_string(st->capacity));
+        const std::size_t budget = particleContactBudget(particles_.count);
+        if (st->contacts > budget)
+            return limitError("collideParticles", "particle contacts", st->contacts, budget,
+                              params.step + 1, "bodies overlap each other in large numbers");
+        const auto grown =
+            std::uint32_t(std::min<std::size_t>(st->contacts + st->contacts / 2, budget));
+        std::fprintf(stderr,
+                     "rubble: contact overflow (%u contacts, room for %u): buffers grown to %u "
+                     "and the step's collision run again\n",
+                     st->contacts, st->capacity, grown);
+        RUBBLE_TRY(setContactCapacity(grown, true));
+        RUBBLE_TRY(writeStatusSlot(RUBBLE_STATUS_CONTACTS, 0u));
+        RUBBLE_TRY(writeStatusSlot(RUBBLE_STATUS_CAPACITY, contacts_.capacity));
     }
     RUBBLE_TRY(colorPgs());
     return buildPgsRows(params);
@@ -383,7 +432,7 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
     traffic.contacts = st.contacts;
     traffic.previous = params.solver.warmStart ? contacts_.previousCount : 0u;
     traffic.sortItems = context_->workSizes().sortItems;
-    if (sat_.enabled) {
+    if (pairPgs()) {
         traffic.pairs = st.pairs;
         traffic.previousPairs = sat_.previousPairCount;
         traffic.gridEntries = st.gridEntries;

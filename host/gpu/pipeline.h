@@ -93,6 +93,8 @@ struct PairSet {
     /// PGS: each pair's contact impulses at the end of its step (4 PgsImpulse slots per pair),
     /// and how many of its slots hold one; the next step's rows warm-start from them.
     Buffer impulses, impulseCount;
+    /// Particles with PGS: each pair's ParticleContactKey (a pair is one contact), in pair order.
+    Buffer keys;
 };
 
 /// The SAT collision method on the device, made only for a world that collides with SAT: the
@@ -156,6 +158,9 @@ struct PgsBuffers {
     Buffer push;           ///< per body: the push velocities (BodyVelocity)
     Buffer sweepResidual;  ///< per push sweep: the largest change, float bits
     Buffer bounce;         ///< per point: the restitution pass's impulse, N s
+    /// Per body: the velocities the sweeps left, on which the restitution pass sweeps (as the
+    /// CPU's on its solver's velocities, not on those integratePositions derives again).
+    Buffer solved;
     Buffer bounceResidual; ///< per restitution sweep: the largest change, float bits
     bool bounces = false;  ///< this step: a row may bounce (the non-fused path runs)
     bool pushes = false;   ///< this step: the split position pass ran (applyPushes moves)
@@ -224,6 +229,9 @@ struct PipelineInput {
     std::span<const Shape> shapes;    ///< indexed by bodies.shapeOf
     std::span<const BodyPair> joined; ///< joined bodies (min, max), sorted: they do not collide
     std::span<const shared::PgsJoint> joints; ///< SAT: the joints, in body frames
+    /// Particles: their contacts solved by projected Gauss-Seidel (each contact a pair of one
+    /// point, particlePairs) instead of the Jacobi family.
+    bool particlePgs = false;
 };
 
 /// What a step takes from the host besides its parameters.
@@ -295,8 +303,12 @@ class Pipeline {
     /// the buffer and collides again, or is an error when the buffer may not grow. Errors:
     /// Device, Numerical.
     Status readContactCount();
-    /// Deterministic mode: contacts ordered by a stable sort on their particle.
-    Status sortContacts();
+    /// Deterministic mode: contacts ordered by a stable sort on their particle; `byPair` (PGS)
+    /// then by their pair (lower, higher body), the CPU's order of its manifolds.
+    Status sortContacts(bool byPair = false);
+    /// Particles with PGS, after sortContacts(true): each contact a pair of one point in the
+    /// pair arrays (kernels/particles.cl, particlePairs), last step's same contact found by key.
+    Status particlePairs();
     /// What each body is to the rows (jacobiBodies): its inverse mass and world inverse
     /// inertia, zero for a body that does not move (static, asleep, kinematic).
     Status prepareJacobiBodies();
@@ -439,8 +451,17 @@ class Pipeline {
     /// The SAT step's collision and rows: broad phase, narrow phase, PGS rows; then waits for
     /// the pair count, and when the pairs overflowed grows the buffers and runs them again.
     Status enqueueSatCollision(const StepParams& params);
-    /// The SAT step from the solve to the end.
+    /// The SAT step from the solve to the end (particles with PGS too).
     Status enqueueSatSolve(const StepParams& params);
+    /// The pair arrays and PGS's per-body buffers and joints, both sets of pairs sized for
+    /// `guess` pairs: SAT's, or particles' with PGS. Errors: Device.
+    Status createPairArrays(const PipelineInput& in, std::uint32_t guess);
+    /// Particles with PGS, the step's collision and rows: particle contacts, sorted, into pairs
+    /// of one point, the wake, the summaries; then waits for the status, and when the contacts
+    /// overflowed grows the buffers and runs them again; the coloring and the rows.
+    Status enqueueParticlePgs(const StepParams& params);
+    /// Projected Gauss-Seidel over the pair arrays: SAT, or particles with PGS.
+    bool pairPgs() const { return sat_.enabled || particlePgs_; }
     /// The joints' buffers and the coloring of their position projection.
     Status createJoints(const PipelineInput& in);
     /// Sizes this step's pair buffers (and the manifolds) for `capacity` pairs.
@@ -489,6 +510,7 @@ class Pipeline {
     LcpBuffers lcp_;
     std::vector<std::uint8_t> kinematic_; ///< per body, as created
     bool deterministic_ = false;          ///< contacts sorted before the rows
+    bool particlePgs_ = false;            ///< PipelineInput::particlePgs
     std::uint32_t pgsBlocks_ = 0;         ///< blocks of the PGS solve (0: colors only)
     std::uint32_t lcpStride_ = 1;         ///< rows per contact of lcp-jacobi (lcpStride)
     bool forcesOnDevice_ = false;         ///< the device force buffer holds non-zero forces

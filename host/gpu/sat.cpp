@@ -82,7 +82,16 @@ Status Pipeline::createSat(const PipelineInput& in) {
         RUBBLE_TRY(b->reserve(c.context(), 4 * std::size_t(n) * sizeof(cl_uint)));
     RUBBLE_TRY(s.cellBoxes.reserve(c.context(), 4 * std::size_t(n) * sizeof(shared::BodyBox)));
 
-    // Pairs: a first guess of four per body; last step's set is empty.
+    s.enabled = true;
+    // Pairs: a first guess of four per body.
+    return createPairArrays(in, std::max<std::uint32_t>(1024, 4 * n));
+}
+
+Status Pipeline::createPairArrays(const PipelineInput& in, std::uint32_t guess) {
+    const Context& c = *context_;
+    SatBuffers& s = sat_;
+    const std::uint32_t n = bodies_.count;
+    // Last step's set is empty.
     for (PairSet* set : {&s.current, &s.previous}) {
         RUBBLE_TRY(set->count.reserve(c.context(), sizeof(cl_uint)));
         RUBBLE_TRY(fill(c, set->count, 0u, sizeof(cl_uint)));
@@ -90,17 +99,16 @@ Status Pipeline::createSat(const PipelineInput& in) {
         RUBBLE_TRY(set->features.reserve(c.context(), sizeof(shared::PairCache)));
         RUBBLE_TRY(set->impulseCount.reserve(c.context(), sizeof(cl_uint)));
         RUBBLE_TRY(set->impulses.reserve(c.context(), 4 * sizeof(shared::PgsImpulse)));
+        RUBBLE_TRY(set->keys.reserve(c.context(), sizeof(shared::ParticleContactKey)));
     }
     // PGS, per body.
     RUBBLE_TRY(pgs_.pushed.reserve(c.context(), n * sizeof(cl_uint)));
     RUBBLE_TRY(pgs_.push.reserve(c.context(), n * sizeof(shared::BodyVelocity)));
     RUBBLE_TRY(createJoints(in));
-    s.enabled = true;
     // Both sets at the first guess, so that the first steps' swaps reallocate nothing: a buffer
     // released while queued commands still read it is legal, but Oclgrind 21.10 then sees the
     // buffer that replaces it as never written (every later read of last step's features was
     // reported).
-    const std::uint32_t guess = std::max<std::uint32_t>(1024, 4 * n);
     RUBBLE_TRY(setPairCapacity(guess));
     std::swap(s.current, s.previous);
     RUBBLE_TRY(setPairCapacity(guess));
@@ -121,12 +129,14 @@ Status Pipeline::setPairCapacity(std::uint32_t capacity) {
     RUBBLE_TRY(s.current.impulseCount.reserve(c.context(), n * sizeof(cl_uint)));
     RUBBLE_TRY(s.current.impulses.reserve(c.context(), 4 * n * sizeof(shared::PgsImpulse)));
     RUBBLE_TRY(pgs_.pairRows.reserve(c.context(), n * sizeof(cl_uint)));
+    if (particlePgs_)
+        RUBBLE_TRY(s.current.keys.reserve(c.context(), n * sizeof(shared::ParticleContactKey)));
     // Last step's set keeps its size: the next narrow phase reads it before it changes.
     return {};
 }
 
 Status Pipeline::keepPairFeatures() {
-    RUBBLE_ASSERT(sat_.enabled);
+    RUBBLE_ASSERT(pairPgs());
     std::swap(sat_.current, sat_.previous);
     // The set to fill next holds as many pairs as the one kept. Growing it (after a pair
     // overflow) reallocates buffers that this step's queued kernels read as last step's: they

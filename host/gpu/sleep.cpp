@@ -53,8 +53,8 @@ Status Pipeline::wakeJointGroups(cl_uint wakePass) {
 }
 
 Status Pipeline::sleepBodies(float dt) {
-    // Restless marks from the contacts: the Jacobi rows, or the SAT method's pairs with points.
-    if (sat_.enabled) {
+    // Restless marks from the contacts: the Jacobi rows, or the pairs with points of PGS.
+    if (pairPgs()) {
         const Context& c = *context_;
         RUBBLE_TRY(Dispatch(c, KernelId::MarkRestlessPairs, &profile_)
                        .with([&](Dispatch& d) { bindPairs(d); })
@@ -86,7 +86,7 @@ Status Pipeline::sleepBodies(float dt) {
     const Context& c = *context_;
     const PgsBuffers& g = pgs_;
     const cl_uint members = g.jointBodyCount;
-    const bool groups = sat_.enabled && g.jointGroupCount > 0;
+    const bool groups = pairPgs() && g.jointGroupCount > 0;
     if (groups) {
         RUBBLE_TRY(fill(c, g.groupVotes, 0u, g.jointGroupCount * sizeof(cl_uint), &profile_));
         RUBBLE_TRY(Dispatch(c, KernelId::VoteJointGroups, &profile_)

@@ -38,16 +38,16 @@ Status checkBackendCombination(const Scene& scene) {
                              std::string(toString(solver)) +
                              " solver takes particle contacts there (--collision particles)");
     }
-    // Particle contacts on the device feed the Jacobi family. With a debris set, pgs is the CPU
-    // bodies' solver and the set takes jacobi (deviceSolver).
+    // Particle contacts on the device feed PGS or the Jacobi family. With a debris set, pgs is
+    // the CPU bodies' solver and the set takes jacobi (deviceSolver).
     const SolverType device = deviceSolver(scene);
-    if (device == SolverType::Pgs)
-        return makeError(ErrorKind::NotSupported, field + "collision.method",
-                         "the opencl backend collides with particles unless the scene names a "
-                         "method, and the device solves particle contacts with jacobi or "
-                         "lcp-jacobi, not pgs: name sat for SAT and PGS on the device "
-                         "(--collision sat, every body on the device, jointed ones too), or "
-                         "solve the particles with jacobi (--solver jacobi)");
+    if (device == SolverType::Pgs && !scene.joints.empty() && sim.coupling == Coupling::TwoWay)
+        return makeError(ErrorKind::NotSupported, field + "coupling",
+                         "two-way coupling gathers the device's impulses on the CPU's bodies "
+                         "(here the jointed ones) from the Jacobi rows, and the device solves "
+                         "these particle contacts with pgs: couple one way, solve the particles "
+                         "with jacobi (--solver jacobi), or collide with sat (--collision sat "
+                         "puts every body, jointed ones too, on the device)");
     if (device == SolverType::Lemke)
         return makeError(ErrorKind::NotSupported, field + "solver.type",
                          "the lemke solver does not take particle contacts on the opencl "

@@ -58,6 +58,7 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
                                      s.options.collision.particleSpacing);
         RUBBLE_TRY(particles);
         in.particles = &*particles;
+        in.particlePgs = s.options.solverType() == SolverType::Pgs;
     }
     if (s.offload) in.kinematic = s.offload->kinematic;
     in.deterministic = s.run.deterministic;
@@ -87,7 +88,8 @@ Status attachScene(WorldState& s, const Scene& scene, std::shared_ptr<gpu::Conte
     }
     SimulationOptions options = scene.simulation;
     options.backend = Backend::OpenCl;
-    // The options in effect: SAT feeds PGS, particles the Jacobi family (deviceSolver).
+    // The options in effect: SAT feeds PGS, particles the scene's solver (deviceSolver: the
+    // Jacobi family for a debris set).
     options.collision.method = options.collisionMethod();
     options.solver.type = sat ? SolverType::Pgs : deviceSolver(scene);
     return attachDevice(s, std::move(context), options);

@@ -217,8 +217,9 @@ TEST_F(DebrisOffload, ExplosionReachesBothPopulationsOnce) {
 // The combinations on opencl, as the scene format's contract has them: a scene that names no
 // collision method collides with particles, and solves them with jacobi when it names no
 // solver; a debris set runs with particles and jacobi whatever solver it names (pgs names the
-// CPU half); pgs with particles and no debris set is refused naming collision.method and the
-// two ways out; naming sat gives SAT and PGS, every body on the device.
+// CPU half); pgs with particles and no debris set solves the particles with PGS on the device,
+// but not beside jointed bodies coupled two ways (refused naming coupling and the ways out);
+// naming sat gives SAT and PGS, every body on the device.
 TEST(DebrisSolver, OpenClDefaultsToParticlesAndJacobiAndSatIsNamed) {
     std::string text = scene("", std::string(kFloor) + R"(, {"name": "box", "shape": "block",
         "mass": 4, "position": [3, 0.5, 0]}, {"name": "d", "shape": "crate", "mass": 1,
@@ -248,16 +249,32 @@ TEST(DebrisSolver, OpenClDefaultsToParticlesAndJacobiAndSatIsNamed) {
     EXPECT_EQ(deviceSolver(pgs), SolverType::Jacobi);
     EXPECT_TRUE(checkBackendCombination(pgs).ok());
 
-    // Without a debris set, pgs on particles is refused, naming the method and both ways out.
+    // Without a debris set, pgs solves the particles on the device.
     Scene pgsWithoutSet = pgs;
     for (BodyDesc& b : pgsWithoutSet.bodies) b.debris = false;
-    const Status refused = checkBackendCombination(pgsWithoutSet);
+    EXPECT_EQ(deviceSolver(pgsWithoutSet), SolverType::Pgs);
+    EXPECT_TRUE(checkBackendCombination(pgsWithoutSet).ok());
+    // Jointed bodies step on the CPU: coupled two ways, their impulses would come from the
+    // Jacobi rows, so that is refused, naming coupling and the ways out; one way is not.
+    Result<Scene> jointed = parseScene(
+        scene("", std::string(kFloor) + R"(, {"name": "a", "shape": "crate", "mass": 1,
+        "position": [3, 0.25, 0]}, {"name": "b", "shape": "crate", "mass": 1,
+        "position": [3, 0.75, 0]})",
+              "", R"(, "joints": [{"type": "ball", "a": "a", "b": "b", "anchor": [3, 0.5, 0]}])"),
+        "inline.json", ".");
+    ASSERT_TRUE(jointed.ok()) << jointed.error().describe();
+    jointed->simulation.backend = Backend::OpenCl;
+    jointed->simulation.collision.method = CollisionMethod::Particles;
+    jointed->simulation.solver.type = SolverType::Pgs;
+    jointed->simulation.coupling = Coupling::OneWay;
+    EXPECT_TRUE(checkBackendCombination(*jointed).ok());
+    jointed->simulation.coupling = Coupling::TwoWay;
+    const Status refused = checkBackendCombination(*jointed);
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().where, "inline.json: simulation.collision.method");
-    EXPECT_NE(refused.error().message.find("--collision sat"), std::string::npos)
-        << refused.error().message;
-    EXPECT_NE(refused.error().message.find("--solver jacobi"), std::string::npos)
-        << refused.error().message;
+    EXPECT_EQ(refused.error().where, "inline.json: simulation.coupling");
+    for (const char* way : {"--collision sat", "--solver jacobi", "one way"})
+        EXPECT_NE(refused.error().message.find(way), std::string::npos)
+            << way << ": " << refused.error().message;
 
     // Naming sat gives SAT and PGS (its default there), with or without a debris set.
     Scene sat = unnamed;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "rubble/shared/body.h"
+#include "rubble/shared/clip.h"
 #include "rubble/shared/constants.h"
 
 RUBBLE_SHARED_BEGIN
@@ -46,6 +47,67 @@ typedef struct ParticleContact {
 } ParticleContact;
 RUBBLE_STATIC_ASSERT_SIZE(ParticleContact, 48);
 
+// A particle contact's feature id: its two particles name it while they keep touching, so that
+// projected Gauss-Seidel warm-starts it (particleContactsToManifolds, particlePairs).
+RUBBLE_FN uint particleFeatureItem(uint particleA, uint featureB) {
+    return particleA * 2654435761u ^ featureB;
+}
+
+// A particle contact as the manifold of one point that projected Gauss-Seidel takes, between
+// bodies min(a, b) and max(a, b), its normal from the first to the second (the CPU's
+// particleContactsToManifolds).
+RUBBLE_FN ContactManifold particleManifoldItem(ParticleContact c) {
+    const int swap = c.a > c.b;
+    ContactManifold m = emptyContactsItem();
+    m.a = swap ? c.b : c.a;
+    m.b = swap ? c.a : c.b;
+    m.normal = swap ? vec4(-c.normal.x, -c.normal.y, -c.normal.z)
+                    : vec4(c.normal.x, c.normal.y, c.normal.z);
+    m.points[0] = c.point;
+    m.features[0] = particleFeatureItem(c.particleA, c.featureB);
+    m.count = 1u;
+    return m;
+}
+
+// 16 bytes: what names a particle contact from step to step, in the order projected
+// Gauss-Seidel takes the contacts: its pair (lower, higher body), then its particles.
+typedef struct ParticleContactKey {
+    uint lower, higher; // min(a, b), max(a, b)
+    uint particleA, featureB;
+} ParticleContactKey;
+RUBBLE_STATIC_ASSERT_SIZE(ParticleContactKey, 16);
+
+RUBBLE_FN ParticleContactKey particleContactKeyItem(ParticleContact c) {
+    ParticleContactKey k;
+    k.lower = c.a < c.b ? c.a : c.b;
+    k.higher = c.a < c.b ? c.b : c.a;
+    k.particleA = c.particleA;
+    k.featureB = c.featureB;
+    return k;
+}
+
+RUBBLE_FN int particleKeyLessItem(ParticleContactKey x, ParticleContactKey y) {
+    if (x.lower != y.lower) return x.lower < y.lower;
+    if (x.higher != y.higher) return x.higher < y.higher;
+    if (x.particleA != y.particleA) return x.particleA < y.particleA;
+    return x.featureB < y.featureB;
+}
+
+// The index of `key` among `count` keys in that order, or `count` when it is not among them
+// (a binary search): last step's place of a contact, whose impulses warm-start it.
+RUBBLE_FN uint findParticleKeyItem(ParticleContactKey key, uint count,
+                                   RUBBLE_GLOBAL const ParticleContactKey* keys) {
+    uint lo = 0u, hi = count;
+    while (lo < hi) {
+        const uint mid = lo + (hi - lo) / 2u;
+        if (particleKeyLessItem(keys[mid], key))
+            lo = mid + 1u;
+        else
+            hi = mid;
+    }
+    return lo < count && !particleKeyLessItem(key, keys[lo]) ? lo : count;
+}
+
 // world position = x + q offset q^-1, with w the particle's radius.
 RUBBLE_FN float4 transformParticleItem(Particle p, BodyPose pose) {
     const float4 x = add4(pose.position, quatRotate(pose.orientation, p.offset));
@@ -86,6 +148,12 @@ RUBBLE_FN uint cellKeyItem(float4 x, float inverseCellSize, uint bits) {
     return cellHashItem(cellCoordinate(x.x, inverseCellSize), cellCoordinate(x.y, inverseCellSize),
                         cellCoordinate(x.z, inverseCellSize), bits);
 }
+
+// The field of a pass of the contacts' sort (kernels/grid.cl, contactKeys).
+#define RUBBLE_CONTACT_KEY_FEATURE 0u
+#define RUBBLE_CONTACT_KEY_PARTICLE 1u
+#define RUBBLE_CONTACT_KEY_HIGHER 2u
+#define RUBBLE_CONTACT_KEY_LOWER 3u
 
 // The contacts the stages after collideParticles work on: all that were appended, or none when
 // they overflowed the buffer (the host grows it and runs those stages again).
