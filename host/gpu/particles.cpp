@@ -112,6 +112,25 @@ Status Pipeline::collideParticles() {
         .run(count, RUBBLE_GROUP_PARTICLES);
 }
 
+Status Pipeline::growContacts(const DeviceStatus& st, std::int64_t step, const char* again) {
+    if (!contacts_.growable)
+        return makeError(ErrorKind::Numerical, "collideParticles",
+                         "contact overflow: " + std::to_string(st.contacts) +
+                             " contacts do not fit the buffer of " + std::to_string(st.capacity));
+    const std::size_t budget = particleContactBudget(particles_.count);
+    if (st.contacts > budget)
+        return limitError("collideParticles", "particle contacts", st.contacts, budget, step,
+                          "bodies overlap each other in large numbers");
+    const auto grown = std::uint32_t(std::min<std::size_t>(st.contacts + st.contacts / 2, budget));
+    std::fprintf(stderr,
+                 "rubble: contact overflow (%u contacts, room for %u): buffer grown to %u and %s "
+                 "run again\n",
+                 st.contacts, st.capacity, grown, again);
+    RUBBLE_TRY(setContactCapacity(grown, true));
+    RUBBLE_TRY(writeStatusSlot(RUBBLE_STATUS_CONTACTS, 0u));
+    return writeStatusSlot(RUBBLE_STATUS_CAPACITY, contacts_.capacity);
+}
+
 Status Pipeline::readContactCount() {
     for (;;) {
         Result<DeviceStatus> st = readStatus();
@@ -120,23 +139,7 @@ Status Pipeline::readContactCount() {
             contacts_.count = st->contacts;
             return {};
         }
-        if (!contacts_.growable)
-            return makeError(ErrorKind::Numerical, "collideParticles",
-                             "contact overflow: " + std::to_string(st->contacts) +
-                                 " contacts do not fit the buffer of " +
-                                 std::to_string(st->capacity));
-        const std::size_t budget = particleContactBudget(particles_.count);
-        if (st->contacts > budget)
-            return limitError("collideParticles", "particle contacts", st->contacts, budget, 0,
-                              "bodies overlap each other in large numbers");
-        const auto grown =
-            std::uint32_t(std::min<std::size_t>(st->contacts + st->contacts / 2, budget));
-        std::fprintf(stderr, "rubble: contact overflow (%u contacts, room for %u): buffer grown "
-                             "to %u and the stage run again\n",
-                     st->contacts, st->capacity, grown);
-        RUBBLE_TRY(setContactCapacity(grown, true));
-        RUBBLE_TRY(writeStatusSlot(RUBBLE_STATUS_CONTACTS, 0u));
-        RUBBLE_TRY(writeStatusSlot(RUBBLE_STATUS_CAPACITY, contacts_.capacity));
+        RUBBLE_TRY(growContacts(*st, 0, "the stage"));
         RUBBLE_TRY(collideParticles());
     }
 }

@@ -234,12 +234,7 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
         RUBBLE_TRY(broadPhase(params.dt));
         profile_.setStage(DeviceStage::NarrowPhase);
         RUBBLE_TRY(narrowPhase(params.dt));
-        // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
-        profile_.setStage(DeviceStage::Sleep);
-        RUBBLE_TRY(wakeTouchedPairs());
-        profile_.setStage(DeviceStage::BuildContactRows);
-        RUBBLE_TRY(summarizePairs(params));
-        Result<DeviceStatus> st = readStatus();
+        Result<DeviceStatus> st = wakeAndSummarize(params);
         RUBBLE_TRY(st);
         if (st->pairs <= sat_.current.capacity) {
             // The woken bodies' pairs with other sleeping bodies were not found: collide again
@@ -266,40 +261,27 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
     return buildPgsRows(params);
 }
 
+Result<DeviceStatus> Pipeline::wakeAndSummarize(const StepParams& params) {
+    // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
+    profile_.setStage(DeviceStage::Sleep);
+    RUBBLE_TRY(wakeTouchedPairs());
+    profile_.setStage(DeviceStage::BuildContactRows);
+    RUBBLE_TRY(summarizePairs(params));
+    return readStatus();
+}
+
 Status Pipeline::enqueueParticlePgs(const StepParams& params) {
     for (;;) {
         profile_.setStage(DeviceStage::NarrowPhase);
         RUBBLE_TRY(collideParticles());
         RUBBLE_TRY(sortContacts(true));
         RUBBLE_TRY(particlePairs());
-        // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
-        profile_.setStage(DeviceStage::Sleep);
-        RUBBLE_TRY(wakeTouchedPairs());
-        profile_.setStage(DeviceStage::BuildContactRows);
-        RUBBLE_TRY(summarizePairs(params));
-        Result<DeviceStatus> st = readStatus();
+        Result<DeviceStatus> st = wakeAndSummarize(params);
         RUBBLE_TRY(st);
         if (st->contacts <= st->capacity) break;
         // The stages after collision saw no contacts: grow the buffers (the pairs' with them)
-        // within the particles' budget and collide again.
-        if (!contacts_.growable)
-            return makeError(ErrorKind::Numerical, "collideParticles",
-                             "contact overflow: " + std::to_string(st->contacts) +
-                                 " contacts do not fit the buffer of " +
-                                 std::to_string(st->capacity));
-        const std::size_t budget = particleContactBudget(particles_.count);
-        if (st->contacts > budget)
-            return limitError("collideParticles", "particle contacts", st->contacts, budget,
-                              params.step + 1, "bodies overlap each other in large numbers");
-        const auto grown =
-            std::uint32_t(std::min<std::size_t>(st->contacts + st->contacts / 2, budget));
-        std::fprintf(stderr,
-                     "rubble: contact overflow (%u contacts, room for %u): buffers grown to %u "
-                     "and the step's collision run again\n",
-                     st->contacts, st->capacity, grown);
-        RUBBLE_TRY(setContactCapacity(grown, true));
-        RUBBLE_TRY(writeStatusSlot(RUBBLE_STATUS_CONTACTS, 0u));
-        RUBBLE_TRY(writeStatusSlot(RUBBLE_STATUS_CAPACITY, contacts_.capacity));
+        // and collide again.
+        RUBBLE_TRY(growContacts(*st, params.step + 1, "the step's collision"));
     }
     RUBBLE_TRY(colorPgs());
     return buildPgsRows(params);
@@ -398,27 +380,11 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
         if (st.contacts <= st.capacity) break;
         // The stages after collision did nothing: grow the buffer and run them again.
         undoWarmStartSwap();
-        if (!contacts_.growable) {
+        if (Status grown = growContacts(st, params.step + 1, "the step's contact stages");
+            !grown.ok()) {
             profile_.discard();
-            return makeError(ErrorKind::Numerical, "collideParticles",
-                             "contact overflow: " + std::to_string(st.contacts) +
-                                 " contacts do not fit the buffer of " +
-                                 std::to_string(st.capacity));
+            return grown;
         }
-        if (st.contacts > particleContactBudget(particles_.count)) {
-            profile_.discard();
-            return limitError("collideParticles", "particle contacts", st.contacts,
-                              particleContactBudget(particles_.count), params.step + 1,
-                              "bodies overlap each other in large numbers");
-        }
-        const std::uint32_t grown = std::uint32_t(std::min<std::size_t>(
-            st.contacts + st.contacts / 2, particleContactBudget(particles_.count)));
-        std::fprintf(stderr, "rubble: contact overflow (%u contacts, room for %u): buffer grown "
-                             "to %u and the step's contact stages run again\n",
-                     st.contacts, st.capacity, grown);
-        RUBBLE_TRY(setContactCapacity(grown, true));
-        RUBBLE_TRY(writeStatusSlot(RUBBLE_STATUS_CONTACTS, 0u));
-        RUBBLE_TRY(writeStatusSlot(RUBBLE_STATUS_CAPACITY, contacts_.capacity));
         RUBBLE_TRY(enqueueFromCollision(params));
         if (readBack) RUBBLE_TRY(enqueueBodyRead(*readBack, &profile_));
         RUBBLE_TRY(finish());

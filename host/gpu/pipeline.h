@@ -460,6 +460,9 @@ class Pipeline {
     /// of one point, the wake, the summaries; then waits for the status, and when the contacts
     /// overflowed grows the buffers and runs them again; the coloring and the rows.
     Status enqueueParticlePgs(const StepParams& params);
+    /// After the pairs' manifolds: the wake before the rows and the pairs' summaries, then waits
+    /// for the status block (the host colors from it). Errors: Device.
+    Result<DeviceStatus> wakeAndSummarize(const StepParams& params);
     /// Projected Gauss-Seidel over the pair arrays: SAT, or particles with PGS.
     bool pairPgs() const { return sat_.enabled || particlePgs_; }
     /// The joints' buffers and the coloring of their position projection.
@@ -468,6 +471,11 @@ class Pipeline {
     Status setPairCapacity(std::uint32_t capacity);
     /// The stages from collision to the end of the step, and the status read.
     Status enqueueFromCollision(const StepParams& params);
+    /// After a contact overflow (`st`): the contact buffers (and with PGS the pairs') grown
+    /// within the particles' budget, said on stderr (`again`: what runs again), and the status
+    /// block's count and capacity set for the stages to run again. Errors: Numerical when the
+    /// buffer may not grow, Limit past the budget (`step`: the step it names), Device.
+    Status growContacts(const DeviceStatus& st, std::int64_t step, const char* again);
     /// Puts back last step's contacts as the warm start after a step whose contacts overflowed.
     void undoWarmStartSwap();
     /// The joint groups' wake (kernels/sleep.cl wakeJointGroups): pass 0 marks the groups with

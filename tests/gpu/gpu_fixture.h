@@ -49,17 +49,40 @@ class GpuTest : public ::testing::Test {
     /// World::create puts it there: the debris set (or the bodies without joints) on the
     /// device, the other bodies in a CPU world of their own.
     World deviceWorld(const std::string& json, bool deterministic = false) {
+        Scene scene = sceneOf(json);
+        scene.simulation.backend = Backend::OpenCl;
+        RunOptions run;
+        run.deterministic = deterministic;
+        return worldOf(scene, run);
+    }
+
+    /// The scene of `json` (aborts the test binary when it does not parse).
+    static Scene sceneOf(const std::string& json) {
         Result<Scene> scene = parseScene(json, "inline.json", ".");
         EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().describe());
         if (!scene.ok()) std::abort();
-        scene->simulation.backend = Backend::OpenCl;
-        RunOptions run;
+        return std::move(*scene);
+    }
+
+    /// A world of `scene` with `run` on the shared device (aborts when it cannot be made).
+    World worldOf(const Scene& scene, RunOptions run = {}) {
         run.context = context();
-        run.deterministic = deterministic;
-        Result<World> w = World::create(*scene, run);
+        Result<World> w = World::create(scene, run);
         EXPECT_TRUE(w.ok()) << (w.ok() ? "" : w.error().describe());
         if (!w.ok()) std::abort();
         return std::move(*w);
+    }
+
+    /// ... stepping `backend` with `method` and `solver`, the device's PGS in `blocks`
+    /// (RunOptions::pgsBlocks: -1 as the device suits, 0 every element colored).
+    World worldOf(Scene scene, Backend backend, CollisionMethod method, SolverType solver,
+                  int blocks = -1) {
+        scene.simulation.backend = backend;
+        scene.simulation.collision.method = method;
+        scene.simulation.solver.type = solver;
+        RunOptions run;
+        run.pgsBlocks = blocks;
+        return worldOf(scene, run);
     }
 
     /// A stage input from scene text, taken from `world` (built from the same text) when given,

@@ -16,19 +16,7 @@ class ParticlePgs : public test::GpuTest {
     // A world of `json` with particles and PGS, on the device in `blocks` (RunOptions::
     // pgsBlocks: -1 as the device suits, 0 every element colored) or on the CPU.
     World world(const std::string& json, Backend backend, int blocks = -1) {
-        Result<Scene> scene = parseScene(json, "inline.json", ".");
-        EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().describe());
-        if (!scene.ok()) std::abort();
-        scene->simulation.backend = backend;
-        scene->simulation.collision.method = CollisionMethod::Particles;
-        scene->simulation.solver.type = SolverType::Pgs;
-        RunOptions run;
-        run.context = context();
-        run.pgsBlocks = blocks;
-        Result<World> w = World::create(*scene, run);
-        EXPECT_TRUE(w.ok()) << (w.ok() ? "" : w.error().describe());
-        if (!w.ok()) std::abort();
-        return std::move(*w);
+        return worldOf(sceneOf(json), backend, CollisionMethod::Particles, SolverType::Pgs, blocks);
     }
 };
 

@@ -22,22 +22,10 @@ class PgsTwin : public test::GpuTest {
     // A world of `json` on the device with SAT and PGS, or on the CPU.
     // `blocks`: RunOptions::pgsBlocks (-1 as the device suits, 0 colors only).
     World world(const std::string& json, Backend backend, int blocks = -1) {
-        Result<Scene> scene = parseScene(json, "inline.json", ".");
-        EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().describe());
-        if (!scene.ok()) std::abort();
-        return world(*scene, backend, blocks);
+        return world(sceneOf(json), backend, blocks);
     }
-    World world(Scene scene, Backend backend, int blocks = -1) {
-        scene.simulation.backend = backend;
-        scene.simulation.collision.method = CollisionMethod::Sat;
-        scene.simulation.solver.type = SolverType::Pgs;
-        RunOptions run;
-        run.context = context();
-        run.pgsBlocks = blocks;
-        Result<World> w = World::create(scene, run);
-        EXPECT_TRUE(w.ok()) << (w.ok() ? "" : w.error().describe());
-        if (!w.ok()) std::abort();
-        return std::move(*w);
+    World world(const Scene& scene, Backend backend, int blocks = -1) {
+        return worldOf(scene, backend, CollisionMethod::Sat, SolverType::Pgs, blocks);
     }
     // RagdollPileHoldsItsJointsAndSettlesOnTheDevice with `blocks` (RunOptions::pgsBlocks),
     // against the CPU's count of bodies asleep at 20 s.
