@@ -5,6 +5,7 @@
 // device's own blocks and colors.
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "gpu_fixture.h"
 
@@ -77,22 +78,33 @@ TEST_F(ParticlePgs, OneBlockStepsTheCpuBitForBit) {
     EXPECT_GE(touched, 12u); // the pile's contacts, not a free fall
 }
 
-// Four crates side by side on the floor and one across two of them, 8 particles each: they
-// stand, sink no more than a few millimetres and fall asleep, in the device's blocks and with
-// every element colored (as a GPU runs it).
-TEST_F(ParticlePgs, CratesStandAndSleepInBlocksAndColored) {
+// A scene of 1 kg crates of side 1 m, 8 particles each, on the floor at `iterations` sweeps, one
+// at each of `centres`.
+std::string cratesScene(int iterations, const std::vector<glm::vec3>& centres) {
     std::string json = R"({"format": "rubble-scene", "version": 1, "name": "crates",
-      "simulation": {"dt": 0.016666667, "solver": {"iterations": 10},
+      "simulation": {"dt": 0.016666667, "solver": {"iterations": )" +
+                       std::to_string(iterations) + R"(},
                      "collision": {"particle_spacing": 0.5}},
       "materials": {"default": {"friction": 0.5, "restitution": 0.0}},
       "shapes": {"ground": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
                  "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
       "bodies": [{"name": "floor", "shape": "ground", "static": true})";
-    for (int i = 0; i < 4; ++i)
+    for (std::size_t i = 0; i < centres.size(); ++i)
         json += ", {\"name\": \"c" + std::to_string(i) +
-                "\", \"shape\": \"crate\", \"mass\": 1, \"position\": [" + std::to_string(i * 1.2) +
-                ", 0.5, 0]}";
-    json += R"(, {"name": "top", "shape": "crate", "mass": 1, "position": [0.6, 1.5, 0]}]})";
+                "\", \"shape\": \"crate\", \"mass\": 1, \"position\": [" +
+                std::to_string(centres[i].x) + ", " + std::to_string(centres[i].y) + ", " +
+                std::to_string(centres[i].z) + "]}";
+    return json + "]}";
+}
+
+// Four crates side by side on the floor and one across two of them, 8 particles each: they
+// stand, sink no more than a few millimetres and fall asleep, in the device's blocks and with
+// every element colored (as a GPU runs it).
+TEST_F(ParticlePgs, CratesStandAndSleepInBlocksAndColored) {
+    std::vector<glm::vec3> centres;
+    for (int i = 0; i < 4; ++i) centres.push_back({1.2f * float(i), 0.5f, 0.0f});
+    centres.push_back({0.6f, 1.5f, 0.0f}); // across the first two
+    const std::string json = cratesScene(10, centres);
     for (const int blocks : {-1, 0}) {
         World w = world(json, Backend::OpenCl, blocks);
         std::vector<glm::vec3> start;
@@ -116,22 +128,12 @@ TEST_F(ParticlePgs, CratesStandAndSleepInBlocksAndColored) {
 
 // A stack of ten 8-particle crates (stack_10's) in the device's blocks and colored: at the
 // scene's 10 sweeps it falls there (where the CPU's order, bottom up by pair, holds it), at 20
-// it stands and sleeps in both. (Measured: the
-// largest drop after 600 steps 0.046 m in blocks and 0.049 m colored at 20 sweeps, 9.0 m at 10;
-// docs/opencl.md, "Particle contacts into PGS".)
+// it stands and sleeps in both. (Measured: the largest drop after 600 steps 0.046 m in blocks
+// and 0.049 m colored at 20 sweeps, 9.0 m at 10; docs/opencl.md, "Particle contacts into PGS".)
 TEST_F(ParticlePgs, ATallStackStandsInBlocksAndColoredAtTwentySweeps) {
-    std::string json = R"({"format": "rubble-scene", "version": 1, "name": "stack",
-      "simulation": {"dt": 0.016666667, "solver": {"iterations": 20},
-                     "collision": {"particle_spacing": 0.5}},
-      "materials": {"default": {"friction": 0.5, "restitution": 0.0}},
-      "shapes": {"ground": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
-                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
-      "bodies": [{"name": "floor", "shape": "ground", "static": true})";
-    for (int i = 0; i < 10; ++i)
-        json += ", {\"name\": \"c" + std::to_string(i) +
-                "\", \"shape\": \"crate\", \"mass\": 1, \"position\": [0, " +
-                std::to_string(0.5 + i) + ", 0]}";
-    json += "]}";
+    std::vector<glm::vec3> centres;
+    for (int i = 0; i < 10; ++i) centres.push_back({0.0f, 0.5f + float(i), 0.0f});
+    const std::string json = cratesScene(20, centres);
     for (const int blocks : {-1, 0}) {
         World w = world(json, Backend::OpenCl, blocks);
         std::vector<glm::vec3> start;
