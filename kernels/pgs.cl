@@ -255,6 +255,13 @@ static uint slotEnd(const uint points, const uint slot) {
 // color's take each element whole in one pass (its elements share no body, so any order gives
 // the same bits).
 static uint slotPasses(const uint mode) { return mode == RUBBLE_PGS_BLOCKS ? 4u : 1u; }
+// The passes of a block over its elements' points that find rows: as many as an element's
+// most points (a joint goes with the first). The first pass finds it, and a block of one-point
+// elements (particle contacts) stops there: the passes after it would find nothing to do.
+static uint passesFound(const uint passes, const PgsElement e) {
+    const uint points = (e.id & RUBBLE_PGS_JOINT_ELEMENT) ? 1u : e.rows & RUBBLE_PGS_POINTS;
+    return max(passes, points);
+}
 static uint passSlot(const uint mode, const uint pass) {
     return mode == RUBBLE_PGS_BLOCKS ? pass : RUBBLE_PGS_ALL_SLOTS;
 }
@@ -394,16 +401,19 @@ solvePgs(const uint first, const uint count, const uint mode,
                                                               RUBBLE_PGS_ALL_SLOTS));
         }
     } else {
-        // A block, in order: the normal rows as the CPU's sweep goes through them (slotPasses),
-        // then each element's friction rows (element by element: taken by point, as the CPU
-        // takes them, they cost a fifth more time on debris_64k, docs/opencl.md). The push
+        // A block, in order: the normal rows as the CPU's sweep goes through them (as many
+        // slot passes as passesFound finds), then each element's friction rows (element by
+        // element: taken by point, as the CPU takes them, they cost a fifth more time on
+        // debris_64k, docs/opencl.md). The push
         // rows go in the CPU's order too, each pass beside the normal rows' pass of the same
         // point, which has just read the row: the split pass reads and writes only its own
         // velocities and its impulses' w, so neither pass sees the other and each gives the
         // same bits as after the whole velocity sweep, with the rows read once.
-        for (uint pass = 0u; pass < slotPasses(mode); ++pass)
+        uint passes = 1u;
+        for (uint pass = 0u; pass < min(passes, slotPasses(mode)); ++pass)
             for (uint i = begin; i < end; ++i) {
                 const PgsElement e = elements[first + i];
+                passes = passesFound(passes, e);
                 residual = fmax(residual, solveElement(e, normalRows, frictionRows, impulses,
                                                        joints, jointRows, bodies, velocities,
                                                        relaxation, lastSweep, kept,
@@ -470,10 +480,14 @@ pushPgs(const uint first, const uint count, const uint mode,
     const uint begin = elementsBegin(count, mode, blockStarts);
     const uint end = elementsEnd(count, mode, blockStarts);
     float residual = 0.0f;
-    for (uint pass = 0u; pass < slotPasses(mode); ++pass)
-        for (uint i = begin; i < end; ++i)
-            residual = fmax(residual, pushElement(elements[first + i], normalRows, impulses,
-                                                  pushed, push, relaxation, passSlot(mode, pass)));
+    uint passes = 1u;
+    for (uint pass = 0u; pass < min(passes, slotPasses(mode)); ++pass)
+        for (uint i = begin; i < end; ++i) {
+            const PgsElement e = elements[first + i];
+            passes = passesFound(passes, e);
+            residual = fmax(residual, pushElement(e, normalRows, impulses, pushed, push,
+                                                  relaxation, passSlot(mode, pass)));
+        }
     if (residual > 0.0f) atomic_max(&largest, as_uint(residual));
     if (groupDone() && largest > 0u) atomic_max(&sweepResidual[sweep], largest);
 }
@@ -521,11 +535,14 @@ bouncePgs(const uint first, const uint count, const uint mode,
     const uint begin = elementsBegin(count, mode, blockStarts);
     const uint end = elementsEnd(count, mode, blockStarts);
     float residual = 0.0f;
-    for (uint pass = 0u; pass < slotPasses(mode); ++pass)
-        for (uint i = begin; i < end; ++i)
-            residual = fmax(residual, bounceElement(elements[first + i], normalRows, impulses,
-                                                    bounce, velocities, sweep,
-                                                    passSlot(mode, pass)));
+    uint passes = 1u;
+    for (uint pass = 0u; pass < min(passes, slotPasses(mode)); ++pass)
+        for (uint i = begin; i < end; ++i) {
+            const PgsElement e = elements[first + i];
+            passes = passesFound(passes, e);
+            residual = fmax(residual, bounceElement(e, normalRows, impulses, bounce, velocities,
+                                                    sweep, passSlot(mode, pass)));
+        }
     if (residual > 0.0f) atomic_max(&largest, as_uint(residual));
     if (groupDone() && largest > 0u) atomic_max(&sweepResidual[sweep], largest);
 }
