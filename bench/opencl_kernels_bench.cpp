@@ -295,7 +295,6 @@ Status prepareSat(const BenchSettings& settings, SatBenchWorld& b) {
     gpu::TrafficCounts& n = b.counts;
     n.bodies = b.in->bodies.count();
     n.pairs = st->pairs;
-    n.previousPairs = st->pairs;
     n.gridEntries = st->gridEntries;
     n.largeBodies = st->largeBodies;
     n.planes = b.warm->sat().planeCount;

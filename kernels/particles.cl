@@ -137,6 +137,8 @@ particlePairs(__global uint* status, __global const ParticleContact* contacts,
         manifolds[i] = m;
         const ParticleContactKey key = particleContactKeyItem(c);
         keys[i] = key;
-        previousOf[i] = findParticleKeyItem(key, previous, previousKeys);
+        // Where the contact would be among last step's if the two were spread alike.
+        const uint hint = (uint)(((ulong)i * previous) / n);
+        previousOf[i] = findParticleKeyItem(key, hint, previous, previousKeys);
     }
 }

@@ -400,11 +400,9 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
     traffic.sortItems = context_->workSizes().sortItems;
     if (pairPgs()) {
         traffic.pairs = st.pairs;
-        traffic.previousPairs = sat_.previousPairCount;
         traffic.gridEntries = st.gridEntries;
         traffic.largeBodies = st.largeBodies;
         traffic.planes = sat_.planeCount;
-        sat_.previousPairCount = st.pairs;
     }
     contacts_.count = st.contacts;
     if (warmSwapped_) contacts_.previousCount = st.contacts;

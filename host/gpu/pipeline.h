@@ -105,7 +105,6 @@ struct SatBuffers {
     std::uint32_t planeCount = 0, joinedCount = 0;
     std::uint32_t gridBits = 0;  ///< the columns' keys are below 2^gridBits
     std::uint32_t sweepBits = 0; ///< the sweep keys' bits, below the column's in an entry's key
-    std::uint32_t previousPairCount = 0; ///< pairs of the last step met (byte counts)
     // Hulls, once per world.
     Buffer shapes, shapeOf, vertices, vertexEdges, neighbourStart, neighbours, halfEdges, faces,
         faceEdges, edges;

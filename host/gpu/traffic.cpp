@@ -130,13 +130,11 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
     case KernelId::MarkRestlessPairs: // the manifold's count, pair, both flags and velocities,
         // the marks
         return n.pairs * (kWord + kPair + 2 * kWord + 2 * sizeof(BodyVelocity) + 2 * kWord);
-    case KernelId::ParticlePairs: { // per contact: the contact, its pair, manifold, key and
-        // last step's place written, and the keys of a binary search over last step's
-        std::uint64_t steps = 1;
-        while ((std::uint64_t(1) << steps) < std::max<std::uint64_t>(2, n.previousPairs)) ++steps;
+    case KernelId::ParticlePairs: // per contact: the contact, its pair, manifold, key and last
+        // step's place written, and the keys its search reads among last step's near the place
+        // the contact would have if the two steps were spread alike (counted as four)
         return n.contacts * (sizeof(ParticleContact) + kPair + sizeof(shared::ContactManifold) +
-                             (1 + steps) * sizeof(shared::ParticleContactKey) + kWord);
-    }
+                             5 * sizeof(shared::ParticleContactKey) + kWord);
     default:
         return 0;
     }

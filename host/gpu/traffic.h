@@ -17,12 +17,11 @@ class Context;
 struct TrafficCounts {
     std::uint64_t bodies = 0;
     std::uint64_t particles = 0;
-    std::uint64_t cells = 0;    ///< of the particle grid (2^bits)
-    std::uint64_t contacts = 0; ///< this step's
-    std::uint64_t previous = 0; ///< last step's contacts (warm start)
+    std::uint64_t cells = 0;                     ///< of the particle grid (2^bits)
+    std::uint64_t contacts = 0;                  ///< this step's
+    std::uint64_t previous = 0;                  ///< last step's contacts (warm start)
     std::uint64_t sortItems = RUBBLE_SORT_ITEMS; ///< work-items of a sort pass (WorkSizes)
     std::uint64_t pairs = 0;                     ///< SAT: this step's body pairs
-    std::uint64_t previousPairs = 0;             ///< SAT: last step's pairs (the feature cache)
     std::uint64_t gridEntries = 0; ///< SAT: (cell, body) entries of the broad phase's grid
     std::uint64_t largeBodies = 0; ///< SAT: bodies tested against all
     std::uint64_t planes = 0;      ///< SAT: plane bodies

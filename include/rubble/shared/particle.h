@@ -93,11 +93,36 @@ RUBBLE_FN int particleKeyLessItem(ParticleContactKey x, ParticleContactKey y) {
     return x.featureB < y.featureB;
 }
 
-// The index of `key` among `count` keys in that order, or `count` when it is not among them
-// (a binary search): last step's place of a contact, whose impulses warm-start it.
-RUBBLE_FN uint findParticleKeyItem(ParticleContactKey key, uint count,
+// The index of `key` among `count` keys in that order, or `count` when it is not among them:
+// last step's place of a contact, whose impulses warm-start it. The search starts at `hint`
+// (where the key would be if the two steps' contacts were spread alike): it gallops away from
+// the hint in strides that double until it passes the key, then halves the last stride. Last
+// step's place is seldom far from the hint, so that a search reads a few keys near it where a
+// binary search over all of them reads one in each of log2(count) places far apart.
+RUBBLE_FN uint findParticleKeyItem(ParticleContactKey key, uint hint, uint count,
                                    RUBBLE_GLOBAL const ParticleContactKey* keys) {
-    uint lo = 0u, hi = count;
+    if (count == 0u) return 0u;
+    hint = hint < count ? hint : count - 1u;
+    // [lo, hi): where the first key not below `key` is, if not at hi.
+    uint lo, hi;
+    uint stride = 1u;
+    if (particleKeyLessItem(keys[hint], key)) {
+        lo = hint + 1u;
+        hi = count;
+        while (lo + stride - 1u < count && particleKeyLessItem(keys[lo + stride - 1u], key)) {
+            lo += stride;
+            stride *= 2u;
+        }
+        if (lo + stride - 1u < count) hi = lo + stride - 1u;
+    } else {
+        hi = hint;
+        lo = 0u;
+        while (hi >= stride && !particleKeyLessItem(keys[hi - stride], key)) {
+            hi -= stride;
+            stride *= 2u;
+        }
+        if (hi >= stride) lo = hi - stride + 1u;
+    }
     while (lo < hi) {
         const uint mid = lo + (hi - lo) / 2u;
         if (particleKeyLessItem(keys[mid], key))
