@@ -262,6 +262,16 @@ static uint passesFound(const uint passes, const PgsElement e) {
     const uint points = (e.id & RUBBLE_PGS_JOINT_ELEMENT) ? 1u : e.rows & RUBBLE_PGS_POINTS;
     return max(passes, points);
 }
+// The same, found before the passes: for the split and restitution passes alone, which run only
+// in steps with a bounce (the velocity sweeps find it in their first pass, without reading the
+// elements once more).
+static uint blockPasses(const uint first, const uint begin, const uint end, const uint mode,
+                        __global const PgsElement* elements) {
+    uint passes = 1u;
+    for (uint i = begin; i < end && passes < slotPasses(mode); ++i)
+        passes = passesFound(passes, elements[first + i]);
+    return min(passes, slotPasses(mode));
+}
 static uint passSlot(const uint mode, const uint pass) {
     return mode == RUBBLE_PGS_BLOCKS ? pass : RUBBLE_PGS_ALL_SLOTS;
 }
@@ -480,14 +490,11 @@ pushPgs(const uint first, const uint count, const uint mode,
     const uint begin = elementsBegin(count, mode, blockStarts);
     const uint end = elementsEnd(count, mode, blockStarts);
     float residual = 0.0f;
-    uint passes = 1u;
-    for (uint pass = 0u; pass < min(passes, slotPasses(mode)); ++pass)
-        for (uint i = begin; i < end; ++i) {
-            const PgsElement e = elements[first + i];
-            passes = passesFound(passes, e);
-            residual = fmax(residual, pushElement(e, normalRows, impulses, pushed, push,
-                                                  relaxation, passSlot(mode, pass)));
-        }
+    const uint passes = blockPasses(first, begin, end, mode, elements);
+    for (uint pass = 0u; pass < passes; ++pass)
+        for (uint i = begin; i < end; ++i)
+            residual = fmax(residual, pushElement(elements[first + i], normalRows, impulses,
+                                                  pushed, push, relaxation, passSlot(mode, pass)));
     if (residual > 0.0f) atomic_max(&largest, as_uint(residual));
     if (groupDone() && largest > 0u) atomic_max(&sweepResidual[sweep], largest);
 }
@@ -535,14 +542,12 @@ bouncePgs(const uint first, const uint count, const uint mode,
     const uint begin = elementsBegin(count, mode, blockStarts);
     const uint end = elementsEnd(count, mode, blockStarts);
     float residual = 0.0f;
-    uint passes = 1u;
-    for (uint pass = 0u; pass < min(passes, slotPasses(mode)); ++pass)
-        for (uint i = begin; i < end; ++i) {
-            const PgsElement e = elements[first + i];
-            passes = passesFound(passes, e);
-            residual = fmax(residual, bounceElement(e, normalRows, impulses, bounce, velocities,
-                                                    sweep, passSlot(mode, pass)));
-        }
+    const uint passes = blockPasses(first, begin, end, mode, elements);
+    for (uint pass = 0u; pass < passes; ++pass)
+        for (uint i = begin; i < end; ++i)
+            residual = fmax(residual, bounceElement(elements[first + i], normalRows, impulses,
+                                                    bounce, velocities, sweep,
+                                                    passSlot(mode, pass)));
     if (residual > 0.0f) atomic_max(&largest, as_uint(residual));
     if (groupDone() && largest > 0u) atomic_max(&sweepResidual[sweep], largest);
 }
