@@ -37,6 +37,9 @@ GpuCommands::GpuCommands(CLI::App& app) {
     devices_->add_flag("--sat", d.sat,
                        "The scene's run collides with SAT and solves with PGS (every body on the "
                        "device) instead of particles and jacobi");
+    devices_->add_flag("--pgs", d.pgs,
+                       "The scene's run solves its particle contacts with PGS instead of jacobi")
+        ->excludes("--sat");
     addRunFlag(devices_, "device", d.run);
 
     compare_ = app.add_subcommand(
@@ -99,7 +102,7 @@ int kernelShares(const DevicesArgs& args, double deviceCopy) {
     SimulationOptions& sim = scene->simulation;
     sim.backend = Backend::OpenCl;
     sim.collision.method = args.sat ? CollisionMethod::Sat : CollisionMethod::Particles;
-    sim.solver.type = args.sat ? SolverType::Pgs : SolverType::Jacobi;
+    sim.solver.type = args.sat || args.pgs ? SolverType::Pgs : SolverType::Jacobi;
     if (Status s = applyOverrides(args.overrides, *scene); !s) return report(s.error());
     Result<World> world = World::create(*scene, args.run);
     if (!world) return report(world.error());
@@ -113,9 +116,10 @@ int kernelShares(const DevicesArgs& args, double deviceCopy) {
                     "element a kernel touches, once)\n",
                     args.scene.c_str(), args.steps);
     else
-        std::printf("\n%s, %d steps, particle spacing %.2f m: device time per step and bytes "
-                    "moved (each element a kernel touches, once)\n",
-                    args.scene.c_str(), args.steps, double(sim.collision.particleSpacing));
+        std::printf("\n%s, %d steps, particle spacing %.2f m, %s: device time per step and "
+                    "bytes moved (each element a kernel touches, once)\n",
+                    args.scene.c_str(), args.steps, double(sim.collision.particleSpacing),
+                    args.pgs ? "pgs" : "jacobi");
     std::printf("%-24s %10s %9s %12s %10s %9s\n", "kernel", "ms/step", "launches", "MB/launch",
                 "GB/s", "of copy");
     double ms = 0, bytes = 0;

@@ -24,6 +24,7 @@ struct DevicesArgs {
     int steps = 120;
     Overrides overrides; ///< --particle-spacing for the scene's run; else the scene's
     bool sat = false; ///< the scene's run with SAT and PGS instead of particles and jacobi
+    bool pgs = false; ///< the scene's particles solved with PGS instead of jacobi
     RunOptions run;
 };
 

@@ -127,6 +127,14 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
         // pose read and written, velocity written
         return n.bodies * (kVec + sizeof(BodyVelocity) + sizeof(BodyMomentum) + sizeof(BodyMass) +
                            2 * sizeof(BodyPose) + sizeof(BodyVelocity));
+    case KernelId::WakeTouchedPairs: // the manifold's count and pair; both flags and approach
+        // velocities
+        return n.pairs * (kWord + kPair + 2 * kWord + 2 * sizeof(BodyVelocity));
+    case KernelId::ContactKeys: // per contact and pass: its place in the last pass's order, the
+        // contact; key and value written
+        return n.contacts * (kWord + sizeof(ParticleContact) + 2 * kWord);
+    case KernelId::PermuteContacts: // per contact: its place, the contact read and written
+        return n.contacts * (kWord + 2 * sizeof(ParticleContact));
     case KernelId::MarkRestlessPairs: // the manifold's count, pair, both flags and velocities,
         // the marks
         return n.pairs * (kWord + kPair + 2 * kWord + 2 * sizeof(BodyVelocity) + 2 * kWord);
