@@ -253,24 +253,10 @@ static uint slotEnd(const uint points, const uint slot) {
 // element's first point, then every second point, ... (the CPU's row order,
 // interleaveContactRows: in a block elements share bodies, so the order is the solver's), a
 // color's take each element whole in one pass (its elements share no body, so any order gives
-// the same bits).
-static uint slotPasses(const uint mode) { return mode == RUBBLE_PGS_BLOCKS ? 4u : 1u; }
-// The passes of a block over its elements' points that find rows: as many as an element's
-// most points (a joint goes with the first). The first pass finds it, and a block of one-point
-// elements (particle contacts) stops there: the passes after it would find nothing to do.
-static uint passesFound(const uint passes, const PgsElement e) {
-    const uint points = (e.id & RUBBLE_PGS_JOINT_ELEMENT) ? 1u : e.rows & RUBBLE_PGS_POINTS;
-    return max(passes, points);
-}
-// The same, found before the passes: for the split and restitution passes alone, which run only
-// in steps with a bounce (the velocity sweeps find it in their first pass, without reading the
-// elements once more).
-static uint blockPasses(const uint first, const uint begin, const uint end, const uint mode,
-                        __global const PgsElement* elements) {
-    uint passes = 1u;
-    for (uint i = begin; i < end && passes < slotPasses(mode); ++i)
-        passes = passesFound(passes, elements[first + i]);
-    return min(passes, slotPasses(mode));
+// the same bits). A block makes as many as its elements' most points, which the host writes
+// after the blocks' starts (colorPgs): one for a block of one-point elements (particle contacts).
+static uint slotPasses(const uint mode, __global const uint* blockStarts) {
+    return mode == RUBBLE_PGS_BLOCKS ? blockStarts[get_num_groups(0) + 1u + get_group_id(0)] : 1u;
 }
 static uint passSlot(const uint mode, const uint pass) {
     return mode == RUBBLE_PGS_BLOCKS ? pass : RUBBLE_PGS_ALL_SLOTS;
@@ -411,19 +397,17 @@ solvePgs(const uint first, const uint count, const uint mode,
                                                               RUBBLE_PGS_ALL_SLOTS));
         }
     } else {
-        // A block, in order: the normal rows as the CPU's sweep goes through them (as many
-        // slot passes as passesFound finds), then each element's friction rows (element by
-        // element: taken by point, as the CPU takes them, they cost a fifth more time on
-        // debris_64k, docs/opencl.md). The push
+        // A block, in order: the normal rows as the CPU's sweep goes through them (slotPasses),
+        // then each element's friction rows (element by element: taken by point, as the CPU
+        // takes them, they cost a fifth more time on debris_64k, docs/opencl.md). The push
         // rows go in the CPU's order too, each pass beside the normal rows' pass of the same
         // point, which has just read the row: the split pass reads and writes only its own
         // velocities and its impulses' w, so neither pass sees the other and each gives the
         // same bits as after the whole velocity sweep, with the rows read once.
-        uint passes = 1u;
-        for (uint pass = 0u; pass < min(passes, slotPasses(mode)); ++pass)
+        const uint passes = slotPasses(mode, blockStarts);
+        for (uint pass = 0u; pass < passes; ++pass)
             for (uint i = begin; i < end; ++i) {
                 const PgsElement e = elements[first + i];
-                passes = passesFound(passes, e);
                 residual = fmax(residual, solveElement(e, normalRows, frictionRows, impulses,
                                                        joints, jointRows, bodies, velocities,
                                                        relaxation, lastSweep, kept,
@@ -490,7 +474,7 @@ pushPgs(const uint first, const uint count, const uint mode,
     const uint begin = elementsBegin(count, mode, blockStarts);
     const uint end = elementsEnd(count, mode, blockStarts);
     float residual = 0.0f;
-    const uint passes = blockPasses(first, begin, end, mode, elements);
+    const uint passes = slotPasses(mode, blockStarts);
     for (uint pass = 0u; pass < passes; ++pass)
         for (uint i = begin; i < end; ++i)
             residual = fmax(residual, pushElement(elements[first + i], normalRows, impulses,
@@ -542,7 +526,7 @@ bouncePgs(const uint first, const uint count, const uint mode,
     const uint begin = elementsBegin(count, mode, blockStarts);
     const uint end = elementsEnd(count, mode, blockStarts);
     float residual = 0.0f;
-    const uint passes = blockPasses(first, begin, end, mode, elements);
+    const uint passes = slotPasses(mode, blockStarts);
     for (uint pass = 0u; pass < passes; ++pass)
         for (uint i = begin; i < end; ++i)
             residual = fmax(residual, bounceElement(elements[first + i], normalRows, impulses,

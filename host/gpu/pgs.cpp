@@ -209,13 +209,19 @@ Status Pipeline::colorPgs() {
     // A block's normal rows (and impulses) within its range of rows by point: every element's
     // first point, then every second point, ..., the order its passes read them in (solvePgs),
     // so that each pass reads them front to back as the CPU's sweep reads its interleaved rows.
+    // The block's passes, as many as its elements' most points (one at least: a joint goes with
+    // the first), follow the starts: a block of one-point elements (particle contacts) makes one.
     for (std::uint32_t b = 0; b < blocks && inBlocks > 0; ++b) {
         const std::uint32_t from = g.blockStartsHost[b], to = g.blockStartsHost[b + 1];
+        std::uint32_t passes = 1;
+        for (std::uint32_t i = from; i < to; ++i)
+            passes = std::max(passes, g.pointsHost[i + 1] - g.pointsHost[i]);
         std::uint32_t next = g.pointsHost[from];
-        for (std::uint32_t k = 0; k < 4; ++k)
+        for (std::uint32_t k = 0; k < passes; ++k)
             for (std::uint32_t i = from; i < to; ++i)
                 if (g.pointsHost[i + 1] - g.pointsHost[i] > k) g.elementsHost[i].normal[k] = next++;
         RUBBLE_ASSERT(next == g.pointsHost[to]);
+        g.blockStartsHost.push_back(passes);
     }
     auto pointsIn = [&](std::uint32_t first, std::uint32_t count) {
         return g.pointsHost[first + count] - g.pointsHost[first];

@@ -149,7 +149,9 @@ struct PgsBuffers {
     Buffer pairRows;       ///< per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
     Buffer elements;       ///< this step's PgsElement records, block by block, then by color
     Buffer buildOrder;     ///< the pairs' elements (indices into elements) in pair order
-    Buffer blockStarts;    ///< the blocks' first elements, and the end of the last
+    /// The blocks' first elements and the end of the last, then each block's passes over its
+    /// elements' points (solvePgs, pushPgs, bouncePgs)
+    Buffer blockStarts;
     Buffer normalRows;     ///< PgsNormalRow per point, packed in element order
     Buffer frictionRows;   ///< PgsFrictionRows per point, in the same order
     Buffer impulses;       ///< per point: normal, two friction and push impulses, N s

@@ -272,7 +272,8 @@ TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
     const gpu::PgsLaunch& blocks = g.launches[0];
     ASSERT_EQ(blocks.mode, RUBBLE_PGS_BLOCKS);
     ASSERT_EQ(blocks.blocks, 4u);
-    ASSERT_EQ(g.blockStartsHost.size(), 5u);
+    // The starts of the four blocks and the end, then each block's passes over its points.
+    ASSERT_EQ(g.blockStartsHost.size(), 9u);
     EXPECT_EQ(g.blockStartsHost[4], blocks.count);
     std::map<std::uint32_t, std::uint32_t> blockOfBody;
     for (std::uint32_t b = 0; b < 4; ++b) {
@@ -321,6 +322,9 @@ TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
     std::uint32_t multiPoint = 0;
     for (std::uint32_t b = 0; b < 4; ++b) {
         const std::uint32_t from = g.blockStartsHost[b], to = g.blockStartsHost[b + 1];
+        std::uint32_t most = 1;
+        for (std::uint32_t i = from; i < to; ++i) most = std::max(most, points(g.elementsHost[i]));
+        EXPECT_EQ(g.blockStartsHost[5 + b], most) << "block " << b << "'s passes";
         std::uint32_t next = g.elementsHost[from].rows >> RUBBLE_PGS_FIRST_SHIFT;
         for (std::uint32_t k = 0; k < 4; ++k)
             for (std::uint32_t i = from; i < to; ++i) {
