@@ -142,6 +142,27 @@ TEST_F(KernelsBuild, RubbleDevicesListsTheDevice) {
     EXPECT_NE(r.output.find(context()->device().name), std::string::npos) << r.output;
 }
 
+// `rubble devices --bandwidth --scene` sets the kernels of the path it is asked for against the
+// copy bandwidth: particles with jacobi by default, with --pgs the particle contacts' PGS
+// (particlePairs, solvePgs) and no Jacobi rows; --pgs with --sat is refused. (40 steps: the
+// first crates land on debris_1k between steps 30 and 40.)
+TEST_F(KernelsBuild, RubbleDevicesBandwidthRunsThePathItIsAskedFor) {
+    const std::string run = "devices --bandwidth --megabytes 4 --repeats 2 --steps 40 --scene " +
+                            std::string(RUBBLE_SOURCE_DIR) + "/scenes/bench/debris_1k.json";
+    const test::CommandResult jacobi = test::runRubble(run);
+    ASSERT_EQ(jacobi.exitCode, 0) << jacobi.output;
+    EXPECT_NE(jacobi.output.find("solveJacobiRows"), std::string::npos) << jacobi.output;
+    EXPECT_EQ(jacobi.output.find("particlePairs"), std::string::npos) << jacobi.output;
+    const test::CommandResult pgs = test::runRubble(run + " --pgs");
+    ASSERT_EQ(pgs.exitCode, 0) << pgs.output;
+    for (const char* kernel : {"particlePairs", "contactKeys", "solvePgs"})
+        EXPECT_NE(pgs.output.find(kernel), std::string::npos) << kernel << "\n" << pgs.output;
+    EXPECT_EQ(pgs.output.find("solveJacobiRows"), std::string::npos) << pgs.output;
+    const test::CommandResult both = test::runRubble(run + " --pgs --sat");
+    EXPECT_EQ(both.exitCode, 2) << both.output;
+    EXPECT_NE(both.output.find("excludes"), std::string::npos) << both.output;
+}
+
 TEST_F(KernelsBuild, ErrorsNameTheCallAndTheCode) {
     const Error e = gpu::clError("(m = clCreateBuffer(ctx, 0, 0, nullptr, &err), err)",
                                  CL_INVALID_BUFFER_SIZE);
