@@ -97,19 +97,6 @@ std::string cratesScene(int iterations, const std::vector<glm::vec3>& centres) {
     return json + "]}";
 }
 
-// Steps `w` `steps` times (failing the test at a step that fails) and returns where its bodies
-// started.
-std::vector<glm::vec3> stepped(World& w, int steps) {
-    std::vector<glm::vec3> start;
-    for (std::uint32_t i = 0; i < w.bodyCount(); ++i) start.push_back(w.body(i).position);
-    for (int step = 0; step < steps; ++step) {
-        const Status s = w.step();
-        EXPECT_TRUE(s.ok()) << "step " << step << ": " << (s.ok() ? "" : s.error().describe());
-        if (!s.ok()) break;
-    }
-    return start;
-}
-
 // Four crates side by side on the floor and one across two of them, 8 particles each: they
 // stand, sink no more than a few millimetres and fall asleep, in the device's blocks and with
 // every element colored (as a GPU runs it).
@@ -120,7 +107,8 @@ TEST_F(ParticlePgs, CratesStandAndSleepInBlocksAndColored) {
     const std::string json = cratesScene(10, centres);
     for (const int blocks : {-1, 0}) {
         World w = world(json, Backend::OpenCl, blocks);
-        const std::vector<glm::vec3> start = stepped(w, 300);
+        const std::vector<glm::vec3> start = test::positionsOf(w);
+        ASSERT_TRUE(test::stepWorld(w, 300)) << "blocks " << blocks;
         float moved = 0.0f, lowest = 1e9f;
         std::uint32_t asleep = 0;
         for (std::uint32_t i = 1; i < w.bodyCount(); ++i) {
@@ -147,7 +135,8 @@ TEST_F(ParticlePgs, ATallStackStandsInBlocksAndColoredAtTwentySweeps) {
     const std::string json = cratesScene(20, centres);
     for (const int blocks : {-1, 0}) {
         World w = world(json, Backend::OpenCl, blocks);
-        const std::vector<glm::vec3> start = stepped(w, 600);
+        const std::vector<glm::vec3> start = test::positionsOf(w);
+        ASSERT_TRUE(test::stepWorld(w, 600)) << "blocks " << blocks;
         float drop = 0.0f;
         std::uint32_t asleep = 0;
         for (std::uint32_t i = 1; i < w.bodyCount(); ++i) {

@@ -477,8 +477,7 @@ TEST_F(PgsTwin, PyramidAndStackStandAndSleepOnTheDevice) {
     for (const auto& [name, blocks] : {std::pair{"pyramid_20.json", -1}, {"stack_10.json", -1},
                                        {"pyramid_20.json", 0}, {"stack_10.json", 0}}) {
         World w = sceneFile(name, Backend::OpenCl, blocks);
-        std::vector<glm::vec3> start;
-        for (std::uint32_t i = 0; i < w.bodyCount(); ++i) start.push_back(w.body(i).position);
+        const std::vector<glm::vec3> start = test::positionsOf(w);
         for (int step = 0; step < 600; ++step) ASSERT_TRUE(w.step().ok()) << name;
         float moved = 0.0f, lowest = 1e9f;
         std::uint32_t dynamic = 0;

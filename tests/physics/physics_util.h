@@ -1,5 +1,5 @@
 // tests/physics/physics_util.h: helpers shared by the physics tests: the shipped scenes, worlds
-// from scenes, and stepping with a check.
+// from scenes (stepping with a check is support/test_util.h's stepWorld).
 #pragma once
 
 #include <cstdlib>
@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "rubble/world.h"
+#include "support/test_util.h"
 
 namespace rubble::test {
 
@@ -25,16 +26,6 @@ inline World makeWorld(const Scene& scene) {
     EXPECT_TRUE(world.ok()) << (world.ok() ? "" : world.error().describe());
     if (!world.ok()) std::abort();
     return std::move(*world);
-}
-
-/// Steps n times; false (with a test failure) when a step fails.
-inline bool stepWorld(World& world, int n) {
-    for (int i = 0; i < n; ++i) {
-        const Status s = world.step();
-        EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().describe());
-        if (!s.ok()) return false;
-    }
-    return true;
 }
 
 } // namespace rubble::test

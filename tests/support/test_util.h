@@ -37,6 +37,23 @@ inline Error sceneError(const std::string& json) {
     return makeError(ErrorKind::Internal, "", "loaded");
 }
 
+/// Steps n times; false (with a test failure) when a step fails.
+inline bool stepWorld(World& world, int n) {
+    for (int i = 0; i < n; ++i) {
+        const Status s = world.step();
+        EXPECT_TRUE(s.ok()) << "step " << i << ": " << (s.ok() ? "" : s.error().describe());
+        if (!s.ok()) return false;
+    }
+    return true;
+}
+
+/// Each body's position, in body order.
+inline std::vector<glm::vec3> positionsOf(const World& world) {
+    std::vector<glm::vec3> out;
+    for (std::uint32_t i = 0; i < world.bodyCount(); ++i) out.push_back(world.body(i).position);
+    return out;
+}
+
 /// Output and exit status of a command run through the shell.
 struct CommandResult {
     int exitCode = -1;
