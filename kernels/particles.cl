@@ -20,17 +20,18 @@ static void appendContact(ParticleContact c, const uint capacity,
                           __global ParticleContact* contacts, __global uint* status) {
     const uint at = atomic_inc(&status[RUBBLE_STATUS_CONTACTS]);
     if (at < capacity) contacts[at] = c;
-    atomic_max(&status[RUBBLE_STATUS_PENETRATION], as_uint(c.point.w));
+    // A gap is no penetration (and a negative float's bits would read as the largest).
+    atomic_max(&status[RUBBLE_STATUS_PENETRATION], as_uint(fmax(c.point.w, 0.0f)));
 }
 
 // The contact of the particles in sorted slots `slot` (body a) and `other` (body b), if they
-// touch.
+// are closer than the margin.
 static void touchParticles(const float4 xi, const float4 xj, const uint slot, const uint other,
-                           const uint a, const uint b, __global const uint* order,
-                           const uint capacity, __global ParticleContact* contacts,
-                           __global uint* status) {
+                           const uint a, const uint b, const float margin,
+                           __global const uint* order, const uint capacity,
+                           __global ParticleContact* contacts, __global uint* status) {
     ParticleContact c = particlePairItem(xi, xj);
-    if (!(c.point.w > 0.0f)) return;
+    if (!particleContactMadeItem(c.point.w, margin)) return;
     c.a = a;
     c.b = b;
     c.particleA = order[slot];
@@ -45,7 +46,7 @@ static void touchParticles(const float4 xi, const float4 xj, const uint slot, co
 // row in x are consecutive keys unless the row wraps: their particles are then one run of slots,
 // from cellFirst of the row's first cell to cellFirst of the cell after its last.
 __kernel void collideParticles(const uint count, const uint staticCount,
-                               const float inverseCellSize, const uint bits,
+                               const float inverseCellSize, const uint bits, const float margin,
                                __global const uint* cellFirst, __global const float4* sortedWorld,
                                __global const uint* sortedTags, __global const uint* order,
                                __global const StaticShape* statics,
@@ -76,14 +77,14 @@ __kernel void collideParticles(const uint count, const uint staticCount,
                     const uint bodyJ = tagBodyItem(tagJ);
                     if (!pairFromHereItem(bodyI, flagsI, bodyJ, tagFlagsItem(tagJ), 0)) continue;
                     const float4 xj = sortedWorld[s];
-                    if (!particlesMayTouchItem(xi, xj)) continue;
-                    touchParticles(xi, xj, slot, s, bodyI, bodyJ, order, capacity, contacts,
-                                   status);
+                    if (!particlesMayTouchItem(xi, xj, margin)) continue;
+                    touchParticles(xi, xj, slot, s, bodyI, bodyJ, margin, order, capacity,
+                                   contacts, status);
                 }
                 // Particles sorted after it: most are out of reach, which the distance says.
                 for (uint s = max(begin, slot + 1); s < end; ++s) {
                     const float4 xj = sortedWorld[s];
-                    if (!particlesMayTouchItem(xi, xj)) continue;
+                    if (!particlesMayTouchItem(xi, xj, margin)) continue;
                     const uint tagJ = sortedTags[s];
                     const uint bodyJ = tagBodyItem(tagJ);
                     const uint flagsJ = tagFlagsItem(tagJ);
@@ -91,17 +92,17 @@ __kernel void collideParticles(const uint count, const uint staticCount,
                     // Two active bodies meet in the order of their indices, whichever particle
                     // found the pair: the contact keeps its key (warm start) from step to step.
                     if (activeBodyItem(flagsJ) && bodyJ < bodyI)
-                        touchParticles(xj, xi, s, slot, bodyJ, bodyI, order, capacity, contacts,
-                                       status);
+                        touchParticles(xj, xi, s, slot, bodyJ, bodyI, margin, order, capacity,
+                                       contacts, status);
                     else
-                        touchParticles(xi, xj, slot, s, bodyI, bodyJ, order, capacity, contacts,
-                                       status);
+                        touchParticles(xi, xj, slot, s, bodyI, bodyJ, margin, order, capacity,
+                                       contacts, status);
                 }
             }
     if (!activeBodyItem(flagsI)) return;
     for (uint k = 0; k < staticCount; ++k) {
         ParticleContact c = particleStaticItem(xi, statics[k]);
-        if (!(c.point.w > 0.0f)) continue;
+        if (!particleContactMadeItem(c.point.w, margin)) continue;
         c.a = bodyI;
         c.particleA = order[slot];
         c.featureB = count + k;

@@ -46,7 +46,8 @@ void ParticleCollision::contactPoints(const StepContacts& contacts,
 Status ParticleCollision::rebuild(const CollisionScene& scene, BodiesView bodies,
                                   float particleSpacing) {
     Result<ParticleSet> set =
-        buildParticleSet(scene.shapes, scene.materials, bodies, particleSpacing);
+        buildParticleSet(scene.shapes, scene.materials, bodies, particleSpacing,
+                         particleContactMargin(form_ == ContactForm::Manifolds));
     RUBBLE_TRY(set);
     set_ = std::move(*set);
     world_.assign(set_.particles.size(), shared::float4{});

@@ -36,7 +36,7 @@ Status checkVoxelCost(const Shape& shape, float spacing) {
 
 Result<ParticleSet> buildParticleSet(std::span<const Shape> shapes,
                                      std::span<const MaterialDesc> materials, BodiesView bodies,
-                                     float spacing) {
+                                     float spacing, float margin) {
     ParticleSet p;
     std::map<std::uint32_t, std::vector<glm::vec3>> byShape;
     for (std::uint32_t b = 0; b < bodies.count(); ++b) {
@@ -87,10 +87,14 @@ Result<ParticleSet> buildParticleSet(std::span<const Shape> shapes,
             ErrorKind::NotSupported, "bodies",
             "the particle method meets at most " + std::to_string(RUBBLE_MAX_STATIC_SHAPES) +
                 " planes and static boxes; this scene has " + std::to_string(p.statics.size()));
-    p.cellSize = spacing;
+    // A cell at least as wide as the farthest contact: the 27 neighbours hold every one.
+    p.cellSize = spacing + margin;
+    p.margin = margin;
     p.bits = gridBits(p.particles.size());
     return p;
 }
+
+float particleContactMargin(bool pgs) { return pgs ? RUBBLE_CONTACT_MARGIN : 0.0f; }
 
 void transformParticles(std::span<const Particle> particles, std::span<const BodyPose> poses,
                         std::span<float4> world) {
@@ -135,7 +139,7 @@ bool collideParticles(const ParticleSet& set, std::span<const float4> world,
                     if (start == RUBBLE_EMPTY_CELL) continue;
                     for (std::uint32_t s = start; s < grid.cellEnd[key]; ++s) {
                         const std::uint32_t j = grid.order[s];
-                        if (!particlesMayTouchItem(xi, world[j])) continue;
+                        if (!particlesMayTouchItem(xi, world[j], set.margin)) continue;
                         const std::uint32_t bodyJ = set.particles[j].body;
                         const std::uint32_t flagsJ = masses[bodyJ].flags;
                         if (!pairFromHereItem(bodyI, flagsI, bodyJ, flagsJ, s > slot)) continue;
@@ -143,7 +147,7 @@ bool collideParticles(const ParticleSet& set, std::span<const float4> world,
                         const bool swap = activeBodyItem(flagsJ) && bodyJ < bodyI;
                         ParticleContact c =
                             swap ? particlePairItem(world[j], xi) : particlePairItem(xi, world[j]);
-                        if (!(c.point.w > 0.0f)) continue;
+                        if (!particleContactMadeItem(c.point.w, set.margin)) continue;
                         c.a = swap ? bodyJ : bodyI;
                         c.b = swap ? bodyI : bodyJ;
                         c.particleA = swap ? j : i;
@@ -155,7 +159,7 @@ bool collideParticles(const ParticleSet& set, std::span<const float4> world,
         if (!activeBodyItem(flagsI)) continue;
         for (std::uint32_t k = 0; k < set.statics.size(); ++k) {
             ParticleContact c = particleStaticItem(xi, set.statics[k]);
-            if (!(c.point.w > 0.0f)) continue;
+            if (!particleContactMadeItem(c.point.w, set.margin)) continue;
             c.a = bodyI;
             c.particleA = i;
             c.featureB = count + k;

@@ -20,7 +20,8 @@ namespace rubble {
 /// The particles of a world's bodies and the static shapes they meet, made once at load (and
 /// again when bodies are added or removed).
 struct ParticleSet {
-    float cellSize = 0;                       ///< m: the largest particle diameter
+    float cellSize = 0;                       ///< m: the largest particle diameter + margin
+    float margin = 0;                         ///< m: contacts are made this far apart
     std::uint32_t bits = 0;                   ///< the grid hash table has 2^bits cells
     std::vector<shared::Particle> particles;  ///< grouped by body, in body order
     std::vector<shared::StaticShape> statics; ///< planes and static boxes, met analytically
@@ -32,10 +33,17 @@ struct ParticleSet {
 /// simulation.collision.particle_spacing when the world would need more particles than a
 /// device buffer index can address; Limit there when a shape would take more voxels or ray
 /// tests, or the world more particles, than host/core/limits.h allows (checked before they are
-/// made); NotSupported past RUBBLE_MAX_STATIC_SHAPES static shapes.
+/// made); NotSupported past RUBBLE_MAX_STATIC_SHAPES static shapes. Contacts are made while
+/// two particles (or a particle and a static shape) are less than `margin` (m) apart: 0 for
+/// the Jacobi solvers, particleContactMargin() for PGS; the grid's cells grow by it.
 Result<ParticleSet> buildParticleSet(std::span<const Shape> shapes,
                                      std::span<const MaterialDesc> materials, BodiesView bodies,
-                                     float spacing);
+                                     float spacing, float margin);
+
+/// The speculative margin of particle contacts solved by PGS, m: the SAT method's fixed
+/// margin (RUBBLE_CONTACT_MARGIN), so that bodies resting on each other keep their contacts
+/// (and their impulses) at a gap of zero; 0 for the other solvers.
+float particleContactMargin(bool pgs);
 
 /// Stage transformParticles. reads: particles, poses   writes: world
 void transformParticles(std::span<const shared::Particle> particles,

@@ -42,7 +42,7 @@ const std::vector<KernelSignature>& kernelSignatures() {
          {"count", "particles", "poses", "flags", "world"}},
         {KernelId::CollideParticles,
          "collideParticles",
-         {"count", "staticCount", "inverseCellSize", "bits", "cellFirst", "sortedWorld",
+         {"count", "staticCount", "inverseCellSize", "bits", "margin", "cellFirst", "sortedWorld",
           "sortedTags", "order", "statics", "contacts", "status"}},
         {KernelId::ComputeCellKeys,
          "computeCellKeys",

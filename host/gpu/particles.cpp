@@ -19,6 +19,7 @@ Status Pipeline::uploadParticles(const ParticleSet* set, BodiesView bodyArrays,
     particles_.staticCount = std::uint32_t(p.statics.size());
     particles_.bits = p.bits;
     particles_.cellSize = p.cellSize;
+    particles_.margin = p.margin;
     RUBBLE_TRY(upload(c, particles_.records, std::span(p.particles)));
     RUBBLE_TRY(upload(c, particles_.statics, std::span(p.statics)));
     const std::size_t n = particles_.count, words = n * sizeof(cl_uint);
@@ -97,11 +98,13 @@ Status Pipeline::collideParticles() {
     const cl_uint count = particles_.count, statics = particles_.staticCount;
     const cl_float inverseCellSize = 1.0f / particles_.cellSize;
     const cl_uint bits = particles_.bits;
+    const cl_float margin = particles_.margin;
     return Dispatch(*context_, KernelId::CollideParticles, &profile_)
         .arg(count)
         .arg(statics)
         .arg(inverseCellSize)
         .arg(bits)
+        .arg(margin)
         .arg(particles_.cellFirst)
         .arg(particles_.sortedWorld)
         .arg(particles_.sortedTags)

@@ -50,6 +50,7 @@ struct BodyBuffers {
 struct ParticleBuffers {
     std::uint32_t count = 0, staticCount = 0, bits = 0;
     float cellSize = 0; ///< m
+    float margin = 0;   ///< m: ParticleSet::margin
     Buffer records, statics, world;
     Buffer keys, values, keysAlt, valuesAlt; ///< sorted cell keys and particles (ping-pong)
     Buffer histogram, offsets;               ///< radix sort counts and their exclusive scan

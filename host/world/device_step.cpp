@@ -54,11 +54,12 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
         }
         in.joints = s.deviceJoints;
     } else {
+        in.particlePgs = s.options.solverType() == SolverType::Pgs;
         particles = buildParticleSet(s.shapes, s.materials, s.bodies.view(),
-                                     s.options.collision.particleSpacing);
+                                     s.options.collision.particleSpacing,
+                                     particleContactMargin(in.particlePgs));
         RUBBLE_TRY(particles);
         in.particles = &*particles;
-        in.particlePgs = s.options.solverType() == SolverType::Pgs;
     }
     if (s.offload) in.kinematic = s.offload->kinematic;
     in.deterministic = s.run.deterministic;

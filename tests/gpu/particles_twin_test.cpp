@@ -2,6 +2,8 @@
 // collideParticles, buildJacobiRows and solveJacobi) against their CPU twins on one input: a
 // pile of boxes and balls after 40 steps, sizes that are not multiples of the group size.
 #include <algorithm>
+#include <cstdio>
+#include <optional>
 #include <tuple>
 
 #include "gpu_fixture.h"
@@ -14,11 +16,13 @@ namespace {
 
 using namespace shared;
 
-// 101 bodies (boxes and balls, 0.25 m particles) in a loose heap over a floor and a static box.
-std::string heap() {
+// 101 bodies (boxes and balls, 0.25 m particles) in a loose heap over a floor and a static box,
+// solved by `solver`.
+std::string heap(const std::string& solver = "jacobi") {
     return R"({"format": "rubble-scene", "version": 1, "name": "heap",
       "simulation": {"dt": 0.016666667, "collision": {"method": "particles",
-                     "particle_spacing": 0.25}, "solver": {"type": "jacobi"}},
+                     "particle_spacing": 0.25}, "solver": {"type": ")" +
+           solver + R"("}},
       "shapes": {"floor": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
                  "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]},
                  "ball": {"type": "sphere", "radius": 0.4},
@@ -37,10 +41,10 @@ class ParticlesTwin : public test::GpuTest {
     void SetUp() override {
         test::GpuTest::SetUp();
         if (IsSkipped() || HasFatalFailure()) return;
-        World world = deviceWorld(heap());
-        for (int i = 0; i < 40; ++i) ASSERT_TRUE(world.step().ok());
+        stepped_.emplace(deviceWorld(heap()));
+        for (int i = 0; i < 40; ++i) ASSERT_TRUE(stepped_->step().ok());
         // The device's state after 40 steps, on a pipeline of its own: the shared input.
-        stage_.emplace(deviceStage(heap(), &world));
+        stage_.emplace(deviceStage(heap(), &*stepped_));
         world_.assign(set().particles.size(), float4{});
     }
     test::StageInput& in() { return stage_->in; }
@@ -52,6 +56,49 @@ class ParticlesTwin : public test::GpuTest {
         EXPECT_TRUE(gpu::download(p().context(), b, std::span(v)).ok());
         return v;
     }
+    /// The device's contacts and the CPU twin's on the stage's particles at the fixture's state,
+    /// each sorted by (particleA, featureB).
+    void collideBoth(test::DeviceStage& stage, std::vector<ParticleContact>& device,
+                     std::vector<ParticleContact>& cpu) {
+        gpu::Pipeline& d = stage.device();
+        const ParticleSet& set = stage.particles;
+        world_.assign(set.particles.size(), float4{});
+        transformParticles(set.particles, s().poses, world_);
+        ASSERT_TRUE(gpu::upload(d.context(), const_cast<gpu::Buffer&>(d.particles().world),
+                                std::span<const float4>(world_))
+                        .ok());
+        ASSERT_TRUE(d.buildGrid().ok());
+        ASSERT_TRUE(d.resetStatus().ok());
+        ASSERT_TRUE(d.collideParticles().ok());
+        ASSERT_TRUE(d.readContactCount().ok());
+        buildGrid(world_, set.cellSize, set.bits, grid_);
+        collideParticles(set, world_, grid_, s().masses, cpu);
+        device.resize(d.contacts().count);
+        ASSERT_TRUE(gpu::download(d.context(), d.contacts().contacts, std::span(device)).ok());
+        // Device order is the atomics'; compare as sets, keyed by the two features.
+        auto byKey = [](const ParticleContact& x, const ParticleContact& y) {
+            return std::tie(x.particleA, x.featureB) < std::tie(y.particleA, y.featureB);
+        };
+        std::sort(device.begin(), device.end(), byKey);
+        std::sort(cpu.begin(), cpu.end(), byKey);
+    }
+    /// The same contacts, field by field (the floats within 1e-5 relative).
+    static void expectSameContacts(const std::vector<ParticleContact>& device,
+                                   const std::vector<ParticleContact>& cpu) {
+        ASSERT_EQ(device.size(), cpu.size());
+        std::vector<float4> dp, cp;
+        for (std::size_t i = 0; i < cpu.size(); ++i) {
+            ASSERT_EQ(device[i].particleA, cpu[i].particleA) << i;
+            ASSERT_EQ(device[i].featureB, cpu[i].featureB) << i;
+            EXPECT_EQ(device[i].a, cpu[i].a);
+            EXPECT_EQ(device[i].b, cpu[i].b);
+            dp.push_back(device[i].point), dp.push_back(device[i].normal);
+            cp.push_back(cpu[i].point), cp.push_back(cpu[i].normal);
+        }
+        test::expectNearRel(dp, cp, 1e-5f);
+    }
+
+    std::optional<World> stepped_; ///< the device world after 40 steps
     std::optional<test::DeviceStage> stage_;
     std::vector<float4> world_; ///< the CPU twin's particle positions
     ParticleGrid grid_;         ///< the CPU twin's grid
@@ -116,41 +163,40 @@ TEST_F(ParticlesTwin, RadixSortSortsStablyAnyCount) {
 }
 
 TEST_F(ParticlesTwin, CollideParticlesGivesTheSameContactSet) {
-    transformParticles(set().particles, s().poses, world_);
-    ASSERT_TRUE(gpu::upload(p().context(), const_cast<gpu::Buffer&>(p().particles().world),
-                            std::span<const float4>(world_))
-                    .ok());
-    ASSERT_TRUE(p().buildGrid().ok());
-    ASSERT_TRUE(p().resetStatus().ok());
-    ASSERT_TRUE(p().collideParticles().ok());
-    ASSERT_TRUE(p().readContactCount().ok());
-    buildGrid(world_, set().cellSize, set().bits, grid_);
-    std::vector<ParticleContact> contacts;
-    collideParticles(set(), world_, grid_, s().masses, contacts);
-    ASSERT_GT(contacts.size(), 100u);
-    ASSERT_EQ(p().contacts().count, contacts.size());
-    // Device order is the atomics'; compare as sets, keyed by the two features.
-    std::vector<ParticleContact> device =
-        read<ParticleContact>(p().contacts().contacts, p().contacts().count);
-    auto byKey = [](const ParticleContact& x, const ParticleContact& y) {
-        return std::tie(x.particleA, x.featureB) < std::tie(y.particleA, y.featureB);
-    };
-    std::sort(device.begin(), device.end(), byKey);
-    std::vector<ParticleContact> cpu = contacts;
-    std::sort(cpu.begin(), cpu.end(), byKey);
-    for (std::size_t i = 0; i < cpu.size(); ++i) {
-        ASSERT_EQ(device[i].particleA, cpu[i].particleA) << i;
-        ASSERT_EQ(device[i].featureB, cpu[i].featureB) << i;
-        EXPECT_EQ(device[i].a, cpu[i].a);
-        EXPECT_EQ(device[i].b, cpu[i].b);
+    std::vector<ParticleContact> device, cpu;
+    ASSERT_NO_FATAL_FAILURE(collideBoth(*stage_, device, cpu));
+    ASSERT_GT(cpu.size(), 100u);
+    for (const ParticleContact& c : cpu) ASSERT_GT(c.point.w, 0.0f); // jacobi: overlaps only
+    expectSameContacts(device, cpu);
+}
+
+// With PGS the contacts reach RUBBLE_CONTACT_MARGIN further (gaps, negative depths) over a grid
+// of wider cells: the twins agree on them, and the overlapping ones are the Jacobi set's.
+TEST_F(ParticlesTwin, CollideParticlesWithPgsMarginAddsTheGapsAndKeepsTheOverlaps) {
+    test::DeviceStage pgs = deviceStage(heap("pgs"), &*stepped_);
+    ASSERT_EQ(pgs.particles.margin, RUBBLE_CONTACT_MARGIN);
+    ASSERT_EQ(pgs.particles.cellSize, set().cellSize + RUBBLE_CONTACT_MARGIN);
+    std::vector<ParticleContact> device, cpu, jacobiDevice, jacobi;
+    ASSERT_NO_FATAL_FAILURE(collideBoth(pgs, device, cpu));
+    expectSameContacts(device, cpu);
+    ASSERT_NO_FATAL_FAILURE(collideBoth(*stage_, jacobiDevice, jacobi));
+    std::vector<ParticleContact> overlaps;
+    std::size_t gaps = 0;
+    for (const ParticleContact& c : cpu) {
+        EXPECT_GT(c.point.w, -RUBBLE_CONTACT_MARGIN);
+        if (c.point.w > 0.0f)
+            overlaps.push_back(c);
+        else
+            ++gaps;
     }
-    // The float fields, pairwise: point (w = depth) and normal.
-    std::vector<float4> dp, cp;
-    for (std::size_t i = 0; i < cpu.size(); ++i) {
-        dp.push_back(device[i].point), dp.push_back(device[i].normal);
-        cp.push_back(cpu[i].point), cp.push_back(cpu[i].normal);
+    std::printf("[ heap ] %zu overlaps, %zu gaps within the margin\n", overlaps.size(), gaps);
+    EXPECT_GT(gaps, 0u);
+    ASSERT_EQ(overlaps.size(), jacobi.size());
+    for (std::size_t i = 0; i < jacobi.size(); ++i) {
+        ASSERT_EQ(overlaps[i].particleA, jacobi[i].particleA) << i;
+        ASSERT_EQ(overlaps[i].featureB, jacobi[i].featureB) << i;
+        EXPECT_EQ(overlaps[i].point.w, jacobi[i].point.w) << i;
     }
-    test::expectNearRel(dp, cp, 1e-5f);
 }
 
 TEST_F(ParticlesTwin, JacobiRowsAndOneSweepMatchCpu) {

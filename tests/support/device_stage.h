@@ -20,15 +20,18 @@ struct DeviceStage {
     gpu::Pipeline& device() { return *pipeline; }
 };
 
-/// Voxelises the input's shapes at the scene's particle spacing and puts the bodies on a new
-/// pipeline of `context`. Errors: those of buildParticleSet and Pipeline::create.
+/// Voxelises the input's shapes at the scene's particle spacing (with the contact margin of the
+/// scene's solver) and puts the bodies on a new pipeline of `context`. Errors: those of
+/// buildParticleSet and Pipeline::create.
 inline Result<DeviceStage> deviceStage(std::shared_ptr<gpu::Context> context, StageInput in,
                                        bool deterministic = false) {
     DeviceStage d;
     d.in = std::move(in);
     Result<ParticleSet> set =
         buildParticleSet(d.in.shapes, d.in.scene.materials, d.in.bodies.view(),
-                         d.in.scene.simulation.collision.particleSpacing);
+                         d.in.scene.simulation.collision.particleSpacing,
+                         particleContactMargin(d.in.scene.simulation.solverType() ==
+                                               SolverType::Pgs));
     RUBBLE_TRY(set);
     d.particles = std::move(*set);
     gpu::PipelineInput input;

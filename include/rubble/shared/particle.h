@@ -195,13 +195,18 @@ RUBBLE_FN uint tagBodyItem(uint tag) { return tag & (RUBBLE_TAG_MAX_BODIES - 1u)
 RUBBLE_FN uint tagFlagsItem(uint tag) { return tag >> RUBBLE_TAG_BODY_BITS; }
 
 // A cheap test before particlePairItem: false only when the two particles (xyz world, w
-// radius) are certainly apart (their squared distance beyond the squared reach, with room for
-// the round-off of the exact test).
-RUBBLE_FN int particlesMayTouchItem(float4 xa, float4 xb) {
+// radius) are certainly apart by more than `margin` (m) (their squared distance beyond the
+// squared reach, with room for the round-off of the exact test).
+RUBBLE_FN int particlesMayTouchItem(float4 xa, float4 xb, float margin) {
     const float dx = xb.x - xa.x, dy = xb.y - xa.y, dz = xb.z - xa.z;
-    const float reach = xa.w + xb.w;
+    const float reach = xa.w + xb.w + margin;
     return dx * dx + dy * dy + dz * dz <= reach * reach * 1.0001f;
 }
+
+// Whether a particle contact of this depth (m; negative: a gap) is made: touching, or for
+// projected Gauss-Seidel closer than the speculative margin (m; 0 for the Jacobi solvers,
+// whose rows push only what overlaps).
+RUBBLE_FN int particleContactMadeItem(float depth, float margin) { return depth > -margin; }
 
 // Bodies whose particles start collision tests: active ones, and kinematic ones that move
 // (they meet sleeping bodies, to wake them).
@@ -221,8 +226,8 @@ RUBBLE_FN int pairFromHereItem(uint self, uint selfFlags, uint other, uint other
     return (otherFlags & RUBBLE_BODY_ASLEEP) != 0u;
 }
 
-// Two particles (xyz world, w radius) touching: depth > 0 in point.w, normal from a to b.
-// Returns depth <= 0 (no contact) when they are apart or at the same point.
+// Two particles (xyz world, w radius): depth in point.w (> 0 overlapping, < 0 the gap between
+// their surfaces), normal from a to b; depth 0 when they are at the same point.
 RUBBLE_FN ParticleContact particlePairItem(float4 xa, float4 xb) {
     ParticleContact c;
     const float4 d = vec4(xb.x - xa.x, xb.y - xa.y, xb.z - xa.z);
