@@ -94,7 +94,7 @@ Result<ParticleSet> buildParticleSet(std::span<const Shape> shapes,
     return p;
 }
 
-float particleContactMargin(bool pgs) { return pgs ? RUBBLE_CONTACT_MARGIN : 0.0f; }
+float particleContactMargin(bool pgs) { return pgs ? kParticleContactMargin : 0.0f; }
 
 void transformParticles(std::span<const Particle> particles, std::span<const BodyPose> poses,
                         std::span<float4> world) {

@@ -170,12 +170,12 @@ TEST_F(ParticlesTwin, CollideParticlesGivesTheSameContactSet) {
     expectSameContacts(device, cpu);
 }
 
-// With PGS the contacts reach RUBBLE_CONTACT_MARGIN further (gaps, negative depths) over a grid
+// With PGS the contacts reach kParticleContactMargin further (gaps, negative depths) over a grid
 // of wider cells: the twins agree on them, and the overlapping ones are the Jacobi set's.
 TEST_F(ParticlesTwin, CollideParticlesWithPgsMarginAddsTheGapsAndKeepsTheOverlaps) {
     test::DeviceStage pgs = deviceStage(heap("pgs"), &*stepped_);
-    ASSERT_EQ(pgs.particles.margin, RUBBLE_CONTACT_MARGIN);
-    ASSERT_EQ(pgs.particles.cellSize, set().cellSize + RUBBLE_CONTACT_MARGIN);
+    ASSERT_EQ(pgs.particles.margin, kParticleContactMargin);
+    ASSERT_EQ(pgs.particles.cellSize, set().cellSize + kParticleContactMargin);
     std::vector<ParticleContact> device, cpu, jacobiDevice, jacobi;
     ASSERT_NO_FATAL_FAILURE(collideBoth(pgs, device, cpu));
     expectSameContacts(device, cpu);
@@ -183,7 +183,7 @@ TEST_F(ParticlesTwin, CollideParticlesWithPgsMarginAddsTheGapsAndKeepsTheOverlap
     std::vector<ParticleContact> overlaps;
     std::size_t gaps = 0;
     for (const ParticleContact& c : cpu) {
-        EXPECT_GT(c.point.w, -RUBBLE_CONTACT_MARGIN);
+        EXPECT_GT(c.point.w, -kParticleContactMargin);
         if (c.point.w > 0.0f)
             overlaps.push_back(c);
         else

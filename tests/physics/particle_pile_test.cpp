@@ -46,7 +46,7 @@ TEST(ParticlePile, DeepBlockComesToRestAtTenIterations) {
 }
 
 // stack_10 (ten crates touching, at a gap of zero) on particles solved by PGS: its contacts
-// reach the speculative margin (RUBBLE_CONTACT_MARGIN), so every crate rests on the one below
+// reach the speculative margin (kParticleContactMargin), so every crate rests on the one below
 // from the first step. Contacts made only at an overlap left the crates above the highest
 // contact falling together until the stack below had sunk far enough: the top crate fell 0.150 m
 // in ten steps (9.81 m/s^2, free fall) and struck the stack at 0.27 m/s; now 0.006 m. The stack

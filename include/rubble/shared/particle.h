@@ -203,9 +203,9 @@ RUBBLE_FN int particlesMayTouchItem(float4 xa, float4 xb, float margin) {
     return dx * dx + dy * dy + dz * dz <= reach * reach * 1.0001f;
 }
 
-// Whether a particle contact of this depth (m; negative: a gap) is made: touching, or for
-// projected Gauss-Seidel closer than the speculative margin (m; 0 for the Jacobi solvers,
-// whose rows push only what overlaps).
+// Whether a particle contact of this depth (m; negative: a gap) is made: overlapping, or for
+// projected Gauss-Seidel less than the speculative margin (m) apart; the Jacobi solvers' margin
+// is 0, their rows pushing apart only what overlaps.
 RUBBLE_FN int particleContactMadeItem(float depth, float margin) { return depth > -margin; }
 
 // Bodies whose particles start collision tests: active ones, and kinematic ones that move
