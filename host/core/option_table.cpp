@@ -161,8 +161,7 @@ const std::vector<Option>& table() {
                                                             .name = "solver",
                                                             .uses = kEverywhere,
                                                             .help = "Contact and joint solver",
-                                                            .unsetText = "pgs; jacobi on opencl "
-                                                                         "with particles"}),
+                                                            .unsetText = "pgs"}),
         simulationOption<&S::solver, &SolverOptions::iterations>(
             {.key = "solver.iterations",
              .name = "iterations",

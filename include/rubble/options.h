@@ -83,14 +83,9 @@ struct SimulationOptions {
         if (collision.method) return *collision.method;
         return backend == Backend::OpenCl ? CollisionMethod::Particles : CollisionMethod::Sat;
     }
-    /// The solver in effect: the scene's, else pgs, except on opencl with particle contacts,
-    /// which the device solves with jacobi.
-    SolverType solverType() const {
-        if (solver.type) return *solver.type;
-        return backend == Backend::OpenCl && collisionMethod() == CollisionMethod::Particles
-                   ? SolverType::Jacobi
-                   : SolverType::Pgs;
-    }
+    /// The solver in effect: the scene's, else pgs, on either backend and with either collision
+    /// method (a debris set on opencl takes jacobi whatever the scene says: deviceSolver).
+    SolverType solverType() const { return solver.type.value_or(SolverType::Pgs); }
 };
 
 /// Choices that belong to the run rather than to the scene.

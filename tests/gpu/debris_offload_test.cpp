@@ -215,12 +215,12 @@ TEST_F(DebrisOffload, ExplosionReachesBothPopulationsOnce) {
 }
 
 // The combinations on opencl, as the scene format's contract has them: a scene that names no
-// collision method collides with particles, and solves them with jacobi when it names no
-// solver; a debris set runs with particles and jacobi whatever solver it names (pgs names the
-// CPU half); pgs with particles and no debris set solves the particles with PGS on the device,
-// but not beside jointed bodies coupled two ways (refused naming coupling and the ways out);
-// naming sat gives SAT and PGS, every body on the device.
-TEST(DebrisSolver, OpenClDefaultsToParticlesAndJacobiAndSatIsNamed) {
+// collision method collides with particles, and solves them with pgs when it names no solver;
+// a debris set runs with particles and jacobi whatever solver it names (pgs, named or not, is
+// the CPU half's); pgs with particles and no debris set solves the particles with PGS on the
+// device, but not beside jointed bodies coupled two ways (refused naming coupling and the ways
+// out); naming sat gives SAT and PGS, every body on the device.
+TEST(DebrisSolver, OpenClDefaultsToParticlesAndPgsAndSatIsNamed) {
     std::string text = scene("", std::string(kFloor) + R"(, {"name": "box", "shape": "block",
         "mass": 4, "position": [3, 0.5, 0]}, {"name": "d", "shape": "crate", "mass": 1,
         "debris": true, "position": [0, 0.25, 0]})",
@@ -230,17 +230,17 @@ TEST(DebrisSolver, OpenClDefaultsToParticlesAndJacobiAndSatIsNamed) {
     withSet->simulation.backend = Backend::OpenCl;
     EXPECT_TRUE(checkBackendCombination(*withSet).ok()); // particles and jacobi, as named
 
-    // Nothing named: particles and jacobi, with or without a debris set.
+    // Nothing named: particles and pgs; a debris set takes jacobi.
     Scene unnamed = *withSet;
     unnamed.simulation.collision.method.reset();
     unnamed.simulation.solver.type.reset();
     EXPECT_EQ(unnamed.simulation.collisionMethod(), CollisionMethod::Particles);
-    EXPECT_EQ(unnamed.simulation.solverType(), SolverType::Jacobi);
+    EXPECT_EQ(unnamed.simulation.solverType(), SolverType::Pgs);
     EXPECT_EQ(deviceSolver(unnamed), SolverType::Jacobi);
     EXPECT_TRUE(checkBackendCombination(unnamed).ok());
     Scene unnamedWithoutSet = unnamed;
     for (BodyDesc& b : unnamedWithoutSet.bodies) b.debris = false;
-    EXPECT_EQ(deviceSolver(unnamedWithoutSet), SolverType::Jacobi);
+    EXPECT_EQ(deviceSolver(unnamedWithoutSet), SolverType::Pgs);
     EXPECT_TRUE(checkBackendCombination(unnamedWithoutSet).ok());
 
     // pgs named with a debris set: the CPU half's solver, the set takes jacobi.

@@ -38,13 +38,13 @@ TEST(SceneLoader, DefaultsMatchTheFormat) {
 }
 
 // On opencl a scene that names no collision method collides with particles (the scene format's
-// contract), and one that names no solver then solves with jacobi; naming sat gives SAT, with
-// pgs its default solver; a solver named is kept.
-TEST(SceneLoader, OpenClBackendDefaultsToParticlesWithJacobi) {
+// contract), and one that names no solver solves them with pgs, as everywhere; naming sat gives
+// SAT, with pgs its solver; a solver named is kept.
+TEST(SceneLoader, OpenClBackendDefaultsToParticlesWithPgs) {
     const Scene s = parse(R"({"format": "rubble-scene", "version": 1,
         "simulation": {"backend": "opencl"}})");
     EXPECT_EQ(s.simulation.collisionMethod(), CollisionMethod::Particles);
-    EXPECT_EQ(s.simulation.solverType(), SolverType::Jacobi);
+    EXPECT_EQ(s.simulation.solverType(), SolverType::Pgs);
     const Scene sat = parse(R"({"format": "rubble-scene", "version": 1,
         "simulation": {"backend": "opencl", "collision": {"method": "sat"}}})");
     EXPECT_EQ(sat.simulation.collisionMethod(), CollisionMethod::Sat);
