@@ -28,6 +28,14 @@ shared::BodyVelocity sharedVelocity(const SolverVelocity& v) {
     return shared::BodyVelocity{toFloat4(v.linear), toFloat4(v.angular)};
 }
 
+// Row `row` starts from an old point's impulses, its friction in its own tangents.
+void takeImpulse(ContactRows& rows, std::size_t row, const ContactImpulse& from) {
+    rows.normals[row].impulse = from.normal;
+    FrictionRows& f = rows.frictions[row];
+    f.impulse[0] = glm::dot(from.friction, fromLanes(f.tangent[0]));
+    f.impulse[1] = glm::dot(from.friction, fromLanes(f.tangent[1]));
+}
+
 // Hands last step's impulses to one manifold's new points (rows [first, first + count)): the
 // same feature first, then the nearest unmatched old point within kWarmStartMatchDistance.
 // `last` starts at the pair's run.
@@ -42,12 +50,7 @@ void warmStart(ContactRows& rows, std::size_t first, std::size_t count,
     if (old == 0) return;
     bool taken[kMaxOld] = {};
     bool matched[4] = {};
-    auto take = [&](std::size_t k, const ContactImpulse& from) {
-        rows.normals[first + k].impulse = from.normal;
-        FrictionRows& f = rows.frictions[first + k];
-        f.impulse[0] = glm::dot(from.friction, fromLanes(f.tangent[0]));
-        f.impulse[1] = glm::dot(from.friction, fromLanes(f.tangent[1]));
-    };
+    auto take = [&](std::size_t k, const ContactImpulse& from) { takeImpulse(rows, first + k, from); };
     for (std::size_t k = 0; k < count; ++k)
         for (std::size_t o = 0; o < old; ++o)
             if (!taken[o] && last[o].feature == rows.keys[first + k].feature) {
@@ -70,6 +73,23 @@ void warmStart(ContactRows& rows, std::size_t first, std::size_t count,
         if (pick == old) continue;
         take(k, last[pick]);
         taken[pick] = true;
+    }
+}
+
+// Particle contacts (one-point manifolds, many to a pair): the old point of the same feature
+// anywhere in the pair's run, as the device's particlePairs finds the same key; a new contact
+// starts from nothing (no nearest point: its neighbours have impulses of their own). The run's
+// points are in the order of this step's (by particle), so the search starts after the last
+// match (`cursor`, an index into `run`) and wraps once.
+void warmStartParticle(ContactRows& rows, std::size_t row, std::span<const ContactImpulse> run,
+                       std::size_t& cursor) {
+    const std::uint32_t feature = rows.keys[row].feature;
+    for (std::size_t i = 0; i < run.size(); ++i) {
+        const std::size_t o = (cursor + i) % run.size();
+        if (run[o].feature != feature) continue;
+        takeImpulse(rows, row, run[o]);
+        cursor = o + 1;
+        return;
     }
 }
 
@@ -96,6 +116,10 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                       ContactRows& rows) {
     rows.clear();
     const float dt = settings.dt;
+    // Particle contacts: the old run of the pair the last manifold was in, and where in it the
+    // next contact's search starts.
+    std::span<const ContactImpulse> particleRun;
+    std::size_t particleCursor = 0;
     for (const Manifold& m : manifolds) {
         if (m.count == 0) continue;
         if (!bodies.moves(m.a) && !bodies.moves(m.b)) continue;
@@ -173,7 +197,21 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
             rows.keys.push_back(key);
         }
         for (std::uint32_t k = 0; k < m.count; ++k) rows.slot.push_back(k);
-        if (settings.warmStart) {
+        if (settings.warmStart && settings.particleContacts) {
+            // Last step's impulses of this pair: a run, found once for the pair's contacts.
+            if (particleRun.empty() || particleRun.front().a != m.a ||
+                particleRun.front().b != m.b) {
+                const auto [from, to] = std::equal_range(
+                    last.begin(), last.end(), ContactImpulse{m.a, m.b},
+                    [](const ContactImpulse& x, const ContactImpulse& y) {
+                        return x.a != y.a ? x.a < y.a : x.b < y.b;
+                    });
+                particleRun = last.subspan(std::size_t(from - last.begin()), std::size_t(to - from));
+                particleCursor = 0;
+            }
+            for (std::uint32_t k = 0; k < m.count && !particleRun.empty(); ++k)
+                warmStartParticle(rows, first + k, particleRun, particleCursor);
+        } else if (settings.warmStart) {
             // Last step's impulses of this pair: a sorted run.
             const auto run = std::lower_bound(
                 last.begin(), last.end(), 0u,

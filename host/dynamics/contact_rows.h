@@ -103,6 +103,9 @@ struct ContactRowSettings {
     float baumgarte = 0.2f;  ///< fraction of the penetration beyond the slop removed per step
     float slop = 0.005f;     ///< penetration left alone, m
     bool warmStart = true;
+    /// The manifolds are particle contacts, one point each and many to a pair: each takes the
+    /// old impulses of its own feature alone, as the device's particlePairs does.
+    bool particleContacts = false;
 };
 
 /// Approach speeds below this do not bounce (resting contacts stay at rest), m/s: the kernels'

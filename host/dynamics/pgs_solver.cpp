@@ -37,7 +37,8 @@ void PgsSolver::buildRows(const SolverScene& scene, BodiesView bodies,
     gatherSolverMasses(bodies.masses, bodies.poses, c.bodies);
     gatherSolverVelocities(bodies.velocities, c.bodies);
     const SolverOptions& o = params.solver;
-    const ContactRowSettings settings{params.dt, o.baumgarte, o.slop, o.warmStart};
+    const ContactRowSettings settings{params.dt, o.baumgarte, o.slop, o.warmStart,
+                                      params.collision == CollisionMethod::Particles};
     buildContactRows(contacts.manifolds, bodies.poses, c.bodies, approach, scene.materials,
                      bodies.materialOf, scene.joined, c.impulses, settings, c.contacts);
     prepareJoints(c.joints, bodies.poses, c.bodies, o.warmStart, params.dt);
