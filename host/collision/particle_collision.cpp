@@ -47,7 +47,7 @@ Status ParticleCollision::rebuild(const CollisionScene& scene, BodiesView bodies
                                   float particleSpacing) {
     Result<ParticleSet> set =
         buildParticleSet(scene.shapes, scene.materials, bodies, particleSpacing,
-                         particleContactMargin(form_ == ContactForm::Manifolds));
+                         form_ == ContactForm::Manifolds);
     RUBBLE_TRY(set);
     set_ = std::move(*set);
     world_.assign(set_.particles.size(), shared::float4{});

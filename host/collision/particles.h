@@ -33,12 +33,14 @@ struct ParticleSet {
 /// simulation.collision.particle_spacing when the world would need more particles than a
 /// device buffer index can address; Limit there when a shape would take more voxels or ray
 /// tests, or the world more particles, than host/core/limits.h allows (checked before they are
-/// made); NotSupported past RUBBLE_MAX_STATIC_SHAPES static shapes. Contacts are made while
-/// two particles (or a particle and a static shape) are less than `margin` (m) apart: 0 for
-/// the Jacobi solvers, particleContactMargin() for PGS; the grid's cells grow by it.
+/// made); NotSupported past RUBBLE_MAX_STATIC_SHAPES static shapes. For the contacts of PGS
+/// (`pgs`): contacts are made while two particles (or a particle and a static shape) are less
+/// than kParticleContactMargin apart (the grid's cells grow by it), and a shape's particles come
+/// in a fixed scattered order rather than the voxeliser's rows (Gauss-Seidel sweeps a pair's
+/// contacts in particle order); for the Jacobi solvers neither.
 Result<ParticleSet> buildParticleSet(std::span<const Shape> shapes,
                                      std::span<const MaterialDesc> materials, BodiesView bodies,
-                                     float spacing, float margin);
+                                     float spacing, bool pgs);
 
 /// How far apart two particles (or a particle and a static shape) still make a contact for PGS,
 /// m: a speculative gap, so that bodies that rest touching, at a gap of zero, meet from the
@@ -46,10 +48,6 @@ Result<ParticleSet> buildParticleSet(std::span<const Shape> shapes,
 /// has many within 4 mm of what it rests on, and each is a row and a restless neighbour
 /// (docs/opencl.md, "Particle contacts into PGS").
 constexpr float kParticleContactMargin = 0.001f;
-
-/// The margin of particle contacts: kParticleContactMargin for PGS, 0 for the Jacobi solvers
-/// (their rows push apart what overlaps and have no speculative bound).
-float particleContactMargin(bool pgs);
 
 /// Stage transformParticles. reads: particles, poses   writes: world
 void transformParticles(std::span<const shared::Particle> particles,

@@ -56,8 +56,7 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
     } else {
         in.particlePgs = s.options.solverType() == SolverType::Pgs;
         particles = buildParticleSet(s.shapes, s.materials, s.bodies.view(),
-                                     s.options.collision.particleSpacing,
-                                     particleContactMargin(in.particlePgs));
+                                     s.options.collision.particleSpacing, in.particlePgs);
         RUBBLE_TRY(particles);
         in.particles = &*particles;
     }

@@ -143,9 +143,10 @@ TEST_F(ParticlePgs, CratesStandAndSleepInBlocksAndColored) {
 // A stack of ten 8-particle crates (stack_10's) at the scene's 10 sweeps, in the device's blocks
 // and colored: it stands and sleeps in both. Its crates start touching, at a gap of zero: the
 // contacts' speculative margin holds them from the first step. (Measured: the largest drop
-// after 600 steps 0.006 m in blocks and 0.007 m colored, the top crate 0.15 m and 0.10 m aside;
+// after 600 steps 0.010 m in blocks and 0.011 m colored, the top crate 0.03 m aside in both;
 // without the margin the crates above the last contact fell freely, the top one 0.15 m in ten
-// steps, and the stack fell, 9.0 m; docs/opencl.md, "Particle contacts into PGS".)
+// steps, and the stack fell, 9.0 m; with the particles in the voxeliser's rows the top crate
+// ended 0.15 and 0.10 m aside; docs/opencl.md, "Particle contacts into PGS".)
 TEST_F(ParticlePgs, ATallStackStandsInBlocksAndColored) {
     std::vector<glm::vec3> centres;
     for (int i = 0; i < 10; ++i) centres.push_back({0.0f, 0.5f + float(i), 0.0f});
@@ -165,7 +166,7 @@ TEST_F(ParticlePgs, ATallStackStandsInBlocksAndColored) {
         std::printf("[ blocks %d ] largest drop %.4f m, %.4f m aside, %u of 10 asleep\n", blocks,
                     drop, aside, asleep);
         EXPECT_LT(drop, 0.05f) << "blocks " << blocks; // fallen, it is metres
-        EXPECT_LT(aside, 0.3f) << "blocks " << blocks;
+        EXPECT_LT(aside, 0.15f) << "blocks " << blocks;
         EXPECT_EQ(asleep, 10u) << "blocks " << blocks;
     }
 }

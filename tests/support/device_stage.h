@@ -20,8 +20,8 @@ struct DeviceStage {
     gpu::Pipeline& device() { return *pipeline; }
 };
 
-/// Voxelises the input's shapes at the scene's particle spacing (with the contact margin of the
-/// scene's solver) and puts the bodies on a new pipeline of `context`. Errors: those of
+/// Voxelises the input's shapes at the scene's particle spacing (for the scene's solver: PGS
+/// has a contact margin and a scattered particle order) and puts the bodies on a new pipeline of `context`. Errors: those of
 /// buildParticleSet and Pipeline::create.
 inline Result<DeviceStage> deviceStage(std::shared_ptr<gpu::Context> context, StageInput in,
                                        bool deterministic = false) {
@@ -30,8 +30,7 @@ inline Result<DeviceStage> deviceStage(std::shared_ptr<gpu::Context> context, St
     Result<ParticleSet> set =
         buildParticleSet(d.in.shapes, d.in.scene.materials, d.in.bodies.view(),
                          d.in.scene.simulation.collision.particleSpacing,
-                         particleContactMargin(d.in.scene.simulation.solverType() ==
-                                               SolverType::Pgs));
+                         d.in.scene.simulation.solverType() == SolverType::Pgs);
     RUBBLE_TRY(set);
     d.particles = std::move(*set);
     gpu::PipelineInput input;
