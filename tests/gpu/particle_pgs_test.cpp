@@ -155,19 +155,12 @@ TEST_F(ParticlePgs, ATallStackStandsInBlocksAndColored) {
         World w = world(json, Backend::OpenCl, blocks);
         const std::vector<glm::vec3> start = test::positionsOf(w);
         ASSERT_TRUE(test::stepWorld(w, 600)) << "blocks " << blocks;
-        float drop = 0.0f, aside = 0.0f;
-        std::uint32_t asleep = 0;
-        for (std::uint32_t i = 1; i < w.bodyCount(); ++i) {
-            const glm::vec3 moved = w.body(i).position - start[i];
-            drop = std::max(drop, -moved.y);
-            aside = std::max(aside, std::hypot(moved.x, moved.z));
-            asleep += w.body(i).asleep ? 1u : 0u;
-        }
+        const test::Settled s = test::settledSince(w, start);
         std::printf("[ blocks %d ] largest drop %.4f m, %.4f m aside, %u of 10 asleep\n", blocks,
-                    drop, aside, asleep);
-        EXPECT_LT(drop, 0.05f) << "blocks " << blocks; // fallen, it is metres
-        EXPECT_LT(aside, 0.15f) << "blocks " << blocks;
-        EXPECT_EQ(asleep, 10u) << "blocks " << blocks;
+                    s.drop, s.aside, s.asleep);
+        EXPECT_LT(s.drop, 0.05f) << "blocks " << blocks; // fallen, it is metres
+        EXPECT_LT(s.aside, 0.15f) << "blocks " << blocks;
+        EXPECT_EQ(s.asleep, 10u) << "blocks " << blocks;
     }
 }
 

@@ -49,6 +49,15 @@ TEST(ParticlePile, DeepBlockComesToRestAtTenIterations) {
     EXPECT_LT(energy, 1e-3);
 }
 
+// A shipped scene of 1 m crates on the CPU's particles, 8 a crate, solved by PGS.
+World eightParticleCratesWithPgs(const std::string& name) {
+    Scene scene = test::shippedScene(name);
+    scene.simulation.collision.method = CollisionMethod::Particles;
+    scene.simulation.collision.particleSpacing = 0.5f;
+    scene.simulation.solver.type = SolverType::Pgs;
+    return test::makeWorld(scene);
+}
+
 // stack_10 (ten crates touching, at a gap of zero) on particles solved by PGS: its contacts
 // reach the speculative margin (kParticleContactMargin), so every crate rests on the one below
 // from the first step. Contacts made only at an overlap left the crates above the highest
@@ -57,27 +66,16 @@ TEST(ParticlePile, DeepBlockComesToRestAtTenIterations) {
 // stands and sleeps (the largest drop 0.009 m at step 600, the top crate 0.07 m aside; with its
 // particles in the voxeliser's rows it swayed, 0.26 m aside, and never slept: docs/opencl.md).
 TEST(ParticlePile, CratesTouchingAtAGapOfZeroRestFromTheFirstStepWithPgs) {
-    Scene scene = test::shippedScene("stack_10.json");
-    scene.simulation.collision.method = CollisionMethod::Particles;
-    scene.simulation.collision.particleSpacing = 0.5f;
-    scene.simulation.solver.type = SolverType::Pgs;
-    World world = test::makeWorld(scene);
+    World world = eightParticleCratesWithPgs("stack_10.json");
     const std::vector<glm::vec3> start = test::positionsOf(world);
     const std::uint32_t top = world.bodyCount() - 1;
     ASSERT_TRUE(test::stepWorld(world, 10));
     EXPECT_LT(start[top].y - world.body(top).position.y, 0.01f);
     ASSERT_TRUE(test::stepWorld(world, 590));
-    float drop = 0.0f, aside = 0.0f;
-    std::uint32_t asleep = 0;
-    for (std::uint32_t i = 1; i < world.bodyCount(); ++i) {
-        const glm::vec3 moved = world.body(i).position - start[i];
-        drop = std::max(drop, -moved.y);
-        aside = std::max(aside, std::hypot(moved.x, moved.z));
-        asleep += world.body(i).asleep ? 1u : 0u;
-    }
-    EXPECT_LT(drop, 0.05f);
-    EXPECT_LT(aside, 0.15f);
-    EXPECT_EQ(asleep, 10u);
+    const test::Settled s = test::settledSince(world, start);
+    EXPECT_LT(s.drop, 0.05f);
+    EXPECT_LT(s.aside, 0.15f);
+    EXPECT_EQ(s.asleep, 10u);
 }
 
 // pyramid_20 (210 crates, each on two) of 8-particle crates solved by PGS on the CPU stands and
@@ -85,22 +83,13 @@ TEST(ParticlePile, CratesTouchingAtAGapOfZeroRestFromTheFirstStepWithPgs) {
 // corner of each face first and the pyramid fell (53 crates still moving at step 600); in a
 // scattered order the largest drop is 0.027 m and nothing moves (docs/opencl.md).
 TEST(ParticlePile, PyramidOfEightParticleCratesStandsWithPgs) {
-    Scene scene = test::shippedScene("pyramid_20.json");
-    scene.simulation.collision.method = CollisionMethod::Particles;
-    scene.simulation.collision.particleSpacing = 0.5f;
-    scene.simulation.solver.type = SolverType::Pgs;
-    World world = test::makeWorld(scene);
+    World world = eightParticleCratesWithPgs("pyramid_20.json");
     const std::vector<glm::vec3> start = test::positionsOf(world);
     ASSERT_TRUE(test::stepWorld(world, 600));
-    float drop = 0.0f;
-    std::uint32_t asleep = 0;
-    for (std::uint32_t i = 1; i < world.bodyCount(); ++i) {
-        drop = std::max(drop, start[i].y - world.body(i).position.y);
-        asleep += world.body(i).asleep ? 1u : 0u;
-    }
+    const test::Settled s = test::settledSince(world, start);
     EXPECT_EQ(world.bodyCount(), 211u);
-    EXPECT_LT(drop, 0.1f); // fallen, it is metres
-    EXPECT_EQ(asleep, 210u);
+    EXPECT_LT(s.drop, 0.1f); // fallen, it is metres
+    EXPECT_EQ(s.asleep, 210u);
 }
 
 } // namespace

@@ -4,7 +4,9 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -52,6 +54,23 @@ inline std::vector<glm::vec3> positionsOf(const World& world) {
     std::vector<glm::vec3> out;
     for (std::uint32_t i = 0; i < world.bodyCount(); ++i) out.push_back(world.body(i).position);
     return out;
+}
+
+/// How far the dynamic bodies (all but body 0, the floor) moved from `start` (positionsOf):
+/// the largest drop and distance aside, m, and how many are asleep.
+struct Settled {
+    float drop = 0.0f, aside = 0.0f;
+    std::uint32_t asleep = 0;
+};
+inline Settled settledSince(const World& world, const std::vector<glm::vec3>& start) {
+    Settled s;
+    for (std::uint32_t i = 1; i < world.bodyCount(); ++i) {
+        const glm::vec3 moved = world.body(i).position - start[i];
+        s.drop = std::max(s.drop, -moved.y);
+        s.aside = std::max(s.aside, std::hypot(moved.x, moved.z));
+        s.asleep += world.body(i).asleep ? 1u : 0u;
+    }
+    return s;
 }
 
 /// Output and exit status of a command run through the shell.
