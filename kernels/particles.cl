@@ -58,7 +58,8 @@ __kernel void collideParticles(const uint count, const uint staticCount,
     if (!testsPairsItem(flagsI)) return;
     const uint capacity = status[RUBBLE_STATUS_CAPACITY];
     const float4 xi = sortedWorld[slot];
-    const int cx = cellCoordinate(xi.x, inverseCellSize), cy = cellCoordinate(xi.y, inverseCellSize),
+    const int cx = cellCoordinate(xi.x, inverseCellSize),
+              cy = cellCoordinate(xi.y, inverseCellSize),
               cz = cellCoordinate(xi.z, inverseCellSize);
     const uint xMask = (1u << cellBitsXItem(bits)) - 1u;
     const int wraps = ((uint)(cx - 1) & xMask) > ((uint)(cx + 1) & xMask);
@@ -78,8 +79,8 @@ __kernel void collideParticles(const uint count, const uint staticCount,
                     if (!pairFromHereItem(bodyI, flagsI, bodyJ, tagFlagsItem(tagJ), 0)) continue;
                     const float4 xj = sortedWorld[s];
                     if (!particlesMayTouchItem(xi, xj, margin)) continue;
-                    touchParticles(xi, xj, slot, s, bodyI, bodyJ, margin, order, capacity,
-                                   contacts, status);
+                    touchParticles(xi, xj, slot, s, bodyI, bodyJ, margin, order, capacity, contacts,
+                                   status);
                 }
                 // Particles sorted after it: most are out of reach, which the distance says.
                 for (uint s = max(begin, slot + 1); s < end; ++s) {

@@ -26,8 +26,8 @@ Status ParticleCollision::narrowPhase(const CollisionScene&, BodiesView bodies,
         contacts.clear();
         out.manifolds.clear();
         out.contactCount = 0;
-        return limitError("collideParticles", "particle contacts", found, budget,
-                          params.step + 1, "bodies overlap each other in large numbers");
+        return limitError("collideParticles", "particle contacts", found, budget, params.step + 1,
+                          "bodies overlap each other in large numbers");
     }
     sortContactsByParticle(contacts);
     float deepest = 0.0f;
@@ -45,9 +45,8 @@ void ParticleCollision::contactPoints(const StepContacts& contacts,
 
 Status ParticleCollision::rebuild(const CollisionScene& scene, BodiesView bodies,
                                   float particleSpacing) {
-    Result<ParticleSet> set =
-        buildParticleSet(scene.shapes, scene.materials, bodies, particleSpacing,
-                         form_ == ContactForm::Manifolds);
+    Result<ParticleSet> set = buildParticleSet(scene.shapes, scene.materials, bodies,
+                                               particleSpacing, form_ == ContactForm::Manifolds);
     RUBBLE_TRY(set);
     set_ = std::move(*set);
     world_.assign(set_.particles.size(), shared::float4{});

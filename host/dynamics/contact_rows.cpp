@@ -50,7 +50,9 @@ void warmStart(ContactRows& rows, std::size_t first, std::size_t count,
     if (old == 0) return;
     bool taken[kMaxOld] = {};
     bool matched[4] = {};
-    auto take = [&](std::size_t k, const ContactImpulse& from) { takeImpulse(rows, first + k, from); };
+    auto take = [&](std::size_t k, const ContactImpulse& from) {
+        takeImpulse(rows, first + k, from);
+    };
     for (std::size_t k = 0; k < count; ++k)
         for (std::size_t o = 0; o < old; ++o)
             if (!taken[o] && last[o].feature == rows.keys[first + k].feature) {
@@ -201,12 +203,13 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
             // Last step's impulses of this pair: a run, found once for the pair's contacts.
             if (particleRun.empty() || particleRun.front().a != m.a ||
                 particleRun.front().b != m.b) {
-                const auto [from, to] = std::equal_range(
-                    last.begin(), last.end(), ContactImpulse{m.a, m.b},
-                    [](const ContactImpulse& x, const ContactImpulse& y) {
-                        return x.a != y.a ? x.a < y.a : x.b < y.b;
-                    });
-                particleRun = last.subspan(std::size_t(from - last.begin()), std::size_t(to - from));
+                const auto [from, to] =
+                    std::equal_range(last.begin(), last.end(), ContactImpulse{m.a, m.b},
+                                     [](const ContactImpulse& x, const ContactImpulse& y) {
+                                         return x.a != y.a ? x.a < y.a : x.b < y.b;
+                                     });
+                particleRun =
+                    last.subspan(std::size_t(from - last.begin()), std::size_t(to - from));
                 particleCursor = 0;
             }
             for (std::uint32_t k = 0; k < m.count && !particleRun.empty(); ++k)

@@ -83,8 +83,8 @@ TEST_F(ParticlePgs, OneBlockStepsTheCpuBitForBit) {
                 ASSERT_TRUE(sameBits(a, b))
                     << "spacing " << spacing << ", body " << i << " at step " << step
                     << ": position (" << a.position.x << ", " << a.position.y << ", "
-                    << a.position.z << ") against (" << b.position.x << ", " << b.position.y
-                    << ", " << b.position.z << ")";
+                    << a.position.z << ") against (" << b.position.x << ", " << b.position.y << ", "
+                    << b.position.z << ")";
                 ASSERT_FALSE(b.asleep) << "body " << i << " at step " << step;
             }
         }

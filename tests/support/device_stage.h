@@ -21,8 +21,8 @@ struct DeviceStage {
 };
 
 /// Voxelises the input's shapes at the scene's particle spacing (for the scene's solver: PGS
-/// has a contact margin and a scattered particle order) and puts the bodies on a new pipeline of `context`. Errors: those of
-/// buildParticleSet and Pipeline::create.
+/// has a contact margin and a scattered particle order) and puts the bodies on a new pipeline of
+/// `context`. Errors: those of buildParticleSet and Pipeline::create.
 inline Result<DeviceStage> deviceStage(std::shared_ptr<gpu::Context> context, StageInput in,
                                        bool deterministic = false) {
     DeviceStage d;
