@@ -12,6 +12,11 @@
 namespace rubble {
 namespace {
 
+// Last step's impulses are sorted by pair (storeContactImpulses).
+bool pairLess(const ContactImpulse& x, const ContactImpulse& y) {
+    return x.a != y.a ? x.a < y.a : x.b < y.b;
+}
+
 bool keyLess(const ContactImpulse& x, std::uint32_t a, std::uint32_t b, std::uint32_t feature) {
     if (x.a != a) return x.a < a;
     if (x.b != b) return x.b < b;
@@ -204,10 +209,7 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
             if (particleRun.empty() || particleRun.front().a != m.a ||
                 particleRun.front().b != m.b) {
                 const auto [from, to] =
-                    std::equal_range(last.begin(), last.end(), ContactImpulse{m.a, m.b},
-                                     [](const ContactImpulse& x, const ContactImpulse& y) {
-                                         return x.a != y.a ? x.a < y.a : x.b < y.b;
-                                     });
+                    std::equal_range(last.begin(), last.end(), ContactImpulse{m.a, m.b}, pairLess);
                 particleRun =
                     last.subspan(std::size_t(from - last.begin()), std::size_t(to - from));
                 particleCursor = 0;
@@ -263,17 +265,14 @@ void storeContactImpulses(const ContactRows& rows, std::span<const ContactImpuls
         c.friction = fromLanes(f.tangent[0] * f.impulse[0] + f.tangent[1] * f.impulse[1]);
     }
     // The narrow phase hands the manifolds over in pair order; anything else is sorted here.
-    const auto byPair = [](const ContactImpulse& x, const ContactImpulse& y) {
-        return x.a != y.a ? x.a < y.a : x.b < y.b;
-    };
-    if (!std::is_sorted(scratch.begin(), scratch.end(), byPair))
-        std::stable_sort(scratch.begin(), scratch.end(), byPair);
+    if (!std::is_sorted(scratch.begin(), scratch.end(), pairLess))
+        std::stable_sort(scratch.begin(), scratch.end(), pairLess);
     // Merge in the still pairs' impulses; a pair with rows has a moving body, so none repeats.
     impulses.clear();
     std::size_t next = 0;
     for (const ContactImpulse& old : previous) {
         if (bodies.moves(old.a) || bodies.moves(old.b)) continue;
-        while (next < scratch.size() && byPair(scratch[next], old))
+        while (next < scratch.size() && pairLess(scratch[next], old))
             impulses.push_back(scratch[next++]);
         impulses.push_back(old);
     }
