@@ -7,10 +7,10 @@
 #include "rubble/shared/narrow_phase.h"
 
 // Work-items stride through the pairs (their count is on the device). Each writes its pair's
-// manifold (count 0: no contact), cache and index among last step's pairs (previousOf: last
-// step's count when the pair is new; the rows' kernels read it instead of searching again) at
-// the pair's index; the group adds its points to the status block's contact count and largest
-// depth.
+// manifold (count 0: no contact), cache and index among last step's entries, its pairs and the
+// still pairs it carried (previousOf: their count when the pair is new; the rows' kernels read
+// it instead of searching again) at the pair's index; the group adds its points to the status
+// block's contact count and largest depth.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 collideShapes(const uint capacity, __global const uint* pairCount,
               __global const BodyPairRecord* pairs, const uint previousCapacity,
@@ -37,16 +37,23 @@ collideShapes(const uint capacity, __global const uint* pairCount,
     __local uint group[2];
     groupClear(group, 2u);
     const uint n = min(pairCount[0], capacity);
-    const uint previous = min(previousCount[0], previousCapacity);
+    // Last step's pairs, then the still pairs it carried (markStillPairs): two sorted runs.
+    const uint ownRun = min(previousCount[0], previousCapacity);
+    const uint previous = keptPairsItem(previousCount, previousCapacity);
     const ItemRange r = itemRange(n);
     // The work-item's pairs come in (a, b) order: last step's index of each is at or past where
-    // the one before it was, usually the next one.
-    uint from = 0u;
+    // the one before it was in its run, usually the next one.
+    uint from = 0u, fromCarried = ownRun;
     for (uint p = r.first; p < r.end; p += r.step) {
         const BodyPairRecord pair = pairs[p];
         // Last step's cache of the pair; none when the pair is new.
-        const uint q = findPairFromItem(pair, from, previous, previousPairs);
-        if (q < previous) from = q + 1u;
+        uint q = findPairFromItem(pair, from, ownRun, previousPairs);
+        if (q < ownRun) {
+            from = q + 1u;
+        } else {
+            q = findPairFromItem(pair, fromCarried, previous, previousPairs);
+            if (q < previous) fromCarried = q + 1u;
+        }
         previousOf[p] = q;
         PairCache cache = q < previous ? previousFeatures[q] : emptyPairCacheItem();
         const float margin =

@@ -11,20 +11,27 @@
 #include "rubble/shared/sleep.h"
 
 // A contact of a sleeping body with a waking one (wakesBeforeSolveItem, on the velocities before
-// this step's forces) wakes it now, its slow time starting again. A body woken here was asleep,
-// so its approach is zero and it wakes nobody else in this pass: the result does not depend on
-// the order of the contacts.
+// this step's forces) wakes it now, its slow time starting again. In round `collisionRound` > 0 of
+// the SAT collision (wakesInRoundItem) a body woken in an earlier round wakes the sleeping bodies
+// it touches too, and the body woken here is marked with the round in its restless word; a body
+// woken in this round wakes nobody in it, so the result does not depend on the order of the
+// contacts. Round 0 (particles) reads and writes no marks.
 static void wakeTouchedBodies(const uint a, const uint b, __global const BodyVelocity* approach,
                               __global uint* flags, __global float* slowFor,
+                              __global uint* restless, const uint collisionRound,
                               __global uint* status) {
     const uint fa = flags[a], fb = flags[b];
+    const uint ra = collisionRound > 0u ? restless[a] : 0u;
+    const uint rb = collisionRound > 0u ? restless[b] : 0u;
     uint wake = RUBBLE_NO_BODY;
-    if (wakesBeforeSolveItem(fa, fb, approach[b])) wake = a;
-    if (wakesBeforeSolveItem(fb, fa, approach[a])) wake = b;
+    if (wakesInRoundItem(fa, fb, approach[b], rb, collisionRound)) wake = a;
+    if (wakesInRoundItem(fb, fa, approach[a], ra, collisionRound)) wake = b;
     if (wake == RUBBLE_NO_BODY) return;
     const uint before = atomic_and(&flags[wake], ~RUBBLE_BODY_ASLEEP);
     if (before & RUBBLE_BODY_ASLEEP) {
         slowFor[wake] = 0.0f;
+        if (collisionRound > 0u)
+            atomic_or(&restless[wake], collisionRound << RUBBLE_RESTLESS_WOKEN_SHIFT);
         atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
     }
 }
@@ -48,21 +55,58 @@ __kernel void wakeTouched(__global uint* status, __global const ParticleContact*
                           __global float* slowFor) {
     const uint n = liveContactsItem(status[RUBBLE_STATUS_CONTACTS], status[RUBBLE_STATUS_CAPACITY]);
     for (uint r = get_global_id(0); r < n; r += get_global_size(0))
-        wakeTouchedBodies(contacts[r].a, contacts[r].b, approach, flags, slowFor, status);
+        wakeTouchedBodies(contacts[r].a, contacts[r].b, approach, flags, slowFor, 0, 0u, status);
 }
 
-// Stage wake for SAT, after the narrow phase and before the rows: each pair with points. The
-// host collides again when this woke a body: its pairs with other sleeping bodies were not found.
+// Stage wake for SAT, after the narrow phase and before the rows: each pair with points, in
+// round `collisionRound` (1, 2, ...) of the step's collision. The host collides again when this
+// woke a body: its pairs with other sleeping bodies were not found, and those it touches wake in
+// the next round.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 wakeTouchedPairs(const uint capacity, __global const uint* pairCount,
                  __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
                  __global const BodyVelocity* approach, __global uint* flags,
-                 __global float* slowFor, __global uint* status) {
+                 __global float* slowFor, __global uint* restless, const uint collisionRound,
+                 __global uint* status) {
     const uint n = min(pairCount[0], capacity);
     const ItemRange r = itemRange(n);
     for (uint p = r.first; p < r.end; p += r.step)
         if (manifolds[p].count > 0u)
-            wakeTouchedBodies(pairs[p].a, pairs[p].b, approach, flags, slowFor, status);
+            wakeTouchedBodies(pairs[p].a, pairs[p].b, approach, flags, slowFor, restless,
+                              collisionRound, status);
+}
+
+// The wake through resting piles, SAT on the device: in round `collisionRound` of the step's
+// collision, each of last step's entries that held impulses (its pairs and the still pairs it
+// carried, markStillPairs in kernels/pgs.cl: bodies that touched as they came to rest) wakes its
+// sleeping body when the other was woken in an earlier round. The host repeats it, a round a
+// launch, until a round wakes none, so that a hit wakes the sleeping bodies it reaches through
+// touching ones before the solve, as the CPU wakes an island as one.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+wakeStillPairs(const uint previousCapacity, __global const uint* previousCount,
+               __global const BodyPairRecord* previousPairs,
+               __global const uint* previousImpulseCount, __global uint* flags,
+               __global float* slowFor, __global uint* restless, const uint collisionRound,
+               __global uint* status) {
+    const uint n = keptPairsItem(previousCount, previousCapacity);
+    const ItemRange r = itemRange(n);
+    for (uint q = r.first; q < r.end; q += r.step) {
+        if (previousImpulseCount[q] == 0u) continue;
+        const BodyPairRecord pair = previousPairs[q];
+        const uint fa = flags[pair.a], fb = flags[pair.b];
+        uint wake = RUBBLE_NO_BODY;
+        if ((fa & RUBBLE_BODY_ASLEEP) && wokenBeforeItem(fb, restless[pair.b], collisionRound))
+            wake = pair.a;
+        if ((fb & RUBBLE_BODY_ASLEEP) && wokenBeforeItem(fa, restless[pair.a], collisionRound))
+            wake = pair.b;
+        if (wake == RUBBLE_NO_BODY) continue;
+        const uint before = atomic_and(&flags[wake], ~RUBBLE_BODY_ASLEEP);
+        if (before & RUBBLE_BODY_ASLEEP) {
+            slowFor[wake] = 0.0f;
+            atomic_or(&restless[wake], collisionRound << RUBBLE_RESTLESS_WOKEN_SHIFT);
+            atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
+        }
+    }
 }
 
 // Restless marks from every row of the Jacobi solver.

@@ -75,6 +75,10 @@ enum class KernelId : unsigned {
     WakeJointGroups,
     FillWords,
     ParticlePairs,
+    MarkStillPairs,
+    PlaceStillPairs,
+    CarryStillPairs,
+    WakeStillPairs,
     Count
 };
 

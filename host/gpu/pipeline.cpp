@@ -229,18 +229,28 @@ Status Pipeline::beginStep(const StepParams& params, const StepInputs& in) {
 
 Status Pipeline::enqueueSatCollision(const StepParams& params) {
     std::uint32_t woken = 0;
-    for (;;) {
+    for (std::uint32_t round = 1;; ++round) {
         profile_.setStage(DeviceStage::BroadPhase);
         RUBBLE_TRY(broadPhase(params.dt));
         profile_.setStage(DeviceStage::NarrowPhase);
         RUBBLE_TRY(narrowPhase(params.dt));
-        Result<DeviceStatus> st = wakeAndSummarize(params);
+        Result<DeviceStatus> st = wakeAndSummarize(params, round);
         RUBBLE_TRY(st);
         if (st->pairs <= sat_.current.capacity) {
-            // The woken bodies' pairs with other sleeping bodies were not found: collide again
-            // (a body woken here wakes nobody, so the next round wakes none).
             if (st->woken == woken) break;
+            // The wake reaches through the sleeping bodies that rest against the woken ones (last
+            // step's entries with impulses), a round a launch, until a round wakes none; then
+            // the collision runs again, as the woken bodies' pairs with sleeping ones were not
+            // found.
             woken = st->woken;
+            profile_.setStage(DeviceStage::Sleep);
+            for (;;) {
+                RUBBLE_TRY(wakeStillPairs(++round));
+                Result<DeviceStatus> spread = readStatus();
+                RUBBLE_TRY(spread);
+                if (spread->woken == woken) break;
+                woken = spread->woken;
+            }
             continue;
         }
         // Nothing has moved (the wake only woke bodies): grow and find them again, within the
@@ -261,10 +271,10 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
     return buildPgsRows(params);
 }
 
-Result<DeviceStatus> Pipeline::wakeAndSummarize(const StepParams& params) {
+Result<DeviceStatus> Pipeline::wakeAndSummarize(const StepParams& params, std::uint32_t round) {
     // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
     profile_.setStage(DeviceStage::Sleep);
-    RUBBLE_TRY(wakeTouchedPairs());
+    RUBBLE_TRY(wakeTouchedPairs(round));
     profile_.setStage(DeviceStage::BuildContactRows);
     RUBBLE_TRY(summarizePairs(params));
     return readStatus();
@@ -276,7 +286,9 @@ Status Pipeline::enqueueParticlePgs(const StepParams& params) {
         RUBBLE_TRY(collideParticles());
         RUBBLE_TRY(sortContacts(true));
         RUBBLE_TRY(particlePairs());
-        Result<DeviceStatus> st = wakeAndSummarize(params);
+        // Round 0: no wake reaches further than one contact (the collision runs again only
+        // after an overflow).
+        Result<DeviceStatus> st = wakeAndSummarize(params, 0);
         RUBBLE_TRY(st);
         if (st->contacts <= st->capacity) break;
         // The stages after collision saw no contacts: grow the buffers (the pairs' with them)

@@ -88,9 +88,13 @@ struct ObstacleBuffers {
 /// set and last step's swap at the end of a step (Pipeline::keepPairFeatures).
 struct PairSet {
     std::uint32_t capacity = 0; ///< pairs the buffers hold
-    Buffer pairs;               ///< BodyPairRecord, sorted by (a, b)
-    Buffer count;               ///< one uint: the pairs found (may exceed capacity)
-    Buffer features;            ///< PairCache per pair, in pair order
+    /// BodyPairRecord: the step's pairs sorted by (a, b), then (SAT, from the end of the step)
+    /// the still pairs carried from the step before (markStillPairs), sorted among themselves.
+    Buffer pairs;
+    /// Two uints: the pairs found (may exceed capacity), and the entries kept for the next
+    /// step's lookups (keptPairsItem: the pairs found and the still pairs carried after them).
+    Buffer count;
+    Buffer features; ///< PairCache per pair, in pair order
     /// PGS: each pair's contact impulses at the end of its step (4 PgsImpulse slots per pair),
     /// and how many of its slots hold one; the next step's rows warm-start from them.
     Buffer impulses, impulseCount;
@@ -124,9 +128,13 @@ struct SatBuffers {
     Buffer found, bodyCount, bodyStart, cursor;
     PairSet current, previous;
     Buffer manifolds; ///< ContactManifold per pair of `current`, in pair order
-    /// Per pair of `current`: its index among last step's pairs (collideShapes), last step's
-    /// count when it is new; summarizePairs and buildPgsRows read it.
+    /// Per pair of `current`: its index among last step's entries (collideShapes), their count
+    /// when it is new; summarizePairs and buildPgsRows read it.
     Buffer previousOf;
+    /// The still pairs' carry at the end of a step (keepPairFeatures): per entry of last step's
+    /// set whether it is carried and its place among the carried; per chunk of the set (the
+    /// sort's work-items) the count and its scan.
+    Buffer carry, place, chunkCounts, chunkStarts;
 };
 
 /// One launch of the device's sweeps over the elements [first, first + count) of the step's
@@ -331,8 +339,9 @@ class Pipeline {
     Status wakeTouched();
     /// Stage wake for SAT, after the narrow phase: the sleeping bodies that a pair with points
     /// joins to a waking body wake (kernels/sleep.cl, wakeTouchedPairs), and with them the joint
-    /// groups of woken members.
-    Status wakeTouchedPairs();
+    /// groups of woken members. In round `round` > 0 of the step's collision the bodies woken in
+    /// earlier rounds wake those they touch as well; round 0 (particle pairs) takes no marks.
+    Status wakeTouchedPairs(std::uint32_t round);
     /// Stage sleepBodies: restless marks from the rows, then each body's sleep.
     Status sleepBodies(float dt);
     /// The summed impulse of the rows on each obstacle.
@@ -362,8 +371,16 @@ class Pipeline {
     /// Stage narrowPhase: one manifold per pair, with last step's features (collideShapes).
     Status narrowPhase(float dt);
     /// This step's pairs and features become last step's (at the end of a step, after the
-    /// manifolds were used; a step run again after an overflow calls it once). Errors: Device.
+    /// manifolds were used; a step run again after an overflow calls it once), with SAT the
+    /// still pairs of last step's set carried after them (carryStillPairs). Errors: Device.
     Status keepPairFeatures();
+    /// SAT: last step's entries whose bodies both stood still in this step, that hold impulses
+    /// and that this step did not find, carried after this step's pairs (kernels/pgs.cl,
+    /// markStillPairs to carryStillPairs).
+    Status carryStillPairs();
+    /// SAT, in collision round `round`: the sleeping bodies that last step's entries with
+    /// impulses join to a body woken in an earlier round wake (kernels/sleep.cl).
+    Status wakeStillPairs(std::uint32_t round);
     /// Replaces this step's pairs (twin tests feed both paths the same pairs); sorted, a < b.
     Status uploadPairs(std::span<const BodyPair> pairs);
     /// Reads this step's pairs (readPairCount's count of them). Errors: Device.
@@ -462,9 +479,10 @@ class Pipeline {
     /// of one point, the wake, the summaries; then waits for the status, and when the contacts
     /// overflowed grows the buffers and runs them again; the coloring and the rows.
     Status enqueueParticlePgs(const StepParams& params);
-    /// After the pairs' manifolds: the wake before the rows and the pairs' summaries, then waits
-    /// for the status block (the host colors from it). Errors: Device.
-    Result<DeviceStatus> wakeAndSummarize(const StepParams& params);
+    /// After the pairs' manifolds: the wake before the rows (in collision round `round`, see
+    /// wakeTouchedPairs) and the pairs' summaries, then waits for the status block (the host
+    /// colors from it). Errors: Device.
+    Result<DeviceStatus> wakeAndSummarize(const StepParams& params, std::uint32_t round);
     /// Projected Gauss-Seidel over the pair arrays: SAT, or particles with PGS.
     bool pairPgs() const { return sat_.enabled || particlePgs_; }
     /// The joints' buffers and the coloring of their position projection.

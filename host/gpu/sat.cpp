@@ -93,8 +93,8 @@ Status Pipeline::createPairArrays(const PipelineInput& in, std::uint32_t guess) 
     const std::uint32_t n = bodies_.count;
     // Last step's set is empty.
     for (PairSet* set : {&s.current, &s.previous}) {
-        RUBBLE_TRY(set->count.reserve(c.context(), sizeof(cl_uint)));
-        RUBBLE_TRY(fill(c, set->count, 0u, sizeof(cl_uint)));
+        RUBBLE_TRY(set->count.reserve(c.context(), 2 * sizeof(cl_uint)));
+        RUBBLE_TRY(fill(c, set->count, 0u, 2 * sizeof(cl_uint)));
         RUBBLE_TRY(set->pairs.reserve(c.context(), sizeof(shared::BodyPairRecord)));
         RUBBLE_TRY(set->features.reserve(c.context(), sizeof(shared::PairCache)));
         RUBBLE_TRY(set->impulseCount.reserve(c.context(), sizeof(cl_uint)));
@@ -137,6 +137,15 @@ Status Pipeline::setPairCapacity(std::uint32_t capacity) {
 
 Status Pipeline::keepPairFeatures() {
     RUBBLE_ASSERT(pairPgs());
+    if (sat_.enabled) {
+        RUBBLE_TRY(carryStillPairs());
+    } else {
+        // Particles carry nothing: the entries kept are the pairs found.
+        RUBBLE_CL_CHECK(clEnqueueCopyBuffer(context_->queue(), sat_.current.count.mem(),
+                                            sat_.current.count.mem(), 0, sizeof(cl_uint),
+                                            sizeof(cl_uint), 0, nullptr,
+                                            profile_.transfer(Transfer::Copy, sizeof(cl_uint))));
+    }
     std::swap(sat_.current, sat_.previous);
     // The set to fill next holds as many pairs as the one kept. Growing it (after a pair
     // overflow) reallocates buffers that this step's queued kernels read as last step's: they
@@ -144,6 +153,54 @@ Status Pipeline::keepPairFeatures() {
     const std::uint32_t capacity = std::max(sat_.current.capacity, sat_.previous.capacity);
     if (capacity > sat_.current.capacity) RUBBLE_TRY(finish());
     return setPairCapacity(capacity);
+}
+
+Status Pipeline::carryStillPairs() {
+    const Context& c = *context_;
+    SatBuffers& s = sat_;
+    const std::uint32_t items = c.workSizes().sortItems;
+    const std::size_t entries = std::size_t(s.previous.capacity) + 1;
+    RUBBLE_TRY(s.carry.reserve(c.context(), entries * sizeof(cl_uint)));
+    RUBBLE_TRY(s.place.reserve(c.context(), entries * sizeof(cl_uint)));
+    RUBBLE_TRY(s.chunkCounts.reserve(c.context(), std::size_t(items) * sizeof(cl_uint)));
+    RUBBLE_TRY(s.chunkStarts.reserve(c.context(), (std::size_t(items) + 1) * sizeof(cl_uint)));
+    const cl_uint previousCapacity = s.previous.capacity, capacity = s.current.capacity;
+    RUBBLE_TRY(Dispatch(c, KernelId::MarkStillPairs, &profile_)
+                   .arg(previousCapacity)
+                   .arg(s.previous.count)
+                   .arg(s.previous.pairs)
+                   .arg(s.previous.impulseCount)
+                   .arg(capacity)
+                   .arg(s.current.count)
+                   .arg(s.current.pairs)
+                   .arg(bodies_.jacobi)
+                   .arg(s.carry)
+                   .arg(s.chunkCounts)
+                   .run(items, RUBBLE_GROUP_SCAN));
+    RUBBLE_TRY(exclusiveScan(s.chunkCounts, s.chunkStarts, items));
+    RUBBLE_TRY(Dispatch(c, KernelId::PlaceStillPairs, &profile_)
+                   .arg(previousCapacity)
+                   .arg(s.previous.count)
+                   .arg(s.carry)
+                   .arg(s.chunkStarts)
+                   .arg(s.place)
+                   .run(items, RUBBLE_GROUP_SCAN));
+    return Dispatch(c, KernelId::CarryStillPairs, &profile_)
+        .arg(previousCapacity)
+        .arg(s.previous.count)
+        .arg(s.previous.pairs)
+        .arg(s.previous.features)
+        .arg(s.previous.impulseCount)
+        .arg(s.previous.impulses)
+        .arg(s.carry)
+        .arg(s.place)
+        .arg(capacity)
+        .arg(s.current.count)
+        .arg(s.current.pairs)
+        .arg(s.current.features)
+        .arg(s.current.impulseCount)
+        .arg(s.current.impulses)
+        .run(strideItems(s.previous.capacity, c.workSizes().pairGroup), c.workSizes().pairGroup);
 }
 
 Status Pipeline::narrowPhase(float dt) {

@@ -18,14 +18,17 @@ Status Pipeline::wakeTouched() {
         .run(strideItems(), RUBBLE_GROUP_CONTACTS);
 }
 
-Status Pipeline::wakeTouchedPairs() {
+Status Pipeline::wakeTouchedPairs(std::uint32_t round) {
     const Context& c = *context_;
+    const cl_uint collisionRound = round;
     RUBBLE_TRY(Dispatch(c, KernelId::WakeTouchedPairs, &profile_)
                    .with([&](Dispatch& d) { bindPairs(d); })
                    .arg(sat_.manifolds)
                    .arg(bodies_.atStart)
                    .arg(bodies_.flags)
                    .arg(bodies_.slowFor)
+                   .arg(bodies_.restless)
+                   .arg(collisionRound)
                    .arg(status_)
                    .run(pairStrideItems(), c.workSizes().pairGroup));
     const PgsBuffers& g = pgs_;
@@ -33,6 +36,22 @@ Status Pipeline::wakeTouchedPairs() {
     // A joint group wakes as one: the members of a group with an awake member.
     RUBBLE_TRY(fill(c, g.groupVotes, 0u, g.jointGroupCount * sizeof(cl_uint), &profile_));
     return wakeJointGroups(2u);
+}
+
+Status Pipeline::wakeStillPairs(std::uint32_t round) {
+    const Context& c = *context_;
+    const cl_uint previousCapacity = sat_.previous.capacity, collisionRound = round;
+    return Dispatch(c, KernelId::WakeStillPairs, &profile_)
+        .arg(previousCapacity)
+        .arg(sat_.previous.count)
+        .arg(sat_.previous.pairs)
+        .arg(sat_.previous.impulseCount)
+        .arg(bodies_.flags)
+        .arg(bodies_.slowFor)
+        .arg(bodies_.restless)
+        .arg(collisionRound)
+        .arg(status_)
+        .run(strideItems(sat_.previous.capacity, c.workSizes().pairGroup), c.workSizes().pairGroup);
 }
 
 Status Pipeline::wakeJointGroups(cl_uint wakePass) {

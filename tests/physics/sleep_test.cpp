@@ -83,6 +83,13 @@ TEST(Sleep, SleepingRowTakesTheHitWithItsMomentum) {
     World world = test::worldFromText(test::sleepingRowScene());
     test::expectSleepingRowTakesTheHit(world, 1e-3);
 }
+// The same row with its boxes resting against each other: the island wakes as one, so the hit
+// moves all five, not the first against four walls.
+TEST(Sleep, TouchingSleepingRowTakesTheHitWithItsMomentum) {
+    World world = test::worldFromText(test::sleepingRowScene("", 0.0));
+    test::expectSleepingRowTakesTheHit(world, 1e-3);
+    EXPECT_GT(world.body(6).position.x, 4.0f + 0.1f) << "the last box of the row moves";
+}
 TEST(Sleep, ElasticBallHittingASleepingOneStopsAndPassesItsVelocityOn) {
     World world = test::worldFromText(test::cradleScene());
     test::expectCradleExchange(world, 1e-3f);

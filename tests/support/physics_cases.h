@@ -144,17 +144,18 @@ inline glm::dvec3 totalMomentum(const World& world) {
     return p;
 }
 
-/// A row of five 1 kg unit boxes 1 cm apart (centres at x = 0, 1.01, ..., 4.04) on a frictionless
-/// floor, and a sixth, the striker, 2 m to their left sliding at 2 m/s toward them: the row
-/// sleeps after half a second, the striker reaches it after one, restitution 0.
-inline std::string sleepingRowScene(const std::string& simulation = "") {
+/// A row of five 1 kg unit boxes `gap` m apart (1 cm: centres at x = 0, 1.01, ..., 4.04) on a
+/// frictionless floor, and a sixth, the striker, 2 m to their left sliding at 2 m/s toward them:
+/// the row sleeps after half a second, the striker reaches it after one, restitution 0. With a
+/// gap of 0 the boxes rest against each other and the hit has to reach through all five at once.
+inline std::string sleepingRowScene(const std::string& simulation = "", double gap = 0.01) {
     std::string bodies = R"({"name": "floor", "shape": "ground", "static": true, "material": "ice"},
         {"name": "striker", "shape": "crate", "mass": 1.0, "position": [-3.0, 0.5, 0],
          "linear_velocity": [2, 0, 0], "material": "ice"})";
     for (int i = 0; i < 5; ++i)
         bodies += R"(, {"name": "row)" + std::to_string(i) +
                   R"(", "shape": "crate", "mass": 1.0, "material": "ice", "position": [)" +
-                  std::to_string(1.01 * i) + ", 0.5, 0]}";
+                  std::to_string((1.0 + gap) * i) + ", 0.5, 0]}";
     return R"({"format": "rubble-scene", "version": 1,
       "simulation": {"dt": 0.016666667)" +
            simulation + R"(},
@@ -263,6 +264,41 @@ inline std::string massStackScene(const std::vector<double>& masses,
       "shapes": {"ground": {"type": "plane"}, "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
       "bodies": [)" +
            bodies + "]}";
+}
+
+/// Ten 1 kg unit boxes stacked on a floor (friction 0.5), asleep after a second, and a 0.2 kg
+/// pebble (0.4 m a side) dropped from 25 m that lands on the top box at about 13 m/s in step 104.
+inline std::string pebbleOnStackScene(const std::string& simulation = "") {
+    std::string scene = massStackScene(std::vector<double>(10, 1.0), simulation);
+    scene.replace(scene.find(R"("crate": {)"), 0,
+                  R"("pebble": {"type": "box", "half_extents": [0.2, 0.2, 0.2]}, )");
+    scene.insert(scene.rfind(']'), R"(, {"name": "pebble", "shape": "pebble", "mass": 0.2,
+        "position": [0.1, 25.0, 0.05]})");
+    return scene;
+}
+
+/// The largest sag of any box of pebbleOnStackScene below where it slept, over the second after
+/// the pebble lands, and the pebble's downward speed two steps after it lands.
+struct PebbleHit {
+    float sag = 0.0f, pebbleSpeed = 0.0f;
+};
+inline PebbleHit pebbleHit(World& world) {
+    const std::uint32_t pebble = world.bodyCount() - 1;
+    PebbleHit hit;
+    for (int step = 0; step < 103; ++step) EXPECT_TRUE(world.step().ok());
+    std::vector<float> rest;
+    for (std::uint32_t i = 1; i < pebble; ++i) {
+        EXPECT_TRUE(world.body(i).asleep) << world.bodyName(i) << " sleeps before the hit";
+        rest.push_back(world.body(i).position.y);
+    }
+    EXPECT_GT(world.body(pebble).position.y, 10.3f) << "the pebble has not landed yet";
+    for (int step = 0; step < 60; ++step) {
+        EXPECT_TRUE(world.step().ok());
+        for (std::uint32_t i = 1; i < pebble; ++i)
+            hit.sag = std::max(hit.sag, rest[i - 1] - world.body(i).position.y);
+        if (step == 2) hit.pebbleSpeed = -world.body(pebble).linearVelocity.y;
+    }
+    return hit;
 }
 
 /// For 10 s every box of the mass stack stays within `down` of its resting height (i + 0.5 m)

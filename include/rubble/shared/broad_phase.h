@@ -55,6 +55,14 @@ RUBBLE_FN uint findPairFromItem(BodyPairRecord pair, uint from, uint count,
     return lo < count && pairs[lo].a == pair.a && pairs[lo].b == pair.b ? lo : count;
 }
 
+// The entries a pair set keeps for the next step's lookups (its count's two words: the pairs
+// found, then those and the still pairs carried after them), within its capacity.
+RUBBLE_FN uint keptPairsItem(RUBBLE_GLOBAL const uint* count, uint capacity) {
+    const uint found = count[0] < capacity ? count[0] : capacity;
+    const uint kept = count[1] < capacity ? count[1] : capacity;
+    return kept > found ? kept : found;
+}
+
 // ... searched from the first: as the device finds a joined pair.
 RUBBLE_FN uint findPairItem(BodyPairRecord pair, uint count,
                             RUBBLE_GLOBAL const BodyPairRecord* pairs) {

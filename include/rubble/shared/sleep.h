@@ -11,6 +11,9 @@ RUBBLE_SHARED_BEGIN
 // What a step's contacts say about a body (bits of its `restless` word).
 #define RUBBLE_RESTLESS_NEIGHBOUR 1u // touches a body that is not slow: it may not fall asleep
 #define RUBBLE_RESTLESS_WAKE 2u      // asleep, and touched by a body faster than the wake speed
+// Bits from here up: the round of this step's collision (1, 2, ...) in which a hit woke the body
+// before the solve (SAT on the device), 0 when none did.
+#define RUBBLE_RESTLESS_WOKEN_SHIFT 8u
 
 // Below both sleep speeds (RUBBLE_SLEEP_LINEAR_SPEED, RUBBLE_SLEEP_ANGULAR_SPEED).
 RUBBLE_FN int slowBodyItem(BodyVelocity v) {
@@ -42,6 +45,24 @@ RUBBLE_FN int wakesBeforeSolveItem(uint selfFlags, uint otherFlags, BodyVelocity
     if (!(selfFlags & RUBBLE_BODY_ASLEEP)) return 0;
     if (otherFlags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP | RUBBLE_BODY_ABSENT)) return 0;
     return wakingBodyItem(otherApproach, otherFlags);
+}
+
+// Whether a body (`flags`, `restless`) was woken by a hit in a round of this step's collision
+// before round `round` (its RUBBLE_RESTLESS_WOKEN_SHIFT bits) and is still awake.
+RUBBLE_FN int wokenBeforeItem(uint flags, uint restless, uint round) {
+    if (flags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP | RUBBLE_BODY_ABSENT)) return 0;
+    const uint wokenIn = restless >> RUBBLE_RESTLESS_WOKEN_SHIFT;
+    return wokenIn > 0u && wokenIn < round;
+}
+
+// wakesBeforeSolveItem in round `round` of a step's collision, where a body that a hit woke in
+// an earlier round wakes the sleeping bodies it touches as a waking one does: the hit reaches
+// through the touching sleeping bodies, as it would through an island woken as one, instead of
+// meeting the second of them as a wall. Round 0 (the particle paths) takes no such marks.
+RUBBLE_FN int wakesInRoundItem(uint selfFlags, uint otherFlags, BodyVelocity otherApproach,
+                               uint otherRestless, uint round) {
+    if (wakesBeforeSolveItem(selfFlags, otherFlags, otherApproach)) return 1;
+    return (selfFlags & RUBBLE_BODY_ASLEEP) && wokenBeforeItem(otherFlags, otherRestless, round);
 }
 
 // 8 bytes, not stored: a body's flags and how long it has been slow, s.
