@@ -205,11 +205,13 @@ holdJointGroups(const uint count, __global const uint* jointBodies, __global con
 // After sleepBodies: pass 0 marks the groups with an awake member (bit 2), pass 1 wakes the
 // sleeping members of those groups, so that a group wakes as one. Before the solve (SAT, after
 // wakeTouchedPairs) pass 2 wakes them as pass 1 does, without the asleep count, which is the
-// step's end's.
+// step's end's, and marks them with the collision round (`collisionRound` > 0), so that the
+// wake goes on from every member of the group.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
 wakeJointGroups(const uint count, __global const uint* jointBodies, __global const uint* groupOf,
                 __global uint* flags, __global float* slowFor, __global uint* groupVotes,
-                const uint pass, __global uint* status) {
+                __global uint* restless, const uint pass, const uint collisionRound,
+                __global uint* status) {
     const uint k = get_global_id(0);
     if (k >= count || groupOf[k] == RUBBLE_NO_GROUP) return;
     const uint i = jointBodies[k], g = groupOf[k];
@@ -221,6 +223,8 @@ wakeJointGroups(const uint count, __global const uint* jointBodies, __global con
     if (!(f & RUBBLE_BODY_ASLEEP) || !(groupVotes[g] & 2u)) return;
     flags[i] = f & ~RUBBLE_BODY_ASLEEP;
     slowFor[i] = 0.0f;
+    if (pass == 2u && collisionRound > 0u)
+        atomic_or(&restless[i], collisionRound << RUBBLE_RESTLESS_WOKEN_SHIFT);
     if (pass == 1u) atomic_dec(&status[RUBBLE_STATUS_ASLEEP]);
     atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
 }

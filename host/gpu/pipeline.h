@@ -499,8 +499,9 @@ class Pipeline {
     /// Puts back last step's contacts as the warm start after a step whose contacts overflowed.
     void undoWarmStartSwap();
     /// The joint groups' wake (kernels/sleep.cl wakeJointGroups): pass 0 marks the groups with
-    /// an awake member, then `wakePass` (1 after sleepBodies, 2 before the solve) wakes them.
-    Status wakeJointGroups(cl_uint wakePass);
+    /// an awake member, then `wakePass` (1 after sleepBodies, 2 before the solve) wakes them;
+    /// pass 2 marks them with the collision round `collisionRound` when it is above 0.
+    Status wakeJointGroups(cl_uint wakePass, cl_uint collisionRound = 0);
     /// Forces hold for one step: the device's are cleared once the step has used them.
     Status clearForces();
     /// The status block's read at the end of an enqueued step (endStep meets it), and the flush.

@@ -35,7 +35,7 @@ Status Pipeline::wakeTouchedPairs(std::uint32_t round) {
     if (g.jointGroupCount == 0) return {};
     // A joint group wakes as one: the members of a group with an awake member.
     RUBBLE_TRY(fill(c, g.groupVotes, 0u, g.jointGroupCount * sizeof(cl_uint), &profile_));
-    return wakeJointGroups(2u);
+    return wakeJointGroups(2u, collisionRound);
 }
 
 Status Pipeline::wakeStillPairs(std::uint32_t round) {
@@ -54,7 +54,7 @@ Status Pipeline::wakeStillPairs(std::uint32_t round) {
         .run(strideItems(sat_.previous.capacity, c.workSizes().pairGroup), c.workSizes().pairGroup);
 }
 
-Status Pipeline::wakeJointGroups(cl_uint wakePass) {
+Status Pipeline::wakeJointGroups(cl_uint wakePass, cl_uint collisionRound) {
     const PgsBuffers& g = pgs_;
     const cl_uint members = g.jointBodyCount;
     for (const cl_uint pass : {0u, wakePass})
@@ -65,7 +65,9 @@ Status Pipeline::wakeJointGroups(cl_uint wakePass) {
                        .arg(bodies_.flags)
                        .arg(bodies_.slowFor)
                        .arg(g.groupVotes)
+                       .arg(bodies_.restless)
                        .arg(pass)
+                       .arg(collisionRound)
                        .arg(status_)
                        .run(members, RUBBLE_GROUP_BODIES));
     return {};

@@ -114,6 +114,14 @@ TEST_F(DeviceCases, SatTouchingSleepingRowTakesTheHitWithItsMomentum) {
     test::expectSleepingRowTakesTheHit(w, 1e-3);
     EXPECT_GT(w.body(6).position.x, 4.0f + 0.1f) << "the last box of the row moves";
 }
+// The same with the first two boxes joined: the hit wakes them as a joint group
+// (wakeJointGroups), whose members carry the round on, so the wake goes on from the second box.
+TEST_F(DeviceCases, SatTouchingRowWithAJointTakesTheHitWithItsMomentum) {
+    World w = deviceWorld(test::jointedRowScene(test::kDeviceSatSimulation));
+    test::expectSleepingRowTakesTheHit(w, 1e-3);
+    EXPECT_GT(w.body(6).position.x, 4.0f + 0.1f) << "the last box of the row moves";
+}
+
 // A pebble onto a sleeping stack of ten: the hit wakes the whole stack before the solve and its
 // contacts start from the impulses they held when they fell asleep (carryStillPairs), so the
 // stack gives as the CPU's island does (measured: a sag of 11.3 mm against the CPU's 11.6, the

@@ -90,6 +90,11 @@ TEST(Sleep, TouchingSleepingRowTakesTheHitWithItsMomentum) {
     test::expectSleepingRowTakesTheHit(world, 1e-3);
     EXPECT_GT(world.body(6).position.x, 4.0f + 0.1f) << "the last box of the row moves";
 }
+TEST(Sleep, TouchingRowWithAJointTakesTheHitWithItsMomentum) {
+    World world = test::worldFromText(test::jointedRowScene());
+    test::expectSleepingRowTakesTheHit(world, 1e-3);
+    EXPECT_GT(world.body(6).position.x, 4.0f + 0.1f) << "the last box of the row moves";
+}
 TEST(Sleep, ElasticBallHittingASleepingOneStopsAndPassesItsVelocityOn) {
     World world = test::worldFromText(test::cradleScene());
     test::expectCradleExchange(world, 1e-3f);

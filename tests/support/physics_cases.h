@@ -166,6 +166,16 @@ inline std::string sleepingRowScene(const std::string& simulation = "", double g
            bodies + "]}";
 }
 
+/// The touching row of sleepingRowScene (gap 0) with its first two boxes joined by a ball joint
+/// at the middle of the faces they share: the hit wakes the pair as one joint group, and the
+/// wake has to go on from the second box, which the striker does not touch.
+inline std::string jointedRowScene(const std::string& simulation = "") {
+    std::string scene = sleepingRowScene(simulation, 0.0);
+    scene.insert(scene.rfind('}'), R"(, "joints": [{"type": "ball", "a": "row0", "b": "row1",
+        "anchor": [0.5, 0.5, 0]}])");
+    return scene;
+}
+
 /// The striker's 2 kg m/s stays in the bodies through its hit on the sleeping row (nothing
 /// pushes sideways on a frictionless floor): within `tolerance` at every step for 3 s, and the
 /// row moves. Meeting the row as a wall, the striker stopped and the momentum was gone.
