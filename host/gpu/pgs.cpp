@@ -50,6 +50,11 @@ void Pipeline::bindPairs(Dispatch& d) const {
     d.arg(capacity).arg(sat_.current.count).arg(sat_.current.pairs);
 }
 
+void Pipeline::bindPreviousPairs(Dispatch& d) const {
+    const cl_uint capacity = sat_.previous.capacity;
+    d.arg(capacity).arg(sat_.previous.count).arg(sat_.previous.pairs);
+}
+
 void Pipeline::bindRowSettings(Dispatch& d, const StepParams& params) const {
     const SolverOptions& o = params.solver;
     const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;

@@ -518,6 +518,8 @@ class Pipeline {
     /// The arguments the kernels that go through this step's pairs read first, in their order:
     /// the pair buffers' capacity, the pair count (on the device) and the pairs.
     void bindPairs(Dispatch& d) const;
+    /// The same of last step's set (its entries: its pairs and the still pairs it carried).
+    void bindPreviousPairs(Dispatch& d) const;
     /// ... through the contacts.
     std::size_t strideItems() const {
         return strideItems(contacts_.capacity, RUBBLE_GROUP_CONTACTS);

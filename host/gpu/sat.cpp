@@ -164,15 +164,11 @@ Status Pipeline::carryStillPairs() {
     RUBBLE_TRY(s.place.reserve(c.context(), entries * sizeof(cl_uint)));
     RUBBLE_TRY(s.chunkCounts.reserve(c.context(), std::size_t(items) * sizeof(cl_uint)));
     RUBBLE_TRY(s.chunkStarts.reserve(c.context(), (std::size_t(items) + 1) * sizeof(cl_uint)));
-    const cl_uint previousCapacity = s.previous.capacity, capacity = s.current.capacity;
+    const cl_uint previousCapacity = s.previous.capacity;
     RUBBLE_TRY(Dispatch(c, KernelId::MarkStillPairs, &profile_)
-                   .arg(previousCapacity)
-                   .arg(s.previous.count)
-                   .arg(s.previous.pairs)
+                   .with([&](Dispatch& d) { bindPreviousPairs(d); })
                    .arg(s.previous.impulseCount)
-                   .arg(capacity)
-                   .arg(s.current.count)
-                   .arg(s.current.pairs)
+                   .with([&](Dispatch& d) { bindPairs(d); })
                    .arg(bodies_.jacobi)
                    .arg(s.carry)
                    .arg(s.chunkCounts)
@@ -186,17 +182,13 @@ Status Pipeline::carryStillPairs() {
                    .arg(s.place)
                    .run(items, RUBBLE_GROUP_SCAN));
     return Dispatch(c, KernelId::CarryStillPairs, &profile_)
-        .arg(previousCapacity)
-        .arg(s.previous.count)
-        .arg(s.previous.pairs)
+        .with([&](Dispatch& d) { bindPreviousPairs(d); })
         .arg(s.previous.features)
         .arg(s.previous.impulseCount)
         .arg(s.previous.impulses)
         .arg(s.carry)
         .arg(s.place)
-        .arg(capacity)
-        .arg(s.current.count)
-        .arg(s.current.pairs)
+        .with([&](Dispatch& d) { bindPairs(d); })
         .arg(s.current.features)
         .arg(s.current.impulseCount)
         .arg(s.current.impulses)
@@ -210,13 +202,10 @@ Status Pipeline::narrowPhase(float dt) {
     // The contact count and the largest depth are this stage's.
     for (const cl_uint slot : {RUBBLE_STATUS_CONTACTS, RUBBLE_STATUS_PENETRATION})
         RUBBLE_TRY(fillRange(c, status_, 0u, slot * sizeof(cl_uint), sizeof(cl_uint), &profile_));
-    const cl_uint previousCapacity = s.previous.capacity;
     const cl_float step = dt;
     return Dispatch(c, KernelId::CollideShapes, &profile_)
         .with([&](Dispatch& d) { bindPairs(d); })
-        .arg(previousCapacity)
-        .arg(s.previous.count)
-        .arg(s.previous.pairs)
+        .with([&](Dispatch& d) { bindPreviousPairs(d); })
         .arg(s.previous.features)
         .arg(s.shapes)
         .arg(s.shapeOf)

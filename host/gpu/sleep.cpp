@@ -40,11 +40,9 @@ Status Pipeline::wakeTouchedPairs(std::uint32_t round) {
 
 Status Pipeline::wakeStillPairs(std::uint32_t round) {
     const Context& c = *context_;
-    const cl_uint previousCapacity = sat_.previous.capacity, collisionRound = round;
+    const cl_uint collisionRound = round;
     return Dispatch(c, KernelId::WakeStillPairs, &profile_)
-        .arg(previousCapacity)
-        .arg(sat_.previous.count)
-        .arg(sat_.previous.pairs)
+        .with([&](Dispatch& d) { bindPreviousPairs(d); })
         .arg(sat_.previous.impulseCount)
         .arg(bodies_.flags)
         .arg(bodies_.slowFor)
