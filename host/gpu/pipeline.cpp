@@ -74,6 +74,7 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
 
 Status Pipeline::uploadMassesAndFlags(std::span<const shared::BodyMass> hostMasses) {
     const Context& c = *context_;
+    hostBodies_ = true;
     // Kinematic bodies are walls on the device; their flags are the host's to set each step.
     std::vector<shared::BodyMass> masses(hostMasses.begin(), hostMasses.end());
     std::vector<cl_uint> flags(masses.size());
@@ -89,6 +90,7 @@ Status Pipeline::uploadMassesAndFlags(std::span<const shared::BodyMass> hostMass
 
 Status Pipeline::uploadBodies(BodiesView bodies) {
     const Context& c = *context_;
+    hostBodies_ = true;
     RUBBLE_TRY(upload(c, bodies_.poses, bodies.poses));
     RUBBLE_TRY(upload(c, bodies_.velocities, bodies.velocities));
     // Stages run alone (twin tests) see the host's velocities as those before the forces.
@@ -237,7 +239,10 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
         Result<DeviceStatus> st = wakeAndSummarize(params, round);
         RUBBLE_TRY(st);
         if (st->pairs <= sat_.current.capacity) {
-            if (st->woken == woken) break;
+            if (st->woken == woken) {
+                pairsFound_ = st->pairs;
+                break;
+            }
             // The wake reaches through the sleeping bodies that rest against the woken ones (last
             // step's entries with impulses), a round a launch, until a round wakes none; then
             // the collision runs again, as the woken bodies' pairs with sleeping ones were not
@@ -313,8 +318,16 @@ Status Pipeline::enqueueSatSolve(const StepParams& params) {
     RUBBLE_TRY(clearForces());
     profile_.setStage(DeviceStage::Sleep);
     RUBBLE_TRY(sleepBodies(dt));
-    // This step's pairs, features and impulses are the next step's.
-    RUBBLE_TRY(keepPairFeatures());
+    // This step's pairs, features and impulses are the next step's. With SAT, a step that found
+    // no pairs after one that found none, with no body state from the host between, keeps last
+    // step's set as it is: it holds still pairs only, and none of them can have moved (a moving
+    // body finds the pairs of the bodies it rests against), so the carry would copy it whole.
+    const bool stillSet = sat_.enabled && pairsFound_ == 0 && keptFound_ == 0 && !hostBodies_;
+    if (!stillSet) {
+        RUBBLE_TRY(keepPairFeatures());
+        keptFound_ = pairsFound_;
+    }
+    hostBodies_ = false;
     warmSwapped_ = false;
     return enqueueStatusRead();
 }

@@ -548,6 +548,11 @@ class Pipeline {
     bool stepPending_ = false;            ///< beginStep ran, endStep not yet
     std::optional<Bodies> readBack_;      ///< the step's StepInputs::readBack
     std::vector<cl_uint> flagsHost_;      ///< the flags read with them
+    /// SAT: the pairs this step's collision found, and those of the set kept as last step's
+    /// (enqueueSatSolve keeps a set of still pairs alone as it is); whether the host wrote body
+    /// state since the last step.
+    std::uint32_t pairsFound_ = 0, keptFound_ = 0;
+    bool hostBodies_ = false;
     bool warmSwapped_ = false;            ///< this step's solve kept its contacts for the next
     bool gatherImpulses_ = false;         ///< this step reads the obstacles' impulses
     // Host memory the step's non-blocking transfers read from or write to.
