@@ -10,6 +10,21 @@
 #include "rubble/shared/pgs_joint.h"
 #include "rubble/shared/sleep.h"
 
+// Wakes body `wake` (RUBBLE_NO_BODY: none) before the solve, its slow time starting again, and
+// counts it; in collision round `collisionRound` > 0 marks it with the round (its restless
+// word), from which it wakes others in later rounds. A body another work-item woke first is
+// left alone.
+static void wakeBody(const uint wake, const uint collisionRound, __global uint* flags,
+                     __global float* slowFor, __global uint* restless, __global uint* status) {
+    if (wake == RUBBLE_NO_BODY) return;
+    const uint before = atomic_and(&flags[wake], ~RUBBLE_BODY_ASLEEP);
+    if (!(before & RUBBLE_BODY_ASLEEP)) return;
+    slowFor[wake] = 0.0f;
+    if (collisionRound > 0u)
+        atomic_or(&restless[wake], collisionRound << RUBBLE_RESTLESS_WOKEN_SHIFT);
+    atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
+}
+
 // A contact of a sleeping body with a waking one (wakesBeforeSolveItem, on the velocities before
 // this step's forces) wakes it now, its slow time starting again. In round `collisionRound` > 0 of
 // the SAT collision (wakesInRoundItem) a body woken in an earlier round wakes the sleeping bodies
@@ -26,14 +41,7 @@ static void wakeTouchedBodies(const uint a, const uint b, __global const BodyVel
     uint wake = RUBBLE_NO_BODY;
     if (wakesInRoundItem(fa, fb, approach[b], rb, collisionRound)) wake = a;
     if (wakesInRoundItem(fb, fa, approach[a], ra, collisionRound)) wake = b;
-    if (wake == RUBBLE_NO_BODY) return;
-    const uint before = atomic_and(&flags[wake], ~RUBBLE_BODY_ASLEEP);
-    if (before & RUBBLE_BODY_ASLEEP) {
-        slowFor[wake] = 0.0f;
-        if (collisionRound > 0u)
-            atomic_or(&restless[wake], collisionRound << RUBBLE_RESTLESS_WOKEN_SHIFT);
-        atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
-    }
+    wakeBody(wake, collisionRound, flags, slowFor, restless, status);
 }
 
 // A contact or joint marks both of its bodies from the other's velocity after the step
@@ -99,13 +107,7 @@ wakeStillPairs(const uint previousCapacity, __global const uint* previousCount,
             wake = pair.a;
         if ((fb & RUBBLE_BODY_ASLEEP) && wokenBeforeItem(fa, restless[pair.a], collisionRound))
             wake = pair.b;
-        if (wake == RUBBLE_NO_BODY) continue;
-        const uint before = atomic_and(&flags[wake], ~RUBBLE_BODY_ASLEEP);
-        if (before & RUBBLE_BODY_ASLEEP) {
-            slowFor[wake] = 0.0f;
-            atomic_or(&restless[wake], collisionRound << RUBBLE_RESTLESS_WOKEN_SHIFT);
-            atomic_inc(&status[RUBBLE_STATUS_WOKEN]);
-        }
+        wakeBody(wake, collisionRound, flags, slowFor, restless, status);
     }
 }
 

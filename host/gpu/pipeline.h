@@ -92,7 +92,8 @@ struct PairSet {
     /// the still pairs carried from the step before (markStillPairs), sorted among themselves.
     Buffer pairs;
     /// Two uints: the pairs found (may exceed capacity), and the entries kept for the next
-    /// step's lookups (keptPairsItem: the pairs found and the still pairs carried after them).
+    /// step's lookups (keptPairsItem: the pairs found and the still pairs carried after them;
+    /// 0 in a set that carries nothing, the particles').
     Buffer count;
     Buffer features; ///< PairCache per pair, in pair order
     /// PGS: each pair's contact impulses at the end of its step (4 PgsImpulse slots per pair),

@@ -137,15 +137,8 @@ Status Pipeline::setPairCapacity(std::uint32_t capacity) {
 
 Status Pipeline::keepPairFeatures() {
     RUBBLE_ASSERT(pairPgs());
-    if (sat_.enabled) {
-        RUBBLE_TRY(carryStillPairs());
-    } else {
-        // Particles carry nothing: the entries kept are the pairs found.
-        RUBBLE_CL_CHECK(clEnqueueCopyBuffer(context_->queue(), sat_.current.count.mem(),
-                                            sat_.current.count.mem(), 0, sizeof(cl_uint),
-                                            sizeof(cl_uint), 0, nullptr,
-                                            profile_.transfer(Transfer::Copy, sizeof(cl_uint))));
-    }
+    // Particles carry nothing: their sets' second count word stays 0 (keptPairsItem).
+    if (sat_.enabled) RUBBLE_TRY(carryStillPairs());
     std::swap(sat_.current, sat_.previous);
     // The set to fill next holds as many pairs as the one kept. Growing it (after a pair
     // overflow) reallocates buffers that this step's queued kernels read as last step's: they

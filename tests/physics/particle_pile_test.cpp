@@ -2,9 +2,6 @@
 // of the device's stages: voxel particles and the per-row Jacobi solver at 10 iterations) falls,
 // collapses and comes to rest: no creep, nothing sunk; a stack and a pyramid of 8-particle crates
 // solved by PGS stand and sleep.
-#include <algorithm>
-#include <cmath>
-
 #include <gtest/gtest.h>
 
 #include "physics/physics_util.h"

@@ -56,7 +56,8 @@ RUBBLE_FN uint findPairFromItem(BodyPairRecord pair, uint from, uint count,
 }
 
 // The entries a pair set keeps for the next step's lookups (its count's two words: the pairs
-// found, then those and the still pairs carried after them), within its capacity.
+// found, then those and the still pairs carried after them), within its capacity. A set that
+// carries nothing (particles with PGS) leaves the second word 0: its entries are its pairs.
 RUBBLE_FN uint keptPairsItem(RUBBLE_GLOBAL const uint* count, uint capacity) {
     const uint found = count[0] < capacity ? count[0] : capacity;
     const uint kept = count[1] < capacity ? count[1] : capacity;
