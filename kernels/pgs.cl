@@ -101,10 +101,11 @@ __kernel void markStillPairs(const uint previousCapacity, __global const uint* p
                              __global const uint* previousImpulseCount, const uint capacity,
                              __global const uint* pairCount, __global const BodyPairRecord* pairs,
                              __global const JacobiBody* bodies, __global uint* carry,
-                             __global uint* chunkCounts) {
+                             __global uint* chunkCounts, __global uint* status) {
     const uint t = get_global_id(0);
     if (t >= RUBBLE_SORT_ITEMS) return;
     const uint n = keptPairsItem(previousCount, previousCapacity);
+    if (t == 0u) status[RUBBLE_STATUS_KEPT] = n;
     const uint current = min(pairCount[0], capacity);
     const uint chunk = (n + RUBBLE_SORT_ITEMS - 1u) / RUBBLE_SORT_ITEMS;
     const uint begin = min(n, t * chunk), end = min(n, begin + chunk);
@@ -149,11 +150,15 @@ __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void ca
     __global const uint* previousImpulseCount, __global const PgsImpulse* previousImpulses,
     __global const uint* carry, __global const uint* place, const uint capacity,
     __global uint* pairCount, __global BodyPairRecord* pairs, __global PairCache* features,
-    __global uint* impulseCount, __global PgsImpulse* impulses) {
+    __global uint* impulseCount, __global PgsImpulse* impulses, __global uint* status) {
     const uint ownRun = min(previousCount[0], previousCapacity);
     const uint n = keptPairsItem(previousCount, previousCapacity);
     const uint current = min(pairCount[0], capacity);
-    if (get_global_id(0) == 0u) pairCount[1] = min(current + place[n], capacity);
+    if (get_global_id(0) == 0u) {
+        const uint kept = min(current + place[n], capacity);
+        pairCount[1] = kept;
+        status[RUBBLE_STATUS_CARRIED] = kept - current;
+    }
     const ItemRange r = itemRange(n);
     // The work-item's entries come in (a, b) order within each run: where each sorts in the
     // other run is at or past where the one before it did.

@@ -176,6 +176,8 @@ DeviceStatus Pipeline::statusFromSlots() const {
     d.pairs = slots[RUBBLE_STATUS_PAIRS];
     d.gridEntries = slots[RUBBLE_STATUS_GRID_ENTRIES];
     d.largeBodies = slots[RUBBLE_STATUS_LARGE];
+    d.kept = slots[RUBBLE_STATUS_KEPT];
+    d.carried = slots[RUBBLE_STATUS_CARRIED];
     return d;
 }
 
@@ -428,6 +430,8 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
         traffic.gridEntries = st.gridEntries;
         traffic.largeBodies = st.largeBodies;
         traffic.planes = sat_.planeCount;
+        traffic.kept = st.kept;
+        traffic.carried = st.carried;
     }
     contacts_.count = st.contacts;
     if (warmSwapped_) contacts_.previousCount = st.contacts;

@@ -221,6 +221,10 @@ struct DeviceStatus {
     std::uint32_t asleep = 0, woken = 0;
     std::uint32_t pairs = 0; ///< SAT: body pairs the broad phase found (may exceed the room)
     std::uint32_t gridEntries = 0, largeBodies = 0; ///< SAT: the broad phase's grid
+    /// SAT: last step's kept pair entries (its pairs and the still pairs it carried), as the
+    /// step's still-pair kernels saw them, and the still pairs carried into this step's set;
+    /// both 0 when no such kernel ran.
+    std::uint32_t kept = 0, carried = 0;
 };
 
 /// What a pipeline is made from: the bodies (uploaded at creation, kept on the device), their

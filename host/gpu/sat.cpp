@@ -165,6 +165,7 @@ Status Pipeline::carryStillPairs() {
                    .arg(bodies_.jacobi)
                    .arg(s.carry)
                    .arg(s.chunkCounts)
+                   .arg(status_)
                    .run(items, RUBBLE_GROUP_SCAN));
     RUBBLE_TRY(exclusiveScan(s.chunkCounts, s.chunkStarts, items));
     RUBBLE_TRY(Dispatch(c, KernelId::PlaceStillPairs, &profile_)
@@ -185,6 +186,7 @@ Status Pipeline::carryStillPairs() {
         .arg(s.current.features)
         .arg(s.current.impulseCount)
         .arg(s.current.impulses)
+        .arg(status_)
         .run(strideItems(s.previous.capacity, c.workSizes().pairGroup), c.workSizes().pairGroup);
 }
 

@@ -13,6 +13,7 @@
 #include "rubble/shared/contact_row.h"
 #include "rubble/shared/hull_contact.h"
 #include "rubble/shared/particle.h"
+#include "rubble/shared/pgs_row.h"
 
 namespace rubble::gpu {
 namespace {
@@ -28,6 +29,16 @@ using shared::Particle;
 using shared::ParticleContact;
 
 constexpr std::uint64_t kWord = 4, kVec = 16;
+
+// Records a binary search over `n` sorted ones reads: the levels of the search.
+std::uint64_t searchReads(std::uint64_t n) {
+    std::uint64_t levels = 0;
+    while (n > 0) {
+        ++levels;
+        n >>= 1;
+    }
+    return levels;
+}
 
 } // namespace
 
@@ -143,6 +154,23 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
         // the contact would have if the two steps were spread alike (counted as four)
         return n.contacts * (sizeof(ParticleContact) + kPair + sizeof(shared::ContactManifold) +
                              5 * sizeof(shared::ParticleContactKey) + kWord);
+    case KernelId::MarkStillPairs: // per kept entry: the pair, its impulse count, both bodies'
+        // inverse mass, a search of this step's pairs (an upper bound: every entry still and
+        // holding impulses), the mark written; each chunk's count
+        return n.kept * (kPair + kWord + 2 * kWord + searchReads(n.pairs) * kPair + kWord) +
+               n.sortItems * kWord;
+    case KernelId::PlaceStillPairs: // per kept entry: the mark read, the place written; the
+        // chunks' starts
+        return n.kept * 2 * kWord + (n.sortItems + 2) * kWord;
+    case KernelId::CarryStillPairs: // per kept entry its mark; per carried one: its place, a
+        // search of the other run and that entry's place, its pair, features, impulse count and
+        // four impulses read and written
+        return n.kept * kWord + n.carried * (2 * kWord + searchReads(n.kept) * kPair +
+                                             2 * (kPair + sizeof(shared::PairCache) + kWord +
+                                                  4 * sizeof(shared::PgsImpulse)));
+    case KernelId::WakeStillPairs: // per kept entry: its impulse count, its pair, both bodies'
+        // flags and restless words (an upper bound: every entry holds impulses)
+        return n.kept * (kWord + kPair + 4 * kWord);
     default:
         return 0;
     }

@@ -25,6 +25,8 @@ struct TrafficCounts {
     std::uint64_t gridEntries = 0; ///< SAT: (cell, body) entries of the broad phase's grid
     std::uint64_t largeBodies = 0; ///< SAT: bodies tested against all
     std::uint64_t planes = 0;      ///< SAT: plane bodies
+    std::uint64_t kept = 0;        ///< SAT: last step's kept pair entries (pairs and carried ones)
+    std::uint64_t carried = 0;     ///< SAT: still pairs carried into this step's set
 };
 
 /// Bytes one launch of `id` reads and writes, each element it touches counted once: a record

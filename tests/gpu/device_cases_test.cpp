@@ -1,7 +1,12 @@
 // tests/gpu/device_cases_test.cpp: the physics cases of tests/support/physics_cases.h on the
 // OpenCL backend (particles and Jacobi), with the closed forms the CPU reference meets in
 // tests/physics.
+#include <cstdio>
+#include <map>
+#include <string>
+
 #include "gpu_fixture.h"
+#include "host/gpu/traffic.h"
 #include "support/physics_cases.h"
 
 namespace rubble {
@@ -120,6 +125,51 @@ TEST_F(DeviceCases, SatTouchingRowWithAJointTakesTheHitWithItsMomentum) {
     World w = deviceWorld(test::jointedRowScene(test::kDeviceSatSimulation));
     test::expectSleepingRowTakesTheHit(w, 1e-3);
     EXPECT_GT(w.body(6).position.x, 4.0f + 0.1f) << "the last box of the row moves";
+}
+
+// The still-pair kernels' bytes (host/gpu/traffic.cpp) come from the entries the device reports
+// it kept and carried (the status block): with the touching row asleep and the striker sliding
+// towards it alone, a step finds one pair (striker, floor) and carries the row's nine still
+// pairs (five on the floor, four between boxes) after it, so the next step's kernels read ten
+// entries. In the hit, each launch of wakeStillPairs reads last step's entries.
+std::map<std::string, DeviceCommandTime> profileByName(const World& w) {
+    std::map<std::string, DeviceCommandTime> out;
+    for (const DeviceCommandTime& c : w.deviceProfile()) out[c.name] = c;
+    return out;
+}
+TEST_F(DeviceCases, SatStillPairKernelsCountTheEntriesTheyRead) {
+    World w = deviceWorld(test::sleepingRowScene(test::kDeviceSatSimulation, 0.0));
+    for (int i = 0; i < 41; ++i) ASSERT_TRUE(w.step().ok());
+    for (std::uint32_t i = 2; i < w.bodyCount(); ++i) ASSERT_TRUE(w.body(i).asleep) << i;
+    gpu::TrafficCounts n;
+    n.pairs = 1;
+    n.kept = 10;
+    n.carried = 9;
+    n.sortItems = context()->workSizes().sortItems;
+    std::map<std::string, DeviceCommandTime> before = profileByName(w);
+    ASSERT_TRUE(w.step().ok());
+    std::map<std::string, DeviceCommandTime> after = profileByName(w);
+    for (const auto& [name, id] :
+         {std::pair{"markStillPairs", gpu::KernelId::MarkStillPairs},
+          {"placeStillPairs", gpu::KernelId::PlaceStillPairs},
+          {"carryStillPairs", gpu::KernelId::CarryStillPairs}}) {
+        EXPECT_EQ(after[name].launches - before[name].launches, 1u) << name;
+        EXPECT_GT(gpu::kernelBytes(id, n), 0u) << name;
+        EXPECT_EQ(after[name].bytes - before[name].bytes, gpu::kernelBytes(id, n)) << name;
+    }
+    // The hit: the striker meets the row between steps 58 and 62.
+    std::uint64_t wakes = 0;
+    for (int step = 0; step < 40 && wakes == 0; ++step) {
+        before = profileByName(w);
+        ASSERT_TRUE(w.step().ok());
+        after = profileByName(w);
+        wakes = after["wakeStillPairs"].launches - before["wakeStillPairs"].launches;
+    }
+    ASSERT_GT(wakes, 0u) << "the hit runs the wake through the row";
+    const std::uint64_t bytes = after["wakeStillPairs"].bytes - before["wakeStillPairs"].bytes;
+    std::printf("[ still pairs ] wake: %llu launches, %llu bytes\n", (unsigned long long)wakes,
+                (unsigned long long)bytes);
+    EXPECT_EQ(bytes, wakes * gpu::kernelBytes(gpu::KernelId::WakeStillPairs, n));
 }
 
 // A pebble onto a sleeping stack of ten: the hit wakes the whole stack before the solve and its
