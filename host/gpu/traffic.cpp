@@ -30,15 +30,9 @@ using shared::ParticleContact;
 
 constexpr std::uint64_t kWord = 4, kVec = 16;
 
-// Records a binary search over `n` sorted ones reads: the levels of the search.
-std::uint64_t searchReads(std::uint64_t n) {
-    std::uint64_t levels = 0;
-    while (n > 0) {
-        ++levels;
-        n >>= 1;
-    }
-    return levels;
-}
+// Records a binary search over a sorted set reads from memory: its top levels are the same for
+// every work-item and stay in cache, so it counts as four, as particlePairs' search does.
+constexpr std::uint64_t kSearchReads = 4;
 
 } // namespace
 
@@ -157,7 +151,7 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
     case KernelId::MarkStillPairs: // per kept entry: the pair, its impulse count, both bodies'
         // inverse mass, a search of this step's pairs (an upper bound: every entry still and
         // holding impulses), the mark written; each chunk's count
-        return n.kept * (kPair + kWord + 2 * kWord + searchReads(n.pairs) * kPair + kWord) +
+        return n.kept * (kPair + kWord + 2 * kWord + kSearchReads * kPair + kWord) +
                n.sortItems * kWord;
     case KernelId::PlaceStillPairs: // per kept entry: the mark read, the place written; the
         // chunks' starts
@@ -165,7 +159,7 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
     case KernelId::CarryStillPairs: // per kept entry its mark; per carried one: its place, a
         // search of the other run and that entry's place, its pair, features, impulse count and
         // four impulses read and written
-        return n.kept * kWord + n.carried * (2 * kWord + searchReads(n.kept) * kPair +
+        return n.kept * kWord + n.carried * (2 * kWord + kSearchReads * kPair +
                                              2 * (kPair + sizeof(shared::PairCache) + kWord +
                                                   4 * sizeof(shared::PgsImpulse)));
     case KernelId::WakeStillPairs: // per kept entry: its impulse count, its pair, both bodies'
