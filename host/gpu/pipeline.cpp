@@ -432,6 +432,12 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
         traffic.planes = sat_.planeCount;
         traffic.kept = st.kept;
         traffic.carried = st.carried;
+        traffic.joints = pgs_.jointCount;
+        traffic.jointBodies = pgs_.jointBodyCount;
+        traffic.directGroups = pgs_.directGroupCount;
+        traffic.directMembers = pgs_.directMemberCount;
+        traffic.directRows = pgs_.directRowCount;
+        traffic.directMatrix = pgs_.directMatrixCount;
     }
     contacts_.count = st.contacts;
     if (warmSwapped_) contacts_.previousCount = st.contacts;

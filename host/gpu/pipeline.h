@@ -193,6 +193,9 @@ struct PgsBuffers {
     // as one (JointGroup records, their members, and their scratch), the joints of larger
     // groups joint by joint over jointColoring (jointOrder).
     std::uint32_t directGroupCount = 0;
+    /// Totals over the directly projected groups: members, rows, and floats of their matrices
+    /// (for the byte counts, host/gpu/traffic.cpp).
+    std::uint32_t directMemberCount = 0, directRowCount = 0, directMatrixCount = 0;
     Buffer directGroups, groupMembers, positionRows, positionMatrix, positionSolution;
     Buffer deltaPosition, deltaRotation; ///< per body, zero between uses
     std::vector<shared::PgsJoint> jointsHost;

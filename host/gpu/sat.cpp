@@ -336,6 +336,9 @@ Status Pipeline::createJoints(const PipelineInput& in) {
     }
     g.jointColoring.finish();
     g.directGroupCount = std::uint32_t(groups.size());
+    g.directMemberCount = std::uint32_t(members.size());
+    g.directRowCount = rows;
+    g.directMatrixCount = matrix;
     RUBBLE_TRY(upload(c, g.directGroups, groups));
     RUBBLE_TRY(upload(c, g.groupMembers, members));
     RUBBLE_TRY(g.positionRows.reserve(c.context(), rows * sizeof(shared::JointPositionRow)));

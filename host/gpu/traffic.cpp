@@ -13,6 +13,7 @@
 #include "rubble/shared/contact_row.h"
 #include "rubble/shared/hull_contact.h"
 #include "rubble/shared/particle.h"
+#include "rubble/shared/pgs_joint.h"
 #include "rubble/shared/pgs_row.h"
 
 namespace rubble::gpu {
@@ -165,6 +166,38 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
     case KernelId::WakeStillPairs: // per kept entry: its impulse count, its pair, both bodies'
         // flags and restless words (an upper bound: every entry holds impulses)
         return n.kept * (kWord + kPair + 4 * kWord);
+    case KernelId::PrepareJoints: // per joint: the joint, both bodies' poses and JacobiBody
+        // rows, its row read (warm start) and written
+        return n.joints * (sizeof(shared::PgsJoint) + 2 * sizeof(BodyPose) +
+                           2 * sizeof(JacobiBody) + 2 * sizeof(shared::PgsJointRow));
+    case KernelId::ProjectJointGroups: { // one iteration (the kernel repeats until the joints
+        // hold): per group its record; per member its index, joint and both bodies' masses, flags
+        // and poses; per row the row written and read, its solution, both sides' position and
+        // rotation deltas and poses read and written (an upper bound: a body once per row); the
+        // lower triangle of each matrix written and read
+        const std::uint64_t side = 4 * kVec + 2 * sizeof(BodyPose);
+        return n.directGroups * sizeof(shared::JointGroup) +
+               n.directMembers * (kWord + sizeof(shared::PgsJoint) +
+                                  2 * (sizeof(BodyMass) + kWord + sizeof(BodyPose))) +
+               n.directRows * (2 * sizeof(shared::JointPositionRow) + 2 * kWord + 2 * side) +
+               n.directMatrix * kWord;
+    }
+    case KernelId::JointVelocities: // per jointed body: its index, mass, flags, pose, momentum;
+        // its velocity written
+        return n.jointBodies * (2 * kWord + sizeof(BodyMass) + sizeof(BodyPose) +
+                                sizeof(BodyMomentum) + sizeof(BodyVelocity));
+    case KernelId::MarkRestlessJoints: // per joint: the joint, both bodies' flags, velocities
+        // and restless marks
+        return n.joints * (sizeof(shared::PgsJoint) + 2 * (2 * kWord + sizeof(BodyVelocity)));
+    case KernelId::VoteJointGroups: // per jointed body: its index and group, flags, slow time,
+        // restless word, velocity, its group's vote
+        return n.jointBodies * (6 * kWord + sizeof(BodyVelocity));
+    case KernelId::HoldJointGroups: // per jointed body: its index, group, the group's vote, the
+        // restless word
+        return n.jointBodies * 4 * kWord;
+    case KernelId::WakeJointGroups: // per jointed body: its index, group, flags and the group's
+        // vote; a woken one's flags, slow time and restless word written (an upper bound)
+        return n.jointBodies * 7 * kWord;
     default:
         return 0;
     }

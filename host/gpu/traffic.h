@@ -27,6 +27,11 @@ struct TrafficCounts {
     std::uint64_t planes = 0;      ///< SAT: plane bodies
     std::uint64_t kept = 0;        ///< SAT: last step's kept pair entries (pairs and carried ones)
     std::uint64_t carried = 0;     ///< SAT: still pairs carried into this step's set
+    std::uint64_t joints = 0;      ///< SAT: joints
+    std::uint64_t jointBodies = 0; ///< SAT: bodies with a joint
+    /// SAT: the joint groups projected as one, their members (joints), rows, and the floats of
+    /// their matrices.
+    std::uint64_t directGroups = 0, directMembers = 0, directRows = 0, directMatrix = 0;
 };
 
 /// Bytes one launch of `id` reads and writes, each element it touches counted once: a record

@@ -190,6 +190,25 @@ TEST_F(DeviceCases, SatStillPairKernelsCountTheEntriesTheyRead) {
     EXPECT_EQ(bytes, wakes * gpu::kernelBytes(gpu::KernelId::WakeStillPairs, n));
 }
 
+// Every kernel of the SAT path counts the bytes it moves, so that `rubble devices --bandwidth`
+// sets each against the copy bandwidth: the jointed touching row runs the joints' kernels (rows,
+// the projection of a group as one, the joint groups' sleep and wake), the still pairs' carry
+// and the wake through them.
+TEST_F(DeviceCases, SatEveryKernelCountsItsBytes) {
+    World w = deviceWorld(test::jointedRowScene(test::kDeviceSatSimulation));
+    for (int i = 0; i < 120; ++i) ASSERT_TRUE(w.step().ok());
+    int kernels = 0;
+    for (const DeviceCommandTime& c : w.deviceProfile()) {
+        if (c.name.empty() || c.name.front() == '(') continue; // transfers count their own
+        ++kernels;
+        EXPECT_GT(c.bytes, 0u) << c.name << " (" << c.launches << " launches)";
+    }
+    for (const char* name :
+         {"projectJointGroups", "wakeJointGroups", "carryStillPairs", "wakeStillPairs", "solvePgs"})
+        EXPECT_GT(profileByName(w)[name].launches, 0u) << name;
+    EXPECT_GT(kernels, 30);
+}
+
 // A pebble onto a sleeping stack of ten: the hit wakes the whole stack before the solve and its
 // contacts start from the impulses they held when they fell asleep (carryStillPairs), so the
 // stack gives as the CPU's island does (measured: a sag of 11.3 mm against the CPU's 11.6, the
