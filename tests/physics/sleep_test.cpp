@@ -90,6 +90,20 @@ TEST(Sleep, TouchingSleepingRowTakesTheHitWithItsMomentum) {
     test::expectSleepingRowTakesTheHit(world, 1e-3);
     EXPECT_GT(world.body(6).position.x, 4.0f + 0.1f) << "the last box of the row moves";
 }
+// A column that topples slowly is one island with its moving top: its base, slower than the
+// sleep speeds for the first second, stays awake and is dragged along as the column falls,
+// instead of sleeping under it as a fixed pivot.
+TEST(Sleep, BaseOfASlowlyTopplingColumnStaysAwake) {
+    World world = test::worldFromText(test::leaningColumnScene());
+    const float topStart = world.body(16).position.x;
+    for (int step = 0; step < 180; ++step) {
+        ASSERT_TRUE(world.step().ok());
+        for (std::uint32_t i = 1; i < world.bodyCount(); ++i)
+            ASSERT_FALSE(world.body(i).asleep) << world.bodyName(i) << " at step " << step;
+    }
+    EXPECT_GT(world.body(16).position.x - topStart, 2.0f) << "m the top has moved: it topples";
+    EXPECT_GT(glm::length(world.body(1).linearVelocity), 1e-3f) << "m/s: the base moves with it";
+}
 TEST(Sleep, TouchingRowWithAJointTakesTheHitWithItsMomentum) {
     World world = test::worldFromText(test::jointedRowScene());
     test::expectSleepingRowTakesTheHit(world, 1e-3);

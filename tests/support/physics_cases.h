@@ -166,6 +166,27 @@ inline std::string sleepingRowScene(const std::string& simulation = "", double g
            bodies + "]}";
 }
 
+/// A column of sixteen 1 kg crates (1 m boxes, friction 0.5) on the floor, crate i at height
+/// i + 0.5 m shifted along x by 0.03 i + 0.003 i^2 m: it leans and topples slowly, pivoting on
+/// its base, whose lower crates move at a few cm/s for the first second (slower than the sleep
+/// speeds) while the top moves at up to a metre a second.
+inline std::string leaningColumnScene(const std::string& simulation = "") {
+    std::string bodies = R"({"name": "floor", "shape": "ground", "static": true})";
+    for (int i = 0; i < 16; ++i)
+        bodies += R"(, {"name": "c)" + std::to_string(i) +
+                  R"(", "shape": "crate", "mass": 1.0, "position": [)" +
+                  std::to_string(0.03 * i + 0.003 * i * i) + ", " + std::to_string(0.5 + i) +
+                  ", 0]}";
+    return R"({"format": "rubble-scene", "version": 1,
+      "simulation": {"dt": 0.016666667, "solver": {"type": "pgs", "iterations": 10})" +
+           simulation + R"(},
+      "materials": {"default": {"friction": 0.5, "restitution": 0.0}},
+      "shapes": {"ground": {"type": "plane"},
+                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
+      "bodies": [)" +
+           bodies + "]}";
+}
+
 /// The touching row of sleepingRowScene (gap 0) with its first two boxes joined by a ball joint
 /// at the middle of the faces they share: the hit wakes the pair as one joint group, and the
 /// wake has to go on from the second box, which the striker does not touch.
