@@ -62,21 +62,22 @@ def print_table(path):
         return fmt % (float(v) * scale) if v not in ("", None) else "-"
 
     print("| scene | config | bodies | median ms | p90 ms | mean ms | peak MiB | sunk | floor pen. mm "
-          "| drift m/s | energy J | moving | ratio |")
-    print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+          "| drift m/s | energy J | moving | asleep | ratio |")
+    print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: "
+          "| ---: |")
     for r in rows:
         # A run with --seeds names each row's seed after its scene.
         scene = r["scene"] + (" seed %s" % r["seed"] if r.get("seed") else "")
         if r["status"] != "ok":
             reason = r["status"].split("(")[0].strip()
-            print("| %s | %s | | %s | | | | | | | | | |" % (scene, r["config"], reason[:90]))
+            print("| %s | %s | | %s | | | | | | | | | | |" % (scene, r["config"], reason[:90]))
             continue
-        print("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+        print("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
             scene, r["config"], r["bodies"], num(r, "median_ms", "%.3g"), num(r, "p90_ms", "%.3g"),
             num(r, "mean_ms", "%.3g"), num(r, "peak_mib", "%.0f"), r.get("sunk", "-") or "-",
             num(r, "floor_penetration_m", "%.1f", 1000.0), num(r, "mean_drift_m_per_s", "%.3f"),
             num(r, "kinetic_energy_j", "%.3g"), r.get("moving", "-") or "-",
-            num(r, "ratio_to_reference", "%.2f")))
+            r.get("asleep", "-") or "-", num(r, "ratio_to_reference", "%.2f")))
 
 
 def main():

@@ -92,6 +92,7 @@ void MetricsRecorder::afterStep(const World& world) {
     largestPenetration_ = std::max(largestPenetration_, s.largestPenetration);
     lastContacts_ = s.contactCount;
     maxContacts_ = std::max(maxContacts_, s.contactCount);
+    lastAsleep_ = s.asleep;
     solverResidual_ = s.solverResidual;
     last_ = measureInvariants(world);
 }
@@ -143,6 +144,9 @@ std::string MetricsRecorder::toJson(const World& world) const {
                              {"last", vec(last_.angularMomentum)}};
     j["largest_penetration"] = largestPenetration_;
     j["contact_count"] = {{"last", lastContacts_}, {"max", maxContacts_}};
+    // Sleeping is each engine's own (islands on the CPU, body by body on the device): how many
+    // bodies a run put to sleep says what its late steps cost.
+    j["asleep"] = {{"last", lastAsleep_}};
     j["solver_residual"] = solverResidual_;
     if (quality_) j["quality"] = qualityJson(*quality_);
     j["backend"] = std::string(toString(world.options().backend));

@@ -88,6 +88,7 @@ class MetricsRecorder {
     Invariants first_, last_;
     float largestPenetration_ = 0;
     std::uint32_t lastContacts_ = 0, maxContacts_ = 0;
+    std::uint32_t lastAsleep_ = 0; ///< bodies asleep after the last step
     float solverResidual_ = 0;
     double wallS_ = 0;
     std::optional<QualityReport> quality_;

@@ -85,6 +85,8 @@ def test_two_seeds_two_piles(rubble_binary, tmp_path):
     metrics = json.loads((tmp_path / "m.json").read_text())
     assert float(rows[0]["kinetic_energy_j"]) == pytest.approx(
         metrics["quality"]["kinetic_energy"], rel=1e-9)
+    # The bodies asleep at the end come from the metrics too.
+    assert int(rows[0]["asleep"]) == metrics["asleep"]["last"]
 
 
 def test_the_plots_take_a_run_over_seeds_as_a_table_only(rubble_binary, tmp_path):

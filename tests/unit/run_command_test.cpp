@@ -90,6 +90,21 @@ TEST(RunCommand, WritesMetricsWithTheDocumentedKeys) {
     EXPECT_NEAR(m["linear_momentum"]["first"][0].get<double>(), 1.0, 1e-9);
 }
 
+// The metrics count the bodies asleep after the last step (`asleep.last`), so that benchmark
+// runs say how much of a pile their late steps still moved: stack_10 is awake after one second
+// and all ten crates sleep by two.
+TEST(RunCommand, MetricsCountTheBodiesAsleepAtTheEnd) {
+    const std::string dir = test::tempDir("run_asleep");
+    for (const auto& [steps, asleep] : {std::pair{60, 0}, {120, 10}}) {
+        const test::CommandResult r = test::runRubble(
+            "run " + std::string(RUBBLE_SOURCE_DIR) + "/scenes/stack_10.json --steps " +
+            std::to_string(steps) + " --metrics " + dir + "/m.json --quiet");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        const nlohmann::json m = nlohmann::json::parse(test::readText(dir + "/m.json"));
+        EXPECT_EQ(m["asleep"]["last"], asleep) << steps << " steps";
+    }
+}
+
 TEST(RunCommand, NonFiniteStateStopsCleanlyAndKeepsWhatWasWritten) {
     const std::string dir = test::tempDir("run_nan");
     std::string scene = kScene;
