@@ -114,6 +114,13 @@ class BulletWorld final : public PeerWorld {
         }
     }
 
+    std::optional<std::size_t> asleep() const override {
+        std::size_t n = 0;
+        for (const auto& b : bodies_)
+            n += !b->isStaticObject() && b->getActivationState() == ISLAND_SLEEPING ? 1 : 0;
+        return n;
+    }
+
     std::vector<std::string> caveats() const override {
         return {"restitution combines as e_a * e_b (rubble: max)",
                 "collision margin 0.04 m (Bullet's default; boxes keep their extents)",

@@ -102,6 +102,7 @@ int runPeer(int argc, char** argv, const std::string& engine, const std::string&
         j["ms_per_step"] = {{"median", percentile(stepMs, 0.5)}, {"p90", percentile(stepMs, 0.9)}};
         w.read(rows);
         j["quality"] = qualityJson(assessQuality(quality, rows, before, (total - driftFrom) * dt));
+        if (const std::optional<std::size_t> asleep = w.asleep()) j["asleep"] = {{"last", *asleep}};
         j["engine"] = engine;
         j["engine_version"] = version;
         j["caveats"] = w.caveats();

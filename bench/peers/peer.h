@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,8 @@ class PeerWorld {
     virtual void read(std::vector<TrajectoryRow>& rows) const = 0;
     /// Notes on what could not match rubble exactly, for the metrics file.
     virtual std::vector<std::string> caveats() const = 0;
+    /// Dynamic bodies asleep now, for an engine that puts bodies to sleep (none: it does not).
+    virtual std::optional<std::size_t> asleep() const { return std::nullopt; }
 };
 
 /// Builds a peer world; shapes are rubble's built shapes (centre of mass at the origin).
