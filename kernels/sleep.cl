@@ -97,7 +97,6 @@ wakeStillPairs(const uint previousCapacity, __global const uint* previousCount,
                __global float* slowFor, __global uint* restless, const uint collisionRound,
                __global uint* status) {
     const uint n = keptPairsItem(previousCount, previousCapacity);
-    if (get_global_id(0) == 0u) status[RUBBLE_STATUS_KEPT] = n;
     const ItemRange r = itemRange(n);
     for (uint q = r.first; q < r.end; q += r.step) {
         if (previousImpulseCount[q] == 0u) continue;

@@ -224,9 +224,10 @@ struct DeviceStatus {
     std::uint32_t asleep = 0, woken = 0;
     std::uint32_t pairs = 0; ///< SAT: body pairs the broad phase found (may exceed the room)
     std::uint32_t gridEntries = 0, largeBodies = 0; ///< SAT: the broad phase's grid
-    /// SAT: last step's kept pair entries (its pairs and the still pairs it carried), as the
-    /// step's still-pair kernels saw them, and the still pairs carried into this step's set;
-    /// both 0 when no such kernel ran.
+    /// SAT: last step's kept pair entries (its pairs and the still pairs it carried), as
+    /// markStillPairs saw them, and the still pairs carried into this step's set; both 0 when
+    /// the carry did not run. wakeStillPairs reads the same entries and runs only in steps that
+    /// find pairs, whose carry runs.
     std::uint32_t kept = 0, carried = 0;
 };
 

@@ -150,11 +150,6 @@ TEST_F(DeviceCases, SatTouchingRowWithAJointTakesTheHitWithItsMomentum) {
 // towards it alone, a step finds one pair (striker, floor) and carries the row's nine still
 // pairs (five on the floor, four between boxes) after it, so the next step's kernels read ten
 // entries. In the hit, each launch of wakeStillPairs reads last step's entries.
-std::map<std::string, DeviceCommandTime> profileByName(const World& w) {
-    std::map<std::string, DeviceCommandTime> out;
-    for (const DeviceCommandTime& c : w.deviceProfile()) out[c.name] = c;
-    return out;
-}
 TEST_F(DeviceCases, SatStillPairKernelsCountTheEntriesTheyRead) {
     World w = deviceWorld(test::sleepingRowScene(test::kDeviceSatSimulation, 0.0));
     for (int i = 0; i < 41; ++i) ASSERT_TRUE(w.step().ok());
@@ -164,9 +159,9 @@ TEST_F(DeviceCases, SatStillPairKernelsCountTheEntriesTheyRead) {
     n.kept = 10;
     n.carried = 9;
     n.sortItems = context()->workSizes().sortItems;
-    std::map<std::string, DeviceCommandTime> before = profileByName(w);
+    std::map<std::string, DeviceCommandTime> before = test::deviceProfileByName(w);
     ASSERT_TRUE(w.step().ok());
-    std::map<std::string, DeviceCommandTime> after = profileByName(w);
+    std::map<std::string, DeviceCommandTime> after = test::deviceProfileByName(w);
     for (const auto& [name, id] :
          {std::pair{"markStillPairs", gpu::KernelId::MarkStillPairs},
           {"placeStillPairs", gpu::KernelId::PlaceStillPairs},
@@ -178,9 +173,9 @@ TEST_F(DeviceCases, SatStillPairKernelsCountTheEntriesTheyRead) {
     // The hit: the striker meets the row between steps 58 and 62.
     std::uint64_t wakes = 0;
     for (int step = 0; step < 40 && wakes == 0; ++step) {
-        before = profileByName(w);
+        before = test::deviceProfileByName(w);
         ASSERT_TRUE(w.step().ok());
-        after = profileByName(w);
+        after = test::deviceProfileByName(w);
         wakes = after["wakeStillPairs"].launches - before["wakeStillPairs"].launches;
     }
     ASSERT_GT(wakes, 0u) << "the hit runs the wake through the row";
@@ -205,7 +200,7 @@ TEST_F(DeviceCases, SatEveryKernelCountsItsBytes) {
     }
     for (const char* name :
          {"projectJointGroups", "wakeJointGroups", "carryStillPairs", "wakeStillPairs", "solvePgs"})
-        EXPECT_GT(profileByName(w)[name].launches, 0u) << name;
+        EXPECT_GT(test::deviceProfileByName(w)[name].launches, 0u) << name;
     EXPECT_GT(kernels, 30);
 }
 

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <cstdlib>
+#include <map>
 #include <memory>
 #include <span>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -125,6 +127,14 @@ void expectNearRel(std::span<const T> a, std::span<const T> b, float tol) {
 template <class T>
 void expectNearRel(const std::vector<T>& a, const std::vector<T>& b, float tol) {
     expectNearRel(std::span<const T>(a), std::span<const T>(b), tol);
+}
+
+/// A world's device commands over the run by name (World::deviceProfile); a command never run
+/// reads as zeros.
+inline std::map<std::string, DeviceCommandTime> deviceProfileByName(const World& w) {
+    std::map<std::string, DeviceCommandTime> out;
+    for (const DeviceCommandTime& c : w.deviceProfile()) out[c.name] = c;
+    return out;
 }
 
 } // namespace rubble::test

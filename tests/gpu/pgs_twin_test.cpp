@@ -463,10 +463,8 @@ std::uint32_t asleepBodies(const World& w) {
     return n;
 }
 
-std::uint64_t launches(const World& w, std::string_view kernel) {
-    for (const DeviceCommandTime& c : w.deviceProfile())
-        if (c.name == kernel) return c.launches;
-    return 0;
+std::uint64_t launches(const World& w, const std::string& kernel) {
+    return test::deviceProfileByName(w)[kernel].launches;
 }
 
 // scenes/pyramid_20.json and stack_10.json stand on the device and fall asleep: every crate

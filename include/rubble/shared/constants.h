@@ -55,7 +55,7 @@
 #define RUBBLE_STATUS_LARGE 10u       // SAT: bodies too large for the grid, tested against all
 #define RUBBLE_STATUS_BOUNCES 11u     // PGS: some row may bounce (the restitution pass runs)
 #define RUBBLE_STATUS_LAYERS 12u      // PGS: moving bodies 10 times apart in mass touch (layers)
-#define RUBBLE_STATUS_KEPT 13u        // SAT: last step's kept pair entries (for byte counts)
+#define RUBBLE_STATUS_KEPT 13u        // SAT: last step's kept pair entries (markStillPairs)
 #define RUBBLE_STATUS_CARRIED 14u     // SAT: still pairs carried into the next step's set
 #define RUBBLE_STATUS_SPARE5 15u      // keep the block a multiple of 16 bytes
 #define RUBBLE_STATUS_COUNT 16u
