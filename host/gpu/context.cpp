@@ -50,6 +50,12 @@ WorkSizes workSizesFor(const DeviceInfo& device) {
     return w;
 }
 
+std::uint32_t defaultPgsBlocks(std::uint32_t deviceBlocks, std::size_t bodies) {
+    if (deviceBlocks == 0) return 0;
+    const std::size_t fit = std::max<std::size_t>(1, bodies / kPgsBlockBodies);
+    return std::uint32_t(std::min<std::size_t>(deviceBlocks, fit));
+}
+
 std::string buildOptionsFor(const WorkSizes& sizes) {
     return std::string(kBuildOptions) + " -DRUBBLE_SORT_ITEMS=" + std::to_string(sizes.sortItems) +
            "u -DRUBBLE_GROUP_BROAD=" + std::to_string(sizes.broadGroup) +

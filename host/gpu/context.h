@@ -43,6 +43,16 @@ struct WorkSizes {
 /// CL_DEVICE_LOCAL_MEM_SIZE sets no limit yet.
 WorkSizes workSizesFor(const DeviceInfo& device);
 
+/// A block of the PGS solve holds at least this many bodies when the device chooses the count
+/// (--pgs-blocks -1): a smaller world, below twice this, runs as one block, so that it sweeps its
+/// rows in the CPU's order instead of coloring the elements between blocks, whose extra launches
+/// cost more than a second thread saves there (docs/opencl.md, "Blocks").
+inline constexpr std::uint32_t kPgsBlockBodies = 128;
+
+/// The blocks of the PGS solve for a world of `bodies` bodies on a device that asks for
+/// `deviceBlocks` (WorkSizes::pgsBlocks; 0, a GPU, stays 0).
+std::uint32_t defaultPgsBlocks(std::uint32_t deviceBlocks, std::size_t bodies);
+
 /// kBuildOptions followed by the work sizes as -D definitions.
 std::string buildOptionsFor(const WorkSizes& sizes);
 

@@ -33,7 +33,8 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
     p->bodies_.count = std::uint32_t(n);
     p->deterministic_ = in.deterministic;
     p->particlePgs_ = in.collision == CollisionMethod::Particles && in.particlePgs;
-    p->pgsBlocks_ = in.pgsBlocks >= 0 ? std::uint32_t(in.pgsBlocks) : c.workSizes().pgsBlocks;
+    p->pgsBlocks_ = in.pgsBlocks >= 0 ? std::uint32_t(in.pgsBlocks)
+                                      : defaultPgsBlocks(c.workSizes().pgsBlocks, n);
     p->lcpStride_ = lcpStride(in.surfaces, bodies.masses);
     p->kinematic_.assign(n, 0);
     std::copy(kinematic.begin(), kinematic.begin() + std::min(kinematic.size(), n),

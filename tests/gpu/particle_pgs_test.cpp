@@ -64,13 +64,16 @@ std::string tumble(const char* spacing) {
 // by pair, then by particles): every body the same to the bit at every step, with 8 particles a
 // crate (at most 4 contacts a pair) and with 56 (up to 16 a pair: each contact warm-starts from
 // its own feature among all of the pair's, on the CPU as on the device; the CPU's search among a
-// SAT manifold's first 8 old points parted the two at the second step). (Measured: the same bits
-// at all 45 steps; in the device's own blocks they part at step 9, the first contacts between
-// two crates.)
+// SAT manifold's first 8 old points parted the two at the second step). A world this small gets
+// one block when the device chooses (kPgsBlockBodies). (Measured: the same bits at all 45 steps;
+// in eight blocks, as a large world gets them here, they part at step 9, the first contacts
+// between two crates.)
 TEST_F(ParticlePgs, OneBlockStepsTheCpuBitForBit) {
-    for (const char* spacing : {"0.5", "0.25"}) {
+    for (const auto& [spacing, blocks] :
+         {std::pair{"0.5", 1}, {"0.25", 1}, {"0.5", -1}, {"0.25", -1}}) {
+        SCOPED_TRACE("blocks " + std::to_string(blocks));
         World cpu = world(tumble(spacing), Backend::Cpu);
-        World device = world(tumble(spacing), Backend::OpenCl, 1);
+        World device = world(tumble(spacing), Backend::OpenCl, blocks);
         std::uint32_t touched = 0;
         for (int step = 1; step <= 45; ++step) {
             ASSERT_TRUE(cpu.step().ok()) << "step " << step;
@@ -120,7 +123,7 @@ TEST_F(ParticlePgs, CratesStandAndSleepInBlocksAndColored) {
     for (int i = 0; i < 4; ++i) centres.push_back({1.2f * float(i), 0.5f, 0.0f});
     centres.push_back({0.6f, 1.5f, 0.0f}); // across the first two
     const std::string json = cratesScene(10, centres);
-    for (const int blocks : {-1, 0}) {
+    for (const int blocks : {-1, 8, 0}) {
         World w = world(json, Backend::OpenCl, blocks);
         const std::vector<glm::vec3> start = test::positionsOf(w);
         ASSERT_TRUE(test::stepWorld(w, 300)) << "blocks " << blocks;
@@ -151,7 +154,7 @@ TEST_F(ParticlePgs, ATallStackStandsInBlocksAndColored) {
     std::vector<glm::vec3> centres;
     for (int i = 0; i < 10; ++i) centres.push_back({0.0f, 0.5f + float(i), 0.0f});
     const std::string json = cratesScene(10, centres);
-    for (const int blocks : {-1, 0}) {
+    for (const int blocks : {-1, 8, 0}) {
         World w = world(json, Backend::OpenCl, blocks);
         const std::vector<glm::vec3> start = test::positionsOf(w);
         ASSERT_TRUE(test::stepWorld(w, 600)) << "blocks " << blocks;

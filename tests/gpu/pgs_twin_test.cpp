@@ -471,9 +471,15 @@ std::uint64_t launches(const World& w, const std::string& kernel) {
 // within 5 cm of where it started after 10 s, none in the floor, all asleep; then a second more
 // builds no rows and sweeps nothing (a pile asleep costs no solve).
 TEST_F(PgsTwin, PyramidAndStackStandAndSleepOnTheDevice) {
-    // In blocks (as PoCL's CPU device runs) and colored (as a GPU would).
-    for (const auto& [name, blocks] : {std::pair{"pyramid_20.json", -1}, {"stack_10.json", -1},
-                                       {"pyramid_20.json", 0}, {"stack_10.json", 0}}) {
+    // As the device suits (PoCL's CPU device: one block for worlds this small, the CPU's order),
+    // in the eight blocks a large world gets here (the elements between them colored) and
+    // colored (as a GPU would).
+    for (const auto& [name, blocks] : {std::pair{"pyramid_20.json", -1},
+                                       {"stack_10.json", -1},
+                                       {"pyramid_20.json", 8},
+                                       {"stack_10.json", 8},
+                                       {"pyramid_20.json", 0},
+                                       {"stack_10.json", 0}}) {
         World w = sceneFile(name, Backend::OpenCl, blocks);
         const std::vector<glm::vec3> start = test::positionsOf(w);
         for (int step = 0; step < 600; ++step) ASSERT_TRUE(w.step().ok()) << name;
@@ -507,17 +513,18 @@ TEST_F(PgsTwin, PyramidAndStackStandAndSleepOnTheDevice) {
 // head rocking at 0.06 m/s keeping its island up), and which way it comes to rest follows the
 // order of the rows: with the blocks' push rows element by element, as before 2026-11-25, every
 // body slept with the default blocks but 20 / 30 / 10 stayed awake with --pgs-blocks 1 / 2 / 4.
-// (Measured: 1.0e-5 m; 130 of 160 asleep in blocks, fastest 0.059 m/s; 160 colored. With the
-// joints of a color passed over, as the sweeps did from the blocks' arrival until this test
-// covered the colored path, the colored pile never settled: 0 of 160 asleep, 3.6 m/s.)
+// (Measured: 8.6e-6 m; 140 of 160 asleep in one block, fastest 0.096 m/s; 130 in eight blocks,
+// 0.059 m/s; 160 colored. With the joints of a color passed over, as the sweeps did from the
+// blocks' arrival until this test covered the colored path, the colored pile never settled: 0 of
+// 160 asleep, 3.6 m/s.)
 TEST_F(PgsTwin, RagdollPileHoldsItsJointsAndSettlesOnTheDevice) {
-    // In blocks (as PoCL's CPU device runs; the joints between blocks go through the colors) and
-    // colored (as a GPU would: every joint in a color).
+    // As the device suits (one block: 161 bodies), in eight blocks (as PoCL's CPU device runs a
+    // large world; the joints between blocks go through the colors) and colored (as a GPU would:
+    // every joint in a color).
     World cpu = sceneFile("ragdoll_pile.json", Backend::Cpu);
     for (int step = 1; step <= 1200; ++step) ASSERT_TRUE(cpu.step().ok()) << "step " << step;
     std::printf("[ ragdoll_pile, CPU ] %u asleep at 20 s\n", asleepBodies(cpu));
-    for (const int blocks : {-1, 0})
-        ragdollPileSettles(blocks, asleepBodies(cpu));
+    for (const int blocks : {-1, 8, 0}) ragdollPileSettles(blocks, asleepBodies(cpu));
 }
 
 void PgsTwin::ragdollPileSettles(int blocks, std::uint32_t asleepOnCpu) {

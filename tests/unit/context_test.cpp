@@ -50,6 +50,19 @@ TEST(WorkSizes, GroupsFitTheDevicesLargestGroup) {
     EXPECT_EQ(gpu::workSizesFor(device(4, 1)).pairGroup, 1u);
 }
 
+// The blocks of the PGS solve as the device suits: a GPU none; a CPU device its four per compute
+// unit once the world has kPgsBlockBodies bodies for each, fewer below, one for a small world
+// (which then sweeps in the CPU's order).
+TEST(WorkSizes, ASmallWorldSolvesInFewerBlocks) {
+    EXPECT_EQ(gpu::defaultPgsBlocks(0, 100000), 0u);
+    EXPECT_EQ(gpu::defaultPgsBlocks(8, 16385), 8u);
+    EXPECT_EQ(gpu::defaultPgsBlocks(8, 1025), 8u); // debris_1k
+    EXPECT_EQ(gpu::defaultPgsBlocks(8, 3 * gpu::kPgsBlockBodies + 5), 3u);
+    EXPECT_EQ(gpu::defaultPgsBlocks(8, 2 * gpu::kPgsBlockBodies - 1), 1u);
+    EXPECT_EQ(gpu::defaultPgsBlocks(8, 211), 1u); // pyramid_20
+    EXPECT_EQ(gpu::defaultPgsBlocks(8, 0), 1u);
+}
+
 TEST(WorkSizes, BuildOptionsDefineThem) {
     gpu::WorkSizes w;
     w.sortItems = 1024;
