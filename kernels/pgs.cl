@@ -292,52 +292,6 @@ static uint elementsEnd(const uint count, const uint mode, __global const uint* 
     return min((uint)get_global_id(0) + 1u, count);
 }
 
-// Warm start of one element: a pair's points apply their accumulated impulses (normal, then
-// the two friction rows), as warmStartContacts does; a joint its blocks' (warmStartJoints).
-static void warmStartElement(const PgsElement e, __global const PgsNormalRow* normalRows,
-                             __global const PgsFrictionRows* frictionRows,
-                             __global const float4* impulses, __global const PgsJoint* joints,
-                             __global const PgsJointRow* jointRows,
-                             __global const JacobiBody* bodies,
-                             __global BodyVelocity* velocities) {
-    BodyVelocityPair v = loadPair(e.a, e.b, velocities);
-    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
-        const uint j = e.id & ~RUBBLE_PGS_JOINT_ELEMENT;
-        const JacobiBody ja = bodies[e.a], jb = bodies[e.b];
-        v = warmStartJointItem(v, joints[j], jointRows[j], ja, jb);
-        storePair(v, e.a, e.b, jointMoves(ja, jb), velocities);
-        return;
-    }
-    const uint friction = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
-    for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {
-        const float4 l = impulses[e.normal[k]];
-        if (l.x != 0.0f) {
-            const PgsNormalRow r = normalRows[e.normal[k]];
-            v = applyPgsRowItem(v, r.normal, r.turnA, r.turnB, r.speeds.z, r.speeds.w, l.x);
-        }
-        if (l.y == 0.0f && l.z == 0.0f) continue;
-        const PgsFrictionRows f = frictionRows[friction + k];
-        const float ima = f.inverseMass.x, imb = f.inverseMass.y;
-        if (l.y != 0.0f) v = applyPgsRowItem(v, f.tangent[0], f.turnA[0], f.turnB[0], ima, imb, l.y);
-        if (l.z != 0.0f) v = applyPgsRowItem(v, f.tangent[1], f.turnA[1], f.turnB[1], ima, imb, l.z);
-    }
-    storePair(v, e.a, e.b, e.rows, velocities);
-}
-
-// Warm start, one launch (a color, the serial tail or the blocks).
-__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-warmStartPgs(const uint first, const uint count, const uint mode,
-             __global const PgsElement* elements, __global const uint* blockStarts,
-             __global const PgsNormalRow* normalRows,
-             __global const PgsFrictionRows* frictionRows, __global const float4* impulses,
-             __global const PgsJoint* joints, __global const PgsJointRow* jointRows,
-             __global const JacobiBody* bodies, __global BodyVelocity* velocities) {
-    const uint end = elementsEnd(count, mode, blockStarts);
-    for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
-        warmStartElement(elements[first + i], normalRows, frictionRows, impulses, joints,
-                         jointRows, bodies, velocities);
-}
-
 // Which rows of an element a pass over it solves (`part` of solveElement), and of which of its
 // points (`slot`: one, or all).
 #define RUBBLE_PGS_ALL_SLOTS 0xffu
@@ -361,6 +315,70 @@ static uint slotPasses(const uint mode, __global const uint* blockStarts) {
 }
 static uint passSlot(const uint mode, const uint pass) {
     return mode == RUBBLE_PGS_BLOCKS ? pass : RUBBLE_PGS_ALL_SLOTS;
+}
+
+// Whether a launch is the blocks' and holds one block: the whole step's elements in order on one
+// work-item, as the CPU's sweeps go, so that its friction rows and warm start go by point too.
+static int onlyBlock(const uint mode) {
+    return mode == RUBBLE_PGS_BLOCKS && get_num_groups(0) == 1u;
+}
+
+// Warm start of one element, or of one of its points (`slot`, as solveElement's): a pair's
+// points apply their accumulated impulses (normal, then the two friction rows), as
+// warmStartContacts does; a joint its blocks' (warmStartJoints), with the first point's.
+static void warmStartElement(const PgsElement e, __global const PgsNormalRow* normalRows,
+                             __global const PgsFrictionRows* frictionRows,
+                             __global const float4* impulses, __global const PgsJoint* joints,
+                             __global const PgsJointRow* jointRows,
+                             __global const JacobiBody* bodies,
+                             __global BodyVelocity* velocities, const uint slot) {
+    const uint from = slotFrom(slot), to = slotEnd(e.rows & RUBBLE_PGS_POINTS, slot);
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
+        if (from > 0u) return;
+    } else if (from >= to) {
+        return;
+    }
+    BodyVelocityPair v = loadPair(e.a, e.b, velocities);
+    if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
+        const uint j = e.id & ~RUBBLE_PGS_JOINT_ELEMENT;
+        const JacobiBody ja = bodies[e.a], jb = bodies[e.b];
+        v = warmStartJointItem(v, joints[j], jointRows[j], ja, jb);
+        storePair(v, e.a, e.b, jointMoves(ja, jb), velocities);
+        return;
+    }
+    const uint friction = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
+    for (uint k = from; k < to; ++k) {
+        const float4 l = impulses[e.normal[k]];
+        if (l.x != 0.0f) {
+            const PgsNormalRow r = normalRows[e.normal[k]];
+            v = applyPgsRowItem(v, r.normal, r.turnA, r.turnB, r.speeds.z, r.speeds.w, l.x);
+        }
+        if (l.y == 0.0f && l.z == 0.0f) continue;
+        const PgsFrictionRows f = frictionRows[friction + k];
+        const float ima = f.inverseMass.x, imb = f.inverseMass.y;
+        if (l.y != 0.0f) v = applyPgsRowItem(v, f.tangent[0], f.turnA[0], f.turnB[0], ima, imb, l.y);
+        if (l.z != 0.0f) v = applyPgsRowItem(v, f.tangent[1], f.turnA[1], f.turnB[1], ima, imb, l.z);
+    }
+    storePair(v, e.a, e.b, e.rows, velocities);
+}
+
+// Warm start, one launch (a color, the serial tail or the blocks): element by element, or by
+// point when the launch is one block (the CPU's order: warmStartContacts goes through the
+// interleaved rows).
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+warmStartPgs(const uint first, const uint count, const uint mode,
+             __global const PgsElement* elements, __global const uint* blockStarts,
+             __global const PgsNormalRow* normalRows,
+             __global const PgsFrictionRows* frictionRows, __global const float4* impulses,
+             __global const PgsJoint* joints, __global const PgsJointRow* jointRows,
+             __global const JacobiBody* bodies, __global BodyVelocity* velocities) {
+    const uint end = elementsEnd(count, mode, blockStarts);
+    const uint passes = onlyBlock(mode) ? slotPasses(mode, blockStarts) : 1u;
+    for (uint pass = 0u; pass < passes; ++pass)
+        for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
+            warmStartElement(elements[first + i], normalRows, frictionRows, impulses, joints,
+                             jointRows, bodies, velocities,
+                             onlyBlock(mode) ? pass : RUBBLE_PGS_ALL_SLOTS);
 }
 
 // One velocity sweep of one element, or of one part of it: a joint's blocks
@@ -500,7 +518,8 @@ solvePgs(const uint first, const uint count, const uint mode,
     } else {
         // A block, in order: the normal rows as the CPU's sweep goes through them (slotPasses),
         // then each element's friction rows (element by element: taken by point, as the CPU
-        // takes them, they cost a fifth more time on debris_64k, docs/opencl.md). The push
+        // takes them, they cost a fifth more time on debris_64k, docs/opencl.md; by point when
+        // the launch is one block, whose every row then goes in the CPU's order). The push
         // rows go in the CPU's order too, each pass beside the normal rows' pass of the same
         // point, which has just read the row: the split pass reads and writes only its own
         // velocities and its impulses' w, so neither pass sees the other and each gives the
@@ -518,11 +537,14 @@ solvePgs(const uint first, const uint count, const uint mode,
                                         pushElement(e, normalRows, impulses, pushed, push,
                                                     relaxation, passSlot(mode, pass)));
             }
-        for (uint i = begin; i < end; ++i)
-            residual = fmax(residual, solveElement(elements[first + i], normalRows, frictionRows,
-                                                   impulses, joints, jointRows, bodies,
-                                                   velocities, relaxation, lastSweep, kept,
-                                                   RUBBLE_PGS_FRICTION, RUBBLE_PGS_ALL_SLOTS));
+        const uint frictionPasses = onlyBlock(mode) ? passes : 1u;
+        for (uint pass = 0u; pass < frictionPasses; ++pass)
+            for (uint i = begin; i < end; ++i)
+                residual = fmax(residual,
+                                solveElement(elements[first + i], normalRows, frictionRows,
+                                             impulses, joints, jointRows, bodies, velocities,
+                                             relaxation, lastSweep, kept, RUBBLE_PGS_FRICTION,
+                                             onlyBlock(mode) ? pass : RUBBLE_PGS_ALL_SLOTS));
     }
     if (lastSweep && residual > 0.0f) atomic_max(&largest[0], as_uint(residual));
     if (pushResidual > 0.0f) atomic_max(&largest[1], as_uint(pushResidual));

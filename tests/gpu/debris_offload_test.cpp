@@ -36,13 +36,6 @@ std::string scene(const std::string& simulation, const std::string& bodies,
            generators + "]" + extra + "}";
 }
 
-bool sameBits(const BodyState& a, const BodyState& b) {
-    return std::memcmp(&a.position, &b.position, sizeof a.position) == 0 &&
-           std::memcmp(&a.orientation, &b.orientation, sizeof a.orientation) == 0 &&
-           std::memcmp(&a.linearVelocity, &b.linearVelocity, sizeof a.linearVelocity) == 0 &&
-           std::memcmp(&a.angularVelocity, &b.angularVelocity, sizeof a.angularVelocity) == 0;
-}
-
 const char* kFloor = R"({"name": "floor", "shape": "ground", "static": true})";
 const char* kRagdoll = R"({"type": "ragdoll", "name_prefix": "doll", "position": [0, 1.2, 0]})";
 
@@ -72,7 +65,7 @@ TEST_F(DebrisOffload, OneWayLeavesTheCpuBodiesAsTheyWouldBeWithoutDebris) {
     }
     for (std::uint32_t i = 0; i < reference.bodyCount(); ++i) {
         const std::uint32_t j = *offloaded.findBody(reference.bodyName(i));
-        EXPECT_TRUE(sameBits(offloaded.body(j), reference.body(i))) << reference.bodyName(i);
+        EXPECT_TRUE(test::sameBits(offloaded.body(j), reference.body(i))) << reference.bodyName(i);
     }
     // The lid rests on the box: its centre 0.25 m above the box's top.
     EXPECT_NEAR(offloaded.body(*offloaded.findBody("lid")).position.y, 1.25f, 0.05f);
@@ -182,7 +175,7 @@ TEST_F(DebrisOffload, OffloadingChangesNothingOnTheCpuBackend) {
     }
     ASSERT_EQ(a.bodyCount(), b.bodyCount());
     for (std::uint32_t i = 0; i < a.bodyCount(); ++i)
-        EXPECT_TRUE(sameBits(a.body(i), b.body(i))) << a.bodyName(i);
+        EXPECT_TRUE(test::sameBits(a.body(i), b.body(i))) << a.bodyName(i);
 }
 
 // An explosion reaches both populations once: a CPU crate and a debris crate in free fall, each

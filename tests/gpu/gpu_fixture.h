@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <span>
@@ -135,6 +136,14 @@ inline std::map<std::string, DeviceCommandTime> deviceProfileByName(const World&
     std::map<std::string, DeviceCommandTime> out;
     for (const DeviceCommandTime& c : w.deviceProfile()) out[c.name] = c;
     return out;
+}
+
+/// Whether two bodies' states (position, orientation, velocities) are the same to the bit.
+inline bool sameBits(const BodyState& a, const BodyState& b) {
+    return std::memcmp(&a.position, &b.position, sizeof a.position) == 0 &&
+           std::memcmp(&a.orientation, &b.orientation, sizeof a.orientation) == 0 &&
+           std::memcmp(&a.linearVelocity, &b.linearVelocity, sizeof a.linearVelocity) == 0 &&
+           std::memcmp(&a.angularVelocity, &b.angularVelocity, sizeof a.angularVelocity) == 0;
 }
 
 } // namespace rubble::test

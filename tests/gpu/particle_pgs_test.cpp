@@ -24,13 +24,6 @@ class ParticlePgs : public test::GpuTest {
     }
 };
 
-bool sameBits(const BodyState& a, const BodyState& b) {
-    return std::memcmp(&a.position, &b.position, sizeof a.position) == 0 &&
-           std::memcmp(&a.orientation, &b.orientation, sizeof a.orientation) == 0 &&
-           std::memcmp(&a.linearVelocity, &b.linearVelocity, sizeof a.linearVelocity) == 0 &&
-           std::memcmp(&a.angularVelocity, &b.angularVelocity, sizeof a.angularVelocity) == 0;
-}
-
 // Six crates (8 particles each at 0.5 m, 56 at 0.25 m) dropped turned onto the floor and onto
 // each other, one sliding in at 2 m/s, one bouncy (restitution 0.6) onto another: contacts
 // between particles, with the floor, that push apart (the split position pass), bounce and
@@ -83,7 +76,7 @@ TEST_F(ParticlePgs, OneBlockStepsTheCpuBitForBit) {
             touched = std::max(touched, cpu.lastStep().contactCount);
             for (std::uint32_t i = 0; i < cpu.bodyCount(); ++i) {
                 const BodyState a = cpu.body(i), b = device.body(i);
-                ASSERT_TRUE(sameBits(a, b))
+                ASSERT_TRUE(test::sameBits(a, b))
                     << "spacing " << spacing << ", body " << i << " at step " << step
                     << ": position (" << a.position.x << ", " << a.position.y << ", "
                     << a.position.z << ") against (" << b.position.x << ", " << b.position.y << ", "
