@@ -4,6 +4,7 @@
 #include "rubble/shared/pgs_joint.h"
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -84,6 +85,10 @@ shared::JacobiBody jacobiBody(const shared::BodyMass& m, const shared::BodyPose&
     return shared::jacobiBodyItem(mass, p.orientation);
 }
 
+bool sameBits(glm::vec3 a, glm::vec3 b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
 void expectNear(glm::vec3 device, glm::vec3 cpu, float tolerance, const char* what, int trial) {
     const float scale = std::max(1.0f, glm::length(cpu));
     EXPECT_LE(glm::length(device - cpu), tolerance * scale)
@@ -117,6 +122,19 @@ TEST(PgsJoint, RowsAndVelocityUpdatesMatchTheCpu) {
             expectNear(toVec3(row.turn[0]), j.turn[0], 1e-6f, "turn[0]", trial);
             expectNear(toVec3(row.turn[1]), j.turn[1], 1e-6f, "turn[1]", trial);
         }
+        // The effective masses to the bit: both sides invert as glm::inverse does (the
+        // determinant's reciprocal times each cofactor), so that a world of joints steps the
+        // same on the device as on the CPU until the position projections (float against
+        // double) part.
+        for (int k = 0; k < 3; ++k)
+            EXPECT_TRUE(sameBits(pointMass[k], j.pointMass[k])) << "pointMass, trial " << trial;
+        if (type == JointType::Hinge) {
+            const float device[4] = {row.turnMass.x, row.turnMass.y, row.turnMass.z,
+                                     row.turnMass.w};
+            const float cpu[4] = {j.turnMass[0][0], j.turnMass[1][0], j.turnMass[0][1],
+                                  j.turnMass[1][1]};
+            EXPECT_EQ(std::memcmp(device, cpu, sizeof device), 0) << "turnMass, trial " << trial;
+        }
 
         // One update from the same velocities.
         shared::BodyVelocityPair v{c.velocities[0], c.velocities[1]};
@@ -129,6 +147,10 @@ TEST(PgsJoint, RowsAndVelocityUpdatesMatchTheCpu) {
                        trial);
             expectNear(toVec3(d.angular), fromLanes(bodies.velocity[body].angular), 1e-4f,
                        "angular", trial);
+            EXPECT_TRUE(sameBits(toVec3(d.linear), fromLanes(bodies.velocity[body].linear)))
+                << "linear, trial " << trial;
+            EXPECT_TRUE(sameBits(toVec3(d.angular), fromLanes(bodies.velocity[body].angular)))
+                << "angular, trial " << trial;
         }
         expectNear(toVec3(u.pointImpulse), j.pointImpulse, 1e-4f, "point impulse", trial);
     }

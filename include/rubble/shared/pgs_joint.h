@@ -137,8 +137,10 @@ RUBBLE_FN PgsJointRow prepareJointItem(PgsJoint j, PgsJointRow row, BodyPose pa,
         const float k00 = dot3(r.turn[0], mat3MulVec(sum, r.turn[0]));
         const float k01 = dot3(r.turn[0], mat3MulVec(sum, r.turn[1]));
         const float k11 = dot3(r.turn[1], mat3MulVec(sum, r.turn[1]));
+        // The inverse as the CPU's glm::inverse rounds it: times the determinant's reciprocal.
         const float det = k00 * k11 - k01 * k01;
-        r.turnMass = fabs(det) > 1e-12f ? make4(k11 / det, -k01 / det, -k01 / det, k00 / det)
+        const float s = 1.0f / det;
+        r.turnMass = fabs(det) > 1e-12f ? make4(k11 * s, -k01 * s, -k01 * s, k00 * s)
                                         : make4(0.0f, 0.0f, 0.0f, 0.0f);
     }
     return r;
