@@ -196,9 +196,8 @@ const std::vector<Option>& table() {
         runOption<&RunOptions::device>({.name = "device",
                                         .uses = kEverywhere,
                                         .help = "OpenCL device: a name fragment or an index"}),
-        runOption<&RunOptions::kernelDir>({.name = "kernel-dir",
-                                           .uses = kUseFlag,
-                                           .help = "Load kernels/*.cl from this folder"}),
+        runOption<&RunOptions::kernelDir>(
+            {.name = "kernel-dir", .uses = kUseFlag, .help = "Load kernels/*.cl from this folder"}),
         runOption<&RunOptions::deterministic>(
             {.name = "deterministic",
              .uses = kEverywhere,
@@ -208,7 +207,8 @@ const std::vector<Option>& table() {
              .uses = kEverywhere,
              .range = {.min = -1, .max = 65536},
              .help = "Blocks of the device's PGS solve: -1 as the device suits (4 per compute "
-                     "unit on a CPU device, none on a GPU), 0 every element colored"}),
+                     "unit on a CPU device, one per 128 bodies if fewer; none on a GPU), 0 "
+                     "every element colored"}),
         runOption<&RunOptions::buildOptions>(
             {.name = "build-options",
              .uses = kUseFlag,

@@ -536,10 +536,10 @@ TEST_F(PgsTwin, ASmallWorldStepsTheCpuBitForBitUntilItSleeps) {
 // head rocking at 0.06 m/s keeping its island up), and which way it comes to rest follows the
 // order of the rows: with the blocks' push rows element by element, as before 2026-11-25, every
 // body slept with the default blocks but 20 / 30 / 10 stayed awake with --pgs-blocks 1 / 2 / 4.
-// (Measured: 8.6e-6 m; 140 of 160 asleep in one block, fastest 0.096 m/s; 130 in eight blocks,
-// 0.059 m/s; 160 colored. With the joints of a color passed over, as the sweeps did from the
-// blocks' arrival until this test covered the colored path, the colored pile never settled: 0 of
-// 160 asleep, 3.6 m/s.)
+// (Measured: 8.4e-6 m; 150 of 160 asleep in one block, fastest 0.014 m/s; 130 in eight blocks,
+// 0.015 m/s; 150 colored, 0.050 m/s. With the joints of a color passed over, as the sweeps did from
+// the blocks' arrival until this test covered the colored path, the colored pile never settled: 0
+// of 160 asleep, 3.6 m/s.)
 TEST_F(PgsTwin, RagdollPileHoldsItsJointsAndSettlesOnTheDevice) {
     // As the device suits (one block: 161 bodies), in eight blocks (as PoCL's CPU device runs a
     // large world; the joints between blocks go through the colors) and colored (as a GPU would:
