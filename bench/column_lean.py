@@ -12,9 +12,10 @@ from seed to seed, where the count of crates still moving at one step does. The 
 PREFIX + index, the index running along x first, then up the layers, then along z (the `grid`
 generator's order, scenes/bench/README.md)."""
 import argparse
-import csv
 import math
 import sys
+
+from trajectory_csv import trajectory_rows
 
 
 def parse_steps(text):
@@ -30,14 +31,7 @@ def read_columns(path, grid, prefix, steps):
     top = ny - 1
     out = {}
     with open(path, newline="") as f:
-        rows = csv.reader(f)
-        header = next(rows, None)
-        if header is None:
-            raise ValueError("%s: empty file" % path)
-        try:
-            at = {name: header.index(name) for name in ("step", "body", "px", "pz")}
-        except ValueError as e:
-            raise ValueError("%s: not a trajectory (.csv from rubble run --out): %s" % (path, e))
+        _, at, rows = trajectory_rows(f, path, ("step", "body", "px", "pz"))
         for row in rows:
             name = row[at["body"]]
             if not name.startswith(prefix) or not name[len(prefix):].isdigit():

@@ -11,8 +11,9 @@ The values are compared as the files write them (shortest round-trip text of eac
 "the same" is the same bits. Exit status: 0 the same through the last step both files hold,
 1 they part, 2 a file is missing or not a trajectory, or the two hold other bodies or steps."""
 import argparse
-import csv
 import sys
+
+from trajectory_csv import trajectory_rows
 
 FIELDS = ("px", "py", "pz", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy", "wz")
 
@@ -22,23 +23,15 @@ def read_steps(path):
     steps = []
     try:
         with open(path, newline="") as f:
-            rows = csv.reader(f)
-            header = next(rows, None)
-            if header is None:
-                raise ValueError("%s: empty file" % path)
-            try:
-                at = [header.index(name) for name in ("step", "body") + FIELDS]
-            except ValueError as e:
-                raise ValueError("%s: not a trajectory (.csv from rubble run --out): %s" %
-                                 (path, e))
+            header, at, rows = trajectory_rows(f, path, ("step", "body") + FIELDS)
             for line, row in enumerate(rows, start=2):
                 if len(row) != len(header):
                     raise ValueError("%s:%d: %d fields, the header has %d" %
                                      (path, line, len(row), len(header)))
-                step = int(row[at[0]])
+                step = int(row[at["step"]])
                 if not steps or steps[-1][0] != step:
                     steps.append((step, {}))
-                steps[-1][1][row[at[1]]] = tuple(row[i] for i in at[2:])
+                steps[-1][1][row[at["body"]]] = tuple(row[at[name]] for name in FIELDS)
     except OSError as e:
         raise ValueError("%s: cannot be read: %s" % (path, e.strerror))
     return steps
