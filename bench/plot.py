@@ -57,27 +57,37 @@ def print_table(path):
     """Every row of the CSV, failures included, as Markdown."""
     rows = read_results(path)
 
-    def num(r, key, fmt, scale=1.0):
-        v = r.get(key, "")
-        return fmt % (float(v) * scale) if v not in ("", None) else "-"
+    def num(key, fmt, scale=1.0):
+        def cell(r):
+            v = r.get(key, "")
+            return fmt % (float(v) * scale) if v not in ("", None) else "-"
+        return cell
 
-    print("| scene | config | bodies | median ms | p90 ms | mean ms | peak MiB | sunk | floor pen. mm "
-          "| drift m/s | energy J | moving | asleep | ratio |")
-    print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: "
-          "| ---: |")
+    def text(key):
+        return lambda r: r.get(key, "-") or "-"
+
+    # The columns after scene and config: a title and its cell of an ok row.
+    columns = [
+        ("bodies", lambda r: r["bodies"]), ("median ms", num("median_ms", "%.3g")),
+        ("p90 ms", num("p90_ms", "%.3g")), ("mean ms", num("mean_ms", "%.3g")),
+        ("peak MiB", num("peak_mib", "%.0f")), ("sunk", text("sunk")),
+        ("floor pen. mm", num("floor_penetration_m", "%.1f", 1000.0)),
+        ("drift m/s", num("mean_drift_m_per_s", "%.3f")),
+        ("energy J", num("kinetic_energy_j", "%.3g")), ("moving", text("moving")),
+        ("asleep", text("asleep")), ("ratio", num("ratio_to_reference", "%.2f")),
+    ]
+    line = lambda cells: print("| " + " | ".join(cells) + " |")
+    line(["scene", "config"] + [title for title, _ in columns])
+    line(["---", "---"] + ["---:"] * len(columns))
     for r in rows:
         # A run with --seeds names each row's seed after its scene.
         scene = r["scene"] + (" seed %s" % r["seed"] if r.get("seed") else "")
         if r["status"] != "ok":
-            reason = r["status"].split("(")[0].strip()
-            print("| %s | %s | | %s | | | | | | | | | | |" % (scene, r["config"], reason[:90]))
+            # The reason in the second column of figures, the others empty.
+            reason = r["status"].split("(")[0].strip()[:90]
+            print("| %s | %s | | %s |%s" % (scene, r["config"], reason, " |" * (len(columns) - 2)))
             continue
-        print("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
-            scene, r["config"], r["bodies"], num(r, "median_ms", "%.3g"), num(r, "p90_ms", "%.3g"),
-            num(r, "mean_ms", "%.3g"), num(r, "peak_mib", "%.0f"), r.get("sunk", "-") or "-",
-            num(r, "floor_penetration_m", "%.1f", 1000.0), num(r, "mean_drift_m_per_s", "%.3f"),
-            num(r, "kinetic_energy_j", "%.3g"), r.get("moving", "-") or "-",
-            r.get("asleep", "-") or "-", num(r, "ratio_to_reference", "%.2f")))
+        line([scene, r["config"]] + [cell(r) for _, cell in columns])
 
 
 def main():
