@@ -209,6 +209,11 @@ const std::vector<Option>& table() {
              .help = "Blocks of the device's PGS solve: -1 as the device suits (4 per compute "
                      "unit on a CPU device, one per 128 bodies if fewer; none on a GPU), 0 "
                      "every element colored"}),
+        runOption<&RunOptions::bodySleep>(
+            {.name = "body-sleep",
+             .uses = kEverywhere,
+             .help = "SAT on the device: bodies sleep one by one on the device instead of by "
+                     "islands on the host"}),
         runOption<&RunOptions::buildOptions>(
             {.name = "build-options",
              .uses = kUseFlag,

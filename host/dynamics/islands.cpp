@@ -36,9 +36,33 @@ bool isAsleep(const shared::BodyMass& m) {
     return (m.flags & RUBBLE_BODY_ASLEEP) != 0;
 }
 
+// The body pairs of the manifolds with points, into st.touching.
+std::span<const BodyPair> touchingPairs(std::span<const Manifold> manifolds, SleepState& st) {
+    st.touching.clear();
+    for (const Manifold& m : manifolds)
+        if (m.count > 0) st.touching.push_back({m.a, m.b});
+    return st.touching;
+}
+
 } // namespace
 
 std::uint32_t wakeIslands(std::span<const Manifold> manifolds, std::span<const BodyPair> joined,
+                          std::span<const float> radii, std::span<shared::BodyMass> masses,
+                          std::span<const shared::BodyVelocity> approach, SleepState& st) {
+    return wakeIslands(touchingPairs(manifolds, st), joined, radii, masses, approach, st);
+}
+
+SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joint> joints,
+                        std::span<const float> radii, std::span<shared::BodyMass> masses,
+                        std::span<shared::BodyVelocity> velocities,
+                        std::span<shared::BodyMomentum> momenta, float dt, SleepState& st) {
+    st.joinedPairs.clear();
+    for (const Joint& j : joints) st.joinedPairs.push_back({j.a, j.b});
+    return updateSleep(touchingPairs(manifolds, st), st.joinedPairs, radii, masses, velocities,
+                       momenta, dt, st);
+}
+
+std::uint32_t wakeIslands(std::span<const BodyPair> touching, std::span<const BodyPair> joined,
                           std::span<const float> radii, std::span<shared::BodyMass> masses,
                           std::span<const shared::BodyVelocity> approach, SleepState& st) {
     const std::uint32_t n = std::uint32_t(masses.size());
@@ -72,8 +96,7 @@ std::uint32_t wakeIslands(std::span<const Manifold> manifolds, std::span<const B
         if (st.restless[a] && isAsleep(masses[b])) mark(b);
         if (st.restless[b] && isAsleep(masses[a])) mark(a);
     };
-    for (const Manifold& m : manifolds)
-        if (m.count > 0) touch(m.a, m.b);
+    for (const BodyPair& t : touching) touch(t.a, t.b);
     for (const BodyPair& j : joined) touch(j.a, j.b);
     for (std::uint32_t i = 0; i < n; ++i)
         if (st.restless[i] && st.wasAsleep[i] && st.group[i] != kNoGroup) mark(i);
@@ -89,7 +112,7 @@ std::uint32_t wakeIslands(std::span<const Manifold> manifolds, std::span<const B
     return woken;
 }
 
-SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joint> joints,
+SleepReport updateSleep(std::span<const BodyPair> touching, std::span<const BodyPair> joined,
                         std::span<const float> radii, std::span<shared::BodyMass> masses,
                         std::span<shared::BodyVelocity> velocities,
                         std::span<shared::BodyMomentum> momenta, float dt, SleepState& st) {
@@ -111,10 +134,9 @@ SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joi
 
     // Islands over dynamic bodies: contacts, joints, and the groups that sleep together.
     st.islands.reset(n);
-    for (const Manifold& m : manifolds)
-        if (m.count > 0 && isDynamic(masses[m.a]) && isDynamic(masses[m.b]))
-            st.islands.unite(m.a, m.b);
-    for (const Joint& j : joints)
+    for (const BodyPair& t : touching)
+        if (isDynamic(masses[t.a]) && isDynamic(masses[t.b])) st.islands.unite(t.a, t.b);
+    for (const BodyPair& j : joined)
         if (isDynamic(masses[j.a]) && isDynamic(masses[j.b])) st.islands.unite(j.a, j.b);
     st.groupFirst.assign(n, kNoGroup);
     for (std::uint32_t i = 0; i < n; ++i) {

@@ -29,6 +29,7 @@ struct SleepState {
     std::vector<std::uint32_t> groupFirst, awake, asleep, islandRestless;
     std::vector<std::uint8_t> restless, wakeGroup, wakeBody;
     std::vector<float> islandSlowFor;
+    std::vector<BodyPair> touching, joinedPairs; ///< the manifold and joint overloads' pairs
 };
 
 inline constexpr std::uint32_t kNoGroup = 0xffffffffu;
@@ -56,6 +57,11 @@ struct SleepReport {
 std::uint32_t wakeIslands(std::span<const Manifold> manifolds, std::span<const BodyPair> joined,
                           std::span<const float> radii, std::span<shared::BodyMass> masses,
                           std::span<const shared::BodyVelocity> approach, SleepState& state);
+/// The same over `touching`, the body pairs of this step's manifolds with points (the device's
+/// pairs with rows: host/gpu/sleep.cpp), in any order.
+std::uint32_t wakeIslands(std::span<const BodyPair> touching, std::span<const BodyPair> joined,
+                          std::span<const float> radii, std::span<shared::BodyMass> masses,
+                          std::span<const shared::BodyVelocity> approach, SleepState& state);
 
 /// Stage updateSleep (islands as in Catto, "Box2D" island management; union-find after Tarjan).
 /// Dynamic bodies are joined by every manifold with points and every joint; bodies that fell
@@ -67,6 +73,13 @@ std::uint32_t wakeIslands(std::span<const Manifold> manifolds, std::span<const B
 /// reads: manifolds, joints, velocities, radii (each body's bounding radius, m)
 /// writes: masses (flags), velocities, momenta, state
 SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joint> joints,
+                        std::span<const float> radii, std::span<shared::BodyMass> masses,
+                        std::span<shared::BodyVelocity> velocities,
+                        std::span<shared::BodyMomentum> momenta, float dt, SleepState& state);
+/// The same over `touching`, the body pairs of this step's manifolds with points, and `joined`,
+/// the joints' body pairs, each in any order (the islands and every decision depend on the
+/// pairs, not on their order: UnionFind's roots are the smallest members).
+SleepReport updateSleep(std::span<const BodyPair> touching, std::span<const BodyPair> joined,
                         std::span<const float> radii, std::span<shared::BodyMass> masses,
                         std::span<shared::BodyVelocity> velocities,
                         std::span<shared::BodyMomentum> momenta, float dt, SleepState& state);

@@ -47,6 +47,15 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
     RUBBLE_TRY(fill(c, p->bodies_.slowFor, 0u, n * sizeof(cl_float)));
     RUBBLE_TRY(fill(c, p->bodies_.restless, 0u, n * sizeof(cl_uint)));
     RUBBLE_TRY(upload(c, p->bodies_.forces, bodies.forces));
+    // SAT sleeps by islands on the host unless asked to sleep body by body on the device.
+    HostIslands& h = p->islands_;
+    h.enabled = in.collision == CollisionMethod::Sat && !in.bodySleep;
+    if (h.enabled) {
+        h.radii.resize(n);
+        for (std::size_t i = 0; i < n; ++i)
+            h.radii[i] = in.shapes[bodies.shapeOf[i]].boundingRadius;
+        h.joined.assign(in.joined.begin(), in.joined.end());
+    }
     RUBBLE_TRY(p->status_.reserve(c.context(), RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
     RUBBLE_TRY(p->uploadBodies(bodies));
     RUBBLE_TRY(p->uploadParticles(in.particles, bodies, in.surfaces));
@@ -84,6 +93,14 @@ Status Pipeline::uploadMassesAndFlags(std::span<const shared::BodyMass> hostMass
         if (!kinematic_[i]) continue;
         masses[i] = shared::wallMassItem(masses[i]);
         flags[i] = RUBBLE_BODY_KINEMATIC;
+    }
+    if (islands_.enabled) {
+        // The host's flags are the islands' from here on (a body woken by the host wakes its
+        // island; updateSleep sees it as woken from outside).
+        islands_.masses = masses;
+        islands_.asleep = 0;
+        for (std::size_t i = 0; i < masses.size(); ++i)
+            if (!kinematic_[i] && (masses[i].flags & RUBBLE_BODY_ASLEEP)) ++islands_.asleep;
     }
     RUBBLE_TRY(upload(c, bodies_.masses, masses));
     return upload(c, bodies_.flags, flags);
@@ -241,6 +258,16 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
         RUBBLE_TRY(narrowPhase(params.dt));
         Result<DeviceStatus> st = wakeAndSummarize(params, round);
         RUBBLE_TRY(st);
+        if (st->pairs <= sat_.current.capacity && islands_.enabled) {
+            // The CPU's wake: the islands a restless body touches wake, and the collision runs
+            // again for their pairs with sleeping bodies, until a round wakes none.
+            profile_.setStage(DeviceStage::Sleep);
+            Result<std::uint32_t> islandsWoken = wakeIslandsOnHost(*st);
+            RUBBLE_TRY(islandsWoken);
+            if (*islandsWoken > 0) continue;
+            pairsFound_ = st->pairs;
+            break;
+        }
         if (st->pairs <= sat_.current.capacity) {
             if (st->woken == woken) {
                 pairsFound_ = st->pairs;
@@ -282,7 +309,7 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
 Result<DeviceStatus> Pipeline::wakeAndSummarize(const StepParams& params, std::uint32_t round) {
     // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
     profile_.setStage(DeviceStage::Sleep);
-    RUBBLE_TRY(wakeTouchedPairs(round));
+    if (!islands_.enabled) RUBBLE_TRY(wakeTouchedPairs(round));
     profile_.setStage(DeviceStage::BuildContactRows);
     RUBBLE_TRY(summarizePairs(params));
     return readStatus();
@@ -320,7 +347,8 @@ Status Pipeline::enqueueSatSolve(const StepParams& params) {
     RUBBLE_TRY(projectJoints());
     RUBBLE_TRY(clearForces());
     profile_.setStage(DeviceStage::Sleep);
-    RUBBLE_TRY(sleepBodies(dt));
+    // Islands on the host decide once the step is met (updateIslandsOnHost).
+    if (!islands_.enabled) RUBBLE_TRY(sleepBodies(dt));
     // This step's pairs, features and impulses are the next step's. With SAT, a step that found
     // no pairs after one that found none, with no body state from the host between, keeps last
     // step's set as it is: it holds still pairs only, and none of them can have moved (a moving
@@ -417,8 +445,17 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
         if (readBack) RUBBLE_TRY(enqueueBodyRead(*readBack, &profile_));
         RUBBLE_TRY(finish());
     }
+    DeviceStatus st = statusFromSlots();
+    if (islands_.enabled) {
+        // The CPU's updateSleep on the step's velocities; the stopped bodies go to the device.
+        profile_.setStage(DeviceStage::Sleep);
+        const auto islandsStart = std::chrono::steady_clock::now();
+        Result<std::uint32_t> asleep = updateIslandsOnHost(params.dt, readBack);
+        RUBBLE_TRY(asleep);
+        st.asleep = *asleep;
+        stats.islandsMs = msSince(islandsStart);
+    }
     if (readBack) takeSleepFlags(*readBack);
-    const DeviceStatus st = statusFromSlots();
     TrafficCounts traffic;
     traffic.bodies = bodies_.count;
     traffic.particles = particles_.count;

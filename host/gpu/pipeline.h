@@ -17,6 +17,7 @@
 #include "host/collision/particles.h"
 #include "host/core/bodies.h"
 #include "host/core/step_params.h"
+#include "host/dynamics/islands.h"
 #include "host/geometry/shape.h"
 #include "host/gpu/buffer.h"
 #include "host/gpu/coloring.h"
@@ -214,6 +215,26 @@ struct PgsBuffers {
     std::vector<PgsLaunch> launches;        ///< this step's launches of each sweep
 };
 
+/// Sleep by islands on the host, for a world that collides with SAT (host/gpu/sleep.cpp): the
+/// CPU's wakeIslands and updateSleep (host/dynamics/islands.h) over the step's pairs with rows,
+/// which the host reads for the coloring anyway, and the joints' pairs; the device keeps the
+/// flags the host decides and skips the sleeping bodies as before.
+struct HostIslands {
+    bool enabled = false;
+    SleepState state;
+    /// Per body: the device's masses (kinematic bodies as walls), flags as the host last set or
+    /// read them on the device.
+    std::vector<shared::BodyMass> masses;
+    std::vector<float> radii;       ///< bounding radii, m
+    std::vector<BodyPair> joined;   ///< the joints' body pairs
+    std::vector<BodyPair> touching; ///< this round's pairs with rows
+    std::uint32_t asleep = 0;       ///< bodies asleep after the last update
+    // Host copies read from the device (updateSleep without a step's read-back).
+    std::vector<cl_uint> flags;
+    std::vector<shared::BodyVelocity> approach, velocities;
+    std::vector<shared::BodyMomentum> momenta;
+};
+
 /// What the host reads at the end of a step (RUBBLE_STATUS_* slots).
 struct DeviceStatus {
     std::uint32_t contacts = 0;
@@ -251,6 +272,9 @@ struct PipelineInput {
     /// Particles: their contacts solved by projected Gauss-Seidel (each contact a pair of one
     /// point, particlePairs) instead of the Jacobi family.
     bool particlePgs = false;
+    /// SAT: sleep body by body on the device (kernels/sleep.cl, as the particle paths do)
+    /// instead of by islands on the host (HostIslands); RunOptions::bodySleep.
+    bool bodySleep = false;
 };
 
 /// What a step takes from the host besides its parameters.
@@ -353,6 +377,19 @@ class Pipeline {
     Status wakeTouchedPairs(std::uint32_t round);
     /// Stage sleepBodies: restless marks from the rows, then each body's sleep.
     Status sleepBodies(float dt);
+    /// SAT with islands on the host, after a round of the collision and the summaries (the
+    /// status block read): when a body is asleep, the stage wake of the CPU (wakeIslands) over
+    /// this round's pairs with rows, the joints and the velocities before the forces; the woken
+    /// bodies' flags go to the device. Returns the bodies it woke (the caller collides again).
+    /// Errors: Device.
+    Result<std::uint32_t> wakeIslandsOnHost(const DeviceStatus& st);
+    /// SAT with islands on the host, once the step has run: the CPU's updateSleep over the
+    /// step's pairs with rows (colorPgs read them) and the joints, on the velocities after the
+    /// step (`readBack`'s, else read here); the bodies that fell asleep are stopped on the
+    /// device and in `readBack`, and the flags go to the device. Returns the bodies asleep.
+    /// Errors: Device.
+    Result<std::uint32_t> updateIslandsOnHost(float dt, const std::optional<Bodies>& readBack);
+    const HostIslands& hostIslands() const { return islands_; }
     /// The summed impulse of the rows on each obstacle.
     Status gatherObstacleImpulses();
     /// Sorts `count` (key, value) pairs by the low `bits` of the key, stably; the result is in
@@ -545,6 +582,7 @@ class Pipeline {
     ObstacleBuffers obstacles_;
     SatBuffers sat_;
     PgsBuffers pgs_;
+    HostIslands islands_;
     Buffer status_;
     Profile profile_;
     LcpBuffers lcp_;

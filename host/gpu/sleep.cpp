@@ -1,12 +1,37 @@
-// host/gpu/sleep.cpp: dispatch of the device's stages wakeTouched (before the rows: sleeping
-// bodies touched by a waking one wake) and sleepBodies (kernels/sleep.cl): restless marks from
-// this step's rows, then each body's sleep. The CPU twins, of the same names, are in
-// host/dynamics/sleep.cpp. Argument order is the kernel signature's.
+// host/gpu/sleep.cpp: sleeping on the device. With SAT, by the CPU's islands on the host
+// (wakeIslandsOnHost, updateIslandsOnHost: host/dynamics/islands.h over the device's pairs);
+// otherwise (particles, or --body-sleep) the dispatch of the device's stages wakeTouched (before
+// the rows: sleeping bodies touched by a waking one wake) and sleepBodies (kernels/sleep.cl):
+// restless marks from this step's rows, then each body's sleep. The CPU twins of those, of the
+// same names, are in host/dynamics/sleep.cpp. Argument order is the kernel signature's.
 #include <algorithm>
 
+#include "host/core/assert.h"
 #include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
+namespace {
+
+// The device's flags with the host's asleep bit (a kinematic body keeps the device's flags).
+void flagsFromIslands(const HostIslands& h, std::span<const std::uint8_t> kinematic,
+                      std::vector<cl_uint>& flags) {
+    for (std::size_t i = 0; i < flags.size(); ++i) {
+        if (kinematic[i]) continue;
+        flags[i] = (flags[i] & ~RUBBLE_BODY_ASLEEP) | (h.masses[i].flags & RUBBLE_BODY_ASLEEP);
+    }
+}
+
+// The host's asleep bit from the device's flags: an explosion on the device wakes bodies.
+void islandsFromFlags(std::span<const cl_uint> flags, std::span<const std::uint8_t> kinematic,
+                      HostIslands& h) {
+    for (std::size_t i = 0; i < flags.size(); ++i) {
+        if (kinematic[i]) continue;
+        shared::BodyMass& m = h.masses[i];
+        m.flags = (m.flags & ~RUBBLE_BODY_ASLEEP) | (flags[i] & RUBBLE_BODY_ASLEEP);
+    }
+}
+
+} // namespace
 
 Status Pipeline::wakeTouched() {
     return Dispatch(*context_, KernelId::WakeTouched, &profile_)
@@ -140,6 +165,89 @@ Status Pipeline::sleepBodies(float dt) {
                    .run(count, RUBBLE_GROUP_BODIES));
     // A group with an awake member wakes as one.
     return groups ? wakeJointGroups(1u) : Status{};
+}
+
+Result<std::uint32_t> Pipeline::wakeIslandsOnHost(const DeviceStatus& st) {
+    HostIslands& h = islands_;
+    RUBBLE_ASSERT(h.enabled);
+    // Nothing asleep at the end of the last step (or since the host's upload): nothing wakes.
+    if (h.asleep == 0) return 0u;
+    const Context& c = *context_;
+    const std::uint32_t n = bodies_.count;
+    const std::uint32_t pairs = std::min(st.pairs, sat_.current.capacity);
+    PgsBuffers& g = pgs_;
+    h.flags.resize(n);
+    h.approach.resize(n);
+    g.pairRowsHost.resize(pairs);
+    g.pairsHost.resize(pairs);
+    RUBBLE_TRY(enqueueDownload(c, bodies_.flags, std::span(h.flags), &profile_));
+    RUBBLE_TRY(enqueueDownload(c, bodies_.atStart, std::span(h.approach), &profile_));
+    RUBBLE_TRY(enqueueDownload(c, g.pairRows, std::span(g.pairRowsHost), &profile_));
+    RUBBLE_TRY(download(c, sat_.current.pairs, std::span(g.pairsHost), &profile_));
+    islandsFromFlags(h.flags, kinematic_, h);
+    h.touching.clear();
+    for (std::uint32_t p = 0; p < pairs; ++p)
+        if (g.pairRowsHost[p] & RUBBLE_PGS_POINTS)
+            h.touching.push_back({g.pairsHost[p].a, g.pairsHost[p].b});
+    const std::uint32_t woken =
+        wakeIslands(h.touching, h.joined, h.radii, h.masses, h.approach, h.state);
+    if (woken == 0) return 0u;
+    flagsFromIslands(h, kinematic_, h.flags);
+    RUBBLE_TRY(upload(c, bodies_.flags, h.flags));
+    hostBodies_ = true;
+    return woken;
+}
+
+Result<std::uint32_t> Pipeline::updateIslandsOnHost(float dt,
+                                                    const std::optional<Bodies>& readBack) {
+    HostIslands& h = islands_;
+    RUBBLE_ASSERT(h.enabled);
+    const Context& c = *context_;
+    const std::uint32_t n = bodies_.count;
+    // The step's velocities, momenta and flags: its read-back's, or read now.
+    std::span<shared::BodyVelocity> velocities;
+    std::span<shared::BodyMomentum> momenta;
+    if (readBack) {
+        velocities = readBack->velocities;
+        momenta = readBack->momenta;
+        h.flags.assign(flagsHost_.begin(), flagsHost_.end());
+    } else {
+        h.velocities.resize(n);
+        h.momenta.resize(n);
+        h.flags.resize(n);
+        velocities = h.velocities;
+        momenta = h.momenta;
+        RUBBLE_TRY(enqueueDownload(c, bodies_.velocities, velocities, &profile_));
+        RUBBLE_TRY(enqueueDownload(c, bodies_.momenta, momenta, &profile_));
+        RUBBLE_TRY(download(c, bodies_.flags, std::span(h.flags), &profile_));
+    }
+    islandsFromFlags(h.flags, kinematic_, h);
+    // The pairs with rows of the step's last collision round, as colorPgs read them.
+    const PgsBuffers& g = pgs_;
+    h.touching.clear();
+    for (std::size_t p = 0; p < g.pairRowsHost.size(); ++p)
+        if (g.pairRowsHost[p] & RUBBLE_PGS_POINTS)
+            h.touching.push_back({g.pairsHost[p].a, g.pairsHost[p].b});
+    const SleepReport r =
+        updateSleep(h.touching, h.joined, h.radii, h.masses, velocities, momenta, dt, h.state);
+    h.asleep = r.asleepBodies;
+    if (readBack)
+        for (std::uint32_t i = 0; i < n; ++i)
+            if (!kinematic_[i])
+                readBack->masses[i].flags = (readBack->masses[i].flags & ~RUBBLE_BODY_ASLEEP) |
+                                            (h.masses[i].flags & RUBBLE_BODY_ASLEEP);
+    if (r.fellAsleep == 0 && r.woken == 0) return r.asleepBodies;
+    // Stopped bodies: their zero velocities and momenta (updateSleep wrote them on the host).
+    flagsFromIslands(h, kinematic_, h.flags);
+    RUBBLE_TRY(upload(c, bodies_.flags, h.flags));
+    if (readBack) flagsHost_.assign(h.flags.begin(), h.flags.end());
+    if (r.fellAsleep > 0) {
+        RUBBLE_TRY(
+            upload(c, bodies_.velocities, std::span<const shared::BodyVelocity>(velocities)));
+        RUBBLE_TRY(upload(c, bodies_.momenta, std::span<const shared::BodyMomentum>(momenta)));
+    }
+    hostBodies_ = true;
+    return r.asleepBodies;
 }
 
 } // namespace rubble::gpu

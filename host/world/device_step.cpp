@@ -29,7 +29,8 @@ void deviceStagesAsStages(StepStats& stats) {
     stats.buildContactRowsMs = d.buildContactRows;
     stats.solveMs = d.solve;
     stats.integratePositionsMs = d.integratePositions;
-    stats.islandsMs = d.sleep;
+    // The device's sleep stage and, with SAT, the host's islands (Pipeline::endStep).
+    stats.islandsMs += d.sleep;
 }
 
 } // namespace
@@ -63,6 +64,7 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
     if (s.offload) in.kinematic = s.offload->kinematic;
     in.deterministic = s.run.deterministic;
     in.pgsBlocks = s.run.pgsBlocks;
+    in.bodySleep = s.run.bodySleep;
     Result<gpu::PipelineHandle> p = gpu::Pipeline::create(std::move(context), in);
     RUBBLE_TRY(p);
     s.device = std::move(*p);

@@ -97,6 +97,9 @@ struct RunOptions {
     /// suits (a CPU device four per compute unit, a GPU none), 0 every element colored, N > 0
     /// that many blocks.
     int pgsBlocks = -1;
+    /// SAT on the device: each body sleeps by itself on the device (its slow time and its
+    /// neighbours', as the particle paths sleep) instead of by islands on the host, the CPU's.
+    bool bodySleep = false;
     /// Options added to every OpenCL program build (`-cl-opt-disable` for Oclgrind).
     std::string buildOptions;
     /// Set to true (by a signal handler, another thread) to stop: World::step checks it between

@@ -121,37 +121,53 @@ TEST_F(DeviceCases, SatSymplecticSpinTurnsByOmegaTimesT) {
     test::expectSpinTurnsByOmegaTimesT(w);
 }
 
-// Waking before the solve with SAT (kernels/sleep.cl, wakeTouchedPairs): the sleeping bodies a
-// pair joins to a waking one wake before the rows and the collision runs again, so that their
-// mass takes part, to the reference's bounds.
+// Waking before the solve with SAT: the sleeping bodies a pair joins to a restless one wake
+// before the rows (with islands on the host, their whole island: wakeIslandsOnHost) and the
+// collision runs again, so that their mass takes part, to the reference's bounds.
 TEST_F(DeviceCases, SatSleepingRowTakesTheHitWithItsMomentum) {
     World w = deviceWorld(test::sleepingRowScene(test::kDeviceSatSimulation));
     test::expectSleepingRowTakesTheHit(w, 1e-3);
 }
-// With the boxes resting against each other the hit reaches through all five before the solve
-// (wakeStillPairs over last step's entries, the still pairs carried while they sleep), as the
-// CPU wakes the island: woken one contact deep, the second box met the first as a wall and
-// the 2 kg m/s were gone.
-TEST_F(DeviceCases, SatTouchingSleepingRowTakesTheHitWithItsMomentum) {
-    World w = deviceWorld(test::sleepingRowScene(test::kDeviceSatSimulation, 0.0));
+// Each body sleeping by itself (kernels/sleep.cl, wakeTouchedPairs): a pair of a sleeping body
+// and a waking one wakes the sleeping one, to the same bounds.
+TEST_F(DeviceCases, SatBodySleepSleepingRowTakesTheHitWithItsMomentum) {
+    World w = bodySleepWorld(test::sleepingRowScene(test::kDeviceSatSimulation));
     test::expectSleepingRowTakesTheHit(w, 1e-3);
-    EXPECT_GT(w.body(6).position.x, 4.0f + 0.1f) << "the last box of the row moves";
 }
-// The same with the first two boxes joined: the hit wakes them as a joint group
-// (wakeJointGroups), whose members carry the round on, so the wake goes on from the second box.
+// With the boxes resting against each other the hit reaches through all five before the solve,
+// as the CPU wakes the island (islands on the host: the island they fell asleep as; each body by
+// itself: wakeStillPairs over last step's entries, the still pairs carried while they sleep):
+// woken one contact deep, the second box met the first as a wall and the 2 kg m/s were gone.
+TEST_F(DeviceCases, SatTouchingSleepingRowTakesTheHitWithItsMomentum) {
+    World islands = deviceWorld(test::sleepingRowScene(test::kDeviceSatSimulation, 0.0));
+    World bodies = bodySleepWorld(test::sleepingRowScene(test::kDeviceSatSimulation, 0.0));
+    for (World* w : {&islands, &bodies}) {
+        SCOPED_TRACE(w == &islands ? "islands" : "body sleep");
+        test::expectSleepingRowTakesTheHit(*w, 1e-3);
+        EXPECT_GT(w->body(6).position.x, 4.0f + 0.1f) << "the last box of the row moves";
+    }
+}
+// The same with the first two boxes joined: the hit wakes them as one (an island; each body by
+// itself, a joint group, wakeJointGroups, whose members carry the round on), so the wake goes
+// on from the second box.
 TEST_F(DeviceCases, SatTouchingRowWithAJointTakesTheHitWithItsMomentum) {
-    World w = deviceWorld(test::jointedRowScene(test::kDeviceSatSimulation));
-    test::expectSleepingRowTakesTheHit(w, 1e-3);
-    EXPECT_GT(w.body(6).position.x, 4.0f + 0.1f) << "the last box of the row moves";
+    World islands = deviceWorld(test::jointedRowScene(test::kDeviceSatSimulation));
+    World bodies = bodySleepWorld(test::jointedRowScene(test::kDeviceSatSimulation));
+    for (World* w : {&islands, &bodies}) {
+        SCOPED_TRACE(w == &islands ? "islands" : "body sleep");
+        test::expectSleepingRowTakesTheHit(*w, 1e-3);
+        EXPECT_GT(w->body(6).position.x, 4.0f + 0.1f) << "the last box of the row moves";
+    }
 }
 
 // The still-pair kernels' bytes (host/gpu/traffic.cpp) come from the entries the device reports
 // it kept and carried (the status block): with the touching row asleep and the striker sliding
 // towards it alone, a step finds one pair (striker, floor) and carries the row's nine still
 // pairs (five on the floor, four between boxes) after it, so the next step's kernels read ten
-// entries. In the hit, each launch of wakeStillPairs reads last step's entries.
+// entries. In the hit, each launch of wakeStillPairs reads last step's entries (bodies sleeping
+// each by itself: with islands on the host the hit wakes the row's island without it).
 TEST_F(DeviceCases, SatStillPairKernelsCountTheEntriesTheyRead) {
-    World w = deviceWorld(test::sleepingRowScene(test::kDeviceSatSimulation, 0.0));
+    World w = bodySleepWorld(test::sleepingRowScene(test::kDeviceSatSimulation, 0.0));
     for (int i = 0; i < 41; ++i) ASSERT_TRUE(w.step().ok());
     for (std::uint32_t i = 2; i < w.bodyCount(); ++i) ASSERT_TRUE(w.body(i).asleep) << i;
     gpu::TrafficCounts n;
@@ -188,9 +204,10 @@ TEST_F(DeviceCases, SatStillPairKernelsCountTheEntriesTheyRead) {
 // Every kernel of the SAT path counts the bytes it moves, so that `rubble devices --bandwidth`
 // sets each against the copy bandwidth: the jointed touching row runs the joints' kernels (rows,
 // the projection of a group as one, the joint groups' sleep and wake), the still pairs' carry
-// and the wake through them.
+// and the wake through them. Bodies sleeping each by itself, which runs every kernel of the SAT
+// path (islands on the host run a subset).
 TEST_F(DeviceCases, SatEveryKernelCountsItsBytes) {
-    World w = deviceWorld(test::jointedRowScene(test::kDeviceSatSimulation));
+    World w = bodySleepWorld(test::jointedRowScene(test::kDeviceSatSimulation));
     for (int i = 0; i < 120; ++i) ASSERT_TRUE(w.step().ok());
     int kernels = 0;
     for (const DeviceCommandTime& c : w.deviceProfile()) {
@@ -206,9 +223,10 @@ TEST_F(DeviceCases, SatEveryKernelCountsItsBytes) {
 
 // A pebble onto a sleeping stack of ten: the hit wakes the whole stack before the solve and its
 // contacts start from the impulses they held when they fell asleep (carryStillPairs), so the
-// stack gives as the CPU's island does (measured: a sag of 11.3 mm against the CPU's 11.6, the
-// pebble at 0.178 m/s against 0.177). Woken one contact deep the stack stood as a wall (no sag,
-// the pebble stopped dead); woken whole with cold contacts it sagged 29.3 mm (0.464 m/s).
+// stack gives as the CPU's island does (measured with islands on the host: a sag of 11.6 mm and
+// the pebble at 0.177 m/s, the CPU's; each body sleeping by itself 11.3 mm and 0.178 m/s). Woken
+// one contact deep the stack stood as a wall (no sag, the pebble stopped dead); woken whole with
+// cold contacts it sagged 29.3 mm (0.464 m/s).
 TEST_F(DeviceCases, SatPebbleOnASleepingStackMovesItAsTheCpuDoes) {
     const std::string scene = test::pebbleOnStackScene(test::kDeviceSatSimulation);
     World device = deviceWorld(scene);

@@ -52,11 +52,21 @@ class GpuTest : public ::testing::Test {
     /// World::create puts it there: the debris set (or the bodies without joints) on the
     /// device, the other bodies in a CPU world of their own.
     World deviceWorld(const std::string& json, bool deterministic = false) {
-        Scene scene = sceneOf(json);
-        scene.simulation.backend = Backend::OpenCl;
         RunOptions run;
         run.deterministic = deterministic;
+        return deviceWorld(json, run);
+    }
+    World deviceWorld(const std::string& json, const RunOptions& run) {
+        Scene scene = sceneOf(json);
+        scene.simulation.backend = Backend::OpenCl;
         return worldOf(scene, run);
+    }
+    /// SAT with each body sleeping by itself on the device (RunOptions::bodySleep) instead of
+    /// by islands on the host: the kernels of kernels/sleep.cl on the SAT path.
+    World bodySleepWorld(const std::string& json) {
+        RunOptions run;
+        run.bodySleep = true;
+        return deviceWorld(json, run);
     }
 
     /// The scene of `json` (aborts the test binary when it does not parse).

@@ -13,6 +13,7 @@
 #include "gpu_fixture.h"
 #include "host/collision/sat_collision.h"
 #include "host/dynamics/pgs_solver.h"
+#include "support/physics_cases.h"
 
 namespace rubble {
 namespace {
@@ -467,9 +468,14 @@ std::uint64_t launches(const World& w, const std::string& kernel) {
     return test::deviceProfileByName(w)[kernel].launches;
 }
 
-// scenes/pyramid_20.json and stack_10.json stand on the device and fall asleep: every crate
-// within 5 cm of where it started after 10 s, none in the floor, all asleep; then a second more
-// builds no rows and sweeps nothing (a pile asleep costs no solve).
+// scenes/pyramid_20.json and stack_10.json stand on the device and fall asleep: after 10 s no
+// crate in the floor, all asleep, every crate near where it started; then a second more builds
+// no rows and sweeps nothing (a pile asleep costs no solve). Near: within 5 cm in the CPU's
+// order (one block; the CPU's own pyramid moves 2.2 cm, its stack 2.8); in orders that are not
+// the CPU's the piles creep further before their islands fall asleep as one, the pyramid
+// colored most (measured with islands on the host: 8 blocks 3.5 / 5.6 cm, colored 10.0 / 3.9
+// cm for pyramid / stack; with each body sleeping by itself, which stopped crates one by one as
+// they slowed, 4.7 cm at most), so there the bound is 12 cm: a pile that falls moves metres.
 TEST_F(PgsTwin, PyramidAndStackStandAndSleepOnTheDevice) {
     // As the device suits (PoCL's CPU device: one block for worlds this small, the CPU's order),
     // in the eight blocks a large world gets here (the elements between them colored) and
@@ -494,7 +500,7 @@ TEST_F(PgsTwin, PyramidAndStackStandAndSleepOnTheDevice) {
         std::printf("[ %s, blocks %d ] largest displacement %.4f m, %u of %u asleep\n", name,
                     blocks, moved,
                     asleepBodies(w), dynamic);
-        EXPECT_LT(moved, 0.05f) << name;
+        EXPECT_LT(moved, blocks < 0 ? 0.05f : 0.12f) << name;
         EXPECT_GT(lowest, 0.49f) << name; // the lowest crate's centre, half a metre up
         EXPECT_EQ(asleepBodies(w), dynamic) << name;
         const std::uint64_t built = launches(w, "buildPgsRows"), swept = launches(w, "solvePgs");
@@ -506,40 +512,70 @@ TEST_F(PgsTwin, PyramidAndStackStandAndSleepOnTheDevice) {
 }
 
 // A world below 2 x kPgsBlockBodies bodies runs as one block on a CPU device, whose sweeps take
-// every row in the CPU's order (normal, friction and push rows and the warm start by point):
-// pyramid_20, 210 crates and 1,600 contact points, steps the CPU's bits on the device, every
-// body at every step, until its first crates fall asleep at 0.5 s, where the device's sleep by
-// body parts from the CPU's islands. (Measured: the same bits through step 29, apart at step 30,
-// 30 bodies; with the friction rows and the warm start element by element, as eight blocks take
-// them, apart at step 1 by 7.7 mm.)
-TEST_F(PgsTwin, ASmallWorldStepsTheCpuBitForBitUntilItSleeps) {
+// every row in the CPU's order (normal, friction and push rows and the warm start by point),
+// and sleeps by the CPU's islands on the host: pyramid_20, 210 crates and 1,600 contact points,
+// steps the CPU's bits on the device, every body at every step, through the crates falling
+// asleep (from step 30) until the whole pile sleeps, and on. (Measured: the same bits through
+// 600 steps; with each body sleeping by itself on the device, apart at step 30; with the
+// friction rows and the warm start element by element, as eight blocks take them, apart at
+// step 1 by 7.7 mm.)
+TEST_F(PgsTwin, ASmallWorldStepsTheCpuBitForBitThroughSleep) {
     World cpu = sceneFile("pyramid_20.json", Backend::Cpu);
     World device = sceneFile("pyramid_20.json", Backend::OpenCl);
-    for (int step = 1; step <= 29; ++step) {
+    std::uint32_t contacts = 0;
+    for (int step = 1; step <= 90; ++step) {
         ASSERT_TRUE(cpu.step().ok()) << "step " << step;
         ASSERT_TRUE(device.step().ok()) << "step " << step;
         ASSERT_EQ(device.lastStep().contactCount, cpu.lastStep().contactCount) << "step " << step;
+        ASSERT_EQ(device.lastStep().asleep, cpu.lastStep().asleep) << "step " << step;
+        contacts = std::max(contacts, cpu.lastStep().contactCount);
         for (std::uint32_t i = 0; i < cpu.bodyCount(); ++i) {
             ASSERT_TRUE(test::sameBits(cpu.body(i), device.body(i)))
                 << cpu.bodyName(i) << " at step " << step;
-            ASSERT_FALSE(device.body(i).asleep) << cpu.bodyName(i) << " at step " << step;
+            ASSERT_EQ(device.body(i).asleep, cpu.body(i).asleep)
+                << cpu.bodyName(i) << " at step " << step;
         }
     }
-    EXPECT_GE(cpu.lastStep().contactCount, 1000u); // the pile's contacts, not a free fall
+    EXPECT_GE(contacts, 1000u); // the pile's contacts, not a free fall
+    EXPECT_EQ(asleepBodies(device), cpu.bodyCount() - 1) << "the whole pile asleep";
+}
+
+// A column of sixteen leaning over, toppling slowly: on the device as on the CPU
+// (Sleep.BaseOfASlowlyTopplingColumnStaysAwake) it is one island with its moving top, so its
+// base, slower than the sleep speeds for the first second, stays awake and is dragged along,
+// and the device steps the CPU's bits throughout. (Each body sleeping by itself, the base fell
+// asleep under the column as a fixed pivot.)
+TEST_F(PgsTwin, BaseOfASlowlyTopplingColumnStaysAwakeAsOnTheCpu) {
+    World cpu = world(test::leaningColumnScene(), Backend::Cpu);
+    World device = world(test::leaningColumnScene(), Backend::OpenCl);
+    const float topStart = device.body(16).position.x;
+    for (int step = 1; step <= 180; ++step) {
+        ASSERT_TRUE(cpu.step().ok()) << "step " << step;
+        ASSERT_TRUE(device.step().ok()) << "step " << step;
+        for (std::uint32_t i = 1; i < device.bodyCount(); ++i) {
+            ASSERT_FALSE(device.body(i).asleep) << device.bodyName(i) << " at step " << step;
+            ASSERT_TRUE(test::sameBits(cpu.body(i), device.body(i)))
+                << device.bodyName(i) << " at step " << step;
+        }
+    }
+    EXPECT_GT(device.body(16).position.x - topStart, 2.0f) << "m the top has moved: it topples";
+    EXPECT_GT(glm::length(device.body(1).linearVelocity), 1e-3f) << "m/s: the base moves with it";
 }
 
 // scenes/ragdoll_pile.json with every body on the device: joints hold to a tenth of a
 // millimetre through the fall, nothing sinks, and the pile settles at least as the CPU's does:
-// at 20 s three quarters of the bodies asleep and no fewer than on the CPU, none faster than
-// 0.1 m/s. Not every body: in some of the ways the pile comes to rest a doll rocks on a corner
-// or creeps a centimetre a second and stays awake, on the CPU too (140 of 160 awake at 20 s, a
-// head rocking at 0.06 m/s keeping its island up), and which way it comes to rest follows the
-// order of the rows: with the blocks' push rows element by element, as before 2026-11-25, every
-// body slept with the default blocks but 20 / 30 / 10 stayed awake with --pgs-blocks 1 / 2 / 4.
-// (Measured: 8.4e-6 m; 150 of 160 asleep in one block, fastest 0.014 m/s; 130 in eight blocks,
-// 0.015 m/s; 150 colored, 0.050 m/s. With the joints of a color passed over, as the sweeps did from
-// the blocks' arrival until this test covered the colored path, the colored pile never settled: 0
-// of 160 asleep, 3.6 m/s.)
+// at 20 s no fewer bodies asleep than on the CPU, none faster than 0.1 m/s. (With islands on the
+// host an island sleeps only when all of it is slow, as on the CPU, whose pile has 20 of 160
+// asleep at 20 s: measured 160 in one block, 160 in eight, 30 colored. Each body sleeping by
+// itself, three quarters were asleep in every order.) Not every body: in some of the ways the pile
+// comes to rest a doll rocks on a corner or creeps a centimetre a second and stays awake, on the
+// CPU too (140 of 160 awake at 20 s, a head rocking at 0.06 m/s keeping its island up), and which
+// way it comes to rest follows the order of the rows: with the blocks' push rows element by
+// element, as before 2026-11-25, every body slept with the default blocks but 20 / 30 / 10 stayed
+// awake with --pgs-blocks 1 / 2 / 4. (Measured: 8.4e-6 m; 150 of 160 asleep in one block, fastest
+// 0.014 m/s; 130 in eight blocks, 0.015 m/s; 150 colored, 0.050 m/s. With the joints of a color
+// passed over, as the sweeps did from the blocks' arrival until this test covered the colored path,
+// the colored pile never settled: 0 of 160 asleep, 3.6 m/s.)
 TEST_F(PgsTwin, RagdollPileHoldsItsJointsAndSettlesOnTheDevice) {
     // As the device suits (one block: 161 bodies), in eight blocks (as PoCL's CPU device runs a
     // large world; the joints between blocks go through the colors) and colored (as a GPU would:
@@ -577,7 +613,6 @@ void PgsTwin::ragdollPileSettles(int blocks, std::uint32_t asleepOnCpu) {
                 blocks, worst, asleepBodies(w), dynamic, fastest);
     EXPECT_LT(worst, 1e-4f);
     EXPECT_GT(lowest, 0.0f);
-    EXPECT_GE(4 * asleepBodies(w), 3 * dynamic);
     EXPECT_GE(asleepBodies(w), asleepOnCpu);
     EXPECT_LT(fastest, 0.1f);
 }

@@ -38,6 +38,7 @@ RunOptions otherRun() {
     r.kernelDir = "kernels";
     r.deterministic = true;
     r.pgsBlocks = 3;
+    r.bodySleep = true;
     r.buildOptions = "-cl-opt-disable";
     return r;
 }
