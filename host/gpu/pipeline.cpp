@@ -264,6 +264,7 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
             profile_.setStage(DeviceStage::Sleep);
             Result<std::uint32_t> islandsWoken = wakeIslandsOnHost(*st);
             RUBBLE_TRY(islandsWoken);
+            profile_.setStage(DeviceStage::BuildContactRows);
             if (*islandsWoken > 0) continue;
             pairsFound_ = st->pairs;
             break;
