@@ -863,7 +863,7 @@ __kernel void projectJointGroups(const uint count, __global const JointGroup* gr
                                  __global const uint* members, __global const PgsJoint* joints,
                                  __global const BodyMass* masses, __global const uint* flags,
                                  __global BodyPose* poses, __global JointPositionRow* rows,
-                                 __global float* matrix, __global float* solution,
+                                 __global JointReal* matrix, __global JointReal* solution,
                                  __global float4* deltaPosition, __global float4* deltaRotation,
                                  const int iterations) {
     const uint g = get_global_id(0);

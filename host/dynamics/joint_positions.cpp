@@ -23,8 +23,8 @@ constexpr float kLinearTolerance = RUBBLE_JOINT_LINEAR_TOLERANCE;
 constexpr float kAngularTolerance = RUBBLE_JOINT_ANGULAR_TOLERANCE;
 constexpr float kMaxLinearCorrection = RUBBLE_JOINT_MAX_LINEAR_CORRECTION;
 constexpr float kMaxAngularCorrection = RUBBLE_JOINT_MAX_ANGULAR_CORRECTION;
-constexpr double kPivotTolerance =
-    1e-9; // in double here; RUBBLE_JOINT_PIVOT_TOLERANCE on the device
+using shared::JointReal;
+constexpr double kPivotTolerance = RUBBLE_JOINT_PIVOT_TOLERANCE;
 
 glm::vec3 rotate(const shared::BodyPose& pose, glm::vec3 v) {
     return toVec3(shared::quatRotate(pose.orientation, toFloat4(v)));

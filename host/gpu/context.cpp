@@ -47,6 +47,7 @@ WorkSizes workSizesFor(const DeviceInfo& device) {
     w.sortItems = std::clamp<std::uint32_t>(floorPow2(2 * lanes - 1), 256, 4096);
     w.pgsBlocks = device.cpu ? 4 * std::max<std::uint32_t>(1, device.computeUnits) : 0;
     w.contiguousItems = device.cpu;
+    w.jointDouble = device.fp64;
     return w;
 }
 
@@ -60,7 +61,8 @@ std::string buildOptionsFor(const WorkSizes& sizes) {
     return std::string(kBuildOptions) + " -DRUBBLE_SORT_ITEMS=" + std::to_string(sizes.sortItems) +
            "u -DRUBBLE_GROUP_BROAD=" + std::to_string(sizes.broadGroup) +
            "u -DRUBBLE_GROUP_PAIRS=" + std::to_string(sizes.pairGroup) +
-           "u -DRUBBLE_CONTIGUOUS_ITEMS=" + (sizes.contiguousItems ? "1" : "0");
+           "u -DRUBBLE_CONTIGUOUS_ITEMS=" + (sizes.contiguousItems ? "1" : "0") +
+           " -DRUBBLE_JOINT_DOUBLE=" + (sizes.jointDouble ? "1" : "0");
 }
 
 Context::~Context() {

@@ -34,6 +34,11 @@ struct WorkSizes {
     /// group-width apart (a GPU: adjacent lanes read adjacent items); RUBBLE_CONTIGUOUS_ITEMS,
     /// itemRangeItem in rubble/shared/group.h.
     bool contiguousItems = false;
+    /// Whether the joints' position projection factors in double (RUBBLE_JOINT_DOUBLE, the
+    /// JointReal of rubble/shared/cl_compat.h), as the CPU's does: on a device with fp64.
+    bool jointDouble = false;
+    /// Bytes of a JointReal on the device (the projection's matrices and solutions).
+    std::uint32_t jointRealBytes() const { return jointDouble ? 8u : 4u; }
 };
 
 /// The work sizes for a device: work-groups of 64 (or the device's largest, if smaller: a

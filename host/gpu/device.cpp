@@ -89,6 +89,13 @@ Result<std::vector<DeviceInfo>> listDevices() {
             cl_device_type type = 0;
             RUBBLE_CL_CHECK(clGetDeviceInfo(id, CL_DEVICE_TYPE, sizeof type, &type, nullptr));
             d.cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+            // A device without double precision reports no FP config for it (or fails the
+            // query, as an OpenCL 1.0 device may): float then.
+            cl_device_fp_config doubles = 0;
+            if (clGetDeviceInfo(id, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof doubles, &doubles,
+                                nullptr) != CL_SUCCESS)
+                doubles = 0;
+            d.fp64 = doubles != 0;
             devices.push_back(std::move(d));
         }
     }

@@ -25,6 +25,7 @@ struct DeviceInfo {
     std::uint64_t maxWorkGroupSize = 0; ///< CL_DEVICE_MAX_WORK_GROUP_SIZE, work-items
     std::uint64_t localMemory = 0;      ///< CL_DEVICE_LOCAL_MEM_SIZE, bytes per work-group
     bool cpu = false;                   ///< CL_DEVICE_TYPE_CPU: cores, not lanes by the thousand
+    bool fp64 = false;                  ///< CL_DEVICE_DOUBLE_FP_CONFIG not 0: double precision
     cl_platform_id platformId = nullptr;
     cl_device_id id = nullptr;
 };

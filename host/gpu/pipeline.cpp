@@ -464,6 +464,7 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
     traffic.contacts = st.contacts;
     traffic.previous = params.solver.warmStart ? contacts_.previousCount : 0u;
     traffic.sortItems = context_->workSizes().sortItems;
+    traffic.jointReal = context_->workSizes().jointRealBytes();
     if (pairPgs()) {
         traffic.pairs = st.pairs;
         traffic.gridEntries = st.gridEntries;

@@ -342,8 +342,9 @@ Status Pipeline::createJoints(const PipelineInput& in) {
     RUBBLE_TRY(upload(c, g.directGroups, groups));
     RUBBLE_TRY(upload(c, g.groupMembers, members));
     RUBBLE_TRY(g.positionRows.reserve(c.context(), rows * sizeof(shared::JointPositionRow)));
-    RUBBLE_TRY(g.positionMatrix.reserve(c.context(), matrix * sizeof(cl_float)));
-    RUBBLE_TRY(g.positionSolution.reserve(c.context(), rows * sizeof(cl_float)));
+    const std::size_t real = c.workSizes().jointRealBytes();
+    RUBBLE_TRY(g.positionMatrix.reserve(c.context(), matrix * real));
+    RUBBLE_TRY(g.positionSolution.reserve(c.context(), rows * real));
     const std::size_t deltas = std::size_t(bodies_.count) * sizeof(shared::float4);
     for (Buffer* b : {&g.deltaPosition, &g.deltaRotation}) {
         RUBBLE_TRY(b->reserve(c.context(), deltas));

@@ -179,8 +179,8 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
         return n.directGroups * sizeof(shared::JointGroup) +
                n.directMembers * (kWord + sizeof(shared::PgsJoint) +
                                   2 * (sizeof(BodyMass) + kWord + sizeof(BodyPose))) +
-               n.directRows * (2 * sizeof(shared::JointPositionRow) + 2 * kWord + 2 * side) +
-               n.directMatrix * kWord;
+               n.directRows * (2 * sizeof(shared::JointPositionRow) + 2 * n.jointReal + 2 * side) +
+               n.directMatrix * n.jointReal;
     }
     case KernelId::JointVelocities: // per jointed body: its index, mass, flags, pose, momentum;
         // its velocity written

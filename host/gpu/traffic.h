@@ -29,9 +29,10 @@ struct TrafficCounts {
     std::uint64_t carried = 0;     ///< SAT: still pairs carried into this step's set
     std::uint64_t joints = 0;      ///< SAT: joints
     std::uint64_t jointBodies = 0; ///< SAT: bodies with a joint
-    /// SAT: the joint groups projected as one, their members (joints), rows, and the floats of
-    /// their matrices.
+    /// SAT: the joint groups projected as one, their members (joints), rows, and the entries of
+    /// their matrices, each of jointReal bytes (WorkSizes::jointRealBytes).
     std::uint64_t directGroups = 0, directMembers = 0, directRows = 0, directMatrix = 0;
+    std::uint64_t jointReal = 4;
 };
 
 /// Bytes one launch of `id` reads and writes, each element it touches counted once: a record

@@ -76,6 +76,12 @@ TEST(WorkSizes, BuildOptionsDefineThem) {
     EXPECT_NE(o.find("-DRUBBLE_CONTIGUOUS_ITEMS=0"), std::string::npos) << o;
     w.contiguousItems = true;
     EXPECT_NE(gpu::buildOptionsFor(w).find("-DRUBBLE_CONTIGUOUS_ITEMS=1"), std::string::npos);
+    // The joints' projection in float without fp64, in double (4 and 8 bytes of scratch) with.
+    EXPECT_NE(o.find("-DRUBBLE_JOINT_DOUBLE=0"), std::string::npos) << o;
+    EXPECT_EQ(w.jointRealBytes(), 4u);
+    w.jointDouble = true;
+    EXPECT_NE(gpu::buildOptionsFor(w).find("-DRUBBLE_JOINT_DOUBLE=1"), std::string::npos);
+    EXPECT_EQ(w.jointRealBytes(), 8u);
 }
 
 // A strided launch's split of n items (itemRangeItem), both ways, for item counts around the

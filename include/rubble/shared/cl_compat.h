@@ -13,6 +13,14 @@
 #define RUBBLE_STATIC_ASSERT_SIZE(type, bytes)
 // A pointer into device memory (the flattened hulls read by the narrow phase); plain on the host.
 #define RUBBLE_GLOBAL __global
+// The joints' position projection factors its matrices in double, as the CPU's does, on a device
+// with fp64 (the host says so in the build options: WorkSizes::jointDouble), else in float.
+#if defined(RUBBLE_JOINT_DOUBLE) && RUBBLE_JOINT_DOUBLE
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+typedef double JointReal;
+#else
+typedef float JointReal;
+#endif
 
 #else
 
@@ -27,6 +35,7 @@ struct alignas(16) float4 {
 };
 typedef std::uint32_t uint;
 typedef std::uint64_t ulong;
+typedef double JointReal; // the joints' projection in double, as host/dynamics/joint_positions.cpp
 using std::fabs;
 using std::floor;
 using std::isfinite;

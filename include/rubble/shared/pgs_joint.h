@@ -23,7 +23,7 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_JOINT_ANGULAR_TOLERANCE 1e-5f
 #define RUBBLE_JOINT_MAX_LINEAR_CORRECTION 0.2f
 #define RUBBLE_JOINT_MAX_ANGULAR_CORRECTION 0.25f
-#define RUBBLE_JOINT_PIVOT_TOLERANCE 1e-9f
+#define RUBBLE_JOINT_PIVOT_TOLERANCE ((JointReal)1e-9)
 // Newton steps of the position projection per step (it stops once every joint holds).
 #define RUBBLE_JOINT_POSITION_ITERATIONS 20
 // A joint group with at most this many rows is projected as one (its whole system solved
@@ -350,6 +350,17 @@ RUBBLE_FN uint appendJointRowsItem(PgsJoint j, BodyPose pa, BodyPose pb, JacobiB
     return n + count;
 }
 
+// J_x M^-1 J_y^T over the bodies two rows share: each body's two dot products in float, their
+// sum added to the total in JointReal, as the CPU's coupling adds glm::dot's floats in double.
+RUBBLE_FN JointReal jointRowCouplingItem(JointPositionRow x, JointPositionRow y) {
+    JointReal k = 0.0f;
+    if (x.a == y.a) k += dot3(x.linearA, y.moveA) + dot3(x.angularA, y.turnA);
+    if (x.a == y.b) k += dot3(x.linearA, y.moveB) + dot3(x.angularA, y.turnB);
+    if (x.b == y.a) k += dot3(x.linearB, y.moveA) + dot3(x.angularB, y.turnA);
+    if (x.b == y.b) k += dot3(x.linearB, y.moveB) + dot3(x.angularB, y.turnB);
+    return k;
+}
+
 // 64 bytes, not stored: the two poses after a joint's projection, and whether it moved them
 // (w of a.position: 1 when it did).
 typedef struct PosePair {
@@ -374,40 +385,39 @@ RUBBLE_FN PosePair projectJointItem(PgsJoint j, BodyPose pa, BodyPose pb, Jacobi
     const int n = (int)jointRowsItem(j, pa, pb, ja, jb, rows, &errors);
     if (n == 0 || jointErrorsWithinItem(errors)) return out;
     // K = J M^-1 J^T (lower triangle), right-hand side -C.
-    float k[25], x[5];
-    float largest = 0.0f;
+    JointReal k[25], x[5];
+    JointReal largest = 0.0f;
     for (int i = 0; i < n; ++i) {
         const JointPositionRow ri = rows[i];
-        for (int q = 0; q <= i; ++q)
-            k[i * 5 + q] = dot3(ri.linearA, rows[q].moveA) + dot3(ri.angularA, rows[q].turnA) +
-                           dot3(ri.linearB, rows[q].moveB) + dot3(ri.angularB, rows[q].turnB);
+        for (int q = 0; q <= i; ++q) k[i * 5 + q] = jointRowCouplingItem(ri, rows[q]);
         largest = fmax(largest, k[i * 5 + i]);
-        x[i] = -ri.error;
+        x[i] = -(JointReal)ri.error;
     }
     // LDL^T: L below the diagonal, D on it; a zero D marks a dropped row.
     for (int q = 0; q < n; ++q) {
-        float d = k[q * 5 + q];
+        JointReal d = k[q * 5 + q];
         for (int p = 0; p < q; ++p) d -= k[q * 5 + p] * k[q * 5 + p] * k[p * 5 + p];
         if (d <= RUBBLE_JOINT_PIVOT_TOLERANCE * largest) d = 0.0f;
         k[q * 5 + q] = d;
         for (int i = q + 1; i < n; ++i) {
-            float l = k[i * 5 + q];
+            JointReal l = k[i * 5 + q];
             for (int p = 0; p < q; ++p) l -= k[i * 5 + p] * k[q * 5 + p] * k[p * 5 + p];
-            k[i * 5 + q] = d > 0.0f ? l / d : 0.0f;
+            k[i * 5 + q] = d > 0.0f ? l / d : (JointReal)0.0f;
         }
     }
     for (int i = 0; i < n; ++i)
         for (int p = 0; p < i; ++p) x[i] -= k[i * 5 + p] * x[p];
-    for (int i = 0; i < n; ++i) x[i] = k[i * 5 + i] > 0.0f ? x[i] / k[i * 5 + i] : 0.0f;
+    for (int i = 0; i < n; ++i) x[i] = k[i * 5 + i] > 0.0f ? x[i] / k[i * 5 + i] : (JointReal)0.0f;
     for (int i = n - 1; i >= 0; --i)
         for (int p = i + 1; p < n; ++p) x[i] -= k[p * 5 + i] * x[p];
     // The move, a turn past the limit shortened as a whole.
     float4 dxA = vec4(0.0f, 0.0f, 0.0f), dqA = dxA, dxB = dxA, dqB = dxA;
     for (int i = 0; i < n; ++i) {
-        dxA = add4(dxA, scale4(rows[i].moveA, x[i]));
-        dqA = add4(dqA, scale4(rows[i].turnA, x[i]));
-        dxB = add4(dxB, scale4(rows[i].moveB, x[i]));
-        dqB = add4(dqB, scale4(rows[i].turnB, x[i]));
+        const float lambda = (float)x[i];
+        dxA = add4(dxA, scale4(rows[i].moveA, lambda));
+        dqA = add4(dqA, scale4(rows[i].turnA, lambda));
+        dxB = add4(dxB, scale4(rows[i].moveB, lambda));
+        dqB = add4(dqB, scale4(rows[i].turnB, lambda));
     }
     const float largestTurn = fmax(length3(dqA), length3(dqB));
     const float scale = largestTurn > RUBBLE_JOINT_MAX_ANGULAR_CORRECTION
@@ -425,16 +435,6 @@ RUBBLE_FN PosePair projectJointItem(PgsJoint j, BodyPose pa, BodyPose pb, Jacobi
     return out;
 }
 
-// J_x M^-1 J_y^T over the bodies two rows share.
-RUBBLE_FN float jointRowCouplingItem(JointPositionRow x, JointPositionRow y) {
-    float k = 0.0f;
-    if (x.a == y.a) k += dot3(x.linearA, y.moveA) + dot3(x.angularA, y.turnA);
-    if (x.a == y.b) k += dot3(x.linearA, y.moveB) + dot3(x.angularA, y.turnB);
-    if (x.b == y.a) k += dot3(x.linearB, y.moveA) + dot3(x.angularB, y.turnA);
-    if (x.b == y.b) k += dot3(x.linearB, y.moveB) + dot3(x.angularB, y.turnB);
-    return k;
-}
-
 // The CPU path's position correction of one joint group (correctJointPositions on a group of at
 // most RUBBLE_JOINT_DIRECT_ROWS rows): up to `maxIterations` Newton steps, each with every
 // row of the group at the current poses, K lambda = -C solved by LDL^T (redundant rows get no
@@ -446,8 +446,9 @@ RUBBLE_FN int projectJointGroupItem(RUBBLE_GLOBAL const uint* members, uint coun
                                     RUBBLE_GLOBAL const PgsJoint* joints,
                                     RUBBLE_GLOBAL const BodyMass* masses,
                                     RUBBLE_GLOBAL const uint* flags, RUBBLE_GLOBAL BodyPose* poses,
-                                    RUBBLE_GLOBAL JointPositionRow* rows, RUBBLE_GLOBAL float* k,
-                                    RUBBLE_GLOBAL float* x, RUBBLE_GLOBAL float4* deltaPosition,
+                                    RUBBLE_GLOBAL JointPositionRow* rows,
+                                    RUBBLE_GLOBAL JointReal* k, RUBBLE_GLOBAL JointReal* x,
+                                    RUBBLE_GLOBAL float4* deltaPosition,
                                     RUBBLE_GLOBAL float4* deltaRotation, int maxIterations) {
     int it = 0;
     for (; it < maxIterations; ++it) {
@@ -462,28 +463,29 @@ RUBBLE_FN int projectJointGroupItem(RUBBLE_GLOBAL const uint* members, uint coun
         }
         if (jointErrorsWithinItem(errors)) break;
         // K (lower triangle) and -C.
-        float largest = 0.0f;
+        JointReal largest = 0.0f;
         for (uint i = 0; i < n; ++i) {
             const JointPositionRow ri = rows[i];
             for (uint q = 0; q <= i; ++q) k[i * n + q] = jointRowCouplingItem(ri, rows[q]);
             largest = fmax(largest, k[i * n + i]);
-            x[i] = -ri.error;
+            x[i] = -(JointReal)ri.error;
         }
         // LDL^T: L below the diagonal, D on it; a zero D marks a dropped row.
         for (uint q = 0; q < n; ++q) {
-            float d = k[q * n + q];
+            JointReal d = k[q * n + q];
             for (uint p = 0; p < q; ++p) d -= k[q * n + p] * k[q * n + p] * k[p * n + p];
             if (d <= RUBBLE_JOINT_PIVOT_TOLERANCE * largest) d = 0.0f;
             k[q * n + q] = d;
             for (uint i = q + 1; i < n; ++i) {
-                float l = k[i * n + q];
+                JointReal l = k[i * n + q];
                 for (uint p = 0; p < q; ++p) l -= k[i * n + p] * k[q * n + p] * k[p * n + p];
-                k[i * n + q] = d > 0.0f ? l / d : 0.0f;
+                k[i * n + q] = d > 0.0f ? l / d : (JointReal)0.0f;
             }
         }
         for (uint i = 0; i < n; ++i)
             for (uint p = 0; p < i; ++p) x[i] -= k[i * n + p] * x[p];
-        for (uint i = 0; i < n; ++i) x[i] = k[i * n + i] > 0.0f ? x[i] / k[i * n + i] : 0.0f;
+        for (uint i = 0; i < n; ++i)
+            x[i] = k[i * n + i] > 0.0f ? x[i] / k[i * n + i] : (JointReal)0.0f;
         for (uint i = n; i-- > 0u;)
             for (uint p = i + 1; p < n; ++p) x[i] -= k[p * n + i] * x[p];
         // The move of each body that moves (a static body may be shared with other groups), a
@@ -491,7 +493,7 @@ RUBBLE_FN int projectJointGroupItem(RUBBLE_GLOBAL const uint* members, uint coun
         float largestTurn = 0.0f;
         for (uint i = 0; i < n; ++i) {
             const JointPositionRow r = rows[i];
-            const float lambda = x[i];
+            const float lambda = (float)x[i];
             if (r.kind & RUBBLE_JOINT_ROW_MOVES_A) {
                 deltaPosition[r.a] = add4(deltaPosition[r.a], scale4(r.moveA, lambda));
                 deltaRotation[r.a] = add4(deltaRotation[r.a], scale4(r.turnA, lambda));
