@@ -47,15 +47,8 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
     RUBBLE_TRY(fill(c, p->bodies_.slowFor, 0u, n * sizeof(cl_float)));
     RUBBLE_TRY(fill(c, p->bodies_.restless, 0u, n * sizeof(cl_uint)));
     RUBBLE_TRY(upload(c, p->bodies_.forces, bodies.forces));
-    // SAT sleeps by islands on the host unless asked to sleep body by body on the device.
-    HostIslands& h = p->islands_;
-    h.enabled = in.collision == CollisionMethod::Sat && !in.bodySleep;
-    if (h.enabled) {
-        h.radii.resize(n);
-        for (std::size_t i = 0; i < n; ++i)
-            h.radii[i] = in.shapes[bodies.shapeOf[i]].boundingRadius;
-        h.joined.assign(in.joined.begin(), in.joined.end());
-    }
+    // SAT sleeps as the host decides (the world's islands) when it is given a HostSleep.
+    if (in.collision == CollisionMethod::Sat) p->islands_.sleep = in.hostSleep;
     RUBBLE_TRY(p->status_.reserve(c.context(), RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
     RUBBLE_TRY(p->uploadBodies(bodies));
     RUBBLE_TRY(p->uploadParticles(in.particles, bodies, in.surfaces));
@@ -94,7 +87,7 @@ Status Pipeline::uploadMassesAndFlags(std::span<const shared::BodyMass> hostMass
         masses[i] = shared::wallMassItem(masses[i]);
         flags[i] = RUBBLE_BODY_KINEMATIC;
     }
-    if (islands_.enabled) {
+    if (islands_.enabled()) {
         // The host's flags are the islands' from here on (a body woken by the host wakes its
         // island; updateSleep sees it as woken from outside).
         islands_.masses = masses;
@@ -258,7 +251,7 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
         RUBBLE_TRY(narrowPhase(params.dt));
         Result<DeviceStatus> st = wakeAndSummarize(params, round);
         RUBBLE_TRY(st);
-        if (st->pairs <= sat_.current.capacity && islands_.enabled) {
+        if (st->pairs <= sat_.current.capacity && islands_.enabled()) {
             // The CPU's wake: the islands a restless body touches wake, and the collision runs
             // again for their pairs with sleeping bodies, until a round wakes none.
             profile_.setStage(DeviceStage::Sleep);
@@ -310,7 +303,7 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
 Result<DeviceStatus> Pipeline::wakeAndSummarize(const StepParams& params, std::uint32_t round) {
     // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
     profile_.setStage(DeviceStage::Sleep);
-    if (!islands_.enabled) RUBBLE_TRY(wakeTouchedPairs(round));
+    if (!islands_.enabled()) RUBBLE_TRY(wakeTouchedPairs(round));
     profile_.setStage(DeviceStage::BuildContactRows);
     RUBBLE_TRY(summarizePairs(params));
     return readStatus();
@@ -349,7 +342,7 @@ Status Pipeline::enqueueSatSolve(const StepParams& params) {
     RUBBLE_TRY(clearForces());
     profile_.setStage(DeviceStage::Sleep);
     // Islands on the host decide once the step is met (updateIslandsOnHost).
-    if (!islands_.enabled) RUBBLE_TRY(sleepBodies(dt));
+    if (!islands_.enabled()) RUBBLE_TRY(sleepBodies(dt));
     // This step's pairs, features and impulses are the next step's. With SAT, a step that found
     // no pairs after one that found none, with no body state from the host between, keeps last
     // step's set as it is: it holds still pairs only, and none of them can have moved (a moving
@@ -447,7 +440,7 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
         RUBBLE_TRY(finish());
     }
     DeviceStatus st = statusFromSlots();
-    if (islands_.enabled) {
+    if (islands_.enabled()) {
         // The CPU's updateSleep on the step's velocities; the stopped bodies go to the device.
         profile_.setStage(DeviceStage::Sleep);
         const auto islandsStart = std::chrono::steady_clock::now();

@@ -17,7 +17,6 @@
 #include "host/collision/particles.h"
 #include "host/core/bodies.h"
 #include "host/core/step_params.h"
-#include "host/dynamics/islands.h"
 #include "host/geometry/shape.h"
 #include "host/gpu/buffer.h"
 #include "host/gpu/coloring.h"
@@ -215,24 +214,49 @@ struct PgsBuffers {
     std::vector<PgsLaunch> launches;        ///< this step's launches of each sweep
 };
 
-/// Sleep by islands on the host, for a world that collides with SAT (host/gpu/sleep.cpp): the
-/// CPU's wakeIslands and updateSleep (host/dynamics/islands.h) over the step's pairs with rows,
-/// which the host reads for the coloring anyway, and the joints' pairs; the device keeps the
-/// flags the host decides and skips the sleeping bodies as before.
+/// What a host-side sleep decision did (HostSleep::update).
+struct HostSleepCounts {
+    std::uint32_t asleep = 0;     ///< bodies asleep after it
+    std::uint32_t fellAsleep = 0; ///< bodies it put to sleep (their velocities and momenta zeroed)
+    std::uint32_t woken = 0;      ///< bodies it woke
+};
+
+/// Sleep decided on the host for a world that collides with SAT (host/gpu/sleep.cpp): the
+/// pipeline hands it the step's pairs with rows, which it reads for the coloring anyway, and
+/// the bodies' state, and writes the flags (and the stopped bodies) it gets back to the device.
+/// host/world implements it with the CPU's islands (host/dynamics/islands.h), so that the device
+/// sleeps and wakes as the CPU does; host/gpu does not include host/dynamics.
+class HostSleep {
+  public:
+    virtual ~HostSleep() = default;
+    /// After a collision round, when a body is asleep: wakes what this round's contacts
+    /// (`touching`) and the joints join to a restless body, on `approach` (the velocities before
+    /// the forces), by clearing RUBBLE_BODY_ASLEEP in `masses`. Returns the bodies it woke.
+    virtual std::uint32_t wake(std::span<const BodyPair> touching,
+                               std::span<shared::BodyMass> masses,
+                               std::span<const shared::BodyVelocity> approach) = 0;
+    /// Once the step has run: each body's sleep on the step's velocities; a body put to sleep
+    /// has RUBBLE_BODY_ASLEEP set in `masses` and its velocities and momenta zeroed.
+    virtual HostSleepCounts update(std::span<const BodyPair> touching,
+                                   std::span<shared::BodyMass> masses,
+                                   std::span<shared::BodyVelocity> velocities,
+                                   std::span<shared::BodyMomentum> momenta, float dt) = 0;
+};
+
+/// The pipeline's side of a HostSleep: the host's copy of the masses and flags, and the arrays
+/// it reads from the device.
 struct HostIslands {
-    bool enabled = false;
-    SleepState state;
+    std::shared_ptr<HostSleep> sleep; ///< null: each body sleeps by itself on the device
     /// Per body: the device's masses (kinematic bodies as walls), flags as the host last set or
     /// read them on the device.
     std::vector<shared::BodyMass> masses;
-    std::vector<float> radii;       ///< bounding radii, m
-    std::vector<BodyPair> joined;   ///< the joints' body pairs
     std::vector<BodyPair> touching; ///< this round's pairs with rows
     std::uint32_t asleep = 0;       ///< bodies asleep after the last update
-    // Host copies read from the device (updateSleep without a step's read-back).
+    // Host copies read from the device (the update without a step's read-back).
     std::vector<cl_uint> flags;
     std::vector<shared::BodyVelocity> approach, velocities;
     std::vector<shared::BodyMomentum> momenta;
+    bool enabled() const { return sleep != nullptr; }
 };
 
 /// What the host reads at the end of a step (RUBBLE_STATUS_* slots).
@@ -272,9 +296,9 @@ struct PipelineInput {
     /// Particles: their contacts solved by projected Gauss-Seidel (each contact a pair of one
     /// point, particlePairs) instead of the Jacobi family.
     bool particlePgs = false;
-    /// SAT: sleep body by body on the device (kernels/sleep.cl, as the particle paths do)
-    /// instead of by islands on the host (HostIslands); RunOptions::bodySleep.
-    bool bodySleep = false;
+    /// SAT: the sleep decided on the host (the world's islands); null, each body sleeps by
+    /// itself on the device (kernels/sleep.cl, as the particle paths do; RunOptions::bodySleep).
+    std::shared_ptr<HostSleep> hostSleep;
 };
 
 /// What a step takes from the host besides its parameters.
@@ -377,17 +401,15 @@ class Pipeline {
     Status wakeTouchedPairs(std::uint32_t round);
     /// Stage sleepBodies: restless marks from the rows, then each body's sleep.
     Status sleepBodies(float dt);
-    /// SAT with islands on the host, after a round of the collision and the summaries (the
-    /// status block read): when a body is asleep, the stage wake of the CPU (wakeIslands) over
-    /// this round's pairs with rows, the joints and the velocities before the forces; the woken
-    /// bodies' flags go to the device. Returns the bodies it woke (the caller collides again).
-    /// Errors: Device.
+    /// SAT with the sleep on the host, after a round of the collision and the summaries (the
+    /// status block read): when a body is asleep, HostSleep::wake over this round's pairs with
+    /// rows and the velocities before the forces; the woken bodies' flags go to the device.
+    /// Returns the bodies it woke (the caller collides again). Errors: Device.
     Result<std::uint32_t> wakeIslandsOnHost(const DeviceStatus& st);
-    /// SAT with islands on the host, once the step has run: the CPU's updateSleep over the
-    /// step's pairs with rows (colorPgs read them) and the joints, on the velocities after the
-    /// step (`readBack`'s, else read here); the bodies that fell asleep are stopped on the
-    /// device and in `readBack`, and the flags go to the device. Returns the bodies asleep.
-    /// Errors: Device.
+    /// SAT with the sleep on the host, once the step has run: HostSleep::update over the step's
+    /// pairs with rows (colorPgs read them), on the velocities after the step (`readBack`'s,
+    /// else read here); the bodies that fell asleep are stopped on the device and in `readBack`,
+    /// and the flags go to the device. Returns the bodies asleep. Errors: Device.
     Result<std::uint32_t> updateIslandsOnHost(float dt, const std::optional<Bodies>& readBack);
     const HostIslands& hostIslands() const { return islands_; }
     /// The summed impulse of the rows on each obstacle.

@@ -1,5 +1,5 @@
-// host/gpu/sleep.cpp: sleeping on the device. With SAT, by the CPU's islands on the host
-// (wakeIslandsOnHost, updateIslandsOnHost: host/dynamics/islands.h over the device's pairs);
+// host/gpu/sleep.cpp: sleeping on the device. With SAT, as the host decides (wakeIslandsOnHost,
+// updateIslandsOnHost: a HostSleep, the world's islands, over the device's pairs);
 // otherwise (particles, or --body-sleep) the dispatch of the device's stages wakeTouched (before
 // the rows: sleeping bodies touched by a waking one wake) and sleepBodies (kernels/sleep.cl):
 // restless marks from this step's rows, then each body's sleep. The CPU twins of those, of the
@@ -169,7 +169,7 @@ Status Pipeline::sleepBodies(float dt) {
 
 Result<std::uint32_t> Pipeline::wakeIslandsOnHost(const DeviceStatus& st) {
     HostIslands& h = islands_;
-    RUBBLE_ASSERT(h.enabled);
+    RUBBLE_ASSERT(h.enabled());
     // Nothing asleep at the end of the last step (or since the host's upload): nothing wakes.
     if (h.asleep == 0) return 0u;
     const Context& c = *context_;
@@ -189,8 +189,7 @@ Result<std::uint32_t> Pipeline::wakeIslandsOnHost(const DeviceStatus& st) {
     for (std::uint32_t p = 0; p < pairs; ++p)
         if (g.pairRowsHost[p] & RUBBLE_PGS_POINTS)
             h.touching.push_back({g.pairsHost[p].a, g.pairsHost[p].b});
-    const std::uint32_t woken =
-        wakeIslands(h.touching, h.joined, h.radii, h.masses, h.approach, h.state);
+    const std::uint32_t woken = h.sleep->wake(h.touching, h.masses, h.approach);
     if (woken == 0) return 0u;
     flagsFromIslands(h, kinematic_, h.flags);
     RUBBLE_TRY(upload(c, bodies_.flags, h.flags));
@@ -201,7 +200,7 @@ Result<std::uint32_t> Pipeline::wakeIslandsOnHost(const DeviceStatus& st) {
 Result<std::uint32_t> Pipeline::updateIslandsOnHost(float dt,
                                                     const std::optional<Bodies>& readBack) {
     HostIslands& h = islands_;
-    RUBBLE_ASSERT(h.enabled);
+    RUBBLE_ASSERT(h.enabled());
     const Context& c = *context_;
     const std::uint32_t n = bodies_.count;
     // The step's velocities, momenta and flags: its read-back's, or read now.
@@ -228,15 +227,14 @@ Result<std::uint32_t> Pipeline::updateIslandsOnHost(float dt,
     for (std::size_t p = 0; p < g.pairRowsHost.size(); ++p)
         if (g.pairRowsHost[p] & RUBBLE_PGS_POINTS)
             h.touching.push_back({g.pairsHost[p].a, g.pairsHost[p].b});
-    const SleepReport r =
-        updateSleep(h.touching, h.joined, h.radii, h.masses, velocities, momenta, dt, h.state);
-    h.asleep = r.asleepBodies;
+    const HostSleepCounts r = h.sleep->update(h.touching, h.masses, velocities, momenta, dt);
+    h.asleep = r.asleep;
     if (readBack)
         for (std::uint32_t i = 0; i < n; ++i)
             if (!kinematic_[i])
                 readBack->masses[i].flags = (readBack->masses[i].flags & ~RUBBLE_BODY_ASLEEP) |
                                             (h.masses[i].flags & RUBBLE_BODY_ASLEEP);
-    if (r.fellAsleep == 0 && r.woken == 0) return r.asleepBodies;
+    if (r.fellAsleep == 0 && r.woken == 0) return r.asleep;
     // Stopped bodies: their zero velocities and momenta (updateSleep wrote them on the host).
     flagsFromIslands(h, kinematic_, h.flags);
     RUBBLE_TRY(upload(c, bodies_.flags, h.flags));
@@ -247,7 +245,7 @@ Result<std::uint32_t> Pipeline::updateIslandsOnHost(float dt,
         RUBBLE_TRY(upload(c, bodies_.momenta, std::span<const shared::BodyMomentum>(momenta)));
     }
     hostBodies_ = true;
-    return r.asleepBodies;
+    return r.asleep;
 }
 
 } // namespace rubble::gpu
