@@ -73,6 +73,7 @@ void Pipeline::bindRowSettings(Dispatch& d, const StepParams& params) const {
 Status Pipeline::summarizePairs(const StepParams& params) {
     RUBBLE_ASSERT(pairPgs());
     const Context& c = *context_;
+    pgs_.summariesOnHost = false;
     RUBBLE_TRY(prepareJacobiBodies());
     RUBBLE_TRY(fill(c, pgs_.pushed, 0u, std::size_t(bodies_.count) * sizeof(cl_uint), &profile_));
     // The marks of this round of the collision (a pair overflow runs it again).
@@ -109,16 +110,27 @@ Status Pipeline::summarizePairs(const StepParams& params) {
         .run(joints, RUBBLE_GROUP_BODIES);
 }
 
-Status Pipeline::colorPgs() {
-    const Context& c = *context_;
+Status Pipeline::readPairSummaries() {
     PgsBuffers& g = pgs_;
+    if (g.summariesOnHost) return {};
+    const Context& c = *context_;
     // The status block was read after the summaries (readStatus waited for them).
     const std::uint32_t pairs = std::min(statusFromSlots().pairs, sat_.current.capacity);
     g.pairRowsHost.resize(pairs);
     g.pairsHost.resize(pairs);
-    // Both reads queued, then one wait (the device idles until the coloring's upload).
+    // Both reads queued, then one wait.
     RUBBLE_TRY(enqueueDownload(c, g.pairRows, std::span(g.pairRowsHost), &profile_));
     RUBBLE_TRY(download(c, sat_.current.pairs, std::span(g.pairsHost), &profile_));
+    g.summariesOnHost = true;
+    return {};
+}
+
+Status Pipeline::colorPgs() {
+    const Context& c = *context_;
+    PgsBuffers& g = pgs_;
+    // The device idles from here until the coloring's upload.
+    RUBBLE_TRY(readPairSummaries());
+    const std::uint32_t pairs = std::uint32_t(g.pairsHost.size());
     // The elements: the joints first (the CPU's sweep solves them before the contacts), then the
     // pairs with rows in pair order.
     g.stepElements.clear();

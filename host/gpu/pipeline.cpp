@@ -210,6 +210,7 @@ Status Pipeline::beginStep(const StepParams& params, const StepInputs& in) {
     profile_.discard();
     profile_.setStage(DeviceStage::ApplyForces);
     RUBBLE_TRY(resetStatus());
+    islands_.stepRead = false;
     if (obstacles_.count > 0) RUBBLE_TRY(placeObstacles(in.obstacles));
     for (const EventDesc& e : in.explosions) RUBBLE_TRY(applyExplosion(e));
     profile_.setStage(DeviceStage::IntegrateVelocities);
@@ -255,7 +256,7 @@ Status Pipeline::enqueueSatCollision(const StepParams& params) {
             // The CPU's wake: the islands a restless body touches wake, and the collision runs
             // again for their pairs with sleeping bodies, until a round wakes none.
             profile_.setStage(DeviceStage::Sleep);
-            Result<std::uint32_t> islandsWoken = wakeIslandsOnHost(*st);
+            Result<std::uint32_t> islandsWoken = wakeIslandsOnHost();
             RUBBLE_TRY(islandsWoken);
             profile_.setStage(DeviceStage::BuildContactRows);
             if (*islandsWoken > 0) continue;

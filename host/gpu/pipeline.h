@@ -208,8 +208,11 @@ struct PgsBuffers {
     std::vector<std::uint32_t> placeHost;      ///< each element's place in elementsHost
     std::vector<std::uint32_t> blockOfHost;    ///< each element's block, or all ones: colored
     std::vector<std::uint32_t> blockStartsHost, nextHost, pointsHost;
+    /// This round's pairs and their summaries on the host (readPairSummaries), read once
+    /// after summarizePairs for the host's wake and the coloring alike.
     std::vector<cl_uint> pairRowsHost;
     std::vector<shared::BodyPairRecord> pairsHost;
+    bool summariesOnHost = false; ///< pairsHost and pairRowsHost hold this round's
     std::vector<shared::PgsElement> elementsHost;
     std::vector<PgsLaunch> launches;        ///< this step's launches of each sweep
 };
@@ -252,6 +255,9 @@ struct HostIslands {
     std::vector<shared::BodyMass> masses;
     std::vector<BodyPair> touching; ///< this round's pairs with rows
     std::uint32_t asleep = 0;       ///< bodies asleep after the last update
+    /// This step's flags (an explosion on the device wakes bodies) and velocities before the
+    /// forces are on the host: read in the step's first round that wakes, kept for later rounds.
+    bool stepRead = false;
     // Host copies read from the device (the update without a step's read-back).
     std::vector<cl_uint> flags;
     std::vector<shared::BodyVelocity> approach, velocities;
@@ -405,13 +411,12 @@ class Pipeline {
     /// status block read): when a body is asleep, HostSleep::wake over this round's pairs with
     /// rows and the velocities before the forces; the woken bodies' flags go to the device.
     /// Returns the bodies it woke (the caller collides again). Errors: Device.
-    Result<std::uint32_t> wakeIslandsOnHost(const DeviceStatus& st);
+    Result<std::uint32_t> wakeIslandsOnHost();
     /// SAT with the sleep on the host, once the step has run: HostSleep::update over the step's
     /// pairs with rows (colorPgs read them), on the velocities after the step (`readBack`'s,
     /// else read here); the bodies that fell asleep are stopped on the device and in `readBack`,
     /// and the flags go to the device. Returns the bodies asleep. Errors: Device.
     Result<std::uint32_t> updateIslandsOnHost(float dt, const std::optional<Bodies>& readBack);
-    const HostIslands& hostIslands() const { return islands_; }
     /// The summed impulse of the rows on each obstacle.
     Status gatherObstacleImpulses();
     /// Sorts `count` (key, value) pairs by the low `bits` of the key, stably; the result is in
@@ -468,6 +473,10 @@ class Pipeline {
     /// impulses kept by pairs that get no rows), the marks of the split position pass, the
     /// joints' rows.
     Status summarizePairs(const StepParams& params);
+    /// Reads this round's pairs and their summaries into pairsHost and pairRowsHost, unless
+    /// they are there already (the status block must have been read after the summaries).
+    /// Errors: Device.
+    Status readPairSummaries();
     /// Reads each pair's summary and colors the step's elements into PgsElement records with
     /// their rows packed in color order; the status block must have been read after the
     /// summaries (readStatus), and the pairs must fit their buffers. Errors: Device.
@@ -566,6 +575,8 @@ class Pipeline {
     Status growContacts(const DeviceStatus& st, std::int64_t step, const char* again);
     /// Puts back last step's contacts as the warm start after a step whose contacts overflowed.
     void undoWarmStartSwap();
+    /// The pairs with rows among pairsHost (pairRowsHost's points) into islands_.touching.
+    void collectTouching();
     /// The joint groups' wake (kernels/sleep.cl wakeJointGroups): pass 0 marks the groups with
     /// an awake member, then `wakePass` (1 after sleepBodies, 2 before the solve) wakes them;
     /// pass 2 marks them with the collision round `collisionRound` when it is above 0.

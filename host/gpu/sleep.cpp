@@ -167,28 +167,37 @@ Status Pipeline::sleepBodies(float dt) {
     return groups ? wakeJointGroups(1u) : Status{};
 }
 
-Result<std::uint32_t> Pipeline::wakeIslandsOnHost(const DeviceStatus& st) {
+void Pipeline::collectTouching() {
+    const PgsBuffers& g = pgs_;
+    HostIslands& h = islands_;
+    h.touching.clear();
+    for (std::size_t p = 0; p < g.pairRowsHost.size(); ++p)
+        if (g.pairRowsHost[p] & RUBBLE_PGS_POINTS)
+            h.touching.push_back({g.pairsHost[p].a, g.pairsHost[p].b});
+}
+
+Result<std::uint32_t> Pipeline::wakeIslandsOnHost() {
     HostIslands& h = islands_;
     RUBBLE_ASSERT(h.enabled());
     // Nothing asleep at the end of the last step (or since the host's upload): nothing wakes.
     if (h.asleep == 0) return 0u;
     const Context& c = *context_;
     const std::uint32_t n = bodies_.count;
-    const std::uint32_t pairs = std::min(st.pairs, sat_.current.capacity);
-    PgsBuffers& g = pgs_;
-    h.flags.resize(n);
-    h.approach.resize(n);
-    g.pairRowsHost.resize(pairs);
-    g.pairsHost.resize(pairs);
-    RUBBLE_TRY(enqueueDownload(c, bodies_.flags, std::span(h.flags), &profile_));
-    RUBBLE_TRY(enqueueDownload(c, bodies_.atStart, std::span(h.approach), &profile_));
-    RUBBLE_TRY(enqueueDownload(c, g.pairRows, std::span(g.pairRowsHost), &profile_));
-    RUBBLE_TRY(download(c, sat_.current.pairs, std::span(g.pairsHost), &profile_));
-    islandsFromFlags(h.flags, kinematic_, h);
-    h.touching.clear();
-    for (std::uint32_t p = 0; p < pairs; ++p)
-        if (g.pairRowsHost[p] & RUBBLE_PGS_POINTS)
-            h.touching.push_back({g.pairsHost[p].a, g.pairsHost[p].b});
+    // The flags and the velocities before the forces once a step: later rounds change only
+    // the flags, and those the host wrote.
+    if (!h.stepRead) {
+        h.flags.resize(n);
+        h.approach.resize(n);
+        RUBBLE_TRY(enqueueDownload(c, bodies_.flags, std::span(h.flags), &profile_));
+        RUBBLE_TRY(enqueueDownload(c, bodies_.atStart, std::span(h.approach), &profile_));
+    }
+    RUBBLE_TRY(readPairSummaries());
+    if (!h.stepRead) {
+        RUBBLE_TRY(finish());
+        islandsFromFlags(h.flags, kinematic_, h);
+        h.stepRead = true;
+    }
+    collectTouching();
     const std::uint32_t woken = h.sleep->wake(h.touching, h.masses, h.approach);
     if (woken == 0) return 0u;
     flagsFromIslands(h, kinematic_, h.flags);
@@ -222,20 +231,12 @@ Result<std::uint32_t> Pipeline::updateIslandsOnHost(float dt,
     }
     islandsFromFlags(h.flags, kinematic_, h);
     // The pairs with rows of the step's last collision round, as colorPgs read them.
-    const PgsBuffers& g = pgs_;
-    h.touching.clear();
-    for (std::size_t p = 0; p < g.pairRowsHost.size(); ++p)
-        if (g.pairRowsHost[p] & RUBBLE_PGS_POINTS)
-            h.touching.push_back({g.pairsHost[p].a, g.pairsHost[p].b});
+    collectTouching();
     const HostSleepCounts r = h.sleep->update(h.touching, h.masses, velocities, momenta, dt);
     h.asleep = r.asleep;
-    if (readBack)
-        for (std::uint32_t i = 0; i < n; ++i)
-            if (!kinematic_[i])
-                readBack->masses[i].flags = (readBack->masses[i].flags & ~RUBBLE_BODY_ASLEEP) |
-                                            (h.masses[i].flags & RUBBLE_BODY_ASLEEP);
     if (r.fellAsleep == 0 && r.woken == 0) return r.asleep;
-    // Stopped bodies: their zero velocities and momenta (updateSleep wrote them on the host).
+    // The new flags, and the stopped bodies' zero velocities and momenta (update wrote them on
+    // the host); the read-back's flags follow flagsHost_ (takeSleepFlags).
     flagsFromIslands(h, kinematic_, h.flags);
     RUBBLE_TRY(upload(c, bodies_.flags, h.flags));
     if (readBack) flagsHost_.assign(h.flags.begin(), h.flags.end());
