@@ -52,14 +52,12 @@ std::uint32_t wakeIslands(std::span<const Manifold> manifolds, std::span<const B
     return wakeIslands(touchingPairs(manifolds, st), joined, radii, masses, approach, st);
 }
 
-SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joint> joints,
+SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const BodyPair> joined,
                         std::span<const float> radii, std::span<shared::BodyMass> masses,
                         std::span<shared::BodyVelocity> velocities,
                         std::span<shared::BodyMomentum> momenta, float dt, SleepState& st) {
-    st.joinedPairs.clear();
-    for (const Joint& j : joints) st.joinedPairs.push_back({j.a, j.b});
-    return updateSleep(touchingPairs(manifolds, st), st.joinedPairs, radii, masses, velocities,
-                       momenta, dt, st);
+    return updateSleep(touchingPairs(manifolds, st), joined, radii, masses, velocities, momenta, dt,
+                       st);
 }
 
 std::uint32_t wakeIslands(std::span<const BodyPair> touching, std::span<const BodyPair> joined,

@@ -8,7 +8,6 @@
 
 #include "host/collision/contact.h"
 #include "host/core/union_find.h"
-#include "host/dynamics/joints.h"
 #include "rubble/shared/body.h"
 
 namespace rubble {
@@ -29,7 +28,7 @@ struct SleepState {
     std::vector<std::uint32_t> groupFirst, awake, asleep, islandRestless;
     std::vector<std::uint8_t> restless, wakeGroup, wakeBody;
     std::vector<float> islandSlowFor;
-    std::vector<BodyPair> touching, joinedPairs; ///< the manifold and joint overloads' pairs
+    std::vector<BodyPair> touching; ///< the manifold overloads' body pairs
 };
 
 inline constexpr std::uint32_t kNoGroup = 0xffffffffu;
@@ -70,9 +69,10 @@ std::uint32_t wakeIslands(std::span<const BodyPair> touching, std::span<const Bo
 /// its velocities and momenta are zeroed. Otherwise its sleeping bodies wake when one of its
 /// awake bodies is restless: not slow, or woken from outside this step (the API, an explosion;
 /// such a body also starts its slow time again).
-/// reads: manifolds, joints, velocities, radii (each body's bounding radius, m)
+/// `joined` holds the joints' body pairs.
+/// reads: manifolds, joined, velocities, radii (each body's bounding radius, m)
 /// writes: masses (flags), velocities, momenta, state
-SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const Joint> joints,
+SleepReport updateSleep(std::span<const Manifold> manifolds, std::span<const BodyPair> joined,
                         std::span<const float> radii, std::span<shared::BodyMass> masses,
                         std::span<shared::BodyVelocity> velocities,
                         std::span<shared::BodyMomentum> momenta, float dt, SleepState& state);

@@ -96,7 +96,7 @@ std::uint32_t PgsSolver::sleep(const SolverScene& scene, Bodies bodies,
                                const StepContacts& contacts, const StepParams& params) {
     SolverCache& c = cache_;
     prepareRadii(scene, bodies);
-    c.lastSleep = updateSleep(contacts.manifolds, c.joints, c.radii, bodies.masses,
+    c.lastSleep = updateSleep(contacts.manifolds, scene.joined, c.radii, bodies.masses,
                               bodies.velocities, bodies.momenta, params.dt, c.sleep);
     return c.lastSleep.asleepBodies;
 }

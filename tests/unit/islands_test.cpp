@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "host/core/math.h"
+#include "host/dynamics/joints.h"
 
 namespace rubble {
 namespace {
@@ -43,14 +44,18 @@ struct Sleepers {
     SleepReport step(int n = 1) {
         SleepReport r;
         for (int i = 0; i < n; ++i)
-            r = updateSleep(manifolds, joints, radii, masses, velocities, momenta, 0.1f, state);
+            r = updateSleep(manifolds, joined(), radii, masses, velocities, momenta, 0.1f, state);
         return r;
     }
     // Stage wake with the velocities as the approach, over the joints' pairs.
     std::uint32_t wake() {
-        std::vector<BodyPair> joined;
-        for (const Joint& j : joints) joined.push_back({std::min(j.a, j.b), std::max(j.a, j.b)});
-        return wakeIslands(manifolds, joined, radii, masses, velocities, state);
+        return wakeIslands(manifolds, joined(), radii, masses, velocities, state);
+    }
+    // The joints' body pairs, (min, max), as the world keeps them (joinedPairs).
+    std::vector<BodyPair> joined() const {
+        std::vector<BodyPair> pairs;
+        for (const Joint& j : joints) pairs.push_back({std::min(j.a, j.b), std::max(j.a, j.b)});
+        return pairs;
     }
     bool asleep(std::uint32_t i) const { return (masses[i].flags & RUBBLE_BODY_ASLEEP) != 0; }
 };
