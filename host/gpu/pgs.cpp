@@ -371,6 +371,7 @@ Status Pipeline::solvePgs(const StepParams& params) {
                            .arg(bodies_.velocities)
                            .arg(relaxation)
                            .arg(last)
+                           .arg(cl_uint(it))
                            .arg(sat_.current.impulses)
                            .arg(status_)
                            .arg(pushSweep)

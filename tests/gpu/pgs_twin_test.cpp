@@ -471,11 +471,12 @@ std::uint64_t launches(const World& w, const std::string& kernel) {
 // scenes/pyramid_20.json and stack_10.json stand on the device and fall asleep: after 10 s no
 // crate in the floor, all asleep, every crate near where it started; then a second more builds
 // no rows and sweeps nothing (a pile asleep costs no solve). Near: within 5 cm in the CPU's
-// order (one block; the CPU's own pyramid moves 2.2 cm, its stack 2.8); in orders that are not
-// the CPU's the piles creep further before their islands fall asleep as one, the pyramid
-// colored most (measured with islands on the host: 8 blocks 3.5 / 5.6 cm, colored 10.0 / 3.9
-// cm for pyramid / stack; with each body sleeping by itself, which stopped crates one by one as
-// they slowed, 4.7 cm at most), so there the bound is 12 cm: a pile that falls moves metres.
+// order (one block; the CPU's own pyramid moves 2.2 cm, its stack 2.8) and within 6 cm in the
+// orders that are not the CPU's (measured: 8 blocks 3.4 / 1.3 cm, colored 3.8 / 1.2 cm for
+// pyramid / stack; a pile that falls moves metres). Colored, a sweep takes each pair's points
+// both ways and its normal rows twice (kernels/pgs.cl, solveElement): taken first to last only,
+// the pyramid leaned 10.0 cm toward the corner of its manifolds' first points before it slept,
+// and the stack 3.9 cm.
 TEST_F(PgsTwin, PyramidAndStackStandAndSleepOnTheDevice) {
     // As the device suits (PoCL's CPU device: one block for worlds this small, the CPU's order),
     // in the eight blocks a large world gets here (the elements between them colored) and
@@ -500,7 +501,7 @@ TEST_F(PgsTwin, PyramidAndStackStandAndSleepOnTheDevice) {
         std::printf("[ %s, blocks %d ] largest displacement %.4f m, %u of %u asleep\n", name,
                     blocks, moved,
                     asleepBodies(w), dynamic);
-        EXPECT_LT(moved, blocks < 0 ? 0.05f : 0.12f) << name;
+        EXPECT_LT(moved, blocks < 0 ? 0.05f : 0.06f) << name;
         EXPECT_GT(lowest, 0.49f) << name; // the lowest crate's centre, half a metre up
         EXPECT_EQ(asleepBodies(w), dynamic) << name;
         const std::uint64_t built = launches(w, "buildPgsRows"), swept = launches(w, "solvePgs");
@@ -568,8 +569,9 @@ TEST_F(PgsTwin, BaseOfASlowlyTopplingColumnStaysAwakeAsOnTheCpu) {
 // CPU does) the pile at 20 s is the CPU's to the bit, its sleep too (20 of 160 asleep: a head
 // rocking on a corner at 0.06 m/s holds its island awake). In orders that are not the CPU's the
 // pile comes to rest another way, and a limb may swing on without damping and hold its island
-// awake: measured 40 of 160 asleep in eight blocks, doll6's right forearm swinging at up to 0.44
-// m/s through 40 s; none asleep colored, doll10's forearm at up to 0.18 m/s; so there the pile
+// awake: measured none of 160 asleep in eight blocks, doll13's right shin swinging at up to 0.16
+// m/s through 40 s; colored 10 asleep at 20 s and all by 30 s (before a color took each pair's
+// points both ways, 40 and none, a forearm swinging at up to 0.44 / 0.18 m/s); so there the pile
 // must hold its joints, stay out of the floor and move no body faster than 0.5 m/s. (With each
 // body sleeping by itself, 150 / 130 / 150 were asleep; with the joints of a color passed over,
 // as the sweeps did from the blocks' arrival until this test covered the colored path, the
