@@ -381,6 +381,17 @@ warmStartPgs(const uint first, const uint count, const uint mode,
                              onlyBlock(mode) ? pass : RUBBLE_PGS_ALL_SLOTS);
 }
 
+// solveElement and pushElement are called from three places each (a color's loop, a block's
+// passes, the friction pass or pushPgs), and PoCL's LLVM kept them calls: inlined, with `part`,
+// `slot` and `backward` constants at each place, solvePgs took 17% less time on debris_16k
+// (docs/opencl.md, "Inlining the sweep"), for about 2 s more of the program's first build.
+#define RUBBLE_PGS_INLINE static inline __attribute__((always_inline))
+
+// The point a pass over points from..to - 1 visits n-th: in order, or last to first.
+static uint visitedPoint(const uint n, const uint from, const uint to, const int reversed) {
+    return reversed ? from + to - 1u - n : n;
+}
+
 // One velocity sweep of one element, or of one part of it: a joint's blocks
 // (solveJointVelocity) with the normal rows; a pair's normal rows, then its points' friction
 // pairs (bounded by this sweep's normal impulses). A color solves both parts of each element in
@@ -397,18 +408,14 @@ warmStartPgs(const uint first, const uint count, const uint mode,
 // order leaned it the other way. (A block's passes interleave the points of all its elements,
 // as the CPU's sweep does, which leans far less: docs/opencl.md, "The colored sweep".)
 #define RUBBLE_PGS_ELEMENT_NORMAL_PASSES 2u
-
-// The point a pass over points from..to - 1 visits n-th: in order, or last to first.
-static uint visitedPoint(const uint n, const uint from, const uint to, const int reversed) {
-    return reversed ? from + to - 1u - n : n;
-}
-static float solveElement(const PgsElement e, __global const PgsNormalRow* normalRows,
-                          __global const PgsFrictionRows* frictionRows, __global float4* impulses,
-                          __global const PgsJoint* joints, __global PgsJointRow* jointRows,
-                          __global const JacobiBody* bodies, __global BodyVelocity* velocities,
-                          const float relaxation, const uint lastSweep,
-                          __global PgsImpulse* kept, const uint part, const uint slot,
-                          const uint backward) {
+RUBBLE_PGS_INLINE float solveElement(const PgsElement e, __global const PgsNormalRow* normalRows,
+                                     __global const PgsFrictionRows* frictionRows,
+                                     __global float4* impulses, __global const PgsJoint* joints,
+                                     __global PgsJointRow* jointRows,
+                                     __global const JacobiBody* bodies,
+                                     __global BodyVelocity* velocities, const float relaxation,
+                                     const uint lastSweep, __global PgsImpulse* kept,
+                                     const uint part, const uint slot, const uint backward) {
     // One point (slot < 4) or all of them (RUBBLE_PGS_ALL_SLOTS). A joint's blocks go with the
     // normal rows of the pass that starts at the first point (a color's, or a block's pass over
     // every element's first point).
@@ -476,9 +483,10 @@ static float solveElement(const PgsElement e, __global const PgsNormalRow* norma
 // push velocities toward the rows' push speeds (their accumulated push impulses in w of each
 // impulse record, zero when built); joints are projected after integratePositions instead.
 // Returns the largest |change|, N s.
-static float pushElement(const PgsElement e, __global const PgsNormalRow* normalRows,
-                         __global float4* impulses, __global const uint* pushed,
-                         __global BodyVelocity* push, const float relaxation, const uint slot) {
+RUBBLE_PGS_INLINE float pushElement(const PgsElement e, __global const PgsNormalRow* normalRows,
+                                    __global float4* impulses, __global const uint* pushed,
+                                    __global BodyVelocity* push, const float relaxation,
+                                    const uint slot) {
     const uint from = slotFrom(slot), to = slotEnd(e.rows & RUBBLE_PGS_POINTS, slot);
     if ((e.id & RUBBLE_PGS_JOINT_ELEMENT) || from >= to) return 0.0f;
     // A row that pushes, or bounces, marked its moving bodies: with neither marked every row

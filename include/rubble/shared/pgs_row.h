@@ -325,26 +325,24 @@ RUBBLE_FN PgsFrictionUpdate solvePgsFrictionItem(PgsFrictionRows r, BodyVelocity
                                                  float normal, float impulse0, float impulse1,
                                                  float relaxation) {
     const float bound = r.mass.z * normal;
-    const float before[2] = {impulse0, impulse1};
-    const float mass[2] = {r.mass.x, r.mass.y};
-    float after[2], applied[2];
-    for (int k = 0; k < 2; ++k) {
-        const float speed = pgsRowSpeedItem(v.a, v.b, r.tangent[k], r.crossA[k], r.crossB[k]);
-        const float change = -mass[k] * speed * relaxation;
-        const float sum = before[k] + change;
-        after[k] = sum < -bound ? -bound : (bound < sum ? bound : sum); // std::clamp
-        applied[k] = after[k] - before[k];
-    }
-    const float4 push = add4(scale4(r.tangent[0], applied[0]), scale4(r.tangent[1], applied[1]));
+    const float speed0 = pgsRowSpeedItem(v.a, v.b, r.tangent[0], r.crossA[0], r.crossB[0]);
+    const float speed1 = pgsRowSpeedItem(v.a, v.b, r.tangent[1], r.crossA[1], r.crossB[1]);
+    const float change0 = -r.mass.x * speed0 * relaxation;
+    const float change1 = -r.mass.y * speed1 * relaxation;
+    const float sum0 = impulse0 + change0, sum1 = impulse1 + change1;
+    const float after0 = sum0 < -bound ? -bound : (bound < sum0 ? bound : sum0); // std::clamp
+    const float after1 = sum1 < -bound ? -bound : (bound < sum1 ? bound : sum1);
+    const float applied0 = after0 - impulse0, applied1 = after1 - impulse1;
+    const float4 push = add4(scale4(r.tangent[0], applied0), scale4(r.tangent[1], applied1));
     PgsFrictionUpdate u;
     u.v = v;
     u.v.a.linear = sub4(v.a.linear, scale4(push, r.inverseMass.x));
     u.v.a.angular =
-        sub4(v.a.angular, add4(scale4(r.turnA[0], applied[0]), scale4(r.turnA[1], applied[1])));
+        sub4(v.a.angular, add4(scale4(r.turnA[0], applied0), scale4(r.turnA[1], applied1)));
     u.v.b.linear = add4(v.b.linear, scale4(push, r.inverseMass.y));
     u.v.b.angular =
-        add4(v.b.angular, add4(scale4(r.turnB[0], applied[0]), scale4(r.turnB[1], applied[1])));
-    u.impulse = vec4(after[0], after[1], fmax(fabs(applied[0]), fabs(applied[1])));
+        add4(v.b.angular, add4(scale4(r.turnB[0], applied0), scale4(r.turnB[1], applied1)));
+    u.impulse = vec4(after0, after1, fmax(fabs(applied0), fabs(applied1)));
     return u;
 }
 
