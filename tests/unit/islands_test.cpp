@@ -16,7 +16,7 @@ struct Sleepers {
     std::vector<shared::BodyVelocity> velocities;
     std::vector<shared::BodyMomentum> momenta;
     std::vector<Manifold> manifolds;
-    std::vector<Joint> joints;
+    std::vector<JointDesc> joints;
     std::vector<float> radii;
     SleepState state;
 
@@ -51,12 +51,8 @@ struct Sleepers {
     std::uint32_t wake() {
         return wakeIslands(manifolds, joined(), radii, masses, velocities, state);
     }
-    // The joints' body pairs, (min, max), as the world keeps them (joinedPairs).
-    std::vector<BodyPair> joined() const {
-        std::vector<BodyPair> pairs;
-        for (const Joint& j : joints) pairs.push_back({std::min(j.a, j.b), std::max(j.a, j.b)});
-        return pairs;
-    }
+    // The joints' body pairs as the world keeps them.
+    std::vector<BodyPair> joined() const { return joinedPairs(joints); }
     bool asleep(std::uint32_t i) const { return (masses[i].flags & RUBBLE_BODY_ASLEEP) != 0; }
 };
 
@@ -102,7 +98,7 @@ TEST(Islands, TurningCountsAtTheRim) {
 
 TEST(Islands, JointsJoinIslands) {
     Sleepers s(3);
-    Joint j;
+    JointDesc j;
     j.a = 0;
     j.b = 1;
     s.joints.push_back(j);
@@ -186,7 +182,7 @@ TEST(Islands, WakeBeforeTheSolveTakesTheGroupOfABodyWokenFromOutside) {
     Sleepers s(4);
     s.touch(0, 1);
     s.touch(1, 2);
-    Joint j;
+    JointDesc j;
     j.a = 2;
     j.b = 0;
     s.joints.push_back(j);
