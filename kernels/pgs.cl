@@ -383,8 +383,9 @@ warmStartPgs(const uint first, const uint count, const uint mode,
 
 // solveElement and pushElement are called from three places each (a color's loop, a block's
 // passes, the friction pass or pushPgs), and PoCL's LLVM kept them calls: inlined, with `part`,
-// `slot` and `backward` constants at each place, solvePgs took 17% less time on debris_16k
-// (docs/opencl.md, "Inlining the sweep"), for about 2 s more of the program's first build.
+// `slot` and `backward` constants at each place, the solve stage took 13% less time on
+// debris_16k (docs/opencl.md, "Inlining the sweep"), for about 2 s more of the program's first
+// build.
 #define RUBBLE_PGS_INLINE static inline __attribute__((always_inline))
 
 // The point a pass over points from..to - 1 visits n-th: in order, or last to first.
