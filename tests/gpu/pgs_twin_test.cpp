@@ -541,6 +541,50 @@ TEST_F(PgsTwin, ASmallWorldStepsTheCpuBitForBitThroughSleep) {
     EXPECT_EQ(asleepBodies(device), cpu.bodyCount() - 1) << "the whole pile asleep";
 }
 
+// A world at rest is left alone: once every body of pyramid_20 sleeps and a step has found no
+// pair, the device's steps are left out (World's stepDevice, Pipeline::atRest: no launch, no
+// wait) until an explosion at 2 s wakes the pile, which then moves as on the CPU to the bit,
+// its warm start and sleep included. (Measured: the same bits through 240 steps; a resting
+// step 0.4 ms of launches and waits before, none now.)
+TEST_F(PgsTwin, AWorldAtRestIsLeftOutUntilAnExplosionWakesIt) {
+    Result<Scene> scene = loadScene(std::string(RUBBLE_SOURCE_DIR) + "/scenes/pyramid_20.json");
+    ASSERT_TRUE(scene.ok()) << scene.error().describe();
+    EventDesc boom;
+    boom.where = "test";
+    boom.time = 2.0f;
+    boom.centre = glm::vec3(0.3f, 0.2f, 0.1f);
+    boom.impulse = 4.0f;
+    boom.radius = 6.0f;
+    scene->events.push_back(boom);
+    World cpu = world(*scene, Backend::Cpu);
+    World device = world(*scene, Backend::OpenCl);
+    int leftOut = 0, leftOutAfterBoom = 0;
+    float fastest = 0.0f;
+    for (int step = 1; step <= 240; ++step) {
+        ASSERT_TRUE(cpu.step().ok()) << "step " << step;
+        ASSERT_TRUE(device.step().ok()) << "step " << step;
+        const bool boomed = double(step) * double(scene->simulation.dt) > boom.time;
+        // No wait for the device: the step was not enqueued.
+        if (device.lastStep().deviceWaitMs == 0.0) {
+            ++leftOut;
+            if (boomed) ++leftOutAfterBoom;
+            ASSERT_EQ(asleepBodies(device), device.bodyCount() - 1) << "step " << step;
+        }
+        ASSERT_EQ(device.lastStep().contactCount, cpu.lastStep().contactCount) << "step " << step;
+        ASSERT_EQ(device.lastStep().asleep, cpu.lastStep().asleep) << "step " << step;
+        for (std::uint32_t i = 0; i < cpu.bodyCount(); ++i) {
+            ASSERT_TRUE(test::sameBits(cpu.body(i), device.body(i)))
+                << cpu.bodyName(i) << " at step " << step;
+            if (boomed) fastest = std::max(fastest, glm::length(device.body(i).linearVelocity));
+        }
+    }
+    std::printf("[ pyramid_20 at rest ] %d of 240 steps left out, %d after the explosion\n",
+                leftOut, leftOutAfterBoom);
+    EXPECT_GE(leftOut, 20) << "steps at rest left out before the explosion";
+    EXPECT_GT(fastest, 1.0f) << "m/s: the explosion woke the pile";
+    EXPECT_GE(leftOutAfterBoom, 1) << "the pile came back to rest";
+}
+
 // A column of sixteen leaning over, toppling slowly: on the device as on the CPU
 // (Sleep.BaseOfASlowlyTopplingColumnStaysAwake) it is one island with its moving top, so its
 // base, slower than the sleep speeds for the first second, stays awake and is dragged along,
