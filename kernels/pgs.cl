@@ -317,10 +317,25 @@ static uint passSlot(const uint mode, const uint pass) {
     return mode == RUBBLE_PGS_BLOCKS ? pass : RUBBLE_PGS_ALL_SLOTS;
 }
 
-// Whether a launch is the blocks' and holds one block: the whole step's elements in order on one
-// work-item, as the CPU's sweeps go, so that its friction rows and warm start go by point too.
-static int onlyBlock(const uint mode) {
+// Every block takes its friction rows and its warm start by point, as one block does, when built
+// with -DRUBBLE_PGS_BLOCKS_BY_POINT=1 (`rubble run --build-options`): then a block goes through
+// every row in the CPU's order and only the elements between blocks differ. On debris_64k's
+// five seeds that leaves as many crates moving at step 300 as the CPU (median 21 against 32 by
+// element) and the deepest crate 9.5 mm (10.0), for a quarter more time in solvePgs (debris_16k:
+// 17 -> 21.6 ms/step): docs/opencl.md, "debris_64k's edge columns".
+#ifndef RUBBLE_PGS_BLOCKS_BY_POINT
+#define RUBBLE_PGS_BLOCKS_BY_POINT 0
+#endif
+
+// Whether a launch's blocks take their friction rows and warm start by point: a launch of one
+// block (the whole step's elements in order on one work-item, as the CPU's sweeps go), or every
+// block with RUBBLE_PGS_BLOCKS_BY_POINT.
+static int byPoint(const uint mode) {
+#if RUBBLE_PGS_BLOCKS_BY_POINT
+    return mode == RUBBLE_PGS_BLOCKS;
+#else
     return mode == RUBBLE_PGS_BLOCKS && get_num_groups(0) == 1u;
+#endif
 }
 
 // Warm start of one element, or of one of its points (`slot`, as solveElement's): a pair's
@@ -363,8 +378,7 @@ static void warmStartElement(const PgsElement e, __global const PgsNormalRow* no
 }
 
 // Warm start, one launch (a color, the serial tail or the blocks): element by element, or by
-// point when the launch is one block (the CPU's order: warmStartContacts goes through the
-// interleaved rows).
+// point (byPoint: the CPU's order, warmStartContacts goes through the interleaved rows).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 warmStartPgs(const uint first, const uint count, const uint mode,
              __global const PgsElement* elements, __global const uint* blockStarts,
@@ -373,12 +387,12 @@ warmStartPgs(const uint first, const uint count, const uint mode,
              __global const PgsJoint* joints, __global const PgsJointRow* jointRows,
              __global const JacobiBody* bodies, __global BodyVelocity* velocities) {
     const uint end = elementsEnd(count, mode, blockStarts);
-    const uint passes = onlyBlock(mode) ? slotPasses(mode, blockStarts) : 1u;
+    const uint passes = byPoint(mode) ? slotPasses(mode, blockStarts) : 1u;
     for (uint pass = 0u; pass < passes; ++pass)
         for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
             warmStartElement(elements[first + i], normalRows, frictionRows, impulses, joints,
                              jointRows, bodies, velocities,
-                             onlyBlock(mode) ? pass : RUBBLE_PGS_ALL_SLOTS);
+                             byPoint(mode) ? pass : RUBBLE_PGS_ALL_SLOTS);
 }
 
 // solveElement and pushElement are called from three places each (a color's loop, a block's
@@ -553,8 +567,8 @@ solvePgs(const uint first, const uint count, const uint mode,
     } else {
         // A block, in order: the normal rows as the CPU's sweep goes through them (slotPasses),
         // then each element's friction rows (element by element: taken by point, as the CPU
-        // takes them, they cost a fifth more time on debris_64k, docs/opencl.md; by point when
-        // the launch is one block, whose every row then goes in the CPU's order). The push
+        // takes them, they cost a quarter more time in solvePgs, docs/opencl.md; by point when
+        // byPoint, whose every row then goes in the CPU's order). The push
         // rows go in the CPU's order too, each pass beside the normal rows' pass of the same
         // point, which has just read the row: the split pass reads and writes only its own
         // velocities and its impulses' w, so neither pass sees the other and each gives the
@@ -573,14 +587,14 @@ solvePgs(const uint first, const uint count, const uint mode,
                                         pushElement(e, normalRows, impulses, pushed, push,
                                                     relaxation, passSlot(mode, pass)));
             }
-        const uint frictionPasses = onlyBlock(mode) ? passes : 1u;
+        const uint frictionPasses = byPoint(mode) ? passes : 1u;
         for (uint pass = 0u; pass < frictionPasses; ++pass)
             for (uint i = begin; i < end; ++i)
                 residual = fmax(residual,
                                 solveElement(elements[first + i], normalRows, frictionRows,
                                              impulses, joints, jointRows, bodies, velocities,
                                              relaxation, lastSweep, kept, RUBBLE_PGS_FRICTION,
-                                             onlyBlock(mode) ? pass : RUBBLE_PGS_ALL_SLOTS,
+                                             byPoint(mode) ? pass : RUBBLE_PGS_ALL_SLOTS,
                                              0u));
     }
     if (lastSweep && residual > 0.0f) atomic_max(&largest[0], as_uint(residual));

@@ -585,6 +585,59 @@ TEST_F(PgsTwin, AWorldAtRestIsLeftOutUntilAnExplosionWakesIt) {
     EXPECT_GE(leftOutAfterBoom, 1) << "the pile came back to rest";
 }
 
+// Built with -DRUBBLE_PGS_BLOCKS_BY_POINT=1 every block takes its friction rows and warm start
+// by point, as one block does: two stacks in two blocks, no element between them, then step the
+// CPU's bits, every body every step; in the default build the blocks take those rows element by
+// element and part from the CPU (measured: at step 1). docs/opencl.md, "debris_64k's edge
+// columns".
+TEST_F(PgsTwin, BlocksByPointStepTheCpuBitForBit) {
+    // Bodies 1 - 3 and 4 - 6: of seven bodies, two blocks cut at body 4.
+    const std::string json = cratesOnTheFloor(0.5f, R"(
+      {"name": "a0", "shape": "crate", "mass": 1, "position": [-3, 0.49, 0],
+       "linear_velocity": [0.8, 0, 0.3]},
+      {"name": "a1", "shape": "crate", "mass": 1, "position": [-2.95, 1.47, 0.04],
+       "orientation": [0.9998, 0, 0.02, 0]},
+      {"name": "a2", "shape": "crate", "mass": 1, "position": [-3.02, 2.45, -0.03],
+       "angular_velocity": [0, 1, 0]},
+      {"name": "b0", "shape": "crate", "mass": 1, "position": [3, 0.49, 0],
+       "orientation": [0.9999, 0.01, 0, 0]},
+      {"name": "b1", "shape": "crate", "mass": 1, "position": [3.05, 1.47, 0],
+       "linear_velocity": [-0.6, 0, 0.5]},
+      {"name": "b2", "shape": "crate", "mass": 1, "position": [2.97, 2.45, 0.02],
+       "orientation": [0.9998, 0.02, 0, 0]})");
+    RunOptions built;
+    built.buildOptions = "-DRUBBLE_PGS_BLOCKS_BY_POINT=1";
+    Result<std::shared_ptr<gpu::Context>> byPoint = openDevice(built);
+    ASSERT_TRUE(byPoint.ok()) << byPoint.error().describe();
+    Scene scene = sceneOf(json);
+    World cpu = world(scene, Backend::Cpu);
+    World byElement = world(scene, Backend::OpenCl, 2);
+    scene.simulation.backend = Backend::OpenCl;
+    scene.simulation.collision.method = CollisionMethod::Sat;
+    scene.simulation.solver.type = SolverType::Pgs;
+    RunOptions run;
+    run.context = *byPoint;
+    run.pgsBlocks = 2;
+    Result<World> device = World::create(scene, run);
+    ASSERT_TRUE(device.ok()) << device.error().describe();
+    int parted = 0;
+    std::uint32_t contacts = 0;
+    for (int step = 1; step <= 60; ++step) {
+        ASSERT_TRUE(cpu.step().ok()) << "step " << step;
+        ASSERT_TRUE(device->step().ok()) << "step " << step;
+        ASSERT_TRUE(byElement.step().ok()) << "step " << step;
+        contacts = std::max(contacts, cpu.lastStep().contactCount);
+        for (std::uint32_t i = 0; i < cpu.bodyCount(); ++i) {
+            ASSERT_TRUE(test::sameBits(cpu.body(i), device->body(i)))
+                << cpu.bodyName(i) << " at step " << step;
+            if (parted == 0 && !test::sameBits(cpu.body(i), byElement.body(i))) parted = step;
+        }
+    }
+    std::printf("[ two stacks in two blocks ] by element apart from the CPU at step %d\n", parted);
+    EXPECT_GE(contacts, 20u) << "two stacks of three on the floor, four points a face";
+    EXPECT_GT(parted, 0) << "the blocks' default order (friction by element) is not the CPU's";
+}
+
 // A column of sixteen leaning over, toppling slowly: on the device as on the CPU
 // (Sleep.BaseOfASlowlyTopplingColumnStaysAwake) it is one island with its moving top, so its
 // base, slower than the sleep speeds for the first second, stays awake and is dragged along,
