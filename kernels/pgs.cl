@@ -317,19 +317,19 @@ static uint passSlot(const uint mode, const uint pass) {
     return mode == RUBBLE_PGS_BLOCKS ? pass : RUBBLE_PGS_ALL_SLOTS;
 }
 
-// Every block takes its friction rows and its warm start by point, as one block does, when built
-// with -DRUBBLE_PGS_BLOCKS_BY_POINT=1 (`rubble run --build-options`): then a block goes through
-// every row in the CPU's order and only the elements between blocks differ. On debris_64k's
-// five seeds that leaves as many crates moving at step 300 as the CPU (median 21 against 32 by
-// element) and the deepest crate 9.5 mm (10.0), for a quarter more time in solvePgs (debris_16k:
-// 17 -> 21.6 ms/step): docs/opencl.md, "debris_64k's edge columns".
+// Every block takes its friction rows and its warm start by point, as one block does (unless
+// built with -DRUBBLE_PGS_BLOCKS_BY_POINT=0, `rubble run --build-options`): a block then goes
+// through every row in the CPU's order and only the elements between blocks differ. On
+// debris_64k's five seeds that leaves as many crates moving at step 300 as the CPU (median 21;
+// 32 by element) and the deepest crate 9.5 mm (10.0 by element), for a quarter more time in
+// solvePgs (debris_16k: 17 -> 21.6 ms/step): docs/opencl.md, "debris_64k's edge columns".
 #ifndef RUBBLE_PGS_BLOCKS_BY_POINT
-#define RUBBLE_PGS_BLOCKS_BY_POINT 0
+#define RUBBLE_PGS_BLOCKS_BY_POINT 1
 #endif
 
-// Whether a launch's blocks take their friction rows and warm start by point: a launch of one
-// block (the whole step's elements in order on one work-item, as the CPU's sweeps go), or every
-// block with RUBBLE_PGS_BLOCKS_BY_POINT.
+// Whether a launch's blocks take their friction rows and warm start by point: every block with
+// RUBBLE_PGS_BLOCKS_BY_POINT, else a launch of one block (the whole step's elements in order on
+// one work-item, as the CPU's sweeps go).
 static int byPoint(const uint mode) {
 #if RUBBLE_PGS_BLOCKS_BY_POINT
     return mode == RUBBLE_PGS_BLOCKS;
@@ -566,9 +566,9 @@ solvePgs(const uint first, const uint count, const uint mode,
         }
     } else {
         // A block, in order: the normal rows as the CPU's sweep goes through them (slotPasses),
-        // then each element's friction rows (element by element: taken by point, as the CPU
-        // takes them, they cost a quarter more time in solvePgs, docs/opencl.md; by point when
-        // byPoint, whose every row then goes in the CPU's order). The push
+        // then the friction rows by point too (byPoint: the CPU's order, which leaves debris_64k's
+        // edge columns standing as on the CPU, for a quarter more time in solvePgs than element
+        // by element; docs/opencl.md). The push
         // rows go in the CPU's order too, each pass beside the normal rows' pass of the same
         // point, which has just read the row: the split pass reads and writes only its own
         // velocities and its impulses' w, so neither pass sees the other and each gives the

@@ -585,11 +585,11 @@ TEST_F(PgsTwin, AWorldAtRestIsLeftOutUntilAnExplosionWakesIt) {
     EXPECT_GE(leftOutAfterBoom, 1) << "the pile came back to rest";
 }
 
-// Built with -DRUBBLE_PGS_BLOCKS_BY_POINT=1 every block takes its friction rows and warm start
-// by point, as one block does: two stacks in two blocks, no element between them, then step the
-// CPU's bits, every body every step; in the default build the blocks take those rows element by
-// element and part from the CPU (measured: at step 1). docs/opencl.md, "debris_64k's edge
-// columns".
+// Every block takes its friction rows and warm start by point, as one block does: two stacks in
+// two blocks, no element between them, step the CPU's bits, every body every step; built with
+// -DRUBBLE_PGS_BLOCKS_BY_POINT=0 the blocks take those rows element by element (the default
+// until debris_64k's edge columns showed the difference) and part from the CPU (measured: at
+// step 1). docs/opencl.md, "debris_64k's edge columns".
 TEST_F(PgsTwin, BlocksByPointStepTheCpuBitForBit) {
     // Bodies 1 - 3 and 4 - 6: of seven bodies, two blocks cut at body 4.
     const std::string json = cratesOnTheFloor(0.5f, R"(
@@ -606,36 +606,36 @@ TEST_F(PgsTwin, BlocksByPointStepTheCpuBitForBit) {
       {"name": "b2", "shape": "crate", "mass": 1, "position": [2.97, 2.45, 0.02],
        "orientation": [0.9998, 0.02, 0, 0]})");
     RunOptions built;
-    built.buildOptions = "-DRUBBLE_PGS_BLOCKS_BY_POINT=1";
-    Result<std::shared_ptr<gpu::Context>> byPoint = openDevice(built);
-    ASSERT_TRUE(byPoint.ok()) << byPoint.error().describe();
+    built.buildOptions = "-DRUBBLE_PGS_BLOCKS_BY_POINT=0";
+    Result<std::shared_ptr<gpu::Context>> elementOrder = openDevice(built);
+    ASSERT_TRUE(elementOrder.ok()) << elementOrder.error().describe();
     Scene scene = sceneOf(json);
     World cpu = world(scene, Backend::Cpu);
-    World byElement = world(scene, Backend::OpenCl, 2);
+    World device = world(scene, Backend::OpenCl, 2);
     scene.simulation.backend = Backend::OpenCl;
     scene.simulation.collision.method = CollisionMethod::Sat;
     scene.simulation.solver.type = SolverType::Pgs;
     RunOptions run;
-    run.context = *byPoint;
+    run.context = *elementOrder;
     run.pgsBlocks = 2;
-    Result<World> device = World::create(scene, run);
-    ASSERT_TRUE(device.ok()) << device.error().describe();
+    Result<World> byElement = World::create(scene, run);
+    ASSERT_TRUE(byElement.ok()) << byElement.error().describe();
     int parted = 0;
     std::uint32_t contacts = 0;
     for (int step = 1; step <= 60; ++step) {
         ASSERT_TRUE(cpu.step().ok()) << "step " << step;
-        ASSERT_TRUE(device->step().ok()) << "step " << step;
-        ASSERT_TRUE(byElement.step().ok()) << "step " << step;
+        ASSERT_TRUE(device.step().ok()) << "step " << step;
+        ASSERT_TRUE(byElement->step().ok()) << "step " << step;
         contacts = std::max(contacts, cpu.lastStep().contactCount);
         for (std::uint32_t i = 0; i < cpu.bodyCount(); ++i) {
-            ASSERT_TRUE(test::sameBits(cpu.body(i), device->body(i)))
+            ASSERT_TRUE(test::sameBits(cpu.body(i), device.body(i)))
                 << cpu.bodyName(i) << " at step " << step;
-            if (parted == 0 && !test::sameBits(cpu.body(i), byElement.body(i))) parted = step;
+            if (parted == 0 && !test::sameBits(cpu.body(i), byElement->body(i))) parted = step;
         }
     }
     std::printf("[ two stacks in two blocks ] by element apart from the CPU at step %d\n", parted);
     EXPECT_GE(contacts, 20u) << "two stacks of three on the floor, four points a face";
-    EXPECT_GT(parted, 0) << "the blocks' default order (friction by element) is not the CPU's";
+    EXPECT_GT(parted, 0) << "the element order (-DRUBBLE_PGS_BLOCKS_BY_POINT=0) is not the CPU's";
 }
 
 // A column of sixteen leaning over, toppling slowly: on the device as on the CPU
@@ -666,8 +666,9 @@ TEST_F(PgsTwin, BaseOfASlowlyTopplingColumnStaysAwakeAsOnTheCpu) {
 // CPU does) the pile at 20 s is the CPU's to the bit, its sleep too (20 of 160 asleep: a head
 // rocking on a corner at 0.06 m/s holds its island awake). In orders that are not the CPU's the
 // pile comes to rest another way, and a limb may swing on without damping and hold its island
-// awake: measured none of 160 asleep in eight blocks, doll13's right shin swinging at up to 0.16
-// m/s through 40 s; colored 10 asleep at 20 s and all by 30 s (before a color took each pair's
+// awake: measured in eight blocks 20 of 160 asleep at 20 s, the fastest body at 0.008 m/s (none
+// asleep, doll13's right shin swinging at up to 0.16 m/s through 40 s, while the blocks took
+// their friction rows and warm start element by element); colored 10 asleep at 20 s and all by 30 s (before a color took each pair's
 // points both ways, 40 and none, a forearm swinging at up to 0.44 / 0.18 m/s); so there the pile
 // must hold its joints, stay out of the floor and move no body faster than 0.5 m/s. (With each
 // body sleeping by itself, 150 / 130 / 150 were asleep; with the joints of a color passed over,
