@@ -166,9 +166,10 @@ Status stepDevice(WorldState& s, StepStats& stats) {
         s.dueEvents.push_back(s.events[e]);
         s.eventFired[e] = 1;
     }
-    // A world at rest with nothing new for the device: its step would change nothing there
-    // (Pipeline::atRest), and the host's copy is the last step's read-back.
-    if (!o && s.dueEvents.empty() && !s.hostDirty && !s.forcesDirty && !s.hostStale && p.atRest()) {
+    // A world at rest with nothing new for the device (the uploads above, if any, tell
+    // Pipeline::atRest so): its step would change nothing there, and the host's copy is the last
+    // step's read-back.
+    if (!o && s.dueEvents.empty() && !s.hostStale && p.atRest()) {
         p.restStep(stats);
         deviceStagesAsStages(stats);
         stats.contactCount = 0;
