@@ -568,11 +568,11 @@ solvePgs(const uint first, const uint count, const uint mode,
         // A block, in order: the normal rows as the CPU's sweep goes through them (slotPasses),
         // then the friction rows by point too (byPoint: the CPU's order, which leaves debris_64k's
         // edge columns standing as on the CPU, for a quarter more time in solvePgs than element
-        // by element; docs/opencl.md). The push
-        // rows go in the CPU's order too, each pass beside the normal rows' pass of the same
-        // point, which has just read the row: the split pass reads and writes only its own
-        // velocities and its impulses' w, so neither pass sees the other and each gives the
-        // same bits as after the whole velocity sweep, with the rows read once.
+        // by element; docs/opencl.md). The push rows go in the CPU's order too, each pass
+        // beside the normal rows' pass of the same point, which has just read the row: the split
+        // pass reads and writes only its own velocities and its impulses' w, so neither pass sees
+        // the other and each gives the same bits as after the whole velocity sweep, with the rows
+        // read once.
         const uint passes = slotPasses(mode, blockStarts);
         for (uint pass = 0u; pass < passes; ++pass)
             for (uint i = begin; i < end; ++i) {
