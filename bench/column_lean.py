@@ -6,6 +6,7 @@ at the pile's edge and inside it.
 
   bench/column_lean.py t.csv --grid 64 16 64
   bench/column_lean.py cpu.csv device.csv --grid 32 16 32 --steps 150,200
+  bench/column_lean.py cpu.csv device.csv --grid 64 16 64 --steps 300 --sides
 
 A column that leans faster topples sooner; over thousands of columns the figure changes little
 from seed to seed, where the count of crates still moving at one step does. The crates are named
@@ -69,6 +70,35 @@ def leans(columns, grid):
     return edge, inside
 
 
+def side_leans(columns, grid):
+    """{side: mean lean away from the pile} for the columns of each side (-x, +x, -z, +z; a
+    corner column counts on both of its sides), and 'inner': the inner columns' mean lean
+    (x, z), m: an order of the solve that drifts shows as a mean lean inside and a side leaning
+    out further than its opposite."""
+    nx, ny, nz = grid
+    sides = {"-x": [], "+x": [], "-z": [], "+z": []}
+    inner = []
+    for (x, z), ends in columns.items():
+        if 0 not in ends or ny - 1 not in ends:
+            continue
+        dx = ends[ny - 1][0] - ends[0][0]
+        dz = ends[ny - 1][1] - ends[0][1]
+        if x == 0:
+            sides["-x"].append(-dx)
+        if x == nx - 1:
+            sides["+x"].append(dx)
+        if z == 0:
+            sides["-z"].append(-dz)
+        if z == nz - 1:
+            sides["+z"].append(dz)
+        if 0 < x < nx - 1 and 0 < z < nz - 1:
+            inner.append((dx, dz))
+    mean = lambda v: sum(v) / len(v) if v else float("nan")
+    out = {k: mean(v) for k, v in sides.items()}
+    out["inner"] = (mean([d[0] for d in inner]), mean([d[1] for d in inner]))
+    return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -78,6 +108,8 @@ def main(argv=None):
     ap.add_argument("--prefix", default="d", help="the generator's name_prefix (default d)")
     ap.add_argument("--steps", type=parse_steps, default=None,
                     help="steps to report, comma separated (default: every step in the file)")
+    ap.add_argument("--sides", action="store_true",
+                    help="print each side's mean outward lean and the inner columns' mean lean")
     args = ap.parse_args(argv)
     if min(args.grid) < 1 or args.grid[1] < 2:
         ap.error("--grid: at least one crate along x and z and two layers")
@@ -93,6 +125,16 @@ def main(argv=None):
                   (path, args.prefix), file=sys.stderr)
             return 2
         tables.append((path, by_step))
+    if args.sides:
+        print("%-28s %6s %7s %7s %7s %7s %8s %8s" % ("file", "step", "-x", "+x", "-z", "+z",
+                                                     "inner x", "inner z"))
+        for path, by_step in tables:
+            for step in sorted(by_step):
+                m = side_leans(by_step[step], args.grid)
+                print("%-28s %6d %7.3f %7.3f %7.3f %7.3f %8.4f %8.4f" % (
+                    path[-28:], step, m["-x"], m["+x"], m["-z"], m["+z"], m["inner"][0],
+                    m["inner"][1]))
+        return 0
     print("%-28s %6s %7s %11s %10s %11s %10s" % ("file", "step", "columns", "edge median",
                                                  "edge p90", "inner median", "inner p90"))
     for path, by_step in tables:

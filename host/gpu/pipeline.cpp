@@ -210,8 +210,6 @@ Status Pipeline::finish() {
 Status Pipeline::beginStep(const StepParams& params, const StepInputs& in) {
     RUBBLE_ASSERT(!stepPending_);
     const float dt = params.dt;
-    stillStep_ = false;
-    atRest_ = false;
     profile_.discard();
     profile_.setStage(DeviceStage::ApplyForces);
     RUBBLE_TRY(resetStatus());
@@ -354,7 +352,6 @@ Status Pipeline::enqueueSatSolve(const StepParams& params) {
     // step's set as it is: it holds still pairs only, and none of them can have moved (a moving
     // body finds the pairs of the bodies it rests against), so the carry would copy it whole.
     const bool stillSet = sat_.enabled && pairsFound_ == 0 && keptFound_ == 0 && !hostBodies_;
-    stillStep_ = stillSet;
     if (!stillSet) {
         RUBBLE_TRY(keepPairFeatures());
         keptFound_ = pairsFound_;
@@ -457,9 +454,6 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
         stats.islandsMs = msSince(islandsStart);
     }
     if (readBack) takeSleepFlags(*readBack);
-    // Every moving body asleep after a step that found no pair and kept its still set as it
-    // was: the next step would find none again and keep the set again.
-    atRest_ = stillStep_ && islands_.enabled() && st.asleep == movingBodies_ && st.contacts == 0;
     TrafficCounts traffic;
     traffic.bodies = bodies_.count;
     traffic.particles = particles_.count;
@@ -499,12 +493,6 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
                              " (t = " +
                              std::to_string(double(params.step + 1) * double(params.dt)) + " s)");
     return {};
-}
-
-void Pipeline::restStep(StepStats& stats) const {
-    stats.deviceAsleep = islands_.asleep;
-    stats.asleep = islands_.asleep;
-    stats.deviceContactCount = 0;
 }
 
 } // namespace rubble::gpu

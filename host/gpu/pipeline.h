@@ -358,15 +358,17 @@ class Pipeline {
                    StepStats& stats);
     /// Whether the last step left the world at rest, so that the next one would change nothing
     /// on the device but its status block: SAT with the CPU's islands on the host, every moving
-    /// body asleep, no pair found and a kept set of still pairs alone (enqueueSatSolve kept it
-    /// as it was), no obstacles, and nothing uploaded or added since. The caller may then leave
-    /// the step out (restStep), unless it has something for the device (an explosion).
+    /// body asleep, no pair found and none in the kept set's last find (the next step would keep
+    /// the set as it is, enqueueSatSolve), no obstacles, and nothing uploaded or added since.
+    /// The caller may then leave the step out, unless it has something for the device (an
+    /// explosion); the step's asleep count is asleepBodies().
     bool atRest() const {
-        return atRest_ && !hostBodies_ && !forcesOnDevice_ && obstacles_.count == 0;
+        return sat_.enabled && islands_.enabled() && !stepPending_ && pairsFound_ == 0 &&
+               keptFound_ == 0 && islands_.asleep == movingBodies_ && !hostBodies_ &&
+               !forcesOnDevice_ && obstacles_.count == 0;
     }
-    /// A step left out at rest, in `stats` as the device would have reported it: no contacts,
-    /// the bodies asleep, no device time.
-    void restStep(StepStats& stats) const;
+    /// The bodies asleep by the host's islands after the last step.
+    std::uint32_t asleepBodies() const { return islands_.asleep; }
     /// The impulses the rows put on each obstacle in the step met last (two-way coupling).
     std::span<const shared::BodyImpulse> obstacleImpulses() const { return impulsesHost_; }
 
@@ -644,11 +646,8 @@ class Pipeline {
     /// state since the last step.
     std::uint32_t pairsFound_ = 0, keptFound_ = 0;
     bool hostBodies_ = false;
-    /// The bodies that move (neither static nor kinematic), counted at each upload; whether this
-    /// step kept last step's set of still pairs as it was, and whether the last step ended at
-    /// rest (atRest).
+    /// The bodies that move (neither static nor kinematic), counted at each upload (atRest).
     std::uint32_t movingBodies_ = 0;
-    bool stillStep_ = false, atRest_ = false;
     bool warmSwapped_ = false;            ///< this step's solve kept its contacts for the next
     bool gatherImpulses_ = false;         ///< this step reads the obstacles' impulses
     // Host memory the step's non-blocking transfers read from or write to.

@@ -169,10 +169,9 @@ Status stepDevice(WorldState& s, StepStats& stats) {
     // A world at rest with nothing new for the device (the uploads above, if any, tell
     // Pipeline::atRest so): its step would change nothing there, and the host's copy is the last
     // step's read-back.
+    // World::step cleared `stats`: no contacts, no device time.
     if (!o && s.dueEvents.empty() && !s.hostStale && p.atRest()) {
-        p.restStep(stats);
-        deviceStagesAsStages(stats);
-        stats.contactCount = 0;
+        stats.asleep = stats.deviceAsleep = p.asleepBodies();
         stats.hostMs = msSince(start);
         return {};
     }

@@ -50,3 +50,14 @@ def test_a_file_that_is_no_trajectory_is_named(tmp_path):
     done = run(path, "--grid", 3, 2, 3)
     assert done.returncode == 2
     assert "notes.csv: not a trajectory" in done.stderr
+
+
+def test_each_sides_lean_away_from_the_pile(tmp_path):
+    # Every column leans 0.1 m toward +x: the +x side leans out 0.1, the -x side in (-0.1), the
+    # z sides not at all; the one inner column's mean lean is (0.1, 0).
+    path = tmp_path / "t.csv"
+    path.write_text(HEADER + pile(0, lambda x, z: 0.1))
+    done = run(path, "--grid", 3, 2, 3, "--sides")
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines()[1].split()[1:] == ["0", "-0.100", "0.100", "0.000", "0.000",
+                                                       "0.1000", "0.0000"]

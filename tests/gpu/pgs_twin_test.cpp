@@ -690,12 +690,12 @@ TEST_F(PgsTwin, BaseOfASlowlyTopplingColumnStaysAwakeAsOnTheCpu) {
 // pile comes to rest another way, and a limb may swing on without damping and hold its island
 // awake: measured in eight blocks 20 of 160 asleep at 20 s, the fastest body at 0.008 m/s (none
 // asleep, doll13's right shin swinging at up to 0.16 m/s through 40 s, while the blocks took
-// their friction rows and warm start element by element); colored 10 asleep at 20 s and all by 30 s (before a color took each pair's
-// points both ways, 40 and none, a forearm swinging at up to 0.44 / 0.18 m/s); so there the pile
-// must hold its joints, stay out of the floor and move no body faster than 0.5 m/s. (With each
-// body sleeping by itself, 150 / 130 / 150 were asleep; with the joints of a color passed over,
-// as the sweeps did from the blocks' arrival until this test covered the colored path, the
-// colored pile never settled: 0 of 160 asleep, 3.6 m/s.)
+// their friction rows and warm start element by element); colored 10 asleep at 20 s and all by
+// 30 s (before a color took each pair's points both ways, 40 and none, a forearm swinging at up to
+// 0.44 / 0.18 m/s); so there the pile must hold its joints, stay out of the floor and move no body
+// faster than 0.5 m/s. (With each body sleeping by itself, 150 / 130 / 150 were asleep; with the
+// joints of a color passed over, as the sweeps did from the blocks' arrival until this test covered
+// the colored path, the colored pile never settled: 0 of 160 asleep, 3.6 m/s.)
 TEST_F(PgsTwin, RagdollPileHoldsItsJointsAndSettlesOnTheDevice) {
     // As the device suits (one block: 161 bodies), in eight blocks (as PoCL's CPU device runs a
     // large world; the joints between blocks go through the colors) and colored (as a GPU would:
