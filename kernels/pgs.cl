@@ -185,9 +185,10 @@ __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void ca
 }
 
 // One work-item per pair with rows, in pair order (`order`: the index of its element): the
-// rows of the pair's manifold points where its element places them (PgsElement: the friction
-// rows from its first row, the normal rows and impulses at normal[k]), warm-started from last step's impulses of the same pair (warmStartMatchItem), and the points'
-// keys for the next step (their impulses are filled in by the last sweep).
+// rows of the pair's manifold points where its element places them (PgsElement: point k's normal
+// row, friction rows and impulses at normal[k]), warm-started from last step's impulses of the
+// same pair (warmStartMatchItem), and the points' keys for the next step (their impulses are
+// filled in by the last sweep).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 buildPgsRows(const uint count, __global const uint* order, __global const PgsElement* elements,
              __global const ContactManifold* manifolds, __global const BodyPose* poses,
@@ -204,7 +205,7 @@ buildPgsRows(const uint count, __global const uint* order, __global const PgsEle
     if (i >= count) return;
     const PgsElement e = elements[order[i]];
     const uint p = e.id, a = e.a, b = e.b;
-    const uint first = e.rows >> RUBBLE_PGS_FIRST_SHIFT, points = e.rows & RUBBLE_PGS_POINTS;
+    const uint points = e.rows & RUBBLE_PGS_POINTS;
     const uint previous = warmStart ? keptPairsItem(previousCount, previousCapacity) : 0u;
     const uint q = previousOf[p];
     const uint oldCount = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
@@ -243,7 +244,7 @@ buildPgsRows(const uint count, __global const uint* order, __global const PgsEle
             start.z = dot3(from.friction, row.friction.tangent[1]);
         }
         normalRows[e.normal[k]] = row.normal;
-        frictionRows[first + k] = row.friction;
+        frictionRows[e.normal[k]] = row.friction;
         impulses[e.normal[k]] = start;
         // What the next step starts from if no sweep runs; the last sweep overwrites it.
         PgsImpulse key = keys[k];
@@ -361,7 +362,6 @@ static void warmStartElement(const PgsElement e, __global const PgsNormalRow* no
         storePair(v, e.a, e.b, jointMoves(ja, jb), velocities);
         return;
     }
-    const uint friction = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
     for (uint k = from; k < to; ++k) {
         const float4 l = impulses[e.normal[k]];
         if (l.x != 0.0f) {
@@ -369,7 +369,7 @@ static void warmStartElement(const PgsElement e, __global const PgsNormalRow* no
             v = applyPgsRowItem(v, r.normal, r.turnA, r.turnB, r.speeds.z, r.speeds.w, l.x);
         }
         if (l.y == 0.0f && l.z == 0.0f) continue;
-        const PgsFrictionRows f = frictionRows[friction + k];
+        const PgsFrictionRows f = frictionRows[e.normal[k]];
         const float ima = f.inverseMass.x, imb = f.inverseMass.y;
         if (l.y != 0.0f) v = applyPgsRowItem(v, f.tangent[0], f.turnA[0], f.turnB[0], ima, imb, l.y);
         if (l.z != 0.0f) v = applyPgsRowItem(v, f.tangent[1], f.turnA[1], f.turnB[1], ima, imb, l.z);
@@ -451,7 +451,6 @@ RUBBLE_PGS_INLINE float solveElement(const PgsElement e, __global const PgsNorma
         return u.pointImpulse.w;
     }
     float residual = 0.0f;
-    const uint friction = e.rows >> RUBBLE_PGS_FIRST_SHIFT;
     float4 l[4];
     for (uint k = from; k < to; ++k) l[k] = impulses[e.normal[k]];
     const int reversed = slot == RUBBLE_PGS_ALL_SLOTS && backward;
@@ -476,7 +475,7 @@ RUBBLE_PGS_INLINE float solveElement(const PgsElement e, __global const PgsNorma
     }
     for (uint n = from; n < to; ++n) {
         const uint k = visitedPoint(n, from, to, reversed);
-        const PgsFrictionRows r = frictionRows[friction + k];
+        const PgsFrictionRows r = frictionRows[e.normal[k]];
         const PgsFrictionUpdate u = solvePgsFrictionItem(r, v, l[k].x, l[k].y, l[k].z, relaxation);
         v = u.v;
         l[k].y = u.impulse.x;

@@ -206,8 +206,8 @@ Status Pipeline::colorPgs() {
         e.a = all[k].a;
         e.b = all[k].b;
     }
-    // pointsHost[i]: the rows before element i (a joint has none). An element of a color has
-    // its normal rows where its friction rows are; a block's are placed by point below.
+    // pointsHost[i]: the rows before element i (a joint has none). An element of a color has its
+    // points' rows in a run from there; a block's are placed by point below.
     g.pointsHost.assign(all.size() + 1, 0);
     std::uint32_t rows = 0;
     for (std::uint32_t i = 0; i < all.size(); ++i) {
@@ -216,16 +216,17 @@ Status Pipeline::colorPgs() {
             const cl_uint summary = g.pairRowsHost[e.id];
             const std::uint32_t points = summary & RUBBLE_PGS_POINTS;
             RUBBLE_ASSERT(points <= 4);
-            e.rows = (rows << RUBBLE_PGS_FIRST_SHIFT) | summary;
+            e.rows = summary;
             for (std::uint32_t k = 0; k < points; ++k) e.normal[k] = rows + k;
             rows += points;
         }
         g.pointsHost[i + 1] = rows;
     }
     g.rowCount = rows;
-    // A block's normal rows (and impulses) within its range of rows by point: every element's
-    // first point, then every second point, ..., the order its passes read them in (solvePgs),
-    // so that each pass reads them front to back as the CPU's sweep reads its interleaved rows.
+    // A block's rows (normal, friction, impulses) within its range by point: every element's
+    // first point, then every second point, ..., the order its passes read them in (solvePgs,
+    // warmStartPgs), so that each pass reads them front to back as the CPU's sweep reads its
+    // interleaved rows.
     // The block's passes, as many as its elements' most points (one at least: a joint goes with
     // the first), follow the starts: a block of one-point elements (particle contacts) makes one.
     for (std::uint32_t b = 0; b < blocks && inBlocks > 0; ++b) {

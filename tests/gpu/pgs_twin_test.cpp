@@ -128,16 +128,14 @@ TEST_F(PgsTwin, RowsAreTheCpuRowsBitForBit) {
     Result<std::vector<shared::ContactManifold>> manifolds = p.downloadManifolds();
     ASSERT_TRUE(normals.ok() && frictions.ok() && manifolds.ok());
 
-    // The device's rows by (a, b, feature): the normal row's and the friction rows' places.
-    std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>,
-             std::pair<std::uint32_t, std::uint32_t>>
-        device;
+    // The device's rows by (a, b, feature): the point's place (its normal row's, its friction
+    // rows').
+    std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, std::uint32_t> device;
     for (const shared::PgsElement& e : p.pgs().elementsHost) {
         if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
         const shared::ContactManifold& m = (*manifolds)[e.id];
         for (std::uint32_t k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k)
-            device[{e.a, e.b, m.features[k]}] = {e.normal[k],
-                                                 (e.rows >> RUBBLE_PGS_FIRST_SHIFT) + k};
+            device[{e.a, e.b, m.features[k]}] = e.normal[k];
     }
     ASSERT_EQ(device.size(), rows.size());
     ASSERT_GE(rows.size(), 16u); // the stack's faces, the slider, the ball, the gap
@@ -146,8 +144,8 @@ TEST_F(PgsTwin, RowsAreTheCpuRowsBitForBit) {
         const ContactKey& key = rows.keys[i];
         const auto found = device.find({key.a, key.b, key.feature});
         ASSERT_NE(found, device.end()) << "row of " << key.a << "-" << key.b;
-        const shared::PgsNormalRow& dn = (*normals)[found->second.first];
-        const shared::PgsFrictionRows& df = (*frictions)[found->second.second];
+        const shared::PgsNormalRow& dn = (*normals)[found->second];
+        const shared::PgsFrictionRows& df = (*frictions)[found->second];
         const NormalRow& n = rows.normals[i];
         const FrictionRows& f = rows.frictions[i];
         const std::string where = "row of " + std::to_string(key.a) + "-" + std::to_string(key.b);
@@ -231,8 +229,8 @@ TEST_F(PgsTwin, AStackOfThreeMatchesTheCpu) {
 // The split into blocks, on a 5 x 2 x 4 block of touching crates in 4 blocks: every element of
 // the step placed once; the blocks share no body that moves (they run side by side), and each
 // holds its elements in pair order (the CPU's order); the elements between blocks colored, no
-// two of a launch on one moving body; the friction rows packed in the elements' order, a block's
-// normal rows by point.
+// two of a launch on one moving body; every point's rows at a place of their own, a color's
+// element's in a run, a block's by point.
 TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
     std::string json = R"({"format": "rubble-scene", "version": 1, "name": "blocks",
       "simulation": {"dt": 0.016666667, "solver": {"iterations": 10}},
@@ -308,16 +306,16 @@ TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
             }
         }
     }
-    // The friction rows packed in the elements' order.
+    // The rows before each element: its points' and those before it, in the elements' order.
     std::uint32_t row = 0;
-    for (const shared::PgsElement& e : g.elementsHost) {
-        EXPECT_EQ(e.rows >> RUBBLE_PGS_FIRST_SHIFT, row);
-        row += e.rows & RUBBLE_PGS_POINTS;
+    for (std::size_t i = 0; i < g.elementsHost.size(); ++i) {
+        EXPECT_EQ(g.pointsHost[i], row);
+        row += g.elementsHost[i].rows & RUBBLE_PGS_POINTS;
     }
     EXPECT_EQ(row, g.rowCount);
-    // The normal rows: each place once; a block's by point from its first row (every element's
+    // The points' rows: each place once; a block's by point from its first row (every element's
     // first point, then every second, ...), so that its passes read them front to back; a
-    // color's element's where its friction rows are.
+    // color's element's in a run from the rows before it.
     auto points = [](const shared::PgsElement& e) { return e.rows & RUBBLE_PGS_POINTS; };
     std::set<std::uint32_t> normals;
     std::uint32_t multiPoint = 0;
@@ -326,7 +324,7 @@ TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
         std::uint32_t most = 1;
         for (std::uint32_t i = from; i < to; ++i) most = std::max(most, points(g.elementsHost[i]));
         EXPECT_EQ(g.blockStartsHost[5 + b], most) << "block " << b << "'s passes";
-        std::uint32_t next = g.elementsHost[from].rows >> RUBBLE_PGS_FIRST_SHIFT;
+        std::uint32_t next = g.pointsHost[from];
         for (std::uint32_t k = 0; k < 4; ++k)
             for (std::uint32_t i = from; i < to; ++i) {
                 const shared::PgsElement& e = g.elementsHost[i];
@@ -341,7 +339,7 @@ TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
     for (std::uint32_t i = blocks.count; i < g.elementsHost.size(); ++i) {
         const shared::PgsElement& e = g.elementsHost[i];
         for (std::uint32_t k = 0; k < points(e); ++k) {
-            EXPECT_EQ(e.normal[k], (e.rows >> RUBBLE_PGS_FIRST_SHIFT) + k);
+            EXPECT_EQ(e.normal[k], g.pointsHost[i] + k);
             EXPECT_TRUE(normals.insert(e.normal[k]).second);
         }
     }

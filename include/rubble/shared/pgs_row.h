@@ -23,11 +23,10 @@ RUBBLE_SHARED_BEGIN
 
 // A pair's summary word on the device (kernels/pgs.cl, summarizePairs), which the host colors
 // from: its point count in the low bits, and which of its bodies move in the solve. An element's
-// `rows` word holds the same bits and its first friction row above RUBBLE_PGS_FIRST_SHIFT.
+// `rows` word is the same word.
 #define RUBBLE_PGS_POINTS 7u
 #define RUBBLE_PGS_MOVES_A 8u
 #define RUBBLE_PGS_MOVES_B 16u
-#define RUBBLE_PGS_FIRST_SHIFT 5u
 // An element of the device's solve that is a joint (its index in the low bits), not a pair.
 #define RUBBLE_PGS_JOINT_ELEMENT 0x80000000u
 // How a sweep kernel's launch goes through its elements (its `mode` argument): one per
@@ -39,16 +38,16 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_PGS_BLOCKS 2u
 
 // 32 bytes: one element of the device's solve, in color order (the host makes them after
-// coloring): a pair's contact rows, or a joint. A pair's friction rows are packed at rows >>
-// RUBBLE_PGS_FIRST_SHIFT, one per point; its normal rows and impulses at normal[k], the same
-// places for an element of a color, but by point within a block (every element's first point,
-// then every second point, ...: the order a block's passes read them in, as the CPU's
+// coloring): a pair's contact rows, or a joint. Point k's rows (its normal row, its friction
+// pair) and impulses are at normal[k]: an element of a color has its points' in a run of its own,
+// an element of a block by point within the block's rows (every element's first point, then
+// every second point, ...: the order a block's passes read them in, as the CPU's
 // interleaveContactRows lays out its rows), so that each pass reads them front to back.
 typedef struct PgsElement {
     uint a, b;     // body indices
     uint id;       // the pair's index, or RUBBLE_PGS_JOINT_ELEMENT | the joint's
-    uint rows;     // first friction row << RUBBLE_PGS_FIRST_SHIFT | RUBBLE_PGS_MOVES_* | points
-    uint normal[4]; // each point's normal row and impulses (0 past the points, and for a joint)
+    uint rows;     // the pair's summary word: RUBBLE_PGS_MOVES_* | points
+    uint normal[4]; // each point's rows and impulses (0 past the points, and for a joint)
 } PgsElement;
 RUBBLE_STATIC_ASSERT_SIZE(PgsElement, 32);
 
