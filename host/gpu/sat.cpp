@@ -177,7 +177,6 @@ Status Pipeline::carryStillPairs() {
                    .run(items, RUBBLE_GROUP_SCAN));
     return Dispatch(c, KernelId::CarryStillPairs, &profile_)
         .with([&](Dispatch& d) { bindPreviousPairs(d); })
-        .arg(s.previous.features)
         .arg(s.previous.impulseCount)
         .arg(s.previous.impulses)
         .arg(s.carry)
