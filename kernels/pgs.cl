@@ -91,12 +91,10 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
 // by (a, b) among themselves; the pair count's second word becomes the entries kept. So a pair
 // of sleeping bodies keeps its impulses until one of them wakes, as the CPU's
 // storeContactImpulses merges its still pairs' impulses in, and the wake reaches through the
-// sleeping bodies they join (wakeStillPairs). Its cached features are not kept: the CPU's narrow
-// phase keeps those of the pairs it collided only, so a pair woken from sleep runs the whole SAT
-// on both (with the features kept, a pile that had come to rest after an explosion, its crates
-// at odd angles, woke to other manifolds than the CPU's: docs/opencl.md, "A world at rest is
-// left out"). Entries past the set's capacity are dropped: their pairs start without a warm
-// start.
+// sleeping bodies they join (wakeStillPairs). Its cached features are not carried: collideShapes
+// reads features from last step's own pairs only, as the CPU's narrow phase keeps those of the
+// pairs it collided. Entries past the set's capacity are dropped: their pairs start without a
+// warm start.
 
 // Pass 1, RUBBLE_SORT_ITEMS work-items each over a contiguous chunk of last step's entries: marks
 // the entries to carry (`carry`) and counts them per chunk.
@@ -153,8 +151,8 @@ __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void ca
     __global const BodyPairRecord* previousPairs, __global const uint* previousImpulseCount,
     __global const PgsImpulse* previousImpulses, __global const uint* carry,
     __global const uint* place, const uint capacity,
-    __global uint* pairCount, __global BodyPairRecord* pairs, __global PairCache* features,
-    __global uint* impulseCount, __global PgsImpulse* impulses, __global uint* status) {
+    __global uint* pairCount, __global BodyPairRecord* pairs, __global uint* impulseCount,
+    __global PgsImpulse* impulses, __global uint* status) {
     const uint ownRun = min(previousCount[0], previousCapacity);
     const uint n = keptPairsItem(previousCount, previousCapacity);
     const uint current = min(pairCount[0], capacity);
@@ -181,7 +179,6 @@ __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void ca
         const uint at = current + rank;
         if (at >= capacity) continue;
         pairs[at] = pair;
-        features[at] = emptyPairCacheItem();
         const uint held = min(previousImpulseCount[q], 4u);
         impulseCount[at] = held;
         for (uint k = 0; k < held; ++k) impulses[4u * at + k] = previousImpulses[4u * q + k];

@@ -55,7 +55,12 @@ collideShapes(const uint capacity, __global const uint* pairCount,
             if (q < previous) fromCarried = q + 1u;
         }
         previousOf[p] = q;
-        PairCache cache = q < previous ? previousFeatures[q] : emptyPairCacheItem();
+        // Features only from last step's own pairs, those it collided: a still pair carried
+        // while its bodies slept runs the whole SAT when it is found again, as on the CPU, whose
+        // narrow phase keeps the features of the pairs it collided only (with them, a pile that
+        // had come to rest after an explosion, its crates at odd angles, woke to other manifolds
+        // than the CPU's: docs/opencl.md, "A world at rest is left out").
+        PairCache cache = q < ownRun ? previousFeatures[q] : emptyPairCacheItem();
         const float margin =
             pairMarginItem(velocities[pair.a], velocities[pair.b], spin[pair.a], spin[pair.b], dt);
         ContactManifold m = collideShapesItem(

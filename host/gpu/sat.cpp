@@ -182,7 +182,6 @@ Status Pipeline::carryStillPairs() {
         .arg(s.carry)
         .arg(s.place)
         .with([&](Dispatch& d) { bindPairs(d); })
-        .arg(s.current.features)
         .arg(s.current.impulseCount)
         .arg(s.current.impulses)
         .arg(status_)

@@ -593,8 +593,8 @@ TEST_F(PgsTwin, AWorldAtRestIsLeftOutUntilAnExplosionWakesIt) {
         if (step == 1) {
             EXPECT_GT(device.lastStep().deviceWaitMs, 0.0) << "the step ran";
         }
-        // The woken pairs run the whole SAT on both (the carry keeps no features): the same
-        // manifolds, the same bits (2.08 mm apart after 30 steps while it kept them).
+        // The woken pairs run the whole SAT on both (no features from a carried pair): the
+        // same manifolds, the same bits (2.08 mm apart after 30 steps while they were used).
         for (std::uint32_t i = 0; i < cpu.bodyCount(); ++i)
             ASSERT_TRUE(test::sameBits(cpu.body(i), device.body(i)))
                 << cpu.bodyName(i) << " at step " << step << " after the impulse";
