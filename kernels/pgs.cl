@@ -408,6 +408,37 @@ static uint visitedPoint(const uint n, const uint from, const uint to, const int
     return reversed ? from + to - 1u - n : n;
 }
 
+// Point k of a pair's element, on the velocities `v` and its impulses `l` (x normal, y and z
+// friction): its normal row (part RUBBLE_PGS_NORMALS), then its friction pair bounded by the
+// normal impulse (RUBBLE_PGS_FRICTION), whose last sweep keeps the impulses for the next step's
+// warm start. Returns the largest |change|, N s.
+RUBBLE_PGS_INLINE float solvePoint(const PgsElement e, const uint k, const uint part,
+                                   __global const PgsNormalRow* normalRows,
+                                   __global const PgsFrictionRows* frictionRows,
+                                   const float relaxation, const uint lastSweep,
+                                   __global PgsImpulse* kept, BodyVelocityPair* v, float4* l) {
+    float residual = 0.0f;
+    if (part & RUBBLE_PGS_NORMALS) {
+        const PgsNormalRow r = normalRows[e.normal[k]];
+        const PgsUpdate u = solvePgsNormalItem(r, *v, r.speeds.x, l->x, relaxation);
+        *v = u.v;
+        l->x = u.accumulated;
+        residual = fmax(residual, fabs(u.applied));
+    }
+    if (!(part & RUBBLE_PGS_FRICTION)) return residual;
+    const PgsFrictionRows r = frictionRows[e.normal[k]];
+    const PgsFrictionUpdate u = solvePgsFrictionItem(r, *v, l->x, l->y, l->z, relaxation);
+    *v = u.v;
+    l->y = u.impulse.x;
+    l->z = u.impulse.y;
+    residual = fmax(residual, u.impulse.z);
+    if (lastSweep) {
+        kept[4u * e.id + k].normal = l->x;
+        kept[4u * e.id + k].friction = add4(scale4(r.tangent[0], l->y), scale4(r.tangent[1], l->z));
+    }
+    return residual;
+}
+
 // One velocity sweep of one element, or of one part of it: a joint's blocks
 // (solveJointVelocity) with the normal rows; a pair's normal rows, then its points' friction
 // pairs (bounded by this sweep's normal impulses). A color solves both parts of each element in
@@ -451,76 +482,42 @@ RUBBLE_PGS_INLINE float solveElement(const PgsElement e, __global const PgsNorma
         jointRows[j].turnImpulse = u.turnImpulse;
         return u.pointImpulse.w;
     }
-    float residual = 0.0f;
+    // A block's pass: one point, its impulses in a scalar.
     if (slot != RUBBLE_PGS_ALL_SLOTS) {
-        // One point (a block's pass): its rows in scalars, without the loops and the arrays of
-        // a whole element (solvePgs 8% less time on debris_16k, the same bits: docs/opencl.md,
-        // "Friction rows where the normal rows are").
-        const uint k = slot, at = e.normal[k];
-        float4 lk = impulses[at];
-        if (part & RUBBLE_PGS_NORMALS) {
-            const PgsNormalRow r = normalRows[at];
-            const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.x, lk.x, relaxation);
-            v = u.v;
-            lk.x = u.accumulated;
-            residual = fmax(residual, fabs(u.applied));
-        }
-        if (!(part & RUBBLE_PGS_FRICTION)) {
-            impulses[at].x = lk.x;
-            storePair(v, e.a, e.b, e.rows, velocities);
-            return residual;
-        }
-        const PgsFrictionRows r = frictionRows[at];
-        const PgsFrictionUpdate u = solvePgsFrictionItem(r, v, lk.x, lk.y, lk.z, relaxation);
-        v = u.v;
-        lk.y = u.impulse.x;
-        lk.z = u.impulse.y;
-        residual = fmax(residual, u.impulse.z);
-        impulses[at] = lk;
-        if (lastSweep) {
-            kept[4u * e.id + k].normal = lk.x;
-            kept[4u * e.id + k].friction =
-                add4(scale4(r.tangent[0], lk.y), scale4(r.tangent[1], lk.z));
-        }
+        float4 l = impulses[e.normal[slot]];
+        const float residual =
+            solvePoint(e, slot, part, normalRows, frictionRows, relaxation, lastSweep, kept, &v, &l);
+        if (part & RUBBLE_PGS_FRICTION)
+            impulses[e.normal[slot]] = l;
+        else
+            impulses[e.normal[slot]].x = l.x;
         storePair(v, e.a, e.b, e.rows, velocities);
         return residual;
     }
+    // A color's element: all its points, twice through the normal rows when it has several.
+    float residual = 0.0f;
     float4 l[4];
     for (uint k = from; k < to; ++k) l[k] = impulses[e.normal[k]];
-    const int reversed = slot == RUBBLE_PGS_ALL_SLOTS && backward;
     const uint normalPasses =
-        (part & RUBBLE_PGS_NORMALS)
-            ? (slot == RUBBLE_PGS_ALL_SLOTS && to - from > 1u ? RUBBLE_PGS_ELEMENT_NORMAL_PASSES
-                                                              : 1u)
-            : 0u;
+        (part & RUBBLE_PGS_NORMALS) ? (to - from > 1u ? RUBBLE_PGS_ELEMENT_NORMAL_PASSES : 1u) : 0u;
     for (uint pass = 0u; pass < normalPasses; ++pass)
         for (uint n = from; n < to; ++n) {
-            const uint k = visitedPoint(n, from, to, reversed);
-            const PgsNormalRow r = normalRows[e.normal[k]];
-            const PgsUpdate u = solvePgsNormalItem(r, v, r.speeds.x, l[k].x, relaxation);
-            v = u.v;
-            l[k].x = u.accumulated;
-            residual = fmax(residual, fabs(u.applied));
+            const uint k = visitedPoint(n, from, to, backward);
+            residual = fmax(residual, solvePoint(e, k, RUBBLE_PGS_NORMALS, normalRows, frictionRows,
+                                                 relaxation, lastSweep, kept, &v, &l[k]));
         }
-    if (!(part & RUBBLE_PGS_FRICTION)) {
-        for (uint k = from; k < to; ++k) impulses[e.normal[k]].x = l[k].x;
-        storePair(v, e.a, e.b, e.rows, velocities);
-        return residual;
-    }
-    for (uint n = from; n < to; ++n) {
-        const uint k = visitedPoint(n, from, to, reversed);
-        const PgsFrictionRows r = frictionRows[e.normal[k]];
-        const PgsFrictionUpdate u = solvePgsFrictionItem(r, v, l[k].x, l[k].y, l[k].z, relaxation);
-        v = u.v;
-        l[k].y = u.impulse.x;
-        l[k].z = u.impulse.y;
-        residual = fmax(residual, u.impulse.z);
-        impulses[e.normal[k]] = l[k];
-        if (lastSweep) {
-            kept[4u * e.id + k].normal = l[k].x;
-            kept[4u * e.id + k].friction =
-                add4(scale4(r.tangent[0], l[k].y), scale4(r.tangent[1], l[k].z));
+    if (part & RUBBLE_PGS_FRICTION)
+        for (uint n = from; n < to; ++n) {
+            const uint k = visitedPoint(n, from, to, backward);
+            residual = fmax(residual, solvePoint(e, k, RUBBLE_PGS_FRICTION, normalRows,
+                                                 frictionRows, relaxation, lastSweep, kept, &v,
+                                                 &l[k]));
         }
+    for (uint k = from; k < to; ++k) {
+        if (part & RUBBLE_PGS_FRICTION)
+            impulses[e.normal[k]] = l[k];
+        else
+            impulses[e.normal[k]].x = l[k].x;
     }
     storePair(v, e.a, e.b, e.rows, velocities);
     return residual;
