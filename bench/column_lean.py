@@ -57,16 +57,21 @@ def quantile(values, q):
     return values[min(len(values) - 1, int(q * (len(values) - 1) + 0.5))]
 
 
+def offsets(columns, grid):
+    """(x, z, dx, dz) of every column with both ends: its top crate's offset from its bottom
+    one across the floor, m."""
+    top = grid[1] - 1
+    for (x, z), ends in columns.items():
+        if 0 in ends and top in ends:
+            yield x, z, ends[top][0] - ends[0][0], ends[top][1] - ends[0][1]
+
+
 def leans(columns, grid):
     """(edge, interior): the leans of the columns at the pile's edge and inside it, m."""
-    nx, ny, nz = grid
+    nx, _, nz = grid
     edge, inside = [], []
-    for (x, z), ends in columns.items():
-        if 0 not in ends or ny - 1 not in ends:
-            continue
-        (x0, z0), (x1, z1) = ends[0], ends[ny - 1]
-        lean = math.hypot(x1 - x0, z1 - z0)
-        (edge if x in (0, nx - 1) or z in (0, nz - 1) else inside).append(lean)
+    for x, z, dx, dz in offsets(columns, grid):
+        (edge if x in (0, nx - 1) or z in (0, nz - 1) else inside).append(math.hypot(dx, dz))
     return edge, inside
 
 
@@ -75,14 +80,10 @@ def side_leans(columns, grid):
     corner column counts on both of its sides), and 'inner': the inner columns' mean lean
     (x, z), m: an order of the solve that drifts shows as a mean lean inside and a side leaning
     out further than its opposite."""
-    nx, ny, nz = grid
+    nx, _, nz = grid
     sides = {"-x": [], "+x": [], "-z": [], "+z": []}
     inner = []
-    for (x, z), ends in columns.items():
-        if 0 not in ends or ny - 1 not in ends:
-            continue
-        dx = ends[ny - 1][0] - ends[0][0]
-        dz = ends[ny - 1][1] - ends[0][1]
+    for x, z, dx, dz in offsets(columns, grid):
         if x == 0:
             sides["-x"].append(-dx)
         if x == nx - 1:

@@ -485,8 +485,8 @@ RUBBLE_PGS_INLINE float solveElement(const PgsElement e, __global const PgsNorma
     // A block's pass: one point, its impulses in a scalar.
     if (slot != RUBBLE_PGS_ALL_SLOTS) {
         float4 l = impulses[e.normal[slot]];
-        const float residual =
-            solvePoint(e, slot, part, normalRows, frictionRows, relaxation, lastSweep, kept, &v, &l);
+        const float residual = solvePoint(e, slot, part, normalRows, frictionRows, relaxation,
+                                          lastSweep, kept, &v, &l);
         if (part & RUBBLE_PGS_FRICTION)
             impulses[e.normal[slot]] = l;
         else
