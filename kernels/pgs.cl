@@ -323,8 +323,9 @@ static uint passSlot(const uint mode, const uint pass) {
 // built with -DRUBBLE_PGS_BLOCKS_BY_POINT=0, `rubble run --build-options`): a block then goes
 // through every row in the CPU's order and only the elements between blocks differ. On
 // debris_64k's five seeds that leaves as many crates moving at step 300 as the CPU (median 21;
-// 32 by element) and the deepest crate 9.5 mm (10.0 by element), for a quarter more time in
-// solvePgs (debris_16k: 17 -> 21.6 ms/step): docs/opencl.md, "debris_64k's edge columns".
+// 32 by element) and the deepest crate 9.5 mm (10.0 by element); with the rows laid out by
+// point it is also the faster order (debris_16k solvePgs 12.3 against 14.1 ms/step):
+// docs/opencl.md, "debris_64k's edge columns" and "Friction rows where the normal rows are".
 #ifndef RUBBLE_PGS_BLOCKS_BY_POINT
 #define RUBBLE_PGS_BLOCKS_BY_POINT 1
 #endif
@@ -597,12 +598,11 @@ solvePgs(const uint first, const uint count, const uint mode,
     } else {
         // A block, in order: the normal rows as the CPU's sweep goes through them (slotPasses),
         // then the friction rows by point too (byPoint: the CPU's order, which leaves debris_64k's
-        // edge columns standing as on the CPU, for a quarter more time in solvePgs than element
-        // by element; docs/opencl.md). The push rows go in the CPU's order too, each pass
-        // beside the normal rows' pass of the same point, which has just read the row: the split
-        // pass reads and writes only its own velocities and its impulses' w, so neither pass sees
-        // the other and each gives the same bits as after the whole velocity sweep, with the rows
-        // read once.
+        // edge columns standing as on the CPU; docs/opencl.md). The push rows go in the CPU's
+        // order too, each pass beside the normal rows' pass of the same point, which has just
+        // read the row: the split pass reads and writes only its own velocities and its impulses'
+        // w, so neither pass sees the other and each gives the same bits as after the whole
+        // velocity sweep, with the rows read once.
         const uint passes = slotPasses(mode, blockStarts);
         for (uint pass = 0u; pass < passes; ++pass)
             for (uint i = begin; i < end; ++i) {
