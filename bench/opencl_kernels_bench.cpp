@@ -22,6 +22,7 @@
 #include "host/core/math.h"
 #include "host/core/step_params.h"
 #include "host/gpu/hull_data.h"
+#include "host/gpu/integrate.h"
 #include "host/gpu/pipeline.h"
 #include "host/gpu/traffic.h"
 #include "rubble/scene.h"
@@ -42,7 +43,7 @@ struct BenchSettings {
 // A scene on the device stepped `steps` times, then its state on a pipeline of its own whose
 // contacts are collided once: what every benchmark of that scene works on.
 struct BenchWorld {
-    std::optional<test::DeviceStage> stage;
+    std::unique_ptr<test::DeviceStage> stage;
     std::string error;
 };
 
@@ -62,15 +63,15 @@ Status prepare(const std::string& path, float spacing, int steps, BenchWorld& b)
     for (int i = 0; i < steps; ++i) RUBBLE_TRY(world->step());
     test::StageInput in = test::stageInput(*scene);
     test::takeState(*world, in);
-    Result<test::DeviceStage> stage = test::deviceStage(*context, std::move(in));
+    Result<std::unique_ptr<test::DeviceStage>> stage = test::deviceStage(*context, std::move(in));
     RUBBLE_TRY(stage);
-    gpu::Pipeline& p = stage->device();
-    RUBBLE_TRY(p.transformParticles());
-    RUBBLE_TRY(p.buildGrid());
+    test::DeviceStage& p = **stage;
+    RUBBLE_TRY(p.collision.transform(p.q(), p.bodies));
+    RUBBLE_TRY(p.collision.buildGrid(p.q(), p.bodies, p.sort));
     RUBBLE_TRY(p.resetStatus());
-    RUBBLE_TRY(p.collideParticles());
-    RUBBLE_TRY(p.readContactCount());
-    b.stage.emplace(std::move(*stage));
+    RUBBLE_TRY(p.collision.collide(p.q()));
+    RUBBLE_TRY(p.collision.readCount(p.q()));
+    b.stage = std::move(*stage);
     return {};
 }
 
@@ -84,26 +85,26 @@ BenchWorld& benchWorld(const BenchSettings* settings = nullptr) {
     return w;
 }
 
-gpu::Pipeline* pipelineOrSkip(benchmark::State& state) {
+test::DeviceStage* pipelineOrSkip(benchmark::State& state) {
     BenchWorld& b = benchWorld();
     if (!b.stage) {
         state.SkipWithError(b.error.c_str());
         return nullptr;
     }
-    return &b.stage->device();
+    return b.stage.get();
 }
 
-gpu::TrafficCounts countsOf(const gpu::Pipeline& p) {
+gpu::TrafficCounts countsOf(const test::DeviceStage& p) {
     gpu::TrafficCounts n;
-    n.bodies = p.bodies().count;
-    n.particles = p.particles().count;
-    n.cells = std::uint64_t(1) << p.particles().bits;
-    n.contacts = p.contacts().count;
+    n.bodies = p.bodies.count;
+    n.particles = p.collision.count();
+    n.cells = std::uint64_t(1) << p.collision.cellBits();
+    n.contacts = p.collision.contacts().count;
     n.previous = 0;
     return n;
 }
 
-std::uint64_t bytesOf(const gpu::Pipeline& p, std::initializer_list<gpu::KernelId> kernels,
+std::uint64_t bytesOf(const test::DeviceStage& p, std::initializer_list<gpu::KernelId> kernels,
                       int times = 1) {
     std::uint64_t sum = 0;
     for (gpu::KernelId k : kernels) sum += gpu::kernelBytes(k, countsOf(p));
@@ -112,7 +113,7 @@ std::uint64_t bytesOf(const gpu::Pipeline& p, std::initializer_list<gpu::KernelI
 
 // Runs `stage` and waits for it, once per iteration; reports its kernels' counted bytes.
 template <class F>
-void runStage(benchmark::State& state, gpu::Pipeline& p, std::uint64_t bytes, F&& stage) {
+void runStage(benchmark::State& state, test::DeviceStage& p, std::uint64_t bytes, F&& stage) {
     for (auto _ : state) {
         const Status s = stage();
         const Status done = p.finish();
@@ -122,34 +123,34 @@ void runStage(benchmark::State& state, gpu::Pipeline& p, std::uint64_t bytes, F&
         }
     }
     state.SetBytesProcessed(std::int64_t(bytes) * state.iterations());
-    state.counters["contacts"] = double(p.contacts().count);
+    state.counters["contacts"] = double(p.collision.contacts().count);
 }
 
 void benchTransformParticles(benchmark::State& state) {
-    gpu::Pipeline* p = pipelineOrSkip(state);
+    test::DeviceStage* p = pipelineOrSkip(state);
     if (!p) return;
     runStage(state, *p, bytesOf(*p, {gpu::KernelId::TransformParticles}),
-             [&] { return p->transformParticles(); });
+             [&] { return p->collision.transform(p->q(), p->bodies); });
 }
 
 // Cell keys, the radix sort (five 4-bit passes of histogram, scan, scatter) and cell ranges.
 void benchBuildGrid(benchmark::State& state) {
-    gpu::Pipeline* p = pipelineOrSkip(state);
+    test::DeviceStage* p = pipelineOrSkip(state);
     if (!p) return;
     const int passes =
-        int((p->particles().bits + RUBBLE_SORT_DIGIT_BITS - 1) / RUBBLE_SORT_DIGIT_BITS);
+        int((p->collision.cellBits() + RUBBLE_SORT_DIGIT_BITS - 1) / RUBBLE_SORT_DIGIT_BITS);
     const std::uint64_t bytes =
         bytesOf(*p, {gpu::KernelId::ComputeCellKeys, gpu::KernelId::FindCellRanges}) +
         bytesOf(*p, {gpu::KernelId::SortHistogram, gpu::KernelId::SortScatter}, passes);
-    runStage(state, *p, bytes, [&] { return p->buildGrid(); });
+    runStage(state, *p, bytes, [&] { return p->collision.buildGrid(p->q(), p->bodies, p->sort); });
 }
 
 // The radix sort alone, on a copy of the grid's sorted keys in reverse order.
 void benchRadixSort(benchmark::State& state) {
-    gpu::Pipeline* p = pipelineOrSkip(state);
+    test::DeviceStage* p = pipelineOrSkip(state);
     if (!p) return;
     const gpu::Context& c = p->context();
-    const std::uint32_t n = p->particles().count, bits = p->particles().bits;
+    const std::uint32_t n = p->collision.count(), bits = p->collision.cellBits();
     std::vector<std::uint32_t> keys(n), values(n);
     for (std::uint32_t i = 0; i < n; ++i) {
         keys[i] = std::uint32_t((std::uint64_t(n - i) << bits) / (n + 1u));
@@ -168,58 +169,63 @@ void benchRadixSort(benchmark::State& state) {
              bytesOf(*p, {gpu::KernelId::SortHistogram, gpu::KernelId::SortScatter}, passes), [&] {
                  // Sorted output goes to the Alt buffers and is swapped back in: the next
                  // iteration sorts sorted keys, which costs the same.
-                 return p->radixSort(k, v, ka, va, n, bits, RUBBLE_STATUS_COUNT);
+                 return p->sort.sort(p->q(), k, v, ka, va, n, bits);
              });
 }
 
 void benchCollideParticles(benchmark::State& state) {
-    gpu::Pipeline* p = pipelineOrSkip(state);
+    test::DeviceStage* p = pipelineOrSkip(state);
     if (!p) return;
-    if (Status s = p->buildGrid(); !s) return state.SkipWithError(s.error().describe().c_str());
+    if (Status s = p->collision.buildGrid(p->q(), p->bodies, p->sort); !s) return state.SkipWithError(s.error().describe().c_str());
     runStage(state, *p, bytesOf(*p, {gpu::KernelId::CollideParticles}), [&]() -> Status {
         RUBBLE_TRY(p->resetStatus());
-        RUBBLE_TRY(p->collideParticles());
-        return p->readContactCount();
+        RUBBLE_TRY(p->collision.collide(p->q()));
+        return p->collision.readCount(p->q());
     });
 }
 
 // Per-body lists, JacobiBody, rows (no warm start: last step's contacts are not kept here).
 void benchBuildJacobiRows(benchmark::State& state) {
-    gpu::Pipeline* p = pipelineOrSkip(state);
+    test::DeviceStage* p = pipelineOrSkip(state);
     if (!p) return;
     const shared::SolverParams params = benchWorld().stage->in.params().rows;
     using K = gpu::KernelId;
     const std::uint64_t bytes =
         bytesOf(*p, {K::PrepareJacobiBodies, K::CountBodyContacts, K::FillBodyLists,
                      K::SortBodyLists, K::BuildJacobiRows});
-    runStage(state, *p, bytes, [&] { return p->buildJacobiRows(params, false); });
+    runStage(state, *p, bytes, [&] {
+        return p->jacobi.buildRows(p->q(), p->bodies, p->collision.contacts(), p->collision.count(),
+                                   params, false);
+    });
 }
 
 // The Jacobi solve with range(0) sweeps: the first gather, range(0) x (rows, gather), absorb.
 void benchSolveJacobi(benchmark::State& state) {
-    gpu::Pipeline* p = pipelineOrSkip(state);
+    test::DeviceStage* p = pipelineOrSkip(state);
     if (!p) return;
     const int sweeps = int(state.range(0));
     using K = gpu::KernelId;
     const std::uint64_t bytes = bytesOf(*p, {K::GatherJacobiRows, K::AbsorbVelocityChange}) +
                                 bytesOf(*p, {K::SolveJacobiRows, K::GatherJacobi}, sweeps);
-    runStage(state, *p, bytes, [&] { return p->solveJacobi(sweeps, 1.5f, false); });
+    runStage(state, *p, bytes, [&] {
+        return p->jacobi.solve(p->q(), p->bodies, p->collision.contacts(), sweeps, 1.5f);
+    });
 }
 
 void benchIntegrateVelocities(benchmark::State& state) {
-    gpu::Pipeline* p = pipelineOrSkip(state);
+    test::DeviceStage* p = pipelineOrSkip(state);
     if (!p) return;
     runStage(state, *p, bytesOf(*p, {gpu::KernelId::IntegrateVelocities}), [&] {
-        return p->integrateVelocities(shared::float4{0, 0, 0, 0}, 0.0f);
+        return gpu::integrateVelocities(p->q(), p->bodies, shared::float4{0, 0, 0, 0}, 0.0f);
     });
 }
 
 void benchIntegratePositions(benchmark::State& state) {
-    gpu::Pipeline* p = pipelineOrSkip(state);
+    test::DeviceStage* p = pipelineOrSkip(state);
     if (!p) return;
     // dt = 0: the bodies stay where they are however often it runs.
     runStage(state, *p, bytesOf(*p, {gpu::KernelId::IntegratePositions}),
-             [&] { return p->integratePositions(0.0f, true); });
+             [&] { return gpu::integratePositions(p->q(), p->bodies, 0.0f, true); });
 }
 
 // lcp-jacobi on its own small world (the pyramid of 20, settled for 30 steps): the dense
@@ -231,21 +237,24 @@ void benchSolveLcpJacobi(benchmark::State& state) {
             small.error = s.error().describe();
     if (!small.stage) return state.SkipWithError(small.error.c_str());
     const test::StageInput& in = small.stage->in;
-    gpu::Pipeline& p = small.stage->device();
+    test::DeviceStage& p = *small.stage;
     const std::uint32_t stride = lcpStride(in.surfaces, in.bodies.masses);
-    if (p.contacts().count * stride > kLcpMaxRows)
+    if (p.collision.contacts().count * stride > kLcpMaxRows)
         return state.SkipWithError("more than 4096 rows: the dense solver does not take them");
     const shared::SolverParams params = in.params().rows;
-    if (Status st = p.buildJacobiRows(params, false); !st)
+    if (Status st = p.jacobi.buildRows(p.q(), p.bodies, p.collision.contacts(),
+                                       p.collision.count(), params, false);
+        !st)
         return state.SkipWithError(st.error().describe().c_str());
     const int sweeps = int(state.range(0));
     for (auto _ : state) {
-        const Status st = p.solveLcpJacobi(stride, sweeps, 1.0f);
+        const Status st =
+            p.jacobi.solveDense(p.q(), p.bodies, p.collision.contacts(), stride, sweeps, 1.0f);
         const Status done = p.finish();
         if (!st || !done) return state.SkipWithError((!st ? st : done).error().describe().c_str());
     }
     // The Delassus matrix is read once per sweep (SGEMV): rows^2 floats.
-    const double rows = double(p.contacts().count) * stride;
+    const double rows = double(p.collision.contacts().count) * stride;
     state.SetBytesProcessed(std::int64_t(rows * rows * 4.0 * sweeps) * state.iterations());
     state.counters["rows"] = rows;
 }
@@ -256,7 +265,7 @@ void benchSolveLcpJacobi(benchmark::State& state) {
 // "cold" runs the full test for every pair.
 struct SatBenchWorld {
     std::optional<test::StageInput> in;
-    gpu::PipelineHandle cold, warm;
+    std::unique_ptr<test::DeviceStage> cold, warm;
     gpu::TrafficCounts counts;
     std::string error;
 };
@@ -275,8 +284,8 @@ Status prepareSat(const BenchSettings& settings, SatBenchWorld& b) {
     b.in.emplace(test::stageInput(*scene));
     test::takeState(*world, *b.in);
     const float dt = b.in->params().dt;
-    for (gpu::PipelineHandle* p : {&b.cold, &b.warm}) {
-        Result<gpu::PipelineHandle> made = test::satPipeline(*context, *b.in);
+    for (std::unique_ptr<test::DeviceStage>* p : {&b.cold, &b.warm}) {
+        Result<std::unique_ptr<test::DeviceStage>> made = test::satStage(*context, *b.in);
         RUBBLE_TRY(made);
         *p = std::move(*made);
         RUBBLE_TRY((*p)->resetStatus());
@@ -297,12 +306,12 @@ Status prepareSat(const BenchSettings& settings, SatBenchWorld& b) {
     n.pairs = st->pairs;
     n.gridEntries = st->gridEntries;
     n.largeBodies = st->largeBodies;
-    n.planes = b.warm->sat().planeCount;
+    n.planes = b.warm->broad.planeCount();
     n.sortItems = b.warm->context().workSizes().sortItems;
     n.contacts = st->contacts;
     std::fprintf(stderr, "SAT bench: %u bodies, %u pairs, %u contacts, %u grid entries, %u large\n",
                  b.in->bodies.count(), st->pairs, st->contacts, st->gridEntries, st->largeBodies);
-    for (gpu::Pipeline* p : {b.cold.get(), b.warm.get()}) RUBBLE_TRY(p->collectProfile(n));
+    for (test::DeviceStage* p : {b.cold.get(), b.warm.get()}) RUBBLE_TRY(p->collectProfile(n));
     return {};
 }
 
@@ -327,7 +336,7 @@ SatBenchWorld& satWorld() {
 void benchSatKernel(benchmark::State& state, gpu::KernelId kernel, bool warm) {
     SatBenchWorld& b = satWorld();
     if (!b.in) return state.SkipWithError(b.error.c_str());
-    gpu::Pipeline& p = warm ? *b.warm : *b.cold;
+    test::DeviceStage& p = warm ? *b.warm : *b.cold;
     const float dt = b.in->params().dt;
     auto deviceMs = [&] {
         for (const gpu::CommandTotals& t : p.profileTotals())
@@ -353,7 +362,7 @@ void benchSatKernel(benchmark::State& state, gpu::KernelId kernel, bool warm) {
 void benchSatBroadPhase(benchmark::State& state) {
     SatBenchWorld& b = satWorld();
     if (!b.in) return state.SkipWithError(b.error.c_str());
-    gpu::Pipeline& p = *b.cold;
+    test::DeviceStage& p = *b.cold;
     const float dt = b.in->params().dt;
     for (auto _ : state) {
         Status s = p.broadPhase(dt);
@@ -367,7 +376,7 @@ void benchSatBroadPhase(benchmark::State& state) {
 void benchSatNarrowPhase(benchmark::State& state) {
     SatBenchWorld& b = satWorld();
     if (!b.in) return state.SkipWithError(b.error.c_str());
-    gpu::Pipeline& p = state.range(0) ? *b.warm : *b.cold;
+    test::DeviceStage& p = state.range(0) ? *b.warm : *b.cold;
     const float dt = b.in->params().dt;
     for (auto _ : state) {
         Status s = p.narrowPhase(dt);
@@ -434,7 +443,7 @@ Status summarizeWarm(SatBenchWorld& b) {
 void benchSatColoring(benchmark::State& state) {
     SatBenchWorld& b = satWorld();
     if (!b.in) return state.SkipWithError(b.error.c_str());
-    gpu::Pipeline& p = *b.warm;
+    test::DeviceStage& p = *b.warm;
     Status s = summarizeWarm(b);
     for (auto _ : state) {
         if (s) s = p.colorPgs();
@@ -442,9 +451,9 @@ void benchSatColoring(benchmark::State& state) {
         if (!s) return state.SkipWithError(s.error().describe().c_str());
     }
     state.counters["pairs"] = double(b.counts.pairs);
-    state.counters["elements"] = double(p.pgs().elementsHost.size());
+    state.counters["elements"] = double(p.pgs.elements().size());
     // How many colors, and the largest and smallest color's elements.
-    const gpu::Coloring& coloring = p.pgs().coloring;
+    const gpu::Coloring& coloring = p.pgs.coloring();
     const std::span<const std::uint32_t> start = coloring.start();
     state.counters["colors"] = double(coloring.colors());
     std::uint32_t largest = 0, smallest = ~0u;
@@ -463,14 +472,15 @@ void benchSatColoring(benchmark::State& state) {
 void benchSatColoringOnHost(benchmark::State& state) {
     SatBenchWorld& b = satWorld();
     if (!b.in) return state.SkipWithError(b.error.c_str());
-    gpu::Pipeline& p = *b.warm;
+    test::DeviceStage& p = *b.warm;
     Status s = summarizeWarm(b);
     if (s) s = p.colorPgs();
     if (s) s = p.finish();
     if (!s) return state.SkipWithError(s.error().describe().c_str());
     // Every pair with rows colored (as a GPU colors them; a CPU device colors only the few
     // between its blocks). debris_16k has no joints: the elements are the pairs.
-    const std::vector<gpu::ColorElement> elements = p.pgs().stepElements;
+    const std::vector<gpu::ColorElement> elements(p.pgs.stepElements().begin(),
+                                                   p.pgs.stepElements().end());
     gpu::Coloring coloring;
     for (auto _ : state) {
         coloring.begin(b.in->bodies.count());

@@ -1,45 +1,73 @@
-// host/gpu/forces.cpp: dispatch of the device's stage 1 inputs (kernels/forces.cl): explosions
-// and the host's bodies placed as obstacles. The CPU path of explosions is
-// host/dynamics/forces.cpp. Argument order is the kernel signature's.
+// host/gpu/forces.cpp: dispatch of the device's force inputs (kernels/forces.cl). Argument
+// order is the kernel signature's.
+#include "host/gpu/forces.h"
+
 #include <algorithm>
 
 #include "host/core/assert.h"
-#include "host/core/math.h"
-#include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
 
-Status Pipeline::applyExplosion(const EventDesc& e) {
-    const cl_uint count = bodies_.count;
+Status applyExplosion(StageQueue& q, DeviceBodies& b, const EventDesc& e) {
+    const cl_uint count = b.count;
     const cl_float4 explosion = {{e.centre.x, e.centre.y, e.centre.z, e.radius}};
     const cl_float impulse = e.impulse;
-    return Dispatch(*context_, KernelId::ApplyExplosion, &profile_)
+    return Dispatch(q.c(), KernelId::ApplyExplosion, &q.profile())
         .arg(count)
         .arg(explosion)
         .arg(impulse)
-        .arg(bodies_.poses)
-        .arg(bodies_.flags)
-        .arg(bodies_.momenta)
-        .arg(bodies_.slowFor)
+        .arg(b.poses)
+        .arg(b.flags)
+        .arg(b.momenta)
+        .arg(b.slowFor)
         .run(count, RUBBLE_GROUP_BODIES);
 }
 
-Status Pipeline::placeObstacles(std::span<const shared::ObstacleState> obstacles) {
-    RUBBLE_ASSERT(obstacles.size() == obstacles_.count);
-    if (obstacles.empty()) return {};
+Status ObstacleCoupling::create(StageQueue& q, const DeviceBodies& b) {
+    const Context& c = q.c();
+    std::vector<cl_uint> obstacles;
+    for (std::uint32_t i = 0; i < b.count; ++i)
+        if (b.kinematic[i]) obstacles.push_back(i);
+    count_ = std::uint32_t(obstacles.size());
+    RUBBLE_TRY(upload(c, bodies_, obstacles));
+    RUBBLE_TRY(states_.reserve(c.context(), obstacles.size() * sizeof(shared::ObstacleState)));
+    RUBBLE_TRY(impulses_.reserve(c.context(), obstacles.size() * sizeof(shared::BodyImpulse)));
+    statesHost_.resize(obstacles.size());
+    impulsesHost_.assign(obstacles.size(), shared::BodyImpulse{});
+    return {};
+}
+
+Status ObstacleCoupling::place(StageQueue& q, DeviceBodies& b,
+                               std::span<const shared::ObstacleState> states) {
+    RUBBLE_ASSERT(states.size() == count_);
+    if (states.empty()) return {};
     // Non-blocking: the copy stays put until the step is met.
-    std::copy(obstacles.begin(), obstacles.end(), obstaclesHost_.begin());
-    RUBBLE_TRY(enqueueUpload(
-        *context_, obstacles_.states,
-        std::span<const shared::ObstacleState>(obstaclesHost_).first(obstacles.size()), &profile_));
-    const cl_uint count = obstacles_.count;
-    return Dispatch(*context_, KernelId::PlaceObstacles, &profile_)
+    std::copy(states.begin(), states.end(), statesHost_.begin());
+    RUBBLE_TRY(enqueueUpload(q.c(), states_, std::span<const shared::ObstacleState>(statesHost_),
+                             &q.profile()));
+    const cl_uint count = count_;
+    return Dispatch(q.c(), KernelId::PlaceObstacles, &q.profile())
         .arg(count)
-        .arg(obstacles_.states)
-        .arg(bodies_.poses)
-        .arg(bodies_.velocities)
-        .arg(bodies_.flags)
+        .arg(states_)
+        .arg(b.poses)
+        .arg(b.velocities)
+        .arg(b.flags)
         .run(count, RUBBLE_GROUP_BODIES);
+}
+
+Status ObstacleCoupling::gather(StageQueue& q, const Buffer& rows, const Buffer& bodyStart,
+                                const Buffer& bodyList) {
+    const cl_uint count = count_;
+    RUBBLE_TRY(Dispatch(q.c(), KernelId::GatherObstacleImpulses, &q.profile())
+                   .arg(count)
+                   .arg(bodies_)
+                   .arg(rows)
+                   .arg(bodyStart)
+                   .arg(bodyList)
+                   .arg(impulses_)
+                   .run(count, RUBBLE_GROUP_BODIES));
+    // Read without waiting: the host applies them in the next step.
+    return enqueueDownload(q.c(), impulses_, std::span(impulsesHost_), &q.profile());
 }
 
 } // namespace rubble::gpu

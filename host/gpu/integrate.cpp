@@ -1,54 +1,54 @@
-// host/gpu/integrate.cpp: dispatch of OpenCL stages 1 and 6 (kernels/integrate.cl); the CPU
+// host/gpu/integrate.cpp: dispatch of the integration stages (kernels/integrate.cl); the CPU
 // twins are in host/core/integrate.cpp. Argument order is the kernel signature's.
-#include "rubble/shared/constants.h"
-#include "host/gpu/pipeline.h"
+#include "host/gpu/integrate.h"
 
 namespace rubble::gpu {
 
-Status Pipeline::integrateVelocities(shared::float4 gravity, float dt) {
-    const cl_uint count = bodies_.count;
+Status integrateVelocities(StageQueue& q, DeviceBodies& b, shared::float4 gravity, float dt) {
+    const cl_uint count = b.count;
     const cl_float4 g = {{gravity.x, gravity.y, gravity.z, gravity.w}};
-    return Dispatch(*context_, KernelId::IntegrateVelocities, &profile_)
+    return Dispatch(q.c(), KernelId::IntegrateVelocities, &q.profile())
         .arg(count)
-        .arg(bodies_.momenta)
-        .arg(bodies_.forces)
-        .arg(bodies_.masses)
-        .arg(bodies_.flags)
-        .arg(bodies_.poses)
-        .arg(bodies_.velocities)
-        .arg(bodies_.atStart)
+        .arg(b.momenta)
+        .arg(b.forces)
+        .arg(b.masses)
+        .arg(b.flags)
+        .arg(b.poses)
+        .arg(b.velocities)
+        .arg(b.atStart)
         .arg(g)
         .arg(dt)
         .run(count, RUBBLE_GROUP_BODIES);
 }
 
-Status Pipeline::absorbVelocityChange() {
-    const cl_uint count = bodies_.count;
-    return Dispatch(*context_, KernelId::AbsorbVelocityChange, &profile_)
+Status absorbVelocityChange(StageQueue& q, DeviceBodies& b) {
+    const cl_uint count = b.count;
+    return Dispatch(q.c(), KernelId::AbsorbVelocityChange, &q.profile())
         .arg(count)
-        .arg(bodies_.momenta)
-        .arg(bodies_.before)
-        .arg(bodies_.velocities)
-        .arg(bodies_.masses)
-        .arg(bodies_.poses)
+        .arg(b.momenta)
+        .arg(b.before)
+        .arg(b.velocities)
+        .arg(b.masses)
+        .arg(b.poses)
         .run(count, RUBBLE_GROUP_BODIES);
 }
 
-Status Pipeline::integratePositions(float dt, bool symplectic, bool pushesFollow) {
-    const cl_uint count = bodies_.count;
+Status integratePositions(StageQueue& q, DeviceBodies& b, float dt, bool symplectic,
+                          bool pushesFollow) {
+    const cl_uint count = b.count;
     const cl_uint isSymplectic = symplectic ? 1u : 0u, follow = pushesFollow ? 1u : 0u;
-    return Dispatch(*context_, KernelId::IntegratePositions, &profile_)
+    return Dispatch(q.c(), KernelId::IntegratePositions, &q.profile())
         .arg(count)
-        .arg(status_)
-        .arg(bodies_.flags)
-        .arg(bodies_.poses)
-        .arg(bodies_.velocities)
-        .arg(bodies_.atStart)
-        .arg(bodies_.momenta)
-        .arg(bodies_.masses)
+        .arg(q.status())
+        .arg(b.flags)
+        .arg(b.poses)
+        .arg(b.velocities)
+        .arg(b.atStart)
+        .arg(b.momenta)
+        .arg(b.masses)
         .arg(dt)
         .arg(isSymplectic)
-        .arg(bodies_.jacobi)
+        .arg(b.jacobi)
         .arg(follow)
         .run(count, RUBBLE_GROUP_BODIES);
 }

@@ -9,7 +9,6 @@
 
 #include "host/core/step_params.h"
 #include "rubble/shared/lcp.h"
-#include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
 namespace {
@@ -160,12 +159,5 @@ Status downloadLcpProblem(const Context& c, const LcpBuffers& lcp, std::vector<f
     return download(c, lcp.inverseScale, std::span(inverseScale));
 }
 
-Status Pipeline::solveLcpJacobi(std::uint32_t stride, int iterations, float relaxation) {
-    const Context& c = *context_;
-    RUBBLE_TRY(buildLcpOnDevice(c, contacts_.rows, contacts_.count, stride, bodies_.velocities,
-                                bodies_.masses, bodies_.flags, bodies_.poses, lcp_));
-    RUBBLE_TRY(iterateLcpJacobi(c, lcp_, iterations, relaxation, status_));
-    return storeLcpImpulses(c, lcp_, contacts_.rows);
-}
 
 } // namespace rubble::gpu

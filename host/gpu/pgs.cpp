@@ -1,20 +1,18 @@
-// host/gpu/pgs.cpp: dispatch of projected Gauss-Seidel on the device (kernels/pgs.cl): the rows
-// of each pair's manifold, the host's split of the step's elements into blocks (a CPU device)
-// and colors, then warm start, velocity sweeps and the split position pass, one launch for the
-// blocks and one per color, and the pushes after integratePositions. The CPU twin is PgsSolver
+// host/gpu/pgs.cpp: dispatch of projected Gauss-Seidel on the device: the pairs' summaries,
+// the rows, warm start, velocity sweeps and the split position pass (one launch for the blocks
+// and one per color), the layer pass, the restitution pass and the pushes. The plan between the
+// summaries and the rows is host/gpu/pgs_plan.cpp; the CPU twin is PgsSolver
 // (host/dynamics/pgs_solver.cpp).
+#include "host/gpu/pgs.h"
+
 #include <algorithm>
 
 #include "host/core/assert.h"
-#include "host/gpu/pipeline.h"
+#include "host/gpu/integrate.h"
+#include "host/gpu/jacobi.h"
 
 namespace rubble::gpu {
 namespace {
-
-// The last colors of a step go to one serial launch once together they hold no more elements
-// than this: on PoCL's two threads a launch costs some 30 - 50 us in the loaded machine's
-// measurements (device busy time against wall time), more than a hundred elements do.
-constexpr std::uint32_t kSerialElements = 128;
 
 // Bytes one launch of a sweep kernel moves for a color of `elements` elements with `points`
 // rows: each element's record, both bodies' velocities read and written, and per point its
@@ -25,288 +23,97 @@ std::uint64_t sweepBytes(std::uint64_t elements, std::uint64_t points, std::uint
            points * (rowBytes + 2 * sizeof(shared::float4));
 }
 
-// Reserves `bytes` of a per-step buffer with room to grow: half as much again (at least 4 KiB),
-// so that a pile that gains rows step by step reallocates now and then, not every step. (Oclgrind
-// 21.10 also sees a buffer that replaces one the last step's commands used as never written,
-// and reports every read of it: the small scenes it checks then reallocate nothing.)
+// Reserves `bytes` of a per-step buffer with room to grow (half as much again, at least 4 KiB),
+// so that a pile that gains rows step by step reallocates now and then, not every step.
 Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes) {
     if (b.bytes() >= bytes) return {};
     return b.reserve(c.context(), std::max<std::size_t>(bytes + bytes / 2, 4096));
 }
 
-// A sweep kernel's launch (a color, the serial tail or the blocks), its first arguments bound:
-// the launch's first element, count and mode, the step's elements and the blocks' starts.
-Dispatch sweepLaunch(const Context& c, KernelId id, const PgsLaunch& l, const PgsBuffers& g,
-                     Profile* profile) {
-    Dispatch d(c, id, profile);
-    d.arg(l.first).arg(l.count).arg(l.mode).arg(g.elements).arg(g.blockStarts);
-    return d;
-}
-
-} // namespace
-
-void Pipeline::bindPairs(Dispatch& d) const {
-    const cl_uint capacity = sat_.current.capacity;
-    d.arg(capacity).arg(sat_.current.count).arg(sat_.current.pairs);
-}
-
-void Pipeline::bindPreviousPairs(Dispatch& d) const {
-    const cl_uint capacity = sat_.previous.capacity;
-    d.arg(capacity).arg(sat_.previous.count).arg(sat_.previous.pairs);
-}
-
-void Pipeline::bindRowSettings(Dispatch& d, const StepParams& params) const {
+// The arguments summarizePairs and buildPgsRows both read, in their kernels' order: the rows'
+// settings (baumgarte, slop, dt, warm start) and last step's pairs and impulses.
+void bindRowSettings(Dispatch& d, const PairStore& pairs, const StepParams& params) {
     const SolverOptions& o = params.solver;
     const cl_float baumgarte = o.baumgarte, slop = o.slop, dt = params.dt;
-    const cl_uint warm = o.warmStart ? 1u : 0u, previousCapacity = sat_.previous.capacity;
+    const cl_uint warm = o.warmStart ? 1u : 0u, previousCapacity = pairs.previous.capacity;
     d.arg(baumgarte)
         .arg(slop)
         .arg(dt)
         .arg(warm)
         .arg(previousCapacity)
-        .arg(sat_.previous.count)
-        .arg(sat_.previousOf)
-        .arg(sat_.previous.impulseCount)
-        .arg(sat_.previous.impulses);
+        .arg(pairs.previous.count)
+        .arg(pairs.previousOf)
+        .arg(pairs.previous.impulseCount)
+        .arg(pairs.previous.impulses);
 }
 
-Status Pipeline::summarizePairs(const StepParams& params) {
-    RUBBLE_ASSERT(pairPgs());
-    const Context& c = *context_;
-    pgs_.summariesOnHost = false;
-    RUBBLE_TRY(prepareJacobiBodies());
-    RUBBLE_TRY(fill(c, pgs_.pushed, 0u, std::size_t(bodies_.count) * sizeof(cl_uint), &profile_));
+} // namespace
+
+Status PgsSolve::create(StageQueue& q, std::uint32_t bodies, std::uint32_t blocks) {
+    const Context& c = q.c();
+    blocks_ = blocks;
+    RUBBLE_TRY(pushed_.reserve(c.context(), bodies * sizeof(cl_uint)));
+    return push_.reserve(c.context(), bodies * sizeof(shared::BodyVelocity));
+}
+
+// A sweep kernel's launch (a color, the serial tail or the blocks), its first arguments bound:
+// the launch's first element, count and mode, the step's elements and the blocks' starts.
+Dispatch PgsSolve::launch(StageQueue& q, KernelId id, const PgsLaunch& l) const {
+    Dispatch d(q.c(), id, &q.profile());
+    d.arg(l.first).arg(l.count).arg(l.mode).arg(elements_).arg(blockStarts_);
+    return d;
+}
+
+Status PgsSolve::summarize(StageQueue& q, DeviceBodies& b, PairStore& pairs, DeviceJoints& joints,
+                           const StepParams& params) {
+    const Context& c = q.c();
+    summariesRead_ = false;
+    RUBBLE_TRY(prepareJacobiBodies(q, b));
+    RUBBLE_TRY(fill(c, pushed_, 0u, std::size_t(b.count) * sizeof(cl_uint), &q.profile()));
     // The marks of this round of the collision (a pair overflow runs it again).
-    RUBBLE_TRY(fillRange(c, status_, 0u, RUBBLE_STATUS_PUSHED * sizeof(cl_uint), sizeof(cl_uint),
-                         &profile_));
-    RUBBLE_TRY(fillRange(c, status_, 0u, RUBBLE_STATUS_BOUNCES * sizeof(cl_uint),
-                         2 * sizeof(cl_uint), &profile_));
-    RUBBLE_TRY(Dispatch(c, KernelId::SummarizePairs, &profile_)
-                   .with([&](Dispatch& d) { bindPairs(d); })
-                   .arg(sat_.manifolds)
-                   .arg(bodies_.jacobi)
-                   .arg(bodies_.poses)
-                   .arg(bodies_.velocities)
-                   .arg(bodies_.atStart)
-                   .arg(contacts_.surfaces)
-                   .with([&](Dispatch& d) { bindRowSettings(d, params); })
-                   .arg(pgs_.pairRows)
-                   .arg(sat_.current.impulseCount)
-                   .arg(sat_.current.impulses)
-                   .arg(pgs_.pushed)
-                   .arg(status_)
-                   .run(pairStrideItems(), c.workSizes().pairGroup));
-    if (pgs_.jointCount == 0) return {};
-    const cl_uint joints = pgs_.jointCount, warm = params.solver.warmStart ? 1u : 0u;
-    const cl_float dt = params.dt;
-    return Dispatch(c, KernelId::PrepareJoints, &profile_)
-        .arg(joints)
-        .arg(pgs_.joints)
-        .arg(bodies_.poses)
-        .arg(bodies_.jacobi)
-        .arg(warm)
-        .arg(dt)
-        .arg(pgs_.jointRows)
-        .run(joints, RUBBLE_GROUP_BODIES);
+    RUBBLE_TRY(fillRange(c, q.status(), 0u, RUBBLE_STATUS_PUSHED * sizeof(cl_uint), sizeof(cl_uint),
+                         &q.profile()));
+    RUBBLE_TRY(fillRange(c, q.status(), 0u, RUBBLE_STATUS_BOUNCES * sizeof(cl_uint),
+                         2 * sizeof(cl_uint), &q.profile()));
+    RUBBLE_TRY(Dispatch(c, KernelId::SummarizePairs, &q.profile())
+                   .with([&](Dispatch& d) { pairs.bindCurrent(d); })
+                   .arg(pairs.manifolds)
+                   .arg(b.jacobi)
+                   .arg(b.poses)
+                   .arg(b.velocities)
+                   .arg(b.atStart)
+                   .arg(b.surfaces)
+                   .with([&](Dispatch& d) { bindRowSettings(d, pairs, params); })
+                   .arg(pairs.summaries)
+                   .arg(pairs.current.impulseCount)
+                   .arg(pairs.current.impulses)
+                   .arg(pushed_)
+                   .arg(q.status())
+                   .run(pairs.strideItems(q), c.workSizes().pairGroup));
+    return joints.prepare(q, b, params.solver.warmStart, params.dt);
 }
 
-Status Pipeline::readPairSummaries() {
-    PgsBuffers& g = pgs_;
-    if (g.summariesOnHost) return {};
-    const Context& c = *context_;
-    // The status block was read after the summaries (readStatus waited for them).
-    const std::uint32_t pairs = std::min(statusFromSlots().pairs, sat_.current.capacity);
-    g.pairRowsHost.resize(pairs);
-    g.pairsHost.resize(pairs);
-    // Both reads queued, then one wait.
-    RUBBLE_TRY(enqueueDownload(c, g.pairRows, std::span(g.pairRowsHost), &profile_));
-    RUBBLE_TRY(download(c, sat_.current.pairs, std::span(g.pairsHost), &profile_));
-    g.summariesOnHost = true;
-    return {};
-}
-
-Status Pipeline::colorPgs() {
-    const Context& c = *context_;
-    PgsBuffers& g = pgs_;
-    // The device idles from here until the coloring's upload.
-    RUBBLE_TRY(readPairSummaries());
-    const std::uint32_t pairs = std::uint32_t(g.pairsHost.size());
-    // The elements: the joints first (the CPU's sweep solves them before the contacts), then the
-    // pairs with rows in pair order.
-    g.stepElements.clear();
-    for (std::uint32_t j = 0; j < g.jointCount; ++j)
-        g.stepElements.push_back({RUBBLE_PGS_JOINT_ELEMENT | j, g.jointsHost[j].a,
-                                     g.jointsHost[j].b, g.jointDynamicA[j] != 0,
-                                     g.jointDynamicB[j] != 0});
-    for (std::uint32_t p = 0; p < pairs; ++p) {
-        const cl_uint summary = g.pairRowsHost[p];
-        if ((summary & RUBBLE_PGS_POINTS) == 0) continue;
-        g.stepElements.push_back({p, g.pairsHost[p].a, g.pairsHost[p].b,
-                                     (summary & RUBBLE_PGS_MOVES_A) != 0,
-                                     (summary & RUBBLE_PGS_MOVES_B) != 0});
-    }
-    const std::span<const ColorElement> all(g.stepElements);
-    // Blocks (a CPU device): the bodies cut into ranges of indices, an element whose moving
-    // bodies are all in one range goes to that range's block, in the order above; a block runs
-    // in order on one work-item, as the CPU's sweep does (docs/opencl.md, "Blocks"). The rest,
-    // between blocks, and every element on a GPU, are colored.
-    const std::uint32_t blocks = pgsBlocks_, bodies = bodies_.count;
-    constexpr std::uint32_t kColored = 0xffffffffu;
-    auto blockOf = [&](const ColorElement& x) {
-        auto of = [&](std::uint32_t body) {
-            return std::uint32_t(std::uint64_t(body) * blocks / std::max(bodies, 1u));
-        };
-        if (blocks == 0 || (!x.movesA && !x.movesB)) return kColored;
-        if (x.movesA && x.movesB) return of(x.a) == of(x.b) ? of(x.a) : kColored;
-        return of(x.movesA ? x.a : x.b);
-    };
-    // A counting sort by block, stable: each block's elements in the order above.
-    g.blockOfHost.resize(all.size());
-    g.blockStartsHost.assign(std::size_t(blocks) + 1, 0);
-    g.coloredHost.clear();
-    for (std::uint32_t k = 0; k < all.size(); ++k) {
-        const std::uint32_t b = g.blockOfHost[k] = blockOf(all[k]);
-        if (b == kColored)
-            g.coloredHost.push_back(k);
-        else
-            ++g.blockStartsHost[b + 1];
-    }
-    for (std::uint32_t b = 0; b < blocks; ++b) g.blockStartsHost[b + 1] += g.blockStartsHost[b];
-    const std::uint32_t inBlocks = g.blockStartsHost[blocks];
-    // Where each element goes: its block's next place, or (below) its place among the colors
-    // after the blocks.
-    g.placeHost.resize(all.size());
-    g.nextHost.assign(g.blockStartsHost.begin(), g.blockStartsHost.end());
-    for (std::uint32_t k = 0; k < all.size(); ++k)
-        if (g.blockOfHost[k] != kColored) g.placeHost[k] = g.nextHost[g.blockOfHost[k]]++;
-    // The colored elements: greedy, joints one by one, the pairs from the bottom up
-    // (Coloring::addBySupport), each color in pair order.
-    Coloring& coloring = g.coloring;
-    coloring.begin(bodies);
-    std::size_t coloredJoints = 0;
-    while (coloredJoints < g.coloredHost.size() &&
-           (all[g.coloredHost[coloredJoints]].id & RUBBLE_PGS_JOINT_ELEMENT)) {
-        const ColorElement& x = all[g.coloredHost[coloredJoints++]];
-        coloring.add(x.id, x.a, x.b, x.movesA, x.movesB);
-    }
-    g.coloredPairs.clear();
-    for (std::size_t i = coloredJoints; i < g.coloredHost.size(); ++i)
-        g.coloredPairs.push_back(all[g.coloredHost[i]]);
-    coloring.addBySupport(g.coloredPairs);
-    coloring.finish();
-    for (std::size_t i = 0; i < g.coloredHost.size(); ++i)
-        g.placeHost[g.coloredHost[i]] = inBlocks + coloring.slots()[i];
-    // The elements in that order, each pair's rows packed after the last one's, so that a
-    // launch reads its rows front to back.
-    g.elementsHost.resize(all.size());
-    for (std::uint32_t k = 0; k < all.size(); ++k) {
-        shared::PgsElement& e = g.elementsHost[g.placeHost[k]];
-        e = shared::PgsElement{};
-        e.id = all[k].id;
-        e.a = all[k].a;
-        e.b = all[k].b;
-    }
-    // pointsHost[i]: the rows before element i (a joint has none). An element of a color has its
-    // points' rows in a run from there; a block's are placed by point below.
-    g.pointsHost.assign(all.size() + 1, 0);
-    std::uint32_t rows = 0;
-    for (std::uint32_t i = 0; i < all.size(); ++i) {
-        shared::PgsElement& e = g.elementsHost[i];
-        if (!(e.id & RUBBLE_PGS_JOINT_ELEMENT)) {
-            const cl_uint summary = g.pairRowsHost[e.id];
-            const std::uint32_t points = summary & RUBBLE_PGS_POINTS;
-            RUBBLE_ASSERT(points <= 4);
-            e.rows = summary;
-            for (std::uint32_t k = 0; k < points; ++k) e.normal[k] = rows + k;
-            rows += points;
-        }
-        g.pointsHost[i + 1] = rows;
-    }
-    g.rowCount = rows;
-    // A block's rows (normal, friction, impulses) within its range by point: every element's
-    // first point, then every second point, ..., the order its passes read them in (solvePgs,
-    // warmStartPgs), so that each pass reads them front to back as the CPU's sweep reads its
-    // interleaved rows.
-    // The block's passes, as many as its elements' most points (one at least: a joint goes with
-    // the first), follow the starts: a block of one-point elements (particle contacts) makes one.
-    for (std::uint32_t b = 0; b < blocks && inBlocks > 0; ++b) {
-        const std::uint32_t from = g.blockStartsHost[b], to = g.blockStartsHost[b + 1];
-        std::uint32_t passes = 1;
-        for (std::uint32_t i = from; i < to; ++i)
-            passes = std::max(passes, g.pointsHost[i + 1] - g.pointsHost[i]);
-        std::uint32_t next = g.pointsHost[from];
-        for (std::uint32_t k = 0; k < passes; ++k)
-            for (std::uint32_t i = from; i < to; ++i)
-                if (g.pointsHost[i + 1] - g.pointsHost[i] > k) g.elementsHost[i].normal[k] = next++;
-        RUBBLE_ASSERT(next == g.pointsHost[to]);
-        g.blockStartsHost.push_back(passes);
-    }
-    auto pointsIn = [&](std::uint32_t first, std::uint32_t count) {
-        return g.pointsHost[first + count] - g.pointsHost[first];
-    };
-    g.launches.clear();
-    if (inBlocks > 0)
-        g.launches.push_back({0, inBlocks, RUBBLE_PGS_BLOCKS, pointsIn(0, inBlocks), blocks});
-    // One launch per color, but the last colors, once together they hold no more than
-    // kSerialElements, in one launch on one work-item (a launch costs more than they do).
-    const std::span<const std::uint32_t> start = coloring.start();
-    std::uint32_t tail = coloring.colors();
-    while (tail > 0 && start[coloring.colors()] - start[tail - 1] <= kSerialElements) --tail;
-    if (coloring.colors() - tail < 2) tail = coloring.colors(); // nothing to merge
-    for (std::uint32_t k = 0; k < tail; ++k) {
-        const std::uint32_t first = inBlocks + start[k], count = start[k + 1] - start[k];
-        g.launches.push_back({first, count, RUBBLE_PGS_PER_ITEM, pointsIn(first, count), 0});
-    }
-    if (tail < coloring.colors()) {
-        const std::uint32_t first = inBlocks + start[tail];
-        const std::uint32_t count = start[coloring.colors()] - start[tail];
-        g.launches.push_back({first, count, RUBBLE_PGS_SERIAL, pointsIn(first, count), 0});
-    }
-    if (all.empty()) return {};
-    RUBBLE_TRY(reserveGrowing(c, g.normalRows, rows * sizeof(shared::PgsNormalRow)));
-    RUBBLE_TRY(reserveGrowing(c, g.frictionRows, rows * sizeof(shared::PgsFrictionRows)));
-    RUBBLE_TRY(reserveGrowing(c, g.impulses, rows * sizeof(shared::float4)));
-    const std::span<const shared::PgsElement> elements(g.elementsHost);
-    RUBBLE_TRY(reserveGrowing(c, g.elements, elements.size_bytes()));
-    // Non-blocking: the elements and the build order stay put until the next step's coloring,
-    // which waits for this step first. buildPgsRows goes through the pairs' elements in pair
-    // order (their slots in the coloring; the joints were added first), which reads the
-    // manifolds front to back and nearby bodies together (a color's elements are spread over the
-    // pile).
-    const std::span<const std::uint32_t> buildOrder =
-        std::span<const std::uint32_t>(g.placeHost).subspan(g.jointCount);
-    RUBBLE_TRY(reserveGrowing(c, g.buildOrder, std::max<std::size_t>(1, buildOrder.size_bytes())));
-    // The blocks' starts go up only when there are blocks (a launch of another mode binds the
-    // buffer but reads nothing of it).
-    const std::span<const std::uint32_t> blockStarts(g.blockStartsHost);
-    RUBBLE_TRY(
-        reserveGrowing(c, g.blockStarts, std::max<std::size_t>(4, blockStarts.size_bytes())));
-    RUBBLE_TRY(enqueueUpload(c, g.elements, elements, &profile_));
-    if (inBlocks > 0) RUBBLE_TRY(enqueueUpload(c, g.blockStarts, blockStarts, &profile_));
-    return enqueueUpload(c, g.buildOrder, buildOrder, &profile_);
-}
-
-Status Pipeline::buildPgsRows(const StepParams& params) {
-    const Context& c = *context_;
-    PgsBuffers& g = pgs_;
+Status PgsSolve::buildRows(StageQueue& q, DeviceBodies& b, PairStore& pairs,
+                           const StepParams& params) {
+    const Context& c = q.c();
     // The pairs with rows (the step's elements after the joints).
-    const cl_uint count = cl_uint(g.placeHost.size() - g.jointCount);
+    const cl_uint count = cl_uint(placeHost_.size() - jointCount_);
     if (count == 0) return {};
-    RUBBLE_TRY(Dispatch(c, KernelId::BuildPgsRows, &profile_)
+    RUBBLE_TRY(Dispatch(c, KernelId::BuildPgsRows, &q.profile())
                    .arg(count)
-                   .arg(g.buildOrder)
-                   .arg(g.elements)
-                   .arg(sat_.manifolds)
-                   .arg(bodies_.poses)
-                   .arg(bodies_.velocities)
-                   .arg(bodies_.atStart)
-                   .arg(bodies_.jacobi)
-                   .arg(contacts_.surfaces)
-                   .with([&](Dispatch& d) { bindRowSettings(d, params); })
-                   .arg(g.normalRows)
-                   .arg(g.frictionRows)
-                   .arg(g.impulses)
-                   .arg(sat_.current.impulses)
+                   .arg(buildOrder_)
+                   .arg(elements_)
+                   .arg(pairs.manifolds)
+                   .arg(b.poses)
+                   .arg(b.velocities)
+                   .arg(b.atStart)
+                   .arg(b.jacobi)
+                   .arg(b.surfaces)
+                   .with([&](Dispatch& d) { bindRowSettings(d, pairs, params); })
+                   .arg(normalRows_)
+                   .arg(frictionRows_)
+                   .arg(impulses_)
+                   .arg(pairs.current.impulses)
                    .run(count, c.workSizes().pairGroup));
     // Per element its record, manifold, both bodies' poses, velocities, JacobiBody and surfaces,
     // last step's run of impulses; per point its rows, impulses and key written.
@@ -317,159 +124,158 @@ Status Pipeline::buildPgsRows(const StepParams& params) {
                                      4 * sizeof(shared::PgsImpulse);
     const std::uint64_t perPoint = sizeof(shared::PgsNormalRow) + sizeof(shared::PgsFrictionRows) +
                                    sizeof(shared::float4) + sizeof(shared::PgsImpulse);
-    profile_.setLastBytes(count * perElement + g.rowCount * perPoint);
+    q.profile().setLastBytes(count * perElement + rowCount_ * perPoint);
     return {};
 }
 
-Status Pipeline::solvePgs(const StepParams& params) {
-    const Context& c = *context_;
-    PgsBuffers& g = pgs_;
+Status PgsSolve::solve(StageQueue& q, DeviceBodies& b, PairStore& pairs, DeviceJoints& joints,
+                       const DeviceStatus& st, const StepParams& params) {
+    const Context& c = q.c();
     const SolverOptions& o = params.solver;
     const std::size_t group = c.workSizes().pairGroup;
     const cl_float relaxation = o.relaxation;
     const std::uint64_t rowBytes = sizeof(shared::PgsNormalRow) + sizeof(shared::PgsFrictionRows);
-    RUBBLE_TRY(copyVelocities(bodies_.before));
+    RUBBLE_TRY(b.copyVelocities(q, b.before));
     if (o.warmStart) {
-        for (const PgsLaunch& l : g.launches) {
-            RUBBLE_TRY(sweepLaunch(c, KernelId::WarmStartPgs, l, g, &profile_)
-                           .arg(g.normalRows)
-                           .arg(g.frictionRows)
-                           .arg(g.impulses)
-                           .arg(g.joints)
-                           .arg(g.jointRows)
-                           .arg(bodies_.jacobi)
-                           .arg(bodies_.velocities)
+        for (const PgsLaunch& l : launches_) {
+            RUBBLE_TRY(launch(q, KernelId::WarmStartPgs, l)
+                           .arg(normalRows_)
+                           .arg(frictionRows_)
+                           .arg(impulses_)
+                           .arg(joints.joints)
+                           .arg(joints.rows)
+                           .arg(b.jacobi)
+                           .arg(b.velocities)
                            .run(l.items(group), group));
-            profile_.setLastBytes(sweepBytes(l.count, l.points, rowBytes));
+            q.profile().setLastBytes(sweepBytes(l.count, l.points, rowBytes));
         }
     }
     // The split position pass, when a row pushes or may bounce (the coloring read the status
     // after the summaries), on push velocities that start at zero: its sweep k runs in the
     // launches of velocity sweep k, unless a row may bounce, whose target the velocity sweeps
     // decide (markBounces): then it runs after them.
-    g.bounces = o.iterations > 0 && !g.launches.empty() && statusHost_[RUBBLE_STATUS_BOUNCES] != 0;
-    g.pushes = o.iterations > 0 && !g.launches.empty() &&
-               (statusHost_[RUBBLE_STATUS_PUSHED] != 0 || g.bounces);
-    const bool pushes = g.pushes, fused = g.fusedPushes();
+    bounces_ = o.iterations > 0 && !launches_.empty() && st.bounces;
+    pushes_ = o.iterations > 0 && !launches_.empty() &&
+               (st.pushes || bounces_);
+    const bool pushes = pushes_, fused = fusedPushes();
     const std::size_t sweeps = std::size_t(std::max(o.iterations, 0));
     if (pushes) {
-        const std::size_t n = bodies_.count;
-        RUBBLE_TRY(fill(c, g.push, 0u, n * sizeof(shared::BodyVelocity), &profile_));
-        RUBBLE_TRY(reserveGrowing(c, g.sweepResidual, sweeps * sizeof(cl_uint)));
-        RUBBLE_TRY(fill(c, g.sweepResidual, 0u, sweeps * sizeof(cl_uint), &profile_));
+        const std::size_t n = b.count;
+        RUBBLE_TRY(fill(c, push_, 0u, n * sizeof(shared::BodyVelocity), &q.profile()));
+        RUBBLE_TRY(reserveGrowing(c, sweepResidual_, sweeps * sizeof(cl_uint)));
+        RUBBLE_TRY(fill(c, sweepResidual_, 0u, sweeps * sizeof(cl_uint), &q.profile()));
     }
     for (int it = 0; it < o.iterations; ++it) {
         const cl_uint last = it + 1 == o.iterations ? 1u : 0u;
         const cl_uint pushSweep = fused ? cl_uint(it) : RUBBLE_PGS_NO_PUSH;
-        for (const PgsLaunch& l : g.launches) {
-            RUBBLE_TRY(sweepLaunch(c, KernelId::SolvePgs, l, g, &profile_)
-                           .arg(g.normalRows)
-                           .arg(g.frictionRows)
-                           .arg(g.impulses)
-                           .arg(g.joints)
-                           .arg(g.jointRows)
-                           .arg(bodies_.jacobi)
-                           .arg(bodies_.velocities)
+        for (const PgsLaunch& l : launches_) {
+            RUBBLE_TRY(launch(q, KernelId::SolvePgs, l)
+                           .arg(normalRows_)
+                           .arg(frictionRows_)
+                           .arg(impulses_)
+                           .arg(joints.joints)
+                           .arg(joints.rows)
+                           .arg(b.jacobi)
+                           .arg(b.velocities)
                            .arg(relaxation)
                            .arg(last)
                            .arg(cl_uint(it))
-                           .arg(sat_.current.impulses)
-                           .arg(status_)
+                           .arg(pairs.current.impulses)
+                           .arg(q.status())
                            .arg(pushSweep)
-                           .arg(g.pushed)
-                           .arg(g.push)
-                           .arg(g.sweepResidual)
+                           .arg(pushed_)
+                           .arg(push_)
+                           .arg(sweepResidual_)
                            .run(l.items(group), group));
             // The push sweep reads the normal rows again (from cache), its velocities and
             // impulses, and both bodies' push marks.
             const std::uint64_t push =
                 fused ? l.count * (4 * sizeof(shared::BodyVelocity) + 8) + l.points * 32 : 0;
-            profile_.setLastBytes(sweepBytes(l.count, l.points, rowBytes) + push +
+            q.profile().setLastBytes(sweepBytes(l.count, l.points, rowBytes) + push +
                                   (last ? l.points * sizeof(shared::PgsImpulse) : 0));
         }
     }
     if (pushes && !fused) {
         // The rows that bounce aim the pass at their lift, then the pass on its own.
-        const cl_uint count = cl_uint(g.elementsHost.size());
-        RUBBLE_TRY(Dispatch(c, KernelId::MarkBounces, &profile_)
+        const cl_uint count = cl_uint(elementsHost_.size());
+        RUBBLE_TRY(Dispatch(c, KernelId::MarkBounces, &q.profile())
                        .arg(count)
-                       .arg(g.elements)
-                       .arg(g.normalRows)
-                       .arg(g.impulses)
-                       .arg(g.pushed)
-                       .arg(status_)
+                       .arg(elements_)
+                       .arg(normalRows_)
+                       .arg(impulses_)
+                       .arg(pushed_)
+                       .arg(q.status())
                        .run(count, group));
-        profile_.setLastBytes(count * sizeof(shared::PgsElement) +
-                              g.rowCount * (sizeof(shared::PgsNormalRow) + sizeof(shared::float4)));
+        q.profile().setLastBytes(count * sizeof(shared::PgsElement) +
+                              rowCount_ * (sizeof(shared::PgsNormalRow) + sizeof(shared::float4)));
         for (cl_uint sweep = 0; sweep < sweeps; ++sweep) {
-            for (const PgsLaunch& l : g.launches) {
-                RUBBLE_TRY(sweepLaunch(c, KernelId::PushPgs, l, g, &profile_)
-                               .arg(g.normalRows)
-                               .arg(g.impulses)
-                               .arg(g.pushed)
-                               .arg(g.push)
+            for (const PgsLaunch& l : launches_) {
+                RUBBLE_TRY(launch(q, KernelId::PushPgs, l)
+                               .arg(normalRows_)
+                               .arg(impulses_)
+                               .arg(pushed_)
+                               .arg(push_)
                                .arg(relaxation)
                                .arg(sweep)
-                               .arg(g.sweepResidual)
+                               .arg(sweepResidual_)
                                .run(l.items(group), group));
-                profile_.setLastBytes(
+                q.profile().setLastBytes(
                     l.count * (sizeof(shared::PgsElement) + 4 * sizeof(shared::BodyVelocity) + 8) +
                     l.points * (sizeof(shared::PgsNormalRow) + 2 * sizeof(shared::float4)));
             }
         }
     }
     // The layer pass, when the summaries found moving bodies that far apart in mass.
-    if (!g.launches.empty() && statusHost_[RUBBLE_STATUS_LAYERS] != 0) {
-        const std::size_t n = bodies_.count;
-        const std::size_t rows = std::max<std::size_t>(1, g.rowCount);
-        RUBBLE_TRY(reserveGrowing(c, g.layer, n * sizeof(cl_uint)));
-        RUBBLE_TRY(reserveGrowing(c, g.loaded, n * sizeof(cl_uint)));
-        RUBBLE_TRY(reserveGrowing(c, g.layerHistogram, (n + 1) * sizeof(cl_uint)));
-        RUBBLE_TRY(reserveGrowing(c, g.layerRows, rows * sizeof(cl_uint)));
-        RUBBLE_TRY(reserveGrowing(c, g.layerSorted, rows * sizeof(cl_uint)));
-        const cl_uint count = cl_uint(g.elementsHost.size()), bodyCount = bodies_.count;
-        const cl_uint joints = g.jointCount, pushPass = pushes ? 1u : 0u;
-        RUBBLE_TRY(Dispatch(c, KernelId::LayerPgs, &profile_)
+    if (!launches_.empty() && st.layers) {
+        const std::size_t n = b.count;
+        const std::size_t rows = std::max<std::size_t>(1, rowCount_);
+        RUBBLE_TRY(reserveGrowing(c, layer_, n * sizeof(cl_uint)));
+        RUBBLE_TRY(reserveGrowing(c, loaded_, n * sizeof(cl_uint)));
+        RUBBLE_TRY(reserveGrowing(c, layerHistogram_, (n + 1) * sizeof(cl_uint)));
+        RUBBLE_TRY(reserveGrowing(c, layerRows_, rows * sizeof(cl_uint)));
+        RUBBLE_TRY(reserveGrowing(c, layerSorted_, rows * sizeof(cl_uint)));
+        const cl_uint count = cl_uint(elementsHost_.size()), bodyCount = b.count;
+        const cl_uint jointCount = joints.count, pushPass = pushes ? 1u : 0u;
+        RUBBLE_TRY(Dispatch(c, KernelId::LayerPgs, &q.profile())
                        .arg(count)
-                       .arg(g.elements)
-                       .arg(g.normalRows)
-                       .arg(g.impulses)
-                       .arg(bodies_.jacobi)
+                       .arg(elements_)
+                       .arg(normalRows_)
+                       .arg(impulses_)
+                       .arg(b.jacobi)
                        .arg(bodyCount)
-                       .arg(g.joints)
-                       .arg(joints)
-                       .arg(bodies_.velocities)
+                       .arg(joints.joints)
+                       .arg(jointCount)
+                       .arg(b.velocities)
                        .arg(pushPass)
-                       .arg(g.pushed)
-                       .arg(g.push)
-                       .arg(status_)
-                       .arg(g.layer)
-                       .arg(g.loaded)
-                       .arg(g.layerRows)
-                       .arg(g.layerSorted)
-                       .arg(g.layerHistogram)
+                       .arg(pushed_)
+                       .arg(push_)
+                       .arg(q.status())
+                       .arg(layer_)
+                       .arg(loaded_)
+                       .arg(layerRows_)
+                       .arg(layerSorted_)
+                       .arg(layerHistogram_)
                        .run(1, 1));
         // At least: every element and row read once, each body's layer and marks.
-        profile_.setLastBytes(count * sizeof(shared::PgsElement) +
-                              g.rowCount * sizeof(shared::PgsNormalRow) +
+        q.profile().setLastBytes(count * sizeof(shared::PgsElement) +
+                              rowCount_ * sizeof(shared::PgsNormalRow) +
                               n * (sizeof(shared::JacobiBody) + 2 * sizeof(cl_uint)));
     }
-    if (g.bounces) {
-        RUBBLE_TRY(reserveGrowing(c, g.solved, bodies_.count * sizeof(shared::BodyVelocity)));
-        RUBBLE_TRY(copyVelocities(g.solved));
+    if (bounces_) {
+        RUBBLE_TRY(reserveGrowing(c, solved_, b.count * sizeof(shared::BodyVelocity)));
+        RUBBLE_TRY(b.copyVelocities(q, solved_));
     }
-    return absorbVelocityChange();
+    return absorbVelocityChange(q, b);
 }
 
-Status Pipeline::bouncePgs(const StepParams& params) {
-    PgsBuffers& g = pgs_;
-    if (!g.bounces) return {};
-    const Context& c = *context_;
+Status PgsSolve::bounce(StageQueue& q, DeviceBodies& b, const StepParams& params) {
+    if (!bounces_) return {};
+    const Context& c = q.c();
     const std::size_t group = c.workSizes().pairGroup;
     const std::size_t sweeps = std::size_t(std::max(params.solver.iterations, 0));
-    RUBBLE_TRY(reserveGrowing(c, g.bounce, std::max<std::size_t>(1, g.rowCount) * sizeof(float)));
-    RUBBLE_TRY(reserveGrowing(c, g.bounceResidual, sweeps * sizeof(cl_uint)));
-    RUBBLE_TRY(fill(c, g.bounceResidual, 0u, sweeps * sizeof(cl_uint), &profile_));
+    RUBBLE_TRY(reserveGrowing(c, bounce_, std::max<std::size_t>(1, rowCount_) * sizeof(float)));
+    RUBBLE_TRY(reserveGrowing(c, bounceResidual_, sweeps * sizeof(cl_uint)));
+    RUBBLE_TRY(fill(c, bounceResidual_, 0u, sweeps * sizeof(cl_uint), &q.profile()));
     // Per launch: each element's record and bodies' velocities read and written, each point's
     // normal row and impulses read, its bounce impulse read and written.
     auto bytes = [](const PgsLaunch& l) -> std::uint64_t {
@@ -477,118 +283,59 @@ Status Pipeline::bouncePgs(const StepParams& params) {
                l.points * (sizeof(shared::PgsNormalRow) + sizeof(shared::float4) + 8);
     };
     for (cl_uint sweep = 0; sweep < sweeps; ++sweep) {
-        for (const PgsLaunch& l : g.launches) {
-            RUBBLE_TRY(sweepLaunch(c, KernelId::BouncePgs, l, g, &profile_)
-                           .arg(g.normalRows)
-                           .arg(g.impulses)
-                           .arg(g.bounce)
-                           .arg(g.solved)
+        for (const PgsLaunch& l : launches_) {
+            RUBBLE_TRY(launch(q, KernelId::BouncePgs, l)
+                           .arg(normalRows_)
+                           .arg(impulses_)
+                           .arg(bounce_)
+                           .arg(solved_)
                            .arg(sweep)
-                           .arg(g.bounceResidual)
+                           .arg(bounceResidual_)
                            .run(l.items(group), group));
-            profile_.setLastBytes(bytes(l));
+            q.profile().setLastBytes(bytes(l));
         }
     }
-    for (const PgsLaunch& l : g.launches) {
-        RUBBLE_TRY(sweepLaunch(c, KernelId::BounceMomenta, l, g, &profile_)
-                       .arg(g.normalRows)
-                       .arg(g.impulses)
-                       .arg(g.bounce)
-                       .arg(bodies_.momenta)
-                       .arg(bodies_.masses)
-                       .arg(bodies_.poses)
-                       .arg(bodies_.velocities)
+    for (const PgsLaunch& l : launches_) {
+        RUBBLE_TRY(launch(q, KernelId::BounceMomenta, l)
+                       .arg(normalRows_)
+                       .arg(impulses_)
+                       .arg(bounce_)
+                       .arg(b.momenta)
+                       .arg(b.masses)
+                       .arg(b.poses)
+                       .arg(b.velocities)
                        .run(l.items(group), group));
-        profile_.setLastBytes(bytes(l) + l.count * 2 *
+        q.profile().setLastBytes(bytes(l) + l.count * 2 *
                                              (2 * sizeof(shared::BodyMomentum) +
                                               sizeof(shared::BodyMass) + sizeof(shared::BodyPose)));
     }
     return {};
 }
 
-Status Pipeline::applyPushes(float dt) {
+Status PgsSolve::applyPushes(StageQueue& q, DeviceBodies& b, float dt) {
     // The kernel moves nothing unless a row pushed (the status block says, after markBounces).
-    if (!pgs_.pushes) return {};
-    const cl_uint count = bodies_.count;
+    if (!pushes_) return {};
+    const cl_uint count = b.count;
     const cl_float step = dt;
-    return Dispatch(*context_, KernelId::ApplyPushes, &profile_)
+    return Dispatch(q.c(), KernelId::ApplyPushes, &q.profile())
         .arg(count)
-        .arg(status_)
-        .arg(bodies_.jacobi)
-        .arg(pgs_.push)
-        .arg(bodies_.momenta)
-        .arg(bodies_.masses)
-        .arg(bodies_.poses)
-        .arg(bodies_.velocities)
+        .arg(q.status())
+        .arg(b.jacobi)
+        .arg(push_)
+        .arg(b.momenta)
+        .arg(b.masses)
+        .arg(b.poses)
+        .arg(b.velocities)
         .arg(step)
         .run(count, RUBBLE_GROUP_BODIES);
 }
 
-Status Pipeline::projectJoints() {
-    PgsBuffers& g = pgs_;
-    if (g.jointCount == 0) return {};
-    const Context& c = *context_;
-    RUBBLE_TRY(
-        fill(c, g.jointMoved, 0u, RUBBLE_JOINT_POSITION_ITERATIONS * sizeof(cl_uint), &profile_));
-    if (g.directGroupCount > 0) {
-        const cl_uint groups = g.directGroupCount;
-        const cl_int iterations = RUBBLE_JOINT_POSITION_ITERATIONS;
-        RUBBLE_TRY(Dispatch(c, KernelId::ProjectJointGroups, &profile_)
-                       .arg(groups)
-                       .arg(g.directGroups)
-                       .arg(g.groupMembers)
-                       .arg(g.joints)
-                       .arg(bodies_.masses)
-                       .arg(bodies_.flags)
-                       .arg(bodies_.poses)
-                       .arg(g.positionRows)
-                       .arg(g.positionMatrix)
-                       .arg(g.positionSolution)
-                       .arg(g.deltaPosition)
-                       .arg(g.deltaRotation)
-                       .arg(iterations)
-                       .run(groups, 1));
-    }
-    const Coloring& coloring = g.jointColoring;
-    const std::span<const std::uint32_t> start = coloring.start();
-    for (cl_uint sweep = 0; sweep < RUBBLE_JOINT_POSITION_ITERATIONS && coloring.colors() > 0;
-         ++sweep) {
-        for (std::uint32_t k = 0; k < coloring.colors(); ++k) {
-            const cl_uint first = start[k], count = start[k + 1] - start[k];
-            RUBBLE_TRY(Dispatch(c, KernelId::ProjectJoints, &profile_)
-                           .arg(first)
-                           .arg(count)
-                           .arg(g.jointOrder)
-                           .arg(g.joints)
-                           .arg(bodies_.masses)
-                           .arg(bodies_.flags)
-                           .arg(bodies_.poses)
-                           .arg(sweep)
-                           .arg(g.jointMoved)
-                           .run(count, RUBBLE_GROUP_BODIES));
-            // The joint, both bodies' masses, flags and poses (read and written).
-            profile_.setLastBytes(count * (sizeof(shared::PgsJoint) + 2 * sizeof(shared::BodyMass) +
-                                           2 * sizeof(cl_uint) + 4 * sizeof(shared::BodyPose)));
-        }
-    }
-    const cl_uint bodies = g.jointBodyCount;
-    return Dispatch(c, KernelId::JointVelocities, &profile_)
-        .arg(bodies)
-        .arg(g.jointBodies)
-        .arg(bodies_.masses)
-        .arg(bodies_.flags)
-        .arg(bodies_.poses)
-        .arg(bodies_.momenta)
-        .arg(bodies_.velocities)
-        .run(bodies, RUBBLE_GROUP_BODIES);
+Result<std::vector<shared::PgsNormalRow>> PgsSolve::downloadNormalRows(StageQueue& q) const {
+    return download<shared::PgsNormalRow>(q.c(), normalRows_, rowCount_);
 }
 
-Result<std::vector<shared::PgsNormalRow>> Pipeline::downloadPgsNormalRows() {
-    return download<shared::PgsNormalRow>(*context_, pgs_.normalRows, pgs_.rowCount);
-}
-
-Result<std::vector<shared::PgsFrictionRows>> Pipeline::downloadPgsFrictionRows() {
-    return download<shared::PgsFrictionRows>(*context_, pgs_.frictionRows, pgs_.rowCount);
+Result<std::vector<shared::PgsFrictionRows>> PgsSolve::downloadFrictionRows(StageQueue& q) const {
+    return download<shared::PgsFrictionRows>(q.c(), frictionRows_, rowCount_);
 }
 
 } // namespace rubble::gpu

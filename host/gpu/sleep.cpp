@@ -1,252 +1,241 @@
-// host/gpu/sleep.cpp: sleeping on the device. With SAT, as the host decides (wakeIslandsOnHost,
-// updateIslandsOnHost: a HostSleep, the world's islands, over the device's pairs);
-// otherwise (particles, or --body-sleep) the dispatch of the device's stages wakeTouched (before
-// the rows: sleeping bodies touched by a waking one wake) and sleepBodies (kernels/sleep.cl):
-// restless marks from this step's rows, then each body's sleep. The CPU twins of those, of the
-// same names, are in host/dynamics/sleep.cpp. Argument order is the kernel signature's.
+// host/gpu/sleep.cpp: sleeping on the device (kernels/sleep.cl) and the host's islands over the
+// device's pairs. Argument order is the kernel signature's.
+#include "host/gpu/sleep.h"
+
 #include <algorithm>
 
 #include "host/core/assert.h"
-#include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
 namespace {
 
 // The device's flags with the host's asleep bit (a kinematic body keeps the device's flags).
-void flagsFromIslands(const HostIslands& h, std::span<const std::uint8_t> kinematic,
-                      std::vector<cl_uint>& flags) {
+void flagsFromIslands(std::span<const shared::BodyMass> masses,
+                      std::span<const std::uint8_t> kinematic, std::vector<cl_uint>& flags) {
     for (std::size_t i = 0; i < flags.size(); ++i) {
         if (kinematic[i]) continue;
-        flags[i] = (flags[i] & ~RUBBLE_BODY_ASLEEP) | (h.masses[i].flags & RUBBLE_BODY_ASLEEP);
+        flags[i] = (flags[i] & ~RUBBLE_BODY_ASLEEP) | (masses[i].flags & RUBBLE_BODY_ASLEEP);
     }
 }
 
 // The host's asleep bit from the device's flags: an explosion on the device wakes bodies.
 void islandsFromFlags(std::span<const cl_uint> flags, std::span<const std::uint8_t> kinematic,
-                      HostIslands& h) {
+                      std::span<shared::BodyMass> masses) {
     for (std::size_t i = 0; i < flags.size(); ++i) {
         if (kinematic[i]) continue;
-        shared::BodyMass& m = h.masses[i];
+        shared::BodyMass& m = masses[i];
         m.flags = (m.flags & ~RUBBLE_BODY_ASLEEP) | (flags[i] & RUBBLE_BODY_ASLEEP);
     }
 }
 
-} // namespace
-
-Status Pipeline::wakeTouched() {
-    return Dispatch(*context_, KernelId::WakeTouched, &profile_)
-        .arg(status_)
-        .arg(contacts_.contacts)
-        .arg(bodies_.atStart)
-        .arg(bodies_.flags)
-        .arg(bodies_.slowFor)
-        .run(strideItems(), RUBBLE_GROUP_CONTACTS);
-}
-
-Status Pipeline::wakeTouchedPairs(std::uint32_t round) {
-    const Context& c = *context_;
-    const cl_uint collisionRound = round;
-    RUBBLE_TRY(Dispatch(c, KernelId::WakeTouchedPairs, &profile_)
-                   .with([&](Dispatch& d) { bindPairs(d); })
-                   .arg(sat_.manifolds)
-                   .arg(bodies_.atStart)
-                   .arg(bodies_.flags)
-                   .arg(bodies_.slowFor)
-                   .arg(bodies_.restless)
-                   .arg(collisionRound)
-                   .arg(status_)
-                   .run(pairStrideItems(), c.workSizes().pairGroup));
-    const PgsBuffers& g = pgs_;
-    if (g.jointGroupCount == 0) return {};
-    // A joint group wakes as one: the members of a group with an awake member.
-    RUBBLE_TRY(fill(c, g.groupVotes, 0u, g.jointGroupCount * sizeof(cl_uint), &profile_));
-    return wakeJointGroups(2u, collisionRound);
-}
-
-Status Pipeline::wakeStillPairs(std::uint32_t round) {
-    const Context& c = *context_;
-    const cl_uint collisionRound = round;
-    return Dispatch(c, KernelId::WakeStillPairs, &profile_)
-        .with([&](Dispatch& d) { bindPreviousPairs(d); })
-        .arg(sat_.previous.impulseCount)
-        .arg(bodies_.flags)
-        .arg(bodies_.slowFor)
-        .arg(bodies_.restless)
-        .arg(collisionRound)
-        .arg(status_)
-        .run(strideItems(sat_.previous.capacity, c.workSizes().pairGroup), c.workSizes().pairGroup);
-}
-
-Status Pipeline::wakeJointGroups(cl_uint wakePass, cl_uint collisionRound) {
-    const PgsBuffers& g = pgs_;
-    const cl_uint members = g.jointBodyCount;
+// A joint group wakes as one: pass 0 marks the groups with an awake member, then `wakePass`
+// (1 after sleepBodies, 2 before the solve) wakes them; pass 2 marks them with the collision
+// round `collisionRound` when it is above 0.
+Status wakeJointGroups(StageQueue& q, DeviceBodies& b, const DeviceJoints& g, cl_uint wakePass,
+                       cl_uint collisionRound = 0) {
+    const cl_uint members = g.bodyCount;
     for (const cl_uint pass : {0u, wakePass})
-        RUBBLE_TRY(Dispatch(*context_, KernelId::WakeJointGroups, &profile_)
+        RUBBLE_TRY(Dispatch(q.c(), KernelId::WakeJointGroups, &q.profile())
                        .arg(members)
-                       .arg(g.jointBodies)
-                       .arg(g.jointGroupOf)
-                       .arg(bodies_.flags)
-                       .arg(bodies_.slowFor)
+                       .arg(g.bodies)
+                       .arg(g.groupOf)
+                       .arg(b.flags)
+                       .arg(b.slowFor)
                        .arg(g.groupVotes)
-                       .arg(bodies_.restless)
+                       .arg(b.restless)
                        .arg(pass)
                        .arg(collisionRound)
-                       .arg(status_)
+                       .arg(q.status())
                        .run(members, RUBBLE_GROUP_BODIES));
     return {};
 }
 
-Status Pipeline::sleepBodies(float dt) {
-    // Restless marks from the contacts: the Jacobi rows, or the pairs with points of PGS.
-    if (pairPgs()) {
-        const Context& c = *context_;
-        RUBBLE_TRY(Dispatch(c, KernelId::MarkRestlessPairs, &profile_)
-                       .with([&](Dispatch& d) { bindPairs(d); })
-                       .arg(sat_.manifolds)
-                       .arg(bodies_.velocities)
-                       .arg(bodies_.flags)
-                       .arg(bodies_.restless)
-                       .run(pairStrideItems(), c.workSizes().pairGroup));
-        if (pgs_.jointCount > 0) {
-            const cl_uint joints = pgs_.jointCount;
-            RUBBLE_TRY(Dispatch(c, KernelId::MarkRestlessJoints, &profile_)
+} // namespace
+
+Status wakeTouched(StageQueue& q, DeviceBodies& b, const ContactBuffers& k) {
+    return Dispatch(q.c(), KernelId::WakeTouched, &q.profile())
+        .arg(q.status())
+        .arg(k.contacts)
+        .arg(b.atStart)
+        .arg(b.flags)
+        .arg(b.slowFor)
+        .run(q.strideItems(k.capacity, RUBBLE_GROUP_CONTACTS), RUBBLE_GROUP_CONTACTS);
+}
+
+Status wakeTouchedPairs(StageQueue& q, DeviceBodies& b, const PairStore& pairs,
+                        const DeviceJoints& joints, std::uint32_t round) {
+    const Context& c = q.c();
+    const cl_uint collisionRound = round;
+    RUBBLE_TRY(Dispatch(c, KernelId::WakeTouchedPairs, &q.profile())
+                   .with([&](Dispatch& d) { pairs.bindCurrent(d); })
+                   .arg(pairs.manifolds)
+                   .arg(b.atStart)
+                   .arg(b.flags)
+                   .arg(b.slowFor)
+                   .arg(b.restless)
+                   .arg(collisionRound)
+                   .arg(q.status())
+                   .run(pairs.strideItems(q), c.workSizes().pairGroup));
+    if (joints.groupCount == 0) return {};
+    RUBBLE_TRY(fill(c, joints.groupVotes, 0u, joints.groupCount * sizeof(cl_uint), &q.profile()));
+    return wakeJointGroups(q, b, joints, 2u, collisionRound);
+}
+
+Status wakeStillPairs(StageQueue& q, DeviceBodies& b, const PairStore& pairs,
+                      std::uint32_t round) {
+    const Context& c = q.c();
+    const cl_uint collisionRound = round;
+    const std::size_t group = c.workSizes().pairGroup;
+    return Dispatch(c, KernelId::WakeStillPairs, &q.profile())
+        .with([&](Dispatch& d) { pairs.bindPrevious(d); })
+        .arg(pairs.previous.impulseCount)
+        .arg(b.flags)
+        .arg(b.slowFor)
+        .arg(b.restless)
+        .arg(collisionRound)
+        .arg(q.status())
+        .run(q.strideItems(pairs.previous.capacity, group), group);
+}
+
+Status sleepBodies(StageQueue& q, DeviceBodies& b, const PairStore* pairs,
+                   const ContactBuffers* k, const DeviceJoints& g, float dt) {
+    const Context& c = q.c();
+    Profile* profile = &q.profile();
+    // Restless marks from the contacts: the pairs with points of PGS, or the Jacobi rows.
+    if (pairs) {
+        RUBBLE_TRY(Dispatch(c, KernelId::MarkRestlessPairs, profile)
+                       .with([&](Dispatch& d) { pairs->bindCurrent(d); })
+                       .arg(pairs->manifolds)
+                       .arg(b.velocities)
+                       .arg(b.flags)
+                       .arg(b.restless)
+                       .run(pairs->strideItems(q), c.workSizes().pairGroup));
+        if (g.count > 0) {
+            const cl_uint joints = g.count;
+            RUBBLE_TRY(Dispatch(c, KernelId::MarkRestlessJoints, profile)
                            .arg(joints)
-                           .arg(pgs_.joints)
-                           .arg(bodies_.velocities)
-                           .arg(bodies_.flags)
-                           .arg(bodies_.restless)
+                           .arg(g.joints)
+                           .arg(b.velocities)
+                           .arg(b.flags)
+                           .arg(b.restless)
                            .run(joints, RUBBLE_GROUP_BODIES));
         }
     } else {
-        RUBBLE_TRY(Dispatch(*context_, KernelId::MarkRestless, &profile_)
-                       .arg(status_)
-                       .arg(contacts_.rows)
-                       .arg(bodies_.velocities)
-                       .arg(bodies_.flags)
-                       .arg(bodies_.restless)
-                       .run(strideItems(), RUBBLE_GROUP_CONTACTS));
+        RUBBLE_ASSERT(k != nullptr);
+        RUBBLE_TRY(Dispatch(c, KernelId::MarkRestless, profile)
+                       .arg(q.status())
+                       .arg(k->rows)
+                       .arg(b.velocities)
+                       .arg(b.flags)
+                       .arg(b.restless)
+                       .run(q.strideItems(k->capacity, RUBBLE_GROUP_CONTACTS),
+                            RUBBLE_GROUP_CONTACTS));
     }
     // Joint groups sleep as one: a member that would stay awake holds the others.
-    const Context& c = *context_;
-    const PgsBuffers& g = pgs_;
-    const cl_uint members = g.jointBodyCount;
-    const bool groups = pairPgs() && g.jointGroupCount > 0;
+    const cl_uint members = g.bodyCount;
+    const bool groups = pairs && g.groupCount > 0;
     if (groups) {
-        RUBBLE_TRY(fill(c, g.groupVotes, 0u, g.jointGroupCount * sizeof(cl_uint), &profile_));
-        RUBBLE_TRY(Dispatch(c, KernelId::VoteJointGroups, &profile_)
+        RUBBLE_TRY(fill(c, g.groupVotes, 0u, g.groupCount * sizeof(cl_uint), profile));
+        RUBBLE_TRY(Dispatch(c, KernelId::VoteJointGroups, profile)
                        .arg(members)
-                       .arg(g.jointBodies)
-                       .arg(g.jointGroupOf)
-                       .arg(bodies_.flags)
-                       .arg(bodies_.slowFor)
-                       .arg(bodies_.restless)
-                       .arg(bodies_.velocities)
+                       .arg(g.bodies)
+                       .arg(g.groupOf)
+                       .arg(b.flags)
+                       .arg(b.slowFor)
+                       .arg(b.restless)
+                       .arg(b.velocities)
                        .arg(dt)
                        .arg(g.groupVotes)
                        .run(members, RUBBLE_GROUP_BODIES));
-        RUBBLE_TRY(Dispatch(c, KernelId::HoldJointGroups, &profile_)
+        RUBBLE_TRY(Dispatch(c, KernelId::HoldJointGroups, profile)
                        .arg(members)
-                       .arg(g.jointBodies)
-                       .arg(g.jointGroupOf)
+                       .arg(g.bodies)
+                       .arg(g.groupOf)
                        .arg(g.groupVotes)
-                       .arg(bodies_.restless)
+                       .arg(b.restless)
                        .run(members, RUBBLE_GROUP_BODIES));
     }
-    const cl_uint count = bodies_.count;
-    RUBBLE_TRY(Dispatch(*context_, KernelId::SleepBodies, &profile_)
+    const cl_uint count = b.count;
+    RUBBLE_TRY(Dispatch(c, KernelId::SleepBodies, profile)
                    .arg(count)
-                   .arg(status_)
-                   .arg(bodies_.flags)
-                   .arg(bodies_.velocities)
-                   .arg(bodies_.momenta)
-                   .arg(bodies_.slowFor)
-                   .arg(bodies_.restless)
+                   .arg(q.status())
+                   .arg(b.flags)
+                   .arg(b.velocities)
+                   .arg(b.momenta)
+                   .arg(b.slowFor)
+                   .arg(b.restless)
                    .arg(dt)
                    .run(count, RUBBLE_GROUP_BODIES));
     // A group with an awake member wakes as one.
-    return groups ? wakeJointGroups(1u) : Status{};
+    return groups ? wakeJointGroups(q, b, g, 1u) : Status{};
 }
 
-void Pipeline::collectTouching() {
-    const PgsBuffers& g = pgs_;
-    HostIslands& h = islands_;
-    h.touching.clear();
-    for (std::size_t p = 0; p < g.pairRowsHost.size(); ++p)
-        if (g.pairRowsHost[p] & RUBBLE_PGS_POINTS)
-            h.touching.push_back({g.pairsHost[p].a, g.pairsHost[p].b});
+void HostIslands::reset(const DeviceBodies& b) {
+    masses_ = b.deviceMasses;
+    asleep_ = 0;
+    for (std::size_t i = 0; i < masses_.size(); ++i)
+        if (!b.kinematic[i] && (masses_[i].flags & RUBBLE_BODY_ASLEEP)) ++asleep_;
 }
 
-Result<std::uint32_t> Pipeline::wakeIslandsOnHost() {
-    HostIslands& h = islands_;
-    RUBBLE_ASSERT(h.enabled());
+Result<std::uint32_t> HostIslands::wake(StageQueue& q, DeviceBodies& b,
+                                        std::span<const BodyPair> touching) {
     // Nothing asleep at the end of the last step (or since the host's upload): nothing wakes.
-    if (h.asleep == 0) return 0u;
-    const Context& c = *context_;
-    const std::uint32_t n = bodies_.count;
+    if (asleep_ == 0) return 0u;
+    const Context& c = q.c();
     // The flags and the velocities before the forces once a step: later rounds change only
     // the flags, and those the host wrote.
-    if (!h.stepRead) {
-        h.flags.resize(n);
-        h.approach.resize(n);
-        RUBBLE_TRY(enqueueDownload(c, bodies_.flags, std::span(h.flags), &profile_));
-        RUBBLE_TRY(enqueueDownload(c, bodies_.atStart, std::span(h.approach), &profile_));
+    if (!stepRead_) {
+        flags_.resize(b.count);
+        approach_.resize(b.count);
+        RUBBLE_TRY(enqueueDownload(c, b.flags, std::span(flags_), &q.profile()));
+        RUBBLE_TRY(enqueueDownload(c, b.atStart, std::span(approach_), &q.profile()));
+        RUBBLE_TRY(q.finish());
+        islandsFromFlags(flags_, b.kinematic, masses_);
+        stepRead_ = true;
     }
-    RUBBLE_TRY(readPairSummaries());
-    if (!h.stepRead) {
-        RUBBLE_TRY(finish());
-        islandsFromFlags(h.flags, kinematic_, h);
-        h.stepRead = true;
-    }
-    collectTouching();
-    const std::uint32_t woken = h.sleep->wake(h.touching, h.masses, h.approach);
+    const std::uint32_t woken = sleep_->wake(touching, masses_, approach_);
     if (woken == 0) return 0u;
-    flagsFromIslands(h, kinematic_, h.flags);
-    RUBBLE_TRY(upload(c, bodies_.flags, h.flags));
-    hostBodies_ = true;
+    flagsFromIslands(masses_, b.kinematic, flags_);
+    RUBBLE_TRY(upload(c, b.flags, flags_));
     return woken;
 }
 
-Result<std::uint32_t> Pipeline::updateIslandsOnHost(float dt,
-                                                    const std::optional<Bodies>& readBack) {
-    HostIslands& h = islands_;
-    RUBBLE_ASSERT(h.enabled());
-    const Context& c = *context_;
-    const std::uint32_t n = bodies_.count;
+Result<HostSleepCounts> HostIslands::update(StageQueue& q, DeviceBodies& b,
+                                            std::span<const BodyPair> touching, float dt,
+                                            const std::optional<Bodies>& readBack) {
+    const Context& c = q.c();
     // The step's velocities, momenta and flags: its read-back's, or read now.
     std::span<shared::BodyVelocity> velocities;
     std::span<shared::BodyMomentum> momenta;
     if (readBack) {
         velocities = readBack->velocities;
         momenta = readBack->momenta;
-        h.flags.assign(flagsHost_.begin(), flagsHost_.end());
+        flags_.assign(b.flagsHost.begin(), b.flagsHost.end());
     } else {
-        h.velocities.resize(n);
-        h.momenta.resize(n);
-        h.flags.resize(n);
-        velocities = h.velocities;
-        momenta = h.momenta;
-        RUBBLE_TRY(enqueueDownload(c, bodies_.velocities, velocities, &profile_));
-        RUBBLE_TRY(enqueueDownload(c, bodies_.momenta, momenta, &profile_));
-        RUBBLE_TRY(download(c, bodies_.flags, std::span(h.flags), &profile_));
+        velocities_.resize(b.count);
+        momenta_.resize(b.count);
+        flags_.resize(b.count);
+        velocities = velocities_;
+        momenta = momenta_;
+        RUBBLE_TRY(enqueueDownload(c, b.velocities, velocities, &q.profile()));
+        RUBBLE_TRY(enqueueDownload(c, b.momenta, momenta, &q.profile()));
+        RUBBLE_TRY(download(c, b.flags, std::span(flags_), &q.profile()));
     }
-    islandsFromFlags(h.flags, kinematic_, h);
-    // The pairs with rows of the step's last collision round, as colorPgs read them.
-    collectTouching();
-    const HostSleepCounts r = h.sleep->update(h.touching, h.masses, velocities, momenta, dt);
-    h.asleep = r.asleep;
-    if (r.fellAsleep == 0 && r.woken == 0) return r.asleep;
+    islandsFromFlags(flags_, b.kinematic, masses_);
+    const HostSleepCounts r = sleep_->update(touching, masses_, velocities, momenta, dt);
+    asleep_ = r.asleep;
+    if (r.fellAsleep == 0 && r.woken == 0) return r;
     // The new flags, and the stopped bodies' zero velocities and momenta (update wrote them on
-    // the host); the read-back's flags follow flagsHost_ (takeSleepFlags).
-    flagsFromIslands(h, kinematic_, h.flags);
-    RUBBLE_TRY(upload(c, bodies_.flags, h.flags));
-    if (readBack) flagsHost_.assign(h.flags.begin(), h.flags.end());
+    // the host); the read-back's flags follow b.flagsHost (takeSleepFlags).
+    flagsFromIslands(masses_, b.kinematic, flags_);
+    RUBBLE_TRY(upload(c, b.flags, flags_));
+    if (readBack) b.flagsHost.assign(flags_.begin(), flags_.end());
     if (r.fellAsleep > 0) {
         RUBBLE_TRY(
-            upload(c, bodies_.velocities, std::span<const shared::BodyVelocity>(velocities)));
-        RUBBLE_TRY(upload(c, bodies_.momenta, std::span<const shared::BodyMomentum>(momenta)));
+            upload(c, b.velocities, std::span<const shared::BodyVelocity>(velocities)));
+        RUBBLE_TRY(upload(c, b.momenta, std::span<const shared::BodyMomentum>(momenta)));
     }
-    hostBodies_ = true;
-    return r.asleep;
+    return r;
 }
 
 } // namespace rubble::gpu

@@ -9,7 +9,7 @@
 #include "host/core/step_params.h"
 #include "host/dynamics/forces.h"
 #include "host/gpu/lcp_jacobi.h"
-#include "host/gpu/pipeline.h"
+#include "host/gpu/jacobi.h"
 #include "host/world/world_state.h"
 
 namespace rubble {
@@ -67,22 +67,27 @@ Result<Iterates> jacobiIteratesOnDevice(std::shared_ptr<gpu::Context> c, const F
     // The set's bodies as the device's (the solve reads no momenta or forces).
     const std::vector<shared::BodyMomentum> momenta(set.poses.size());
     const std::vector<shared::BodyForce> forces(set.poses.size());
-    gpu::PipelineInput in;
-    in.bodies = BodiesView{set.poses, set.velocities, momenta, forces, set.masses, {}, {}};
-    in.surfaces = set.surfaces;
-    Result<gpu::PipelineHandle> made = gpu::Pipeline::create(std::move(c), in);
+    const BodiesView bodies{set.poses, set.velocities, momenta, forces, set.masses, {}, {}};
+    // The stages the Jacobi solve needs, alone: the bodies, the contact buffers, the solve.
+    Result<std::unique_ptr<gpu::StageQueue>> made = gpu::StageQueue::create(std::move(c));
     RUBBLE_TRY(made);
-    gpu::Pipeline& pipeline = **made;
-    RUBBLE_TRY(pipeline.uploadContacts(set.contacts));
-    RUBBLE_TRY(pipeline.buildJacobiRows(set.params, false));
+    gpu::StageQueue& q = **made;
+    gpu::DeviceBodies device;
+    RUBBLE_TRY(device.create(q, bodies, set.surfaces, {}));
+    gpu::ParticleCollision particles;
+    RUBBLE_TRY(particles.create(q, nullptr, bodies, nullptr));
+    RUBBLE_TRY(particles.uploadContacts(q, set.contacts));
+    gpu::JacobiSolve jacobi;
+    gpu::ContactBuffers& k = particles.contacts();
+    RUBBLE_TRY(jacobi.buildRows(q, device, k, 0, set.params, false));
     Iterates out;
     std::vector<shared::ContactRow> rows(set.contacts.size());
-    for (int k = 0; k < iterations; ++k) {
+    for (int it = 0; it < iterations; ++it) {
         // The start velocities again; the rows keep the impulses of the last sweep, which the
         // first gather applies.
-        RUBBLE_TRY(pipeline.uploadBodies(in.bodies));
-        RUBBLE_TRY(pipeline.solveJacobi(1, relaxation, false));
-        RUBBLE_TRY(gpu::download(pipeline.context(), pipeline.contacts().rows, std::span(rows)));
+        RUBBLE_TRY(device.upload(q, bodies));
+        RUBBLE_TRY(jacobi.solve(q, device, k, 1, relaxation));
+        RUBBLE_TRY(gpu::download(q.c(), k.rows, std::span(rows)));
         out.push_back(denseLambda(rows, p.dense.stride));
     }
     return out;

@@ -99,12 +99,20 @@ class GpuTest : public ::testing::Test {
     }
 
     /// A stage input from scene text, taken from `world` (built from the same text) when given,
-    /// on a pipeline of its own on the shared device.
-    DeviceStage deviceStage(const std::string& json, const World* world = nullptr,
-                            bool deterministic = false) {
+    /// with the particle method's stages of its own on the shared device.
+    std::unique_ptr<DeviceStage> deviceStage(const std::string& json,
+                                             const World* world = nullptr) {
         StageInput in = stageInput(json);
         if (world) takeState(*world, in);
-        Result<DeviceStage> d = test::deviceStage(context(), std::move(in), deterministic);
+        return made(test::deviceStage(context(), std::move(in)));
+    }
+    /// ... with the SAT method's stages, its PGS in `pgsBlocks` blocks.
+    std::unique_ptr<DeviceStage> satStage(StageInput in, int pgsBlocks = -1) {
+        return made(test::satStage(context(), std::move(in), pgsBlocks));
+    }
+
+  private:
+    static std::unique_ptr<DeviceStage> made(Result<std::unique_ptr<DeviceStage>> d) {
         EXPECT_TRUE(d.ok()) << (d.ok() ? "" : d.error().describe());
         if (!d.ok()) std::abort();
         return std::move(*d);

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "gpu_fixture.h"
+#include "host/gpu/integrate.h"
 #include "host/core/integrate.h"
 #include "host/core/math.h"
 
@@ -42,25 +43,25 @@ std::string tumblers(const std::string& integrator) {
 class IntegrateTwin : public test::GpuTest {};
 
 TEST_F(IntegrateTwin, IntegrateVelocitiesMatchesCpu) {
-    test::DeviceStage d = deviceStage(tumblers("symplectic"));
-    BodyArrays& s = d.in.bodies;
+    auto d = deviceStage(tumblers("symplectic"));
+    BodyArrays& s = d->in.bodies;
     // Forces and torques on some bodies, on both paths.
     for (std::uint32_t i = 0; i < s.count(); i += 3) {
         s.forces[i].force = shared::vec4(1.0f + float(i), -2.0f, 0.5f);
         s.forces[i].torque = shared::vec4(0.1f, 0.2f * float(i % 5), -0.3f);
     }
-    gpu::Pipeline& p = d.device();
-    ASSERT_TRUE(p.uploadForces(s.forces).ok());
-    const float4 g = toFloat4(d.in.scene.simulation.gravity);
-    ASSERT_TRUE(p.integrateVelocities(g, 0.01f).ok());
+    gpu::DeviceBodies& b = d->bodies;
+    ASSERT_TRUE(b.uploadForces(d->q(), s.forces).ok());
+    const float4 g = toFloat4(d->in.scene.simulation.gravity);
+    ASSERT_TRUE(gpu::integrateVelocities(d->q(), b, g, 0.01f).ok());
     std::vector<BodyVelocity> beforeForces(s.count());
     integrateVelocities(s.momenta, s.forces, s.masses, s.poses, s.velocities, beforeForces, g,
                         0.01f);
     std::vector<BodyMomentum> momenta(s.count());
     std::vector<BodyVelocity> velocities(s.count()), atStart(s.count());
-    ASSERT_TRUE(gpu::download(p.context(), p.bodies().momenta, std::span(momenta)).ok());
-    ASSERT_TRUE(gpu::download(p.context(), p.bodies().velocities, std::span(velocities)).ok());
-    ASSERT_TRUE(gpu::download(p.context(), p.bodies().atStart, std::span(atStart)).ok());
+    ASSERT_TRUE(gpu::download(d->context(), b.momenta, std::span(momenta)).ok());
+    ASSERT_TRUE(gpu::download(d->context(), b.velocities, std::span(velocities)).ok());
+    ASSERT_TRUE(gpu::download(d->context(), b.atStart, std::span(atStart)).ok());
     test::expectNearRel(momenta, s.momenta, 1e-5f);
     test::expectNearRel(velocities, s.velocities, 1e-5f);
     test::expectNearRel(atStart, beforeForces, 1e-5f);
@@ -68,48 +69,47 @@ TEST_F(IntegrateTwin, IntegrateVelocitiesMatchesCpu) {
 
 void checkPositions(test::DeviceStage& d, bool symplectic) {
     BodyArrays& s = d.in.bodies;
-    gpu::Pipeline& p = d.device();
+    gpu::DeviceBodies& b = d.bodies;
     // Velocities at the start for explicit Euler: the current ones, on both paths.
     const std::vector<BodyVelocity> atStart = s.velocities;
-    ASSERT_TRUE(p.copyVelocities(const_cast<gpu::Buffer&>(p.bodies().atStart)).ok());
-    ASSERT_TRUE(p.integratePositions(0.01f, symplectic).ok());
+    ASSERT_TRUE(b.copyVelocities(d.q(), b.atStart).ok());
+    ASSERT_TRUE(gpu::integratePositions(d.q(), b, 0.01f, symplectic).ok());
     integratePositions(s.poses, s.velocities, atStart, s.momenta, s.masses, 0.01f, symplectic);
     std::vector<BodyPose> poses(s.count());
     std::vector<BodyVelocity> velocities(s.count());
-    ASSERT_TRUE(gpu::download(p.context(), p.bodies().poses, std::span(poses)).ok());
-    ASSERT_TRUE(gpu::download(p.context(), p.bodies().velocities, std::span(velocities)).ok());
+    ASSERT_TRUE(gpu::download(d.context(), b.poses, std::span(poses)).ok());
+    ASSERT_TRUE(gpu::download(d.context(), b.velocities, std::span(velocities)).ok());
     test::expectNearRel(poses, s.poses, 1e-5f);
     test::expectNearRel(velocities, s.velocities, 1e-5f);
 }
 
 TEST_F(IntegrateTwin, IntegratePositionsSymplecticMatchesCpu) {
-    test::DeviceStage d = deviceStage(tumblers("symplectic"));
-    checkPositions(d, true);
+    auto d = deviceStage(tumblers("symplectic"));
+    checkPositions(*d, true);
 }
 
 TEST_F(IntegrateTwin, IntegratePositionsExplicitMatchesCpu) {
-    test::DeviceStage d = deviceStage(tumblers("explicit"));
-    checkPositions(d, false);
+    auto d = deviceStage(tumblers("explicit"));
+    checkPositions(*d, false);
 }
 
 TEST_F(IntegrateTwin, AbsorbVelocityChangeMatchesCpu) {
-    test::DeviceStage d = deviceStage(tumblers("symplectic"));
-    BodyArrays& s = d.in.bodies;
-    gpu::Pipeline& p = d.device();
+    auto d = deviceStage(tumblers("symplectic"));
+    BodyArrays& s = d->in.bodies;
+    gpu::DeviceBodies& b = d->bodies;
     // "before" is the current velocities; "after" a changed copy, uploaded as the velocities.
     std::vector<BodyVelocity> before = s.velocities, after = s.velocities;
     for (std::size_t i = 0; i < after.size(); ++i) {
         after[i].linear = add4(after[i].linear, vec4(0.1f * float(i % 4), -0.5f, 0.2f));
         after[i].angular = add4(after[i].angular, vec4(0.3f, 0.0f, -0.1f * float(i % 3)));
     }
-    ASSERT_TRUE(gpu::upload(p.context(), const_cast<gpu::Buffer&>(p.bodies().before),
-                            std::span<const BodyVelocity>(before)).ok());
-    ASSERT_TRUE(gpu::upload(p.context(), const_cast<gpu::Buffer&>(p.bodies().velocities),
-                            std::span<const BodyVelocity>(after)).ok());
-    ASSERT_TRUE(p.absorbVelocityChange().ok());
+    ASSERT_TRUE(gpu::upload(d->context(), b.before, std::span<const BodyVelocity>(before)).ok());
+    ASSERT_TRUE(
+        gpu::upload(d->context(), b.velocities, std::span<const BodyVelocity>(after)).ok());
+    ASSERT_TRUE(gpu::absorbVelocityChange(d->q(), b).ok());
     absorbVelocityChange(s.momenta, before, after, s.masses, s.poses);
     std::vector<BodyMomentum> momenta(s.count());
-    ASSERT_TRUE(gpu::download(p.context(), p.bodies().momenta, std::span(momenta)).ok());
+    ASSERT_TRUE(gpu::download(d->context(), b.momenta, std::span(momenta)).ok());
     test::expectNearRel(momenta, s.momenta, 1e-5f);
 }
 

@@ -44,37 +44,34 @@ class ParticlesTwin : public test::GpuTest {
         stepped_.emplace(deviceWorld(heap()));
         for (int i = 0; i < 40; ++i) ASSERT_TRUE(stepped_->step().ok());
         // The device's state after 40 steps, on a pipeline of its own: the shared input.
-        stage_.emplace(deviceStage(heap(), &*stepped_));
+        stage_ = deviceStage(heap(), &*stepped_);
         world_.assign(set().particles.size(), float4{});
     }
     test::StageInput& in() { return stage_->in; }
     BodyArrays& s() { return stage_->in.bodies; }
     const ParticleSet& set() { return stage_->particles; }
-    gpu::Pipeline& p() { return stage_->device(); }
+    test::DeviceStage& d() { return *stage_; }
     template <class T> std::vector<T> read(const gpu::Buffer& b, std::size_t n) {
-        std::vector<T> v(n);
-        EXPECT_TRUE(gpu::download(p().context(), b, std::span(v)).ok());
-        return v;
+        return stage_->read<T>(b, n);
     }
     /// The device's contacts and the CPU twin's on the stage's particles at the fixture's state,
     /// each sorted by (particleA, featureB).
     void collideBoth(test::DeviceStage& stage, std::vector<ParticleContact>& device,
                      std::vector<ParticleContact>& cpu) {
-        gpu::Pipeline& d = stage.device();
         const ParticleSet& set = stage.particles;
         world_.assign(set.particles.size(), float4{});
         transformParticles(set.particles, s().poses, world_);
-        ASSERT_TRUE(gpu::upload(d.context(), const_cast<gpu::Buffer&>(d.particles().world),
+        ASSERT_TRUE(gpu::upload(stage.context(), stage.collision.world(),
                                 std::span<const float4>(world_))
                         .ok());
-        ASSERT_TRUE(d.buildGrid().ok());
-        ASSERT_TRUE(d.resetStatus().ok());
-        ASSERT_TRUE(d.collideParticles().ok());
-        ASSERT_TRUE(d.readContactCount().ok());
+        ASSERT_TRUE(stage.collision.buildGrid(stage.q(), stage.bodies, stage.sort).ok());
+        ASSERT_TRUE(stage.q().resetStatus(stage.collision.contacts().capacity).ok());
+        ASSERT_TRUE(stage.collision.collide(stage.q()).ok());
+        ASSERT_TRUE(stage.collision.readCount(stage.q()).ok());
         buildGrid(world_, set.cellSize, set.bits, grid_);
         collideParticles(set, world_, grid_, s().masses, cpu);
-        device.resize(d.contacts().count);
-        ASSERT_TRUE(gpu::download(d.context(), d.contacts().contacts, std::span(device)).ok());
+        device = stage.read<ParticleContact>(stage.collision.contacts().contacts,
+                                             stage.collision.contacts().count);
         // Device order is the atomics'; compare as sets, keyed by the two features.
         auto byKey = [](const ParticleContact& x, const ParticleContact& y) {
             return std::tie(x.particleA, x.featureB) < std::tie(y.particleA, y.featureB);
@@ -99,33 +96,32 @@ class ParticlesTwin : public test::GpuTest {
     }
 
     std::optional<World> stepped_; ///< the device world after 40 steps
-    std::optional<test::DeviceStage> stage_;
+    std::unique_ptr<test::DeviceStage> stage_;
     std::vector<float4> world_; ///< the CPU twin's particle positions
     ParticleGrid grid_;         ///< the CPU twin's grid
 };
 
 TEST_F(ParticlesTwin, TransformParticlesMatchesCpu) {
     ASSERT_NE(set().particles.size() % RUBBLE_GROUP_PARTICLES, 0u);
-    ASSERT_TRUE(p().transformParticles().ok());
+    ASSERT_TRUE(d().collision.transform(d().q(), d().bodies).ok());
     transformParticles(set().particles, s().poses, world_);
-    test::expectNearRel(read<float4>(p().particles().world, world_.size()), world_, 1e-5f);
+    test::expectNearRel(read<float4>(d().collision.world(), world_.size()), world_, 1e-5f);
 }
 
 TEST_F(ParticlesTwin, BuildGridMatchesCpu) {
     transformParticles(set().particles, s().poses, world_);
     // The same world positions on both sides, so that no particle changes cell by round-off.
-    ASSERT_TRUE(gpu::upload(p().context(), const_cast<gpu::Buffer&>(p().particles().world),
-                            std::span<const float4>(world_))
-                    .ok());
-    ASSERT_TRUE(p().buildGrid().ok());
+    ASSERT_TRUE(
+        gpu::upload(d().context(), d().collision.world(), std::span<const float4>(world_)).ok());
+    ASSERT_TRUE(d().collision.buildGrid(d().q(), d().bodies, d().sort).ok());
     buildGrid(world_, set().cellSize, set().bits, grid_);
     const std::size_t n = world_.size();
-    EXPECT_EQ(read<std::uint32_t>(p().particles().keys, n), grid_.keys);
-    EXPECT_EQ(read<std::uint32_t>(p().particles().values, n), grid_.order);
+    EXPECT_EQ(read<std::uint32_t>(d().collision.cellKeys(), n), grid_.keys);
+    EXPECT_EQ(read<std::uint32_t>(d().collision.cellOrder(), n), grid_.order);
     // The device keeps, per cell, the first slot of a key at least the cell's; an empty cell
     // starts where the next one does.
     const std::vector<std::uint32_t> first =
-        read<std::uint32_t>(p().particles().cellFirst, grid_.cellStart.size() + 1);
+        read<std::uint32_t>(d().collision.cellFirst(), grid_.cellStart.size() + 1);
     std::vector<std::uint32_t> start(grid_.cellStart.size()), end(grid_.cellEnd.size());
     for (std::size_t k = 0; k < start.size(); ++k) {
         const bool empty = first[k] == first[k + 1];
@@ -144,12 +140,12 @@ TEST_F(ParticlesTwin, RadixSortSortsStablyAnyCount) {
         values[i] = i;
     }
     gpu::Buffer k, v, ka, va;
-    const gpu::Context& c = p().context();
+    const gpu::Context& c = d().context();
     ASSERT_TRUE(gpu::upload(c, k, std::span<const std::uint32_t>(keys)).ok());
     ASSERT_TRUE(gpu::upload(c, v, std::span<const std::uint32_t>(values)).ok());
     ASSERT_TRUE(ka.reserve(c.context(), 4000).ok());
     ASSERT_TRUE(va.reserve(c.context(), 4000).ok());
-    ASSERT_TRUE(p().radixSort(k, v, ka, va, 1000, 12).ok());
+    ASSERT_TRUE(d().sort.sort(d().q(), k, v, ka, va, 1000, 12).ok());
     std::vector<std::pair<std::uint32_t, std::uint32_t>> expected;
     for (std::uint32_t i = 0; i < keys.size(); ++i) expected.push_back({keys[i], i});
     std::stable_sort(expected.begin(), expected.end(),
@@ -174,11 +170,11 @@ TEST_F(ParticlesTwin, CollideParticlesGivesTheSameContactSet) {
 // of wider cells: the twins agree on them, and the overlapping ones are the Jacobi set's (the
 // same bodies, points and depths; PGS numbers a shape's particles in another order).
 TEST_F(ParticlesTwin, CollideParticlesWithPgsMarginAddsTheGapsAndKeepsTheOverlaps) {
-    test::DeviceStage pgs = deviceStage(heap("pgs"), &*stepped_);
-    ASSERT_EQ(pgs.particles.margin, kParticleContactMargin);
-    ASSERT_EQ(pgs.particles.cellSize, set().cellSize + kParticleContactMargin);
+    auto pgs = deviceStage(heap("pgs"), &*stepped_);
+    ASSERT_EQ(pgs->particles.margin, kParticleContactMargin);
+    ASSERT_EQ(pgs->particles.cellSize, set().cellSize + kParticleContactMargin);
     std::vector<ParticleContact> device, cpu, jacobiDevice, jacobi;
-    ASSERT_NO_FATAL_FAILURE(collideBoth(pgs, device, cpu));
+    ASSERT_NO_FATAL_FAILURE(collideBoth(*pgs, device, cpu));
     expectSameContacts(device, cpu);
     ASSERT_NO_FATAL_FAILURE(collideBoth(*stage_, jacobiDevice, jacobi));
     using Touch = std::tuple<std::uint32_t, std::uint32_t, float, float, float, float>;
@@ -206,9 +202,9 @@ TEST_F(ParticlesTwin, CollideParticlesWithPgsMarginAddsTheGapsAndKeepsTheOverlap
 // in particle order), the Jacobi solvers in the voxeliser's rows: the same particles, body by
 // body, in another order.
 TEST_F(ParticlesTwin, PgsParticlesAreTheJacobiOnesScattered) {
-    test::DeviceStage pgs = deviceStage(heap("pgs"), &*stepped_);
+    auto pgs = deviceStage(heap("pgs"), &*stepped_);
     const std::vector<Particle>& a = set().particles;
-    const std::vector<Particle>& b = pgs.particles.particles;
+    const std::vector<Particle>& b = pgs->particles.particles;
     ASSERT_EQ(a.size(), b.size());
     auto key = [](const Particle& p) {
         return std::tuple(p.body, p.offset.x, p.offset.y, p.offset.z, p.offset.w);
@@ -234,46 +230,57 @@ TEST_F(ParticlesTwin, JacobiRowsAndOneSweepMatchCpu) {
     collideParticles(set(), world_, grid_, s().masses, contacts);
     sortContactsByParticle(contacts);
     ASSERT_GT(contacts.size(), 100u);
-    ASSERT_TRUE(p().uploadContacts(contacts).ok());
+    ASSERT_TRUE(d().collision.uploadContacts(d().q(), contacts).ok());
     const SolverParams params = in().params().rows;
-    ASSERT_TRUE(p().buildJacobiRows(params, false).ok());
+    gpu::ContactBuffers& k = d().collision.contacts();
+    ASSERT_TRUE(
+        d().jacobi.buildRows(d().q(), d().bodies, k, d().collision.count(), params, false).ok());
     JacobiState j;
     buildBodyLists(contacts, s().masses, j);
     std::vector<float4> warm(contacts.size(), vec4(0, 0, 0));
     buildJacobiRows(contacts, s().poses, s().velocities, s().masses, in().surfaces, params, warm,
                     j);
     const std::size_t n = contacts.size();
-    EXPECT_EQ(read<std::uint32_t>(p().contacts().bodyStart, s().count() + 1), j.bodyStart);
-    EXPECT_EQ(read<std::uint32_t>(p().contacts().bodyList, j.bodyList.size()), j.bodyList);
-    test::expectNearRel(read<shared::ContactRow>(p().contacts().rows, n), j.rows, 1e-5f);
+    EXPECT_EQ(read<std::uint32_t>(k.bodyStart, s().count() + 1), j.bodyStart);
+    EXPECT_EQ(read<std::uint32_t>(k.bodyList, j.bodyList.size()), j.bodyList);
+    test::expectNearRel(read<shared::ContactRow>(k.rows, n), j.rows, 1e-5f);
 
     // One sweep and its gather: the single-stage tolerance; ten: a looser one, as float
     // differences from the device's math library grow through the iterations.
-    ASSERT_TRUE(p().solveJacobi(1, 1.0f, false).ok());
+    ASSERT_TRUE(d().jacobi.solve(d().q(), d().bodies, k, 1, 1.0f).ok());
     std::vector<BodyVelocity> before = s().velocities;
     solveJacobi(j, before, s().masses, s().poses, s().velocities, 1, 1.0f);
-    test::expectNearRel(read<BodyVelocity>(p().bodies().velocities, s().count()),
+    test::expectNearRel(read<BodyVelocity>(d().bodies.velocities, s().count()),
                         s().velocities, 1e-5f);
-    test::expectNearRel(read<shared::ContactRow>(p().contacts().rows, n), j.rows, 1e-5f);
+    test::expectNearRel(read<shared::ContactRow>(k.rows, n), j.rows, 1e-5f);
 }
 
-TEST_F(ParticlesTwin, ContactOverflowIsAnErrorOrGrowsTheBuffer) {
+// A contact buffer too small for the step grows, and the stages from collision on run again:
+// the step ends as one that had room from the start, to the bit.
+TEST_F(ParticlesTwin, ContactOverflowGrowsTheBuffersAndStepsTheSameBits) {
     const StepParams params = in().params(40);
-    const auto step = [&]() -> Status {
+    std::vector<BodyPose> poses[2];
+    std::vector<BodyVelocity> velocities[2];
+    for (int run = 0; run < 2; ++run) {
+        Result<gpu::PipelineHandle> made = test::pipelineOf(
+            context(), in(), &set(), CollisionMethod::Particles, run == 0 ? 10u : 0u);
+        ASSERT_TRUE(made.ok()) << made.error().describe();
+        gpu::Pipeline& p = **made;
         StepStats stats;
-        RUBBLE_TRY(p().beginStep(params, gpu::StepInputs{}));
-        return p().endStep(params, in().names, stats);
-    };
-    ASSERT_TRUE(p().setContactCapacity(10, false).ok());
-    const Status failed = step();
-    ASSERT_FALSE(failed.ok());
-    EXPECT_NE(failed.error().message.find("contact overflow"), std::string::npos)
-        << failed.error().describe();
-    ASSERT_TRUE(p().setContactCapacity(10, true).ok());
-    const Status grown = step();
-    ASSERT_TRUE(grown.ok()) << grown.error().describe();
-    EXPECT_GT(p().contacts().capacity, p().contacts().count);
-    EXPECT_GT(p().contacts().count, 10u);
+        ASSERT_TRUE(p.beginStep(params, gpu::StepInputs{}).ok());
+        const Status met = p.endStep(params, in().names, stats);
+        ASSERT_TRUE(met.ok()) << met.error().describe();
+        EXPECT_GT(stats.deviceContactCount, 10u);
+        BodyArrays out = in().bodies;
+        ASSERT_TRUE(p.downloadBodies(out.view()).ok());
+        poses[run] = out.poses;
+        velocities[run] = out.velocities;
+    }
+    ASSERT_EQ(poses[0].size(), poses[1].size());
+    EXPECT_EQ(std::memcmp(poses[0].data(), poses[1].data(), poses[0].size() * sizeof(BodyPose)), 0);
+    EXPECT_EQ(std::memcmp(velocities[0].data(), velocities[1].data(),
+                          velocities[0].size() * sizeof(BodyVelocity)),
+              0);
 }
 
 } // namespace

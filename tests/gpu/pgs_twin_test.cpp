@@ -77,7 +77,7 @@ std::string cratesOnTheFloor(float friction, const std::string& bodies) {
 
 // The device's stages of a step on the state as loaded, up to the split of its elements into
 // blocks and colors (colorPgs).
-Status colorStep(gpu::Pipeline& p, const StepParams& params) {
+Status colorStep(test::DeviceStage& p, const StepParams& params) {
     RUBBLE_TRY(p.resetStatus());
     RUBBLE_TRY(p.broadPhase(params.dt));
     RUBBLE_TRY(p.narrowPhase(params.dt));
@@ -116,22 +116,21 @@ TEST_F(PgsTwin, RowsAreTheCpuRowsBitForBit) {
     const ContactRows& rows = cpu.cache().contacts;
 
     // The device: the same stages on the same arrays.
-    Result<gpu::PipelineHandle> made = test::satPipeline(context(), in);
-    ASSERT_TRUE(made.ok()) << made.error().describe();
-    gpu::Pipeline& p = **made;
+    std::unique_ptr<test::DeviceStage> made = satStage(in);
+    test::DeviceStage& p = *made;
     const Status colored = colorStep(p, params);
     ASSERT_TRUE(colored.ok()) << colored.error().describe();
     ASSERT_TRUE(p.buildPgsRows(params).ok());
     ASSERT_TRUE(p.finish().ok());
-    Result<std::vector<shared::PgsNormalRow>> normals = p.downloadPgsNormalRows();
-    Result<std::vector<shared::PgsFrictionRows>> frictions = p.downloadPgsFrictionRows();
+    Result<std::vector<shared::PgsNormalRow>> normals = p.pgs.downloadNormalRows(p.q());
+    Result<std::vector<shared::PgsFrictionRows>> frictions = p.pgs.downloadFrictionRows(p.q());
     Result<std::vector<shared::ContactManifold>> manifolds = p.downloadManifolds();
     ASSERT_TRUE(normals.ok() && frictions.ok() && manifolds.ok());
 
     // The device's rows by (a, b, feature): the point's place (its normal row's, its friction
     // rows').
     std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, std::uint32_t> device;
-    for (const shared::PgsElement& e : p.pgs().elementsHost) {
+    for (const shared::PgsElement& e : p.pgs.elements()) {
         if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
         const shared::ContactManifold& m = (*manifolds)[e.id];
         for (std::uint32_t k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k)
@@ -248,39 +247,38 @@ TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
     json += "]}";
     test::StageInput in = test::stageInput(json);
     const StepParams params = in.params();
-    Result<gpu::PipelineHandle> made = test::satPipeline(context(), in, 4);
-    ASSERT_TRUE(made.ok()) << made.error().describe();
-    gpu::Pipeline& p = **made;
+    std::unique_ptr<test::DeviceStage> made = satStage(in, 4);
+    test::DeviceStage& p = *made;
     const Status colored = colorStep(p, params);
     ASSERT_TRUE(colored.ok()) << colored.error().describe();
     ASSERT_TRUE(p.finish().ok());
-    const gpu::PgsBuffers& g = p.pgs();
+    const gpu::PgsSolve& g = p.pgs;
 
     // Every element once.
     std::map<std::uint32_t, gpu::ColorElement> byId;
-    for (const gpu::ColorElement& x : g.stepElements) byId[x.id] = x;
-    ASSERT_EQ(byId.size(), g.stepElements.size());
+    for (const gpu::ColorElement& x : g.stepElements()) byId[x.id] = x;
+    ASSERT_EQ(byId.size(), g.stepElements().size());
     ASSERT_GE(byId.size(), 60u); // 40 on the floor, and between the crates
-    ASSERT_EQ(g.elementsHost.size(), byId.size());
+    ASSERT_EQ(g.elements().size(), byId.size());
     std::set<std::uint32_t> placed;
-    for (const shared::PgsElement& e : g.elementsHost) EXPECT_TRUE(placed.insert(e.id).second);
+    for (const shared::PgsElement& e : g.elements()) EXPECT_TRUE(placed.insert(e.id).second);
     EXPECT_EQ(placed.size(), byId.size());
 
     // The blocks: one launch first, then colors.
-    ASSERT_FALSE(g.launches.empty());
-    const gpu::PgsLaunch& blocks = g.launches[0];
+    ASSERT_FALSE(g.launches().empty());
+    const gpu::PgsLaunch& blocks = g.launches()[0];
     ASSERT_EQ(blocks.mode, RUBBLE_PGS_BLOCKS);
     ASSERT_EQ(blocks.blocks, 4u);
     // The starts of the four blocks and the end, then each block's passes over its points.
-    ASSERT_EQ(g.blockStartsHost.size(), 9u);
-    EXPECT_EQ(g.blockStartsHost[4], blocks.count);
+    ASSERT_EQ(g.blockStarts().size(), 9u);
+    EXPECT_EQ(g.blockStarts()[4], blocks.count);
     std::map<std::uint32_t, std::uint32_t> blockOfBody;
     for (std::uint32_t b = 0; b < 4; ++b) {
-        EXPECT_LT(g.blockStartsHost[b], g.blockStartsHost[b + 1]) << "block " << b << " empty";
-        for (std::uint32_t i = g.blockStartsHost[b]; i < g.blockStartsHost[b + 1]; ++i) {
-            const shared::PgsElement& e = g.elementsHost[i];
-            if (i > g.blockStartsHost[b]) {
-                EXPECT_LT(g.elementsHost[i - 1].id, e.id); // pair order
+        EXPECT_LT(g.blockStarts()[b], g.blockStarts()[b + 1]) << "block " << b << " empty";
+        for (std::uint32_t i = g.blockStarts()[b]; i < g.blockStarts()[b + 1]; ++i) {
+            const shared::PgsElement& e = g.elements()[i];
+            if (i > g.blockStarts()[b]) {
+                EXPECT_LT(g.elements()[i - 1].id, e.id); // pair order
             }
             const gpu::ColorElement& x = byId[e.id];
             for (const auto& [body, moves] : {std::pair{x.a, x.movesA}, {x.b, x.movesB}}) {
@@ -292,14 +290,14 @@ TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
         }
     }
     // Between the blocks: colored, and some are (the crates at the cuts).
-    ASSERT_GE(g.launches.size(), 2u);
-    for (std::size_t k = 1; k < g.launches.size(); ++k) {
-        const gpu::PgsLaunch& l = g.launches[k];
+    ASSERT_GE(g.launches().size(), 2u);
+    for (std::size_t k = 1; k < g.launches().size(); ++k) {
+        const gpu::PgsLaunch& l = g.launches()[k];
         EXPECT_NE(l.mode, RUBBLE_PGS_BLOCKS);
         if (l.mode == RUBBLE_PGS_SERIAL) continue; // run in order: may share bodies
         std::set<std::uint32_t> bodies;
         for (std::uint32_t i = l.first; i < l.first + l.count; ++i) {
-            const gpu::ColorElement& x = byId[g.elementsHost[i].id];
+            const gpu::ColorElement& x = byId[g.elements()[i].id];
             for (const auto& [body, moves] : {std::pair{x.a, x.movesA}, {x.b, x.movesB}}) {
                 if (!moves) continue;
                 EXPECT_TRUE(bodies.insert(body).second) << "launch " << k;
@@ -308,11 +306,11 @@ TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
     }
     // The rows before each element: its points' and those before it, in the elements' order.
     std::uint32_t row = 0;
-    for (std::size_t i = 0; i < g.elementsHost.size(); ++i) {
-        EXPECT_EQ(g.pointsHost[i], row);
-        row += g.elementsHost[i].rows & RUBBLE_PGS_POINTS;
+    for (std::size_t i = 0; i < g.elements().size(); ++i) {
+        EXPECT_EQ(g.rowsBefore()[i], row);
+        row += g.elements()[i].rows & RUBBLE_PGS_POINTS;
     }
-    EXPECT_EQ(row, g.rowCount);
+    EXPECT_EQ(row, g.rowCount());
     // The points' rows: each place once; a block's by point from its first row (every element's
     // first point, then every second, ...), so that its passes read them front to back; a
     // color's element's in a run from the rows before it.
@@ -320,14 +318,14 @@ TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
     std::set<std::uint32_t> normals;
     std::uint32_t multiPoint = 0;
     for (std::uint32_t b = 0; b < 4; ++b) {
-        const std::uint32_t from = g.blockStartsHost[b], to = g.blockStartsHost[b + 1];
+        const std::uint32_t from = g.blockStarts()[b], to = g.blockStarts()[b + 1];
         std::uint32_t most = 1;
-        for (std::uint32_t i = from; i < to; ++i) most = std::max(most, points(g.elementsHost[i]));
-        EXPECT_EQ(g.blockStartsHost[5 + b], most) << "block " << b << "'s passes";
-        std::uint32_t next = g.pointsHost[from];
+        for (std::uint32_t i = from; i < to; ++i) most = std::max(most, points(g.elements()[i]));
+        EXPECT_EQ(g.blockStarts()[5 + b], most) << "block " << b << "'s passes";
+        std::uint32_t next = g.rowsBefore()[from];
         for (std::uint32_t k = 0; k < 4; ++k)
             for (std::uint32_t i = from; i < to; ++i) {
-                const shared::PgsElement& e = g.elementsHost[i];
+                const shared::PgsElement& e = g.elements()[i];
                 if (k >= points(e)) continue;
                 EXPECT_EQ(e.normal[k], next++) << "block " << b << ", element " << i << ", point "
                                                << k;
@@ -336,14 +334,14 @@ TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
             }
     }
     EXPECT_GE(multiPoint, 8u); // the order differs from the elements' on these
-    for (std::uint32_t i = blocks.count; i < g.elementsHost.size(); ++i) {
-        const shared::PgsElement& e = g.elementsHost[i];
+    for (std::uint32_t i = blocks.count; i < g.elements().size(); ++i) {
+        const shared::PgsElement& e = g.elements()[i];
         for (std::uint32_t k = 0; k < points(e); ++k) {
-            EXPECT_EQ(e.normal[k], g.pointsHost[i] + k);
+            EXPECT_EQ(e.normal[k], g.rowsBefore()[i] + k);
             EXPECT_TRUE(normals.insert(e.normal[k]).second);
         }
     }
-    EXPECT_EQ(normals.size(), g.rowCount);
+    EXPECT_EQ(normals.size(), g.rowCount());
 }
 
 // A crate spinning onto the floor (four points apart by 1 - 17 mm) under one falling 10 cm

@@ -40,11 +40,8 @@ std::string difference(const Manifold* cpu, const shared::ContactManifold& d) {
 
 class SatTwin : public test::GpuTest {
   protected:
-    gpu::PipelineHandle satPipeline(const test::StageInput& in) {
-        Result<gpu::PipelineHandle> p = test::satPipeline(context(), in);
-        EXPECT_TRUE(p.ok()) << (p.ok() ? "" : p.error().describe());
-        if (!p.ok()) std::abort();
-        return std::move(*p);
+    std::unique_ptr<test::DeviceStage> satStageOf(const test::StageInput& in) {
+        return satStage(in);
     }
 };
 
@@ -56,8 +53,8 @@ TEST_F(SatTwin, NarrowPhaseMatchesTheCpuOnRandomPairs) {
     // that each work-group goes through its block of pairs (blockFirst, blockEnd) in rounds.
     test::PairCases cases = test::makePairCases(20240611u, 9000);
     test::StageInput& in = cases.in;
-    gpu::PipelineHandle device = satPipeline(in);
-    gpu::Pipeline& p = *device;
+    std::unique_ptr<test::DeviceStage> device = satStageOf(in);
+    test::DeviceStage& p = *device;
     SatCollision cpu(ContactForm::Manifolds);
     const StepParams params = in.params();
     std::vector<BodyPair> pairs;
@@ -223,7 +220,7 @@ struct BothPairs {
     std::vector<Aabb> cpuBoxes;
 };
 
-BothPairs findBoth(gpu::Pipeline& p, SatCollision& cpu, const test::StageInput& in) {
+BothPairs findBoth(test::DeviceStage& p, SatCollision& cpu, const test::StageInput& in) {
     BothPairs r;
     const StepParams params = in.params();
     EXPECT_TRUE(p.uploadBodies(in.bodies.view()).ok());
@@ -248,7 +245,7 @@ BothPairs findBoth(gpu::Pipeline& p, SatCollision& cpu, const test::StageInput& 
 // same pairs in the same (sorted) order.
 TEST_F(SatTwin, BroadPhaseMatchesTheCpu) {
     test::StageInput in = broadPhaseScene(5, 800, true);
-    gpu::PipelineHandle device = satPipeline(in);
+    std::unique_ptr<test::DeviceStage> device = satStageOf(in);
     SatCollision cpu(ContactForm::Manifolds);
     const float dt = in.params().dt;
     std::size_t total = 0;
@@ -301,7 +298,7 @@ TEST_F(SatTwin, BroadPhaseMatchesTheCpuWhicheverAxisIsSwept) {
             shared::float4& at = in.bodies.poses[i].position;
             at = shared::vec4(at.x * stretch.x, at.y * stretch.y, at.z * stretch.z);
         }
-        gpu::PipelineHandle device = satPipeline(in);
+        std::unique_ptr<test::DeviceStage> device = satStageOf(in);
         SatCollision cpu(ContactForm::Manifolds);
         const BothPairs both = findBoth(*device, cpu, in);
         ASSERT_GT(both.cpu.size(), 100u);
@@ -318,7 +315,7 @@ TEST_F(SatTwin, BroadPhaseMatchesTheCpuWithEveryBoxInOnePlace) {
     test::StageInput in = broadPhaseScene(21, 60, false);
     for (std::uint32_t i = 2; i + 2 < in.bodies.count(); ++i)
         in.bodies.poses[i].position = shared::vec4(1.0f, 2.0f, 3.0f);
-    gpu::PipelineHandle device = satPipeline(in);
+    std::unique_ptr<test::DeviceStage> device = satStageOf(in);
     SatCollision cpu(ContactForm::Manifolds);
     const BothPairs both = findBoth(*device, cpu, in);
     ASSERT_GE(both.cpu.size(), std::size_t(60 * 59 / 2));
@@ -332,12 +329,12 @@ TEST_F(SatTwin, APairOverflowGrowsTheBuffers) {
     // Everything in one heap: most boxes overlap most others.
     for (std::uint32_t i = 2; i + 2 < in.bodies.count(); ++i)
         in.bodies.poses[i].position = shared::scale4(in.bodies.poses[i].position, 0.15f);
-    gpu::PipelineHandle device = satPipeline(in);
-    const std::uint32_t capacity = device->sat().current.capacity;
+    std::unique_ptr<test::DeviceStage> device = satStageOf(in);
+    const std::uint32_t capacity = device->pairs.current.capacity;
     SatCollision cpu(ContactForm::Manifolds);
     const BothPairs both = findBoth(*device, cpu, in);
     ASSERT_GT(both.cpu.size(), capacity);
-    EXPECT_GT(device->sat().current.capacity, capacity);
+    EXPECT_GT(device->pairs.current.capacity, capacity);
     EXPECT_EQ(both.device, both.cpu);
 }
 
@@ -350,8 +347,8 @@ TEST_F(SatTwin, ARestingStackKeepsItsFeatureIdsOnBoth) {
     Result<World> world = World::create(*scene);
     ASSERT_TRUE(world.ok());
     test::StageInput in = test::stageInput(*scene);
-    gpu::PipelineHandle device = satPipeline(in);
-    gpu::Pipeline& p = *device;
+    std::unique_ptr<test::DeviceStage> device = satStageOf(in);
+    test::DeviceStage& p = *device;
     SatCollision cpu(ContactForm::Manifolds);
     const StepParams params = in.params();
     std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> lastIds;

@@ -1,0 +1,302 @@
+// host/gpu/device_step.cpp: the device step as the list of its stages, enqueued without waiting;
+// the host meets the step once, at its end, and reads each stage's device time from the
+// profiling events. Three collision paths share the ends of the step: SAT (broad phase, narrow
+// phase, the wake, PGS), particles with PGS (particle contacts as pairs of one point, PGS), and
+// particles with the Jacobi family.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <utility>
+
+#include "host/core/assert.h"
+#include "host/core/clock.h"
+#include "host/core/limits.h"
+#include "host/gpu/integrate.h"
+#include "host/gpu/pipeline.h"
+
+namespace rubble::gpu {
+
+Status Pipeline::beginStep(const StepParams& params, const StepInputs& in) {
+    RUBBLE_ASSERT(!stepPending_);
+    StageQueue& q = *queue_;
+    Profile& profile = q.profile();
+    profile.discard();
+    profile.setStage(DeviceStage::ApplyForces);
+    // The SAT method's manifolds live per pair: its contacts never overflow.
+    RUBBLE_TRY(q.resetStatus(sat() ? 0xffffffffu : particles_.contacts().capacity));
+    if (islands_) islands_->beginStep();
+    if (obstacles_.count() > 0) RUBBLE_TRY(obstacles_.place(q, bodies_, in.obstacles));
+    for (const EventDesc& e : in.explosions) RUBBLE_TRY(applyExplosion(q, bodies_, e));
+    profile.setStage(DeviceStage::IntegrateVelocities);
+    RUBBLE_TRY(integrateVelocities(q, bodies_, params.gravity, params.dt));
+    gatherImpulses_ = in.gatherObstacleImpulses && obstacles_.count() > 0;
+    if (sat()) {
+        // SAT and PGS: the host waits once, after the summaries, to plan the solve.
+        RUBBLE_TRY(collideSat(params));
+        RUBBLE_TRY(solvePairs(params));
+    } else {
+        profile.setStage(DeviceStage::BroadPhase);
+        RUBBLE_TRY(particles_.transform(q, bodies_));
+        RUBBLE_TRY(particles_.buildGrid(q, bodies_, sort_));
+        if (particlePgs_) {
+            RUBBLE_TRY(collideParticlePairs(params));
+            RUBBLE_TRY(solvePairs(params));
+        } else {
+            RUBBLE_TRY(solveParticles(params));
+        }
+    }
+    readBack_ = in.readBack;
+    if (readBack_) {
+        RUBBLE_TRY(bodies_.enqueueRead(q, *readBack_, true));
+        RUBBLE_CL_CHECK(clFlush(q.c().queue()));
+    }
+    stepPending_ = true;
+    return {};
+}
+
+Status Pipeline::collideSat(const StepParams& params) {
+    StageQueue& q = *queue_;
+    Profile& profile = q.profile();
+    std::uint32_t woken = 0;
+    for (std::uint32_t round = 1;; ++round) {
+        profile.setStage(DeviceStage::BroadPhase);
+        RUBBLE_TRY(broadPhase_.run(q, bodies_, shapes_, pairs_, sort_, params.dt));
+        profile.setStage(DeviceStage::NarrowPhase);
+        RUBBLE_TRY(collideShapes(q, bodies_, shapes_, broadPhase_.spin(), pairs_, params.dt));
+        Result<DeviceStatus> st = wakeAndSummarize(params, round);
+        RUBBLE_TRY(st);
+        if (st->pairs > pairs_.current.capacity) {
+            // Nothing has moved (the wake only woke bodies): grow and find them again.
+            woken = st->woken;
+            RUBBLE_TRY(growPairs(*st, params));
+            continue;
+        }
+        if (islands_) {
+            // The CPU's wake: the islands a restless body touches wake, and the collision runs
+            // again for their pairs with sleeping bodies, until a round wakes none.
+            // Nothing asleep at the end of the last step (or since the host's upload): nothing
+            // wakes.
+            if (islands_->asleep() == 0) break;
+            profile.setStage(DeviceStage::Sleep);
+            RUBBLE_TRY(pgs_.readSummaries(q, pairs_));
+            pgs_.touching(touching_);
+            Result<std::uint32_t> islandsWoken = islands_->wake(q, bodies_, touching_);
+            RUBBLE_TRY(islandsWoken);
+            profile.setStage(DeviceStage::BuildContactRows);
+            if (*islandsWoken == 0) break;
+            hostWrote_ = true;
+            continue;
+        }
+        if (st->woken == woken) break;
+        // The wake reaches through the sleeping bodies that rest against the woken ones (last
+        // step's entries with impulses), a round a launch, until a round wakes none; then the
+        // collision runs again, as the woken bodies' pairs with sleeping ones were not found.
+        woken = st->woken;
+        profile.setStage(DeviceStage::Sleep);
+        for (;;) {
+            RUBBLE_TRY(wakeStillPairs(q, bodies_, pairs_, ++round));
+            Result<DeviceStatus> spread = q.readStatus();
+            RUBBLE_TRY(spread);
+            if (spread->woken == woken) break;
+            woken = spread->woken;
+        }
+    }
+    pairsFound_ = q.lastStatus().pairs;
+    RUBBLE_TRY(pgs_.plan(q, pairs_, joints_, bodies_.count));
+    return pgs_.buildRows(q, bodies_, pairs_, params);
+}
+
+Status Pipeline::growPairs(const DeviceStatus& st, const StepParams& params) {
+    // Within the step's pair budget (host/core/limits.h), as the CPU's broad phase is held to it.
+    const std::size_t budget = pairBudget(bodies_.count);
+    if (st.pairs > budget)
+        return limitError("broadPhase", "broad-phase pairs", st.pairs, budget, params.step + 1,
+                          "bodies overlap each other in large numbers");
+    const auto grown = std::uint32_t(std::min<std::size_t>(st.pairs + st.pairs / 2, budget));
+    std::fprintf(stderr,
+                 "rubble: pair overflow (%u pairs, room for %u): buffers grown to %u "
+                 "and the step's collision run again\n",
+                 st.pairs, pairs_.current.capacity, grown);
+    return pairs_.setCapacity(*queue_, grown);
+}
+
+Result<DeviceStatus> Pipeline::wakeAndSummarize(const StepParams& params, std::uint32_t round) {
+    StageQueue& q = *queue_;
+    // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
+    q.profile().setStage(DeviceStage::Sleep);
+    if (!islands_) RUBBLE_TRY(wakeTouchedPairs(q, bodies_, pairs_, joints_, round));
+    q.profile().setStage(DeviceStage::BuildContactRows);
+    RUBBLE_TRY(pgs_.summarize(q, bodies_, pairs_, joints_, params));
+    return q.readStatus();
+}
+
+Status Pipeline::collideParticlePairs(const StepParams& params) {
+    StageQueue& q = *queue_;
+    for (;;) {
+        q.profile().setStage(DeviceStage::NarrowPhase);
+        RUBBLE_TRY(particles_.collide(q));
+        RUBBLE_TRY(particles_.sortContacts(q, sort_, bodies_.count, true));
+        RUBBLE_TRY(particles_.toPairs(q, pairs_));
+        // Round 0: no wake reaches further than one contact.
+        Result<DeviceStatus> st = wakeAndSummarize(params, 0);
+        RUBBLE_TRY(st);
+        if (st->contactsFit()) break;
+        // The stages after collision saw no contacts: grow the buffers (the pairs' with them)
+        // and collide again.
+        RUBBLE_TRY(particles_.grow(q, *st, params.step + 1, "the step's collision"));
+    }
+    RUBBLE_TRY(pgs_.plan(q, pairs_, joints_, bodies_.count));
+    return pgs_.buildRows(q, bodies_, pairs_, params);
+}
+
+Status Pipeline::solvePairs(const StepParams& params) {
+    StageQueue& q = *queue_;
+    Profile& profile = q.profile();
+    const float dt = params.dt;
+    profile.setStage(DeviceStage::Solve);
+    RUBBLE_TRY(pgs_.solve(q, bodies_, pairs_, joints_, q.lastStatus(), params));
+    profile.setStage(DeviceStage::IntegratePositions);
+    // Without a bounce nothing between the two reads the velocities applyPushes derives again.
+    RUBBLE_TRY(integratePositions(q, bodies_, dt, params.symplectic(), pgs_.fusedPushes()));
+    // As PgsSolver::solvePositions: bounces from the contact, the pushes, the joints.
+    RUBBLE_TRY(pgs_.bounce(q, bodies_, params));
+    RUBBLE_TRY(pgs_.applyPushes(q, bodies_, dt));
+    RUBBLE_TRY(joints_.project(q, bodies_));
+    RUBBLE_TRY(bodies_.clearForces(q));
+    profile.setStage(DeviceStage::Sleep);
+    // Islands on the host decide once the step is met.
+    if (!islands_) RUBBLE_TRY(sleepBodies(q, bodies_, &pairs_, nullptr, joints_, dt));
+    // This step's pairs, features and impulses are the next step's. With SAT, a step that found
+    // no pairs after one that found none, with no body state from the host between, keeps last
+    // step's set as it is: it holds still pairs only, and none of them can have moved (a moving
+    // body finds the pairs of the bodies it rests against), so the carry would copy it whole.
+    const bool stillSet = sat() && pairsFound_ == 0 && keptFound_ == 0 && !hostWrote_;
+    if (!stillSet) {
+        RUBBLE_TRY(pairs_.keep(q, bodies_, sat()));
+        keptFound_ = pairsFound_;
+    }
+    hostWrote_ = false;
+    return q.enqueueStatusRead();
+}
+
+Status Pipeline::solveParticles(const StepParams& params) {
+    StageQueue& q = *queue_;
+    Profile& profile = q.profile();
+    const float dt = params.dt;
+    const SolverOptions& solver = params.solver;
+    ContactBuffers& k = particles_.contacts();
+    // lcp-jacobi sizes its dense problem on the host: it waits here for the contact count.
+    const bool dense = solver.type == SolverType::LcpJacobi;
+    profile.setStage(DeviceStage::NarrowPhase);
+    RUBBLE_TRY(particles_.collide(q));
+    if (dense) RUBBLE_TRY(particles_.readCount(q));
+    if (deterministic_) RUBBLE_TRY(particles_.sortContacts(q, sort_, bodies_.count, false));
+    // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
+    profile.setStage(DeviceStage::Sleep);
+    RUBBLE_TRY(wakeTouched(q, bodies_, k));
+    profile.setStage(DeviceStage::BuildContactRows);
+    RUBBLE_TRY(jacobi_.buildRows(q, bodies_, k, particles_.count(), params.rows, solver.warmStart));
+    profile.setStage(DeviceStage::Solve);
+    // lcp-jacobi solves the dense problem; the Jacobi stage then only applies its impulses.
+    if (dense)
+        RUBBLE_TRY(jacobi_.solveDense(q, bodies_, k, lcpStride_, solver.iterations,
+                                      params.lcpJacobiRelaxation));
+    RUBBLE_TRY(jacobi_.solve(q, bodies_, k, dense ? 0 : solver.iterations,
+                             params.jacobiRelaxation));
+    profile.setStage(DeviceStage::IntegratePositions);
+    RUBBLE_TRY(integratePositions(q, bodies_, dt, params.symplectic()));
+    RUBBLE_TRY(bodies_.clearForces(q));
+    profile.setStage(DeviceStage::Sleep);
+    RUBBLE_TRY(sleepBodies(q, bodies_, nullptr, &k, joints_, dt));
+    if (gatherImpulses_) RUBBLE_TRY(obstacles_.gather(q, k.rows, k.bodyStart, k.bodyList));
+    // This step's contacts and impulses become the next step's warm start.
+    if (solver.warmStart) RUBBLE_TRY(particles_.keepForWarmStart(q));
+    return q.enqueueStatusRead();
+}
+
+Status Pipeline::endStep(const StepParams& params, std::span<const std::string> names,
+                         StepStats& stats) {
+    RUBBLE_ASSERT(stepPending_);
+    stepPending_ = false;
+    StageQueue& q = *queue_;
+    // The step's read-back, if it asked for one (its arrays are the caller's till we return).
+    const std::optional<Bodies> readBack = std::exchange(readBack_, std::nullopt);
+    const auto waitStart = std::chrono::steady_clock::now();
+    RUBBLE_TRY(q.finish());
+    stats.deviceWaitMs = msSince(waitStart);
+    for (;;) {
+        const DeviceStatus st = q.lastStatus();
+        if (st.contactsFit()) break;
+        // The stages after collision did nothing: grow the buffer and run them again.
+        particles_.undoKeep();
+        if (Status grown = particles_.grow(q, st, params.step + 1, "the step's contact stages");
+            !grown.ok()) {
+            q.profile().discard();
+            return grown;
+        }
+        RUBBLE_TRY(solveParticles(params));
+        if (readBack) RUBBLE_TRY(bodies_.enqueueRead(q, *readBack, true));
+        RUBBLE_TRY(q.finish());
+    }
+    DeviceStatus st = q.lastStatus();
+    if (islands_) {
+        // The CPU's updateSleep on the step's velocities; the stopped bodies go to the device.
+        q.profile().setStage(DeviceStage::Sleep);
+        const auto islandsStart = std::chrono::steady_clock::now();
+        pgs_.touching(touching_);
+        Result<HostSleepCounts> r = islands_->update(q, bodies_, touching_, params.dt, readBack);
+        RUBBLE_TRY(r);
+        if (r->fellAsleep > 0 || r->woken > 0) hostWrote_ = true;
+        st.asleep = r->asleep;
+        stats.islandsMs = msSince(islandsStart);
+    }
+    if (readBack) bodies_.takeSleepFlags(*readBack);
+    TrafficCounts traffic;
+    countTraffic(params, st, traffic);
+    ContactBuffers& k = particles_.contacts();
+    k.count = st.contacts;
+    if (!pairPgs() && params.solver.warmStart) k.previousCount = st.contacts;
+    Result<DeviceTimes> times = q.profile().collect(traffic);
+    RUBBLE_TRY(times);
+    stats.deviceMs = times->busyMs;
+    stats.deviceStages = times->stages;
+    stats.deviceContactCount = st.contacts;
+    stats.deviceAsleep = st.asleep;
+    stats.asleep = st.asleep;
+    stats.largestPenetration = std::max(stats.largestPenetration, st.largestPenetration);
+    stats.solverResidual = std::max(stats.solverResidual, st.solverResidual);
+    if (st.firstNonFinite < bodies_.count)
+        return makeError(ErrorKind::Numerical, "body " + names[st.firstNonFinite],
+                         "its state is not finite after step " + std::to_string(params.step + 1) +
+                             " (t = " +
+                             std::to_string(double(params.step + 1) * double(params.dt)) + " s)");
+    return {};
+}
+
+void Pipeline::countTraffic(const StepParams& params, const DeviceStatus& st,
+                            TrafficCounts& t) const {
+    const WorkSizes& sizes = queue_->c().workSizes();
+    const ContactBuffers& k = particles_.contacts();
+    t.bodies = bodies_.count;
+    t.particles = particles_.count();
+    t.cells = std::uint64_t(1) << particles_.cellBits();
+    t.contacts = st.contacts;
+    t.previous = params.solver.warmStart ? k.previousCount : 0u;
+    t.sortItems = sizes.sortItems;
+    t.jointReal = sizes.jointRealBytes();
+    if (!pairPgs()) return;
+    t.pairs = st.pairs;
+    t.gridEntries = st.gridEntries;
+    t.largeBodies = st.largeBodies;
+    t.planes = broadPhase_.planeCount();
+    t.kept = st.kept;
+    t.carried = st.carried;
+    t.joints = joints_.count;
+    t.jointBodies = joints_.bodyCount;
+    t.directGroups = joints_.directGroupCount;
+    t.directMembers = joints_.directMemberCount;
+    t.directRows = joints_.directRowCount;
+    t.directMatrix = joints_.directMatrixCount;
+}
+
+} // namespace rubble::gpu
