@@ -2,10 +2,9 @@
 // launch. A kernel whose work-items each add to one global word (a count in the status block, a
 // largest change, the next free slot of a list) adds to a __local word instead, and one work-item
 // adds the group's total to the global word: one global atomic per group instead of one per
-// work-item. On a CPU device, work-items of groups running on two cores that update one word move
-// its cache line back and forth between the cores: `perf annotate` of debris_16k put 7 % of
-// solvePgs, 8 % of collideShapes and 81 % of gridEntries on such atomics (docs/opencl.md). Each
-// group function holds barriers: every work-item of the group calls it. The split of a launch's
+// work-item. On a CPU device, work-items on two cores that update one global word move its cache
+// line back and forth between the cores; a local word per group keeps that to one update a
+// group. Each group function holds barriers: every work-item of the group calls it. The split of a launch's
 // items (itemRangeItem) compiles on the host too, for its tests.
 #pragma once
 
