@@ -172,11 +172,10 @@ def cell(text):
 
 
 def print_markdown(header, right, body):
-    line = lambda cells: print("| " + " | ".join(cell(c) for c in cells) + " |")
-    line(header)
-    print("| " + " | ".join("---:" if r else "---" for r in right) + " |")
-    for cells in body:
-        line(cells)
+    """A Markdown table: the header, the alignment row (numbers right), the body; one write."""
+    line = lambda cells: "| " + " | ".join(cell(c) for c in cells) + " |\n"
+    text = line(header) + "| " + " | ".join("---:" if r else "---" for r in right) + " |\n"
+    sys.stdout.write(text + "".join(line(cells) for cells in body))
 
 
 def select(rows, columns, args):
