@@ -1,6 +1,8 @@
 # The docs' tables of figures are made from bench/results by a command quoted above each one,
 # `<!-- table: bench/plot.py RESULTS.csv --table ... -->`: each command is run again and its output
-# must be the table that follows it, so a doc cannot drift from its results file.
+# must be the table that follows it, so a doc cannot drift from its results file; in the reference
+# docs (opencl.md, BENCHMARKS.md) every table of figures has such a command.
+import re
 import shlex
 import subprocess
 import sys
@@ -32,6 +34,24 @@ def quoted_tables(path):
     return found
 
 
+def tables_of_figures(path):
+    """(line number, whether a table command is right above) for every Markdown table whose body
+    holds a figure (a cell that is a decimal number)."""
+    lines = path.read_text().splitlines()
+    found, i = [], 0
+    while i < len(lines):
+        if not lines[i].startswith("|"):
+            i += 1
+            continue
+        start = i
+        while i < len(lines) and lines[i].startswith("|"):
+            i += 1
+        cells = [c.strip() for row in lines[start + 2:i] for c in row.strip("|").split("|")]
+        if any(re.fullmatch(r"-?[0-9]+\.[0-9]+", c) for c in cells):
+            found.append((start + 1, start > 0 and lines[start - 1].startswith(MARK)))
+    return found
+
+
 def commands():
     docs = sorted((REPO / "docs").glob("*.md")) + [REPO / "README.md"]
     return [pytest.param(path, line, command, table, id=f"{path.name}:{line}")
@@ -41,6 +61,8 @@ def commands():
 def test_the_reference_docs_make_their_tables_from_results():
     for name in MADE_FROM_RESULTS:
         assert quoted_tables(REPO / name), f"{name} quotes no table command"
+        for line, made in tables_of_figures(REPO / name):
+            assert made, f"{name}:{line}: a table of figures without its command above it"
 
 
 @pytest.mark.parametrize("path,line,command,table", commands())
