@@ -38,7 +38,7 @@ RUBBLE_STATIC_ASSERT_SIZE(ContactRow, 128);
 // made of spheres rest on bumps a few centimetres deep, and a solve of a few sweeps does not hold
 // a deep pile exactly: asked to push every resting contact out, it turns the push into motion
 // and the pile creeps for good. Slop as the allowed penetration: Catto, "Iterative dynamics with
-// temporal coherence", 2005; docs/opencl.md, "The creep of deep piles".
+// temporal coherence", 2005; docs/opencl.md, "Particle contacts".
 #define RUBBLE_PARTICLE_SLOP_FRACTION 0.1f
 RUBBLE_FN float particleSlopItem(float slop, float particleSpacing) {
     return fmax(slop, RUBBLE_PARTICLE_SLOP_FRACTION * particleSpacing);
