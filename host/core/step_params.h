@@ -35,10 +35,9 @@ StepParams makeStepParams(const SimulationOptions& o, std::int64_t stepsTaken);
 
 /// Over-relaxation of every row update of the Jacobi solver, on top of the scene's relaxation.
 /// Mass splitting alone converges but slowly (each row moves 1/n of its way when its bodies
-/// have n rows); at 10 iterations a resting stack of five then jitters at 0.5 m/s, while 1.5
-/// leaves it at rest (1e-6 m/s) and 1.8 starts to overshoot in piles. Successive over-
-/// relaxation of a projected Jacobi sweep converges for 0 < omega < 2 on the split system
-/// (Tonge et al. 2012, section 4; measured in docs/opencl.md).
+/// have n rows): at 10 iterations a resting stack then jitters, which 1.5 brings to rest, while
+/// larger values start to overshoot in piles. Successive over-relaxation of a projected Jacobi
+/// sweep converges for 0 < omega < 2 on the split system (Tonge et al. 2012, section 4).
 inline constexpr float kJacobiOverRelaxation = 1.5f;
 
 /// The relaxation the Jacobi solver uses: the scene's times kJacobiOverRelaxation.
@@ -47,8 +46,7 @@ float jacobiRelaxation(const SolverOptions& o);
 /// Over-relaxation of lcp-jacobi on top of the scene's relaxation. D is the row sum of |A|, so
 /// D - A/2 is positive definite and any omega in (0, 2) converges (with D = diag(A) the
 /// iteration diverges on a resting stack); a larger omega converges faster on the frozen
-/// stacks of docs/solvers.md (residual after 200 sweeps 1.5e-3 m/s at 1.5, 6.9e-4 at 1.8),
-/// and 1.8 keeps a margin below 2.
+/// stacks of docs/solvers.md, and 1.8 keeps a margin below 2.
 inline constexpr float kLcpJacobiOverRelaxation = 1.8f;
 
 /// The relaxation lcp-jacobi uses: the scene's times kLcpJacobiOverRelaxation.

@@ -17,8 +17,8 @@ namespace rubble {
 /// writes them as trace events: one complete event ("ph": "X") per command on the device's
 /// queue (tid 1), and one per step on the host (tid 2) spanning World::step, placed on the
 /// device's clock through two DeviceClockSample taken before the first step and after the last.
-/// Keeps 72 bytes per command and 32 per step (a 300-step debris_16k run: about 45,000
-/// commands, 3.3 MB); the text written at the end is about 175 bytes per command.
+/// Keeps 72 bytes per command and 32 per step; the text written at the end is about 175 bytes
+/// per command.
 class TraceRecorder {
   public:
     /// Has the world keep its steps' device commands and relates the clocks before the first

@@ -48,7 +48,7 @@ enum class Coupling { OneWay, TwoWay };
 
 /// The `simulation.solver` block of a scene.
 struct SolverOptions {
-    /// When the scene does not say: pgs, except on opencl with particle contacts, where jacobi
+    /// When the scene does not say: pgs, on either backend and with either collision method
     /// (SimulationOptions::solverType; a world holds the one in effect).
     std::optional<SolverType> type;
     int iterations = 10;     ///< solver sweeps per step

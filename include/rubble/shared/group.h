@@ -2,11 +2,10 @@
 // launch. A kernel whose work-items each add to one global word (a count in the status block, a
 // largest change, the next free slot of a list) adds to a __local word instead, and one work-item
 // adds the group's total to the global word: one global atomic per group instead of one per
-// work-item. On a CPU device, work-items of groups running on two cores that update one word move
-// its cache line back and forth between the cores: `perf annotate` of debris_16k put 7 % of
-// solvePgs, 8 % of collideShapes and 81 % of gridEntries on such atomics (docs/opencl.md). Each
-// group function holds barriers: every work-item of the group calls it. The split of a launch's
-// items (itemRangeItem) compiles on the host too, for its tests.
+// work-item. On a CPU device, work-items on two cores that update one global word move its cache
+// line back and forth between the cores; a local word per group keeps that to one update a
+// group. Each group function holds barriers: every work-item of the group calls it. The split of
+// a launch's items (itemRangeItem) compiles on the host too, for its tests.
 #pragma once
 
 #include "rubble/shared/cl_compat.h"
@@ -31,7 +30,7 @@ typedef struct ItemRange {
 // Within the block, with `contiguous`, work-item k takes the k-th of `size` equal runs: on a CPU
 // device the work-items of a group run one after the other on one core, each reading its run
 // front to back, which the core's prefetcher follows (items a group-width apart are 64 records
-// apart, more than a page for the narrow phase's 96-byte caches, and each read missed the
+// apart, more than a page for the narrow phase's 96-byte caches, so each read would miss the
 // cache). Without, work-item k goes through the block from its k-th item, `size` apart: on a GPU
 // adjacent work-items read adjacent items at once.
 RUBBLE_FN ItemRange itemRangeItem(uint n, uint groups, uint size, uint group, uint item,
