@@ -23,13 +23,6 @@ std::uint64_t sweepBytes(std::uint64_t elements, std::uint64_t points, std::uint
            points * (rowBytes + 2 * sizeof(shared::float4));
 }
 
-// Reserves `bytes` of a per-step buffer with room to grow (half as much again, at least 4 KiB),
-// so that a pile that gains rows step by step reallocates now and then, not every step.
-Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes) {
-    if (b.bytes() >= bytes) return {};
-    return b.reserve(c.context(), std::max<std::size_t>(bytes + bytes / 2, 4096));
-}
-
 // The arguments summarizePairs and buildPgsRows both read, in their kernels' order: the rows'
 // settings (baumgarte, slop, dt, warm start) and last step's pairs and impulses.
 void bindRowSettings(Dispatch& d, const PairStore& pairs, const StepParams& params) {

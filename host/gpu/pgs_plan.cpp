@@ -14,13 +14,6 @@ namespace {
 // than this: a launch costs more than a hundred elements take.
 constexpr std::uint32_t kSerialElements = 128;
 
-// Reserves `bytes` of a per-step buffer with room to grow (half as much again, at least 4 KiB),
-// so that a pile that gains rows step by step reallocates now and then, not every step.
-Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes) {
-    if (b.bytes() >= bytes) return {};
-    return b.reserve(c.context(), std::max<std::size_t>(bytes + bytes / 2, 4096));
-}
-
 } // namespace
 
 Status PgsSolve::readSummaries(StageQueue& q, const PairStore& pairs) {

@@ -8,6 +8,11 @@
 
 namespace rubble::gpu {
 
+Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes) {
+    if (b.bytes() >= bytes) return {};
+    return b.reserve(c.context(), std::max<std::size_t>(bytes + bytes / 2, 4096));
+}
+
 Result<std::unique_ptr<StageQueue>> StageQueue::create(std::shared_ptr<Context> context) {
     std::unique_ptr<StageQueue> q(new StageQueue(std::move(context)));
     RUBBLE_TRY(q->status_.reserve(q->c().context(), RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
