@@ -136,7 +136,8 @@ TEST_F(DeviceCases, SatBodySleepSleepingRowTakesTheHitWithItsMomentum) {
 // With the boxes resting against each other the hit reaches through all five before the solve,
 // as the CPU wakes the island (islands on the host: the island they fell asleep as; each body by
 // itself: wakeStillPairs over last step's entries, the still pairs carried while they sleep):
-// woken one contact deep, the second box met the first as a wall and the 2 kg m/s were gone.
+// woken one contact deep, the second box would meet the first as a wall and the 2 kg m/s be
+// gone.
 TEST_F(DeviceCases, SatTouchingSleepingRowTakesTheHitWithItsMomentum) {
     World islands = deviceWorld(test::sleepingRowScene(test::kDeviceSatSimulation, 0.0));
     World bodies = bodySleepWorld(test::sleepingRowScene(test::kDeviceSatSimulation, 0.0));

@@ -198,7 +198,7 @@ inline std::string jointedRowScene(const std::string& simulation = "") {
 
 /// The striker's 2 kg m/s stays in the bodies through its hit on the sleeping row (nothing
 /// pushes sideways on a frictionless floor): within `tolerance` at every step for 3 s, and the
-/// row moves. Meeting the row as a wall, the striker stopped and the momentum was gone.
+/// row moves. Meeting the row as a wall, the striker would stop and the momentum be gone.
 inline void expectSleepingRowTakesTheHit(World& world, double tolerance) {
     ASSERT_TRUE(world.step().ok());
     for (int i = 0; i < 40; ++i) ASSERT_TRUE(world.step().ok());
