@@ -753,7 +753,8 @@ TEST_F(PgsTwin, ExplosionRunsWithEveryBodyOnTheDevice) {
         worst = std::max(worst, largestJointError(w, anchors));
         worstCpu = std::max(worstCpu, largestJointError(cpu, anchors));
     }
-    const test::FloorReach sunk = test::deepestBelowFloor(w), sunkCpu = test::deepestBelowFloor(cpu);
+    const test::FloorReach sunk = test::deepestBelowFloor(w),
+                           sunkCpu = test::deepestBelowFloor(cpu);
     std::printf("[ explosion ] %u bodies on the device, largest joint error %.3g m (CPU %.3g m), "
                 "deepest point %.4f m below the floor (CPU %.4f m)\n",
                 dynamic, worst, worstCpu, sunk.depth, sunkCpu.depth);

@@ -32,8 +32,9 @@ class JointGapProbe {
         for (const JointDesc& j : joints_) {
             const Frame a = frame(poses[j.a]), b = frame(poses[j.b]);
             const glm::dvec3 anchor(j.anchor), axis = glm::normalize(glm::dvec3(j.axis));
-            local_.push_back({glm::inverse(a.q) * (anchor - a.x), glm::inverse(b.q) * (anchor - b.x),
-                              glm::inverse(a.q) * axis, glm::inverse(b.q) * axis});
+            local_.push_back({glm::inverse(a.q) * (anchor - a.x),
+                              glm::inverse(b.q) * (anchor - b.x), glm::inverse(a.q) * axis,
+                              glm::inverse(b.q) * axis});
         }
     }
 
@@ -43,12 +44,12 @@ class JointGapProbe {
         for (std::size_t k = 0; k < joints_.size(); ++k) {
             const Frame a = frame(poses[joints_[k].a]), b = frame(poses[joints_[k].b]);
             const Local& l = local_[k];
-            gap.linear = std::max(gap.linear, glm::length((a.x + a.q * l.anchorA) -
-                                                          (b.x + b.q * l.anchorB)));
+            gap.linear = std::max(gap.linear,
+                                  glm::length((a.x + a.q * l.anchorA) - (b.x + b.q * l.anchorB)));
             if (joints_[k].type != JointType::Hinge) continue;
             const glm::dvec3 u = a.q * l.axisA, v = b.q * l.axisB;
-            gap.angular = std::max(gap.angular,
-                                   std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v)));
+            gap.angular =
+                std::max(gap.angular, std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v)));
         }
         return gap;
     }

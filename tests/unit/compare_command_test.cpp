@@ -68,8 +68,8 @@ TEST_F(CompareCommand, TwoSolversDivergeAndBothStayFinite) {
     EXPECT_GT(std::stod(rows.back()[17]), 0.0); // contacts on side b
     // Both stacks stand: the two settings through the library leave b resting on a, a on the
     // floor, at the end of the compared steps.
-    for (const auto& [solver, iterations] : {std::pair{SolverType::Pgs, 10},
-                                             std::pair{SolverType::LcpJacobi, 20}}) {
+    for (const auto& [solver, iterations] :
+         {std::pair{SolverType::Pgs, 10}, std::pair{SolverType::LcpJacobi, 20}}) {
         Result<Scene> scene = parseScene(kScene, "s.json", ".");
         ASSERT_TRUE(scene.ok()) << scene.error().describe();
         scene->simulation.solver.type = solver;
@@ -79,7 +79,8 @@ TEST_F(CompareCommand, TwoSolversDivergeAndBothStayFinite) {
         ASSERT_TRUE(test::stepWorld(*world, 60));
         const BodyState a = world->body(1), b = world->body(2);
         EXPECT_NEAR(a.position.y, 0.5f, 0.01f) << "m: a on the floor, solver " << int(solver);
-        EXPECT_NEAR(b.position.y - a.position.y, 1.0f, 0.01f) << "m: b on a, solver " << int(solver);
+        EXPECT_NEAR(b.position.y - a.position.y, 1.0f, 0.01f)
+            << "m: b on a, solver " << int(solver);
         EXPECT_LT(std::hypot(b.position.x - a.position.x, b.position.z - a.position.z), 0.4f)
             << "m: b's centre over a's top face, solver " << int(solver);
     }
