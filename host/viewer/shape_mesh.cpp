@@ -3,8 +3,6 @@
 
 #include <cmath>
 
-#include "host/geometry/shape.h"
-
 namespace rubble::viewer {
 namespace {
 
@@ -81,11 +79,7 @@ RenderMesh sphere(float radius) {
 
 RenderMesh buildRenderMesh(const ShapeGeometry& shape) {
     switch (shape.type) {
-    case ShapeType::Box: {
-        if (!shape.faces.empty()) return fromPolygons(shape.vertices, shape.faces);
-        const ConvexPolygons box = boxPolygons(shape.halfExtents);
-        return fromPolygons(box.vertices, box.faces);
-    }
+    case ShapeType::Box: // the world gives a box its hull's corners and faces, as a convex
     case ShapeType::Convex:
         return fromPolygons(shape.vertices, shape.faces);
     case ShapeType::Mesh:

@@ -95,7 +95,7 @@ TEST(Contacts, BoxAboveFrictionAngleSlidesWithCoulombAcceleration) {
     const double v1 = downhillSpeed(world, angle), t1 = world.time();
     const double a = (v1 - v0) / (t1 - t0);
     const double expected = 9.81 * (std::sin(angle) - mu * std::cos(angle));
-    // Measured: within 2e-7 of g (sin - mu cos); 0.1 % leaves room for round-off only.
+    // The closed form g (sin - mu cos); 0.1 % leaves room for round-off only.
     EXPECT_NEAR(a / expected, 1.0, 1e-3) << "a = " << a << " m/s^2, expected " << expected;
     // It slides straight down: no sideways drift, no spin.
     const BodyState b = world.body(*world.findBody("box"));
@@ -122,8 +122,8 @@ TEST(Contacts, DroppedBoxReboundsToRestitutionSquaredHeight) {
         if (bounced && b.linearVelocity.y < 0.0f) break;
     }
     ASSERT_TRUE(bounced);
-    // Measured: 0.250005 m. The approach taken after the step's gravity rose to 0.2691 m (7.6 %
-    // high), so the bound is 0.5 %.
+    // The approach taken after the step's gravity would rise several per cent high, so the
+    // bound is 0.5 %.
     EXPECT_NEAR(apex / (e * e * drop), 1.0, 5e-3) << "rebound " << apex << " m from " << drop;
     // Flat in, flat out: it does not tumble.
     EXPECT_LT(glm::length(world.body(box).angularVelocity), 0.05f);
@@ -151,10 +151,10 @@ TEST(Contacts, FrictionAndRestitutionCombinePerContact) {
         if (i == 24) v0 = world.body(block).linearVelocity.x;  // after 0.1 s of sliding
         if (i == 120) v1 = world.body(block).linearVelocity.x; // 0.4 s later
     }
-    // Measured: the block slows at 1.96203 m/s^2 against mu g = 1.96200.
+    // The block slows at mu g, mu = sqrt(0.04 * 1.0).
     EXPECT_NEAR((v0 - v1) / 0.4f, 0.2f * 9.81f, 0.005f * 0.2f * 9.81f);
-    // It hits at sqrt(2 g 1 m) = 4.43 m/s and leaves at 0.8 of that (measured 3.559 against
-    // 3.544: the step's fall reaches the floor a little faster than the closed form).
+    // It hits at sqrt(2 g 1 m) = 4.43 m/s and leaves at 0.8 of that (the step's fall reaches
+    // the floor a little faster than the closed form, hence 3 cm/s).
     EXPECT_NEAR(ballUp, 0.8f * std::sqrt(2.0f * 9.81f), 0.03f);
 }
 

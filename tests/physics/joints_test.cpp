@@ -90,10 +90,9 @@ TEST(Joints, SwingingDoorKeepsItsHinge) {
     EXPECT_LT(worst.separation, 0.005f);
     EXPECT_LT(worst.axisDegrees, 1.0f);
     // Gravity does no work about a vertical hinge and the rows' impulses act at the anchor:
-    // the door keeps its 3 rad/s. Rows asking for no speed at the anchor kept the centre moving
-    // along the last step's tangent, and the projection (velocities untouched) took
-    // f/2 (w h)^2 of the speed a step, f = m r^2 / (I + m r^2): 2.40 rad/s after 5 s. Measured
-    // now: 2.99956.
+    // the door keeps its 3 rad/s. Rows asking for no speed at the anchor would keep the centre
+    // moving along the last step's tangent, and the projection (velocities untouched) would
+    // take f/2 (w h)^2 of the speed a step, f = m r^2 / (I + m r^2): 2.40 rad/s after 5 s.
     EXPECT_NEAR(world.body(door).angularVelocity.y, 3.0f, 0.003f) << "rad/s after 5 s";
     std::printf("[ door ] %.4f rad/s after 5 s\n", double(world.body(door).angularVelocity.y));
 }
@@ -124,8 +123,8 @@ TEST(Joints, FallingFlapKeepsItsHinge) {
         if (lowest < 1.55f) back = std::max(back, y);
     }
     EXPECT_LT(lowest, 1.52f) << "the flap should swing down"; // 1.5 hanging straight
-    // Nothing takes energy from a frictionless hinge: the flap swings back up to level (measured
-    // 0.1 mm short at 60 Hz; the rows asking for no speed at the anchor left it 52.7 mm short).
+    // Nothing takes energy from a frictionless hinge: the flap swings back up to level (rows
+    // asking for no speed at the anchor would leave it centimetres short).
     EXPECT_GT(back, 2.0f - 0.001f) << "m, the flap's centre on its way back up";
     std::printf("[ flap ] back up %.1f mm short of level\n", double(2.0f - back) * 1000.0);
     EXPECT_LT(worst.separation, 0.005f);

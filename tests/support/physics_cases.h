@@ -125,9 +125,8 @@ inline Rebound dropAndRebound(World& world) {
 
 /// The rebound of a drop from h = 5.987 m rises to e^2 h (energy e^2 of the impact's, the rebound
 /// leaving from the contact) within `tolerance` m, and the ball does not sink into the floor by
-/// more than `sinking` m on the way. With the approach measured after the step's gravity and the
-/// bounce taken where the step began, e = 1 rose to 6.167 m and e = 0.5 to 1.671 m instead of
-/// 1.497 m.
+/// more than `sinking` m on the way. With the approach taken after the step's gravity and the
+/// bounce taken where the step began, the rebound would rise well above e^2 h.
 inline void expectReboundHeight(World& world, float e, float tolerance, float sinking) {
     const float h = 5.987f;
     const Rebound r = dropAndRebound(world);
@@ -199,7 +198,7 @@ inline std::string jointedRowScene(const std::string& simulation = "") {
 
 /// The striker's 2 kg m/s stays in the bodies through its hit on the sleeping row (nothing
 /// pushes sideways on a frictionless floor): within `tolerance` at every step for 3 s, and the
-/// row moves. Meeting the row as a wall, the striker stopped and the momentum was gone.
+/// row moves. Meeting the row as a wall, the striker would stop and the momentum be gone.
 inline void expectSleepingRowTakesTheHit(World& world, double tolerance) {
     ASSERT_TRUE(world.step().ok());
     for (int i = 0; i < 40; ++i) ASSERT_TRUE(world.step().ok());

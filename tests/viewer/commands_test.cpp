@@ -163,7 +163,10 @@ TEST(RenderCommand, VideoWithoutFfmpegSaysSoWithStatus2) {
 }
 
 TEST(RenderCommand, VideoThroughFfmpeg) {
-    if (viewer::findOnPath("ffmpeg").empty()) GTEST_SKIP() << "ffmpeg is not installed (optional)";
+    if (viewer::findOnPath("ffmpeg").empty()) {
+        if (test::inCi()) FAIL() << "CI is set and ffmpeg is not installed (scripts/setup.sh)";
+        GTEST_SKIP() << "ffmpeg is not installed (optional)";
+    }
     const Fixture f = makeScene("render_video");
     const test::CommandResult r =
         test::runRubble("render " + f.scene + " --out " + f.dir + "/v.mp4 --frames 10 " +

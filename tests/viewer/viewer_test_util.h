@@ -11,14 +11,9 @@
 #include <gtest/gtest.h>
 
 #include "host/viewer/image.h"
+#include "support/ci.h" // inCi: in CI a test may not skip for want of OpenGL or a display
 
 namespace rubble::test {
-
-/// True when running in CI, where a test may not skip for want of OpenGL or a display.
-inline bool inCi() {
-    const char* ci = std::getenv("CI");
-    return ci && *ci && std::string(ci) != "0" && std::string(ci) != "false";
-}
 
 /// A pixel as linear RGB in [0, 1] (the frame is written with a gamma of 2.2).
 inline glm::vec3 linearPixel(const viewer::Image& image, int x, int y) {
