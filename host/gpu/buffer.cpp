@@ -2,13 +2,15 @@
 #include "host/gpu/buffer.h"
 
 #include "host/core/assert.h"
+#include "host/gpu/memory.h"
 
 namespace rubble::gpu {
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
     if (this != &o) {
-        if (mem_) clReleaseMemObject(mem_);
+        release();
         mem_ = o.mem_;
+        context_ = o.context_;
         bytes_ = o.bytes_;
         o.mem_ = nullptr;
         o.bytes_ = 0;
@@ -16,18 +18,34 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
     return *this;
 }
 
-Buffer::~Buffer() {
-    if (mem_) clReleaseMemObject(mem_);
+Buffer::~Buffer() { release(); }
+
+void Buffer::release() {
+    if (!mem_) return;
+    clReleaseMemObject(mem_);
+    releaseBuffer(context_, bytes_);
+    mem_ = nullptr;
+    bytes_ = 0;
 }
 
 Status Buffer::reserve(cl_context context, std::size_t bytes) {
     bytes = std::max<std::size_t>(bytes, 16);
     if (mem_ && bytes_ >= bytes) return {};
-    if (mem_) clReleaseMemObject(mem_);
-    mem_ = nullptr;
-    bytes_ = 0;
+    // Checked before the old buffer goes: a buffer that does not fit leaves this one as it was.
+    RUBBLE_TRY(admitBuffer(context, bytes, mem_ ? bytes_ : 0));
+    if (mem_) {
+        clReleaseMemObject(mem_); // its bytes were taken off by admitBuffer
+        mem_ = nullptr;
+        bytes_ = 0;
+    }
     cl_int err = CL_SUCCESS;
-    RUBBLE_CL_CHECK((mem_ = clCreateBuffer(context, CL_MEM_READ_WRITE, bytes, nullptr, &err), err));
+    mem_ = clCreateBuffer(context, CL_MEM_READ_WRITE, bytes, nullptr, &err);
+    if (err != CL_SUCCESS) {
+        mem_ = nullptr;
+        releaseBuffer(context, bytes);
+        return clError("clCreateBuffer", err);
+    }
+    context_ = context;
     bytes_ = bytes;
     return {};
 }

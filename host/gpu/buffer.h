@@ -18,19 +18,26 @@ namespace rubble::gpu {
 class Buffer {
   public:
     Buffer() = default;
-    Buffer(Buffer&& o) noexcept : mem_(o.mem_), bytes_(o.bytes_) { o.mem_ = nullptr; o.bytes_ = 0; }
+    Buffer(Buffer&& o) noexcept : mem_(o.mem_), context_(o.context_), bytes_(o.bytes_) {
+        o.mem_ = nullptr;
+        o.bytes_ = 0;
+    }
     Buffer& operator=(Buffer&& o) noexcept;
     Buffer(const Buffer&) = delete;
     Buffer& operator=(const Buffer&) = delete;
     ~Buffer();
 
     /// Makes the buffer hold at least `bytes` (at least 16); a larger buffer loses its contents.
+    /// Errors: Limit when the device or the process has no room for it (host/gpu/memory.h; the
+    /// buffer then keeps what it held), Device.
     Status reserve(cl_context context, std::size_t bytes);
     cl_mem mem() const { return mem_; }
     std::size_t bytes() const { return bytes_; }
 
   private:
+    void release();
     cl_mem mem_ = nullptr;
+    cl_context context_ = nullptr; ///< whose ledger counts it
     std::size_t bytes_ = 0;
 };
 

@@ -11,6 +11,7 @@
 #include "host/gpu/cl_check.h"
 #include "host/gpu/embedded_kernels.h"
 #include "host/gpu/kernel_source.h"
+#include "host/gpu/memory.h"
 
 namespace rubble::gpu {
 
@@ -73,7 +74,10 @@ Context::~Context() {
         if (k) clReleaseKernel(k);
     if (program_) clReleaseProgram(program_);
     if (queue_) clReleaseCommandQueue(queue_);
-    if (context_) clReleaseContext(context_);
+    if (context_) {
+        untrackContext(context_);
+        clReleaseContext(context_);
+    }
 }
 
 Result<std::shared_ptr<Context>> Context::create(const RunOptions& run) {
@@ -90,6 +94,8 @@ Result<std::shared_ptr<Context>> Context::create(const RunOptions& run) {
         CL_CONTEXT_PLATFORM, reinterpret_cast<cl_context_properties>(c->device_.platformId), 0};
     RUBBLE_CL_CHECK((c->context_ = clCreateContext(props, 1, &c->device_.id, nullptr, nullptr, &err),
                      err));
+    trackContext(c->context_, MemoryLimits{c->device_.maxAllocation, c->device_.globalMemory,
+                                           c->device_.cpu});
     // Profiling is always on: every step reads its commands' device times (host/gpu/profile.h).
     RUBBLE_CL_CHECK((c->queue_ = clCreateCommandQueue(c->context_, c->device_.id,
                                                       CL_QUEUE_PROFILING_ENABLE, &err),

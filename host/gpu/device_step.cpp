@@ -15,8 +15,30 @@
 #include "host/gpu/pipeline.h"
 
 namespace rubble::gpu {
+namespace {
+
+// A buffer the device or the process had no room for (host/gpu/memory.h) names the stage that
+// asked for it.
+Status namingStage(Status s, const Profile& profile) {
+    if (s.ok() || s.error().kind != ErrorKind::Limit || s.error().where != "device memory")
+        return s;
+    Error e = s.error();
+    e.where = "device memory, stage " + std::string(stageName(profile.stage()));
+    return e;
+}
+
+} // namespace
 
 Status Pipeline::beginStep(const StepParams& params, const StepInputs& in) {
+    return namingStage(enqueueStep(params, in), queue_->profile());
+}
+
+Status Pipeline::endStep(const StepParams& params, std::span<const std::string> names,
+                         StepStats& stats) {
+    return namingStage(meetStep(params, names, stats), queue_->profile());
+}
+
+Status Pipeline::enqueueStep(const StepParams& params, const StepInputs& in) {
     RUBBLE_ASSERT(!stepPending_);
     StageQueue& q = *queue_;
     Profile& profile = q.profile();
@@ -214,8 +236,8 @@ Status Pipeline::solveParticles(const StepParams& params) {
     return q.enqueueStatusRead();
 }
 
-Status Pipeline::endStep(const StepParams& params, std::span<const std::string> names,
-                         StepStats& stats) {
+Status Pipeline::meetStep(const StepParams& params, std::span<const std::string> names,
+                          StepStats& stats) {
     RUBBLE_ASSERT(stepPending_);
     stepPending_ = false;
     StageQueue& q = *queue_;

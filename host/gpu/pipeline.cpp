@@ -23,36 +23,49 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
     Result<std::unique_ptr<StageQueue>> queue = StageQueue::create(std::move(context));
     RUBBLE_TRY(queue);
     p->queue_ = std::move(*queue);
-    StageQueue& q = *p->queue_;
-    p->method_ = in.collision;
-    p->deterministic_ = in.deterministic;
-    p->particlePgs_ = in.collision == CollisionMethod::Particles && in.particlePgs;
-    p->lcpStride_ = lcpStride(in.surfaces, bodies.masses);
-    RUBBLE_TRY(p->bodies_.create(q, bodies, in.surfaces, in.kinematic));
-    RUBBLE_TRY(p->sort_.create(q));
-    RUBBLE_TRY(p->obstacles_.create(q, p->bodies_));
-    if (p->sat()) {
-        RUBBLE_TRY(p->shapes_.create(q, in.shapes, bodies.shapeOf));
-        RUBBLE_TRY(p->broadPhase_.create(q, bodies, in.shapes, in.joined));
+    if (Status made = p->makeStages(in); !made.ok()) {
+        Error e = made.error();
+        // A buffer the device or the process had no room for (host/gpu/memory.h).
+        if (e.kind == ErrorKind::Limit && e.where == "device memory")
+            e.where = "device memory, creating the world's device buffers";
+        return e;
+    }
+    return p;
+}
+
+Status Pipeline::makeStages(const PipelineInput& in) {
+    const BodiesView bodies = in.bodies;
+    const std::size_t n = bodies.count();
+    StageQueue& q = *queue_;
+    method_ = in.collision;
+    deterministic_ = in.deterministic;
+    particlePgs_ = in.collision == CollisionMethod::Particles && in.particlePgs;
+    lcpStride_ = lcpStride(in.surfaces, bodies.masses);
+    RUBBLE_TRY(bodies_.create(q, bodies, in.surfaces, in.kinematic));
+    RUBBLE_TRY(sort_.create(q));
+    RUBBLE_TRY(obstacles_.create(q, bodies_));
+    if (sat()) {
+        RUBBLE_TRY(shapes_.create(q, in.shapes, bodies.shapeOf));
+        RUBBLE_TRY(broadPhase_.create(q, bodies, in.shapes, in.joined));
         // Pairs: a first guess of four per body.
-        RUBBLE_TRY(p->pairs_.create(q, std::max<std::uint32_t>(1024, 4 * std::uint32_t(n)), false));
-        if (in.hostSleep) p->islands_ = std::make_unique<HostIslands>(in.hostSleep);
+        RUBBLE_TRY(pairs_.create(q, std::max<std::uint32_t>(1024, 4 * std::uint32_t(n)), false));
+        if (in.hostSleep) islands_ = std::make_unique<HostIslands>(in.hostSleep);
     }
     // Particles: those of the set (none with SAT; the Jacobi stages' per-body lists are made
     // either way), and with PGS a pair of one point per contact.
-    RUBBLE_TRY(p->particles_.create(q, p->sat() ? nullptr : in.particles, bodies,
-                                    p->particlePgs_ ? &p->pairs_ : nullptr, in.contactCapacity));
-    if (p->pairPgs()) {
+    RUBBLE_TRY(particles_.create(q, sat() ? nullptr : in.particles, bodies,
+                                    particlePgs_ ? &pairs_ : nullptr, in.contactCapacity));
+    if (pairPgs()) {
         const std::uint32_t blocks = in.pgsBlocks >= 0
                                          ? std::uint32_t(in.pgsBlocks)
                                          : defaultPgsBlocks(q.c().workSizes().pgsBlocks, n);
-        RUBBLE_TRY(p->pgs_.create(q, std::uint32_t(n), blocks));
-        RUBBLE_TRY(p->joints_.create(q, in.joints, bodies, p->bodies_.kinematic));
+        RUBBLE_TRY(pgs_.create(q, std::uint32_t(n), blocks));
+        RUBBLE_TRY(joints_.create(q, in.joints, bodies, bodies_.kinematic));
     }
-    if (p->islands_) p->islands_->reset(p->bodies_);
-    p->hostWrote_ = true;
+    if (islands_) islands_->reset(bodies_);
+    hostWrote_ = true;
     RUBBLE_TRY(q.finish());
-    return p;
+    return {};
 }
 
 Status Pipeline::uploadBodies(BodiesView bodies) {

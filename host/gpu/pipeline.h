@@ -121,16 +121,20 @@ class Pipeline {
 
   private:
     Pipeline() = default;
+    /// The stages of the world's method, its bodies uploaded. Errors: those of create.
+    Status makeStages(const PipelineInput& in);
     bool sat() const { return method_ == CollisionMethod::Sat; }
     bool pairPgs() const { return sat() || particlePgs_; }
     // The device step's parts (host/gpu/device_step.cpp).
+    Status enqueueStep(const StepParams& params, const StepInputs& in);
+    Status meetStep(const StepParams& params, std::span<const std::string> names,
+                    StepStats& stats);
     Status collideSat(const StepParams& params);
     Status collideParticlePairs(const StepParams& params);
     Status solvePairs(const StepParams& params);
     Status solveParticles(const StepParams& params);
     Result<DeviceStatus> wakeAndSummarize(const StepParams& params, std::uint32_t round);
     Status growPairs(const DeviceStatus& st, const StepParams& params);
-    Status meetStep(const StepParams& params, const std::optional<Bodies>& readBack);
     void countTraffic(const StepParams& params, const DeviceStatus& st, TrafficCounts& t) const;
 
     std::unique_ptr<StageQueue> queue_;

@@ -69,6 +69,7 @@ class Profile {
 
     /// Commands recorded from now on belong to `stage`.
     void setStage(DeviceStage stage) { stage_ = stage; }
+    DeviceStage stage() const { return stage_; }
     /// The event slot of the next command, a kernel or a transfer of `bytes`.
     cl_event* kernel(KernelId id);
     cl_event* transfer(Transfer kind, std::size_t bytes);

@@ -1,0 +1,38 @@
+// host/gpu/memory.h: the device memory a context's buffers hold, checked before each buffer is
+// made against what the device and the process allow: the device's largest allocation
+// (CL_DEVICE_MAX_MEM_ALLOC_SIZE), its global memory (CL_DEVICE_GLOBAL_MEM_SIZE), and, for a
+// device whose buffers live in host memory (a CPU device), the process's address-space limit
+// (RLIMIT_AS). A buffer that would not fit is refused with ErrorKind::Limit instead of failing
+// inside the OpenCL implementation (PoCL aborts when its host allocation fails).
+#pragma once
+
+#include <CL/cl.h>
+
+#include <cstdint>
+
+#include "rubble/error.h"
+
+namespace rubble::gpu {
+
+struct MemoryLimits {
+    std::uint64_t maxAllocation = 0; ///< bytes of the largest single buffer
+    std::uint64_t globalMemory = 0;  ///< bytes of all buffers together
+    bool hostMemory = false;         ///< buffers take host memory (the process's limit holds)
+};
+
+/// Starts (and ends) the ledger of a context's buffers.
+void trackContext(cl_context context, const MemoryLimits& limits);
+void untrackContext(cl_context context);
+
+/// Whether a buffer of `bytes` may replace one of `freed` bytes in `context`, and if so counts
+/// it. Errors: Limit naming the bytes asked, the limit and what holds it. A context not tracked
+/// admits everything.
+Status admitBuffer(cl_context context, std::size_t bytes, std::size_t freed);
+/// A buffer of `bytes` released.
+void releaseBuffer(cl_context context, std::size_t bytes);
+
+/// Bytes the context's buffers hold now, and at most so far.
+std::uint64_t deviceBytesInUse(cl_context context);
+std::uint64_t deviceBytesPeak(cl_context context);
+
+} // namespace rubble::gpu
