@@ -35,6 +35,9 @@ BulletShape makeShape(const Shape& s) {
     case ShapeType::Sphere:
         b.shape = std::make_unique<btSphereShape>(s.radius);
         break;
+    case ShapeType::Capsule: // Bullet's capsule runs along its local y, as rubble's does
+        b.shape = std::make_unique<btCapsuleShape>(s.radius, 2.0f * s.halfHeight);
+        break;
     case ShapeType::Plane:
         b.shape = std::make_unique<btStaticPlaneShape>(bt(s.normal), s.offset);
         return b;

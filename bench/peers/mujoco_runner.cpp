@@ -38,6 +38,11 @@ std::string geom(const Shape& s, std::size_t shapeIndex, double mass, float fric
     switch (s.type) {
     case ShapeType::Box: g << " type=\"box\" size=\"" << vec(s.halfExtents) << "\""; break;
     case ShapeType::Sphere: g << " type=\"sphere\" size=\"" << s.radius << "\""; break;
+    case ShapeType::Capsule:
+        // MuJoCo's capsule runs along its fromto segment; rubble's along local y.
+        g << " type=\"capsule\" size=\"" << s.radius << "\" fromto=\"0 " << -s.halfHeight
+          << " 0 0 " << s.halfHeight << " 0\"";
+        break;
     case ShapeType::Convex:
     case ShapeType::Mesh: g << " type=\"mesh\" mesh=\"shape" << shapeIndex << "\""; break;
     case ShapeType::Plane: {

@@ -1,6 +1,7 @@
 // host/app/validate_command.cpp: `rubble validate SCENE`: load, build, summarise.
 #include <cstdio>
 #include <map>
+#include <string>
 
 #include "host/app/commands.h"
 #include "rubble/world.h"
@@ -15,6 +16,7 @@ const char* shapeTypeName(ShapeType t) {
     case ShapeType::Convex: return "convex";
     case ShapeType::Mesh: return "mesh";
     case ShapeType::Plane: return "plane";
+    case ShapeType::Capsule: return "capsule";
     }
     return "?";
 }
@@ -28,16 +30,20 @@ int validateCommand(const ValidateArgs& args) {
     if (!world) return report(world.error());
     reportWarnings(*world);
 
-    std::size_t statics = 0;
+    std::size_t statics = 0, kinematic = 0;
     double totalMass = 0.0;
     for (std::uint32_t i = 0; i < world->bodyCount(); ++i) {
         const BodyState b = world->body(i);
-        statics += b.isStatic ? 1 : 0;
+        statics += b.isStatic && !b.isKinematic ? 1 : 0;
+        kinematic += b.isKinematic ? 1 : 0;
         totalMass += b.mass;
     }
     std::printf("scene %s (%s): valid\n", scene->name.c_str(), args.scene.c_str());
-    std::printf("bodies: %u (%zu static, %zu dynamic), total mass %.6g kg\n", world->bodyCount(),
-                statics, world->bodyCount() - statics, totalMass);
+    const std::string kinematicText =
+        kinematic ? std::to_string(kinematic) + " kinematic, " : std::string();
+    std::printf("bodies: %u (%zu static, %s%zu dynamic), total mass %.6g kg\n",
+                world->bodyCount(), statics, kinematicText.c_str(),
+                world->bodyCount() - statics - kinematic, totalMass);
     std::printf("shapes: %zu", scene->shapes.size());
     for (std::size_t i = 0; i < scene->shapes.size(); ++i)
         std::printf("%s%s (%s)", i ? ", " : ": ", scene->shapes[i].name.c_str(),

@@ -23,6 +23,12 @@ HullData flattenHulls(std::span<const Shape> shapes) {
         } else if (s.type == ShapeType::Plane) {
             r.kind = RUBBLE_SHAPE_PLANE;
             r.plane = toFloat4(s.normal, s.offset);
+        } else if (s.type == ShapeType::Capsule) {
+            // Its bounds make the broad phase's box; its contacts are the CPU's own.
+            r.kind = RUBBLE_SHAPE_CAPSULE;
+            r.radius = s.radius;
+            r.boundsMax = toFloat4(glm::vec3(s.radius, s.halfHeight + s.radius, s.radius));
+            r.boundsMin = toFloat4(-glm::vec3(s.radius, s.halfHeight + s.radius, s.radius));
         } else {
             RUBBLE_ASSERT(collidesAsHull(s.type));
             const HalfEdgeMesh& m = s.halfEdge;

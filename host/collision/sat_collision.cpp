@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "host/collision/capsule_contact.h"
 #include "host/core/assert.h"
 #include "host/core/limits.h"
 #include "host/core/math.h"
@@ -13,6 +14,16 @@
 
 namespace rubble {
 namespace {
+
+// A body whose translation in one step is more than this many times its bounding radius
+// sweeps its broad-phase box along its motion. Slower bodies (falling, tumbling, thrown) grow
+// their boxes every way, as they did before the sweep existed, so that their pairs, contacts and
+// trajectories stay as they were.
+constexpr float kSweptReach = 8.0f;
+
+bool movesAtAll(const shared::BodyVelocity& v) {
+    return shared::dot3(v.linear, v.linear) > 0.0f || shared::dot3(v.angular, v.angular) > 0.0f;
+}
 
 // The scene's shapes flattened, and clipping buffers for their largest face.
 void flattenScene(const CollisionScene& scene, CollisionCache& c) {
@@ -36,6 +47,7 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
     c.spin.resize(n);
     c.planes.clear();
     const float dt = params.dt;
+    bool anyMovingKinematic = false;
     // The per-body math is the device's (rubble/shared/broad_phase.h, kernels/broad_phase.cl).
     for (std::uint32_t i = 0; i < n; ++i) {
         const shared::HullShape& shape = c.hulls.shapes[bodies.shapeOf[i]];
@@ -43,8 +55,13 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
             shared::transformOfPose(bodies.poses[i]);
         // The farthest any point of the body moves this step with its current velocities.
         c.spin[i] = shared::spinItem(bodies.velocities[i], shape.boundingRadius, dt);
-        const bool inactive = bodies.isStatic(i) ||
-                              (bodies.masses[i].flags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP));
+        const std::uint32_t flags = bodies.masses[i].flags;
+        // A kinematic body that moves pairs with sleeping bodies too, so that it wakes them.
+        const bool movingKinematic =
+            (flags & RUBBLE_BODY_KINEMATIC) && movesAtAll(bodies.velocities[i]);
+        const bool inactive = !movingKinematic && (bodies.isStatic(i) ||
+                                                   (flags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP)));
+        anyMovingKinematic = anyMovingKinematic || movingKinematic;
         c.flags[i] = inactive ? kBroadPhaseInactive : 0;
         if (shape.kind == RUBBLE_SHAPE_PLANE) {
             c.flags[i] |= kBroadPhaseNoBox;
@@ -54,7 +71,20 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
             c.boxes[i] = Aabb{};
             continue;
         }
-        const float reach = shared::reachItem(bodies.velocities[i], c.spin[i], dt);
+        // Continuous collision: grown by how far the body can move this step, every way; a
+        // body that moves much further than its own size in the step (kSweptReach) instead
+        // sweeps its box along its motion (grown by its turn), so that a volley of fast bodies
+        // does not pair each with every other one it could have reached sideways.
+        const glm::vec3 motion = toVec3(bodies.velocities[i].linear) * dt;
+        if (params.continuous && glm::length(motion) > kSweptReach * shape.boundingRadius) {
+            const shared::BodyBox box =
+                shared::worldBoxItem(shape, t, RUBBLE_CONTACT_MARGIN + c.spin[i]);
+            c.boxes[i] = Aabb{toVec3(box.min) + glm::min(motion, glm::vec3(0.0f)),
+                              toVec3(box.max) + glm::max(motion, glm::vec3(0.0f))};
+            continue;
+        }
+        const float reach =
+            params.continuous ? shared::reachItem(bodies.velocities[i], c.spin[i], dt) : 0.0f;
         const shared::BodyBox box = shared::worldBoxItem(shape, t, RUBBLE_CONTACT_MARGIN + reach);
         c.boxes[i] = Aabb{toVec3(box.min), toVec3(box.max)};
     }
@@ -64,6 +94,11 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
         return limitError("broadPhase", "broad-phase pairs", c.broadPhase.pairLimit + 1,
                           c.broadPhase.pairLimit, params.step + 1,
                           "bodies overlap each other in large numbers");
+    // A moving kinematic body met static and other kinematic bodies too: nothing moves them.
+    if (anyMovingKinematic)
+        std::erase_if(out.pairs, [&](const BodyPair& p) {
+            return bodies.masses[p.a].inverseMass == 0.0f && bodies.masses[p.b].inverseMass == 0.0f;
+        });
     // Bodies joined to each other do not collide: their pairs leave before the narrow phase, so
     // that no contact between them is computed, counted or drawn (the pairs keep their order).
     if (!scene.joined.empty())
@@ -74,7 +109,7 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
     return {};
 }
 
-Status SatCollision::narrowPhase(const CollisionScene&, BodiesView bodies,
+Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
                                  const StepParams& params, StepContacts& out) {
     CollisionCache& c = cache_;
     // The shapes, transforms and spins are the broad phase's of this step.
@@ -94,11 +129,21 @@ Status SatCollision::narrowPhase(const CollisionScene&, BodiesView bodies,
                                       ? c.features[cached].cache
                                       : shared::emptyPairCacheItem();
         const float margin =
-            shared::pairMarginItem(bodies.velocities[pair.a], bodies.velocities[pair.b],
-                                   c.spin[pair.a], c.spin[pair.b], params.dt);
-        const shared::ContactManifold found = shared::collideShapesClippingInItem(
-            arrays, c.hulls.shapes[bodies.shapeOf[pair.a]], c.transforms[pair.a],
-            c.hulls.shapes[bodies.shapeOf[pair.b]], c.transforms[pair.b], &cache, margin, buffers);
+            params.continuous
+                ? shared::pairMarginItem(bodies.velocities[pair.a], bodies.velocities[pair.b],
+                                         c.spin[pair.a], c.spin[pair.b], params.dt)
+                : RUBBLE_CONTACT_MARGIN;
+        const shared::HullShape& shapeA = c.hulls.shapes[bodies.shapeOf[pair.a]];
+        const shared::HullShape& shapeB = c.hulls.shapes[bodies.shapeOf[pair.b]];
+        // Capsules collide by the CPU's own closest features; the rest as the device does.
+        const shared::ContactManifold found =
+            shapeA.kind == RUBBLE_SHAPE_CAPSULE || shapeB.kind == RUBBLE_SHAPE_CAPSULE
+                ? *collideCapsulePair(scene.shapes[bodies.shapeOf[pair.a]], c.transforms[pair.a],
+                                      scene.shapes[bodies.shapeOf[pair.b]], c.transforms[pair.b],
+                                      margin)
+                : shared::collideShapesClippingInItem(arrays, shapeA, c.transforms[pair.a], shapeB,
+                                                      c.transforms[pair.b], &cache, margin,
+                                                      buffers);
         if (cache.reusable) c.nextFeatures.push_back({pair, cache});
         if (found.count == 0) continue;
         Manifold m;

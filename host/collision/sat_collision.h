@@ -43,7 +43,8 @@ class SatCollision final : public CollisionStage {
 
     /// reads: poses, velocities, masses (static and asleep flags), shapes, joined
     /// writes: pairs (sorted, a < b, no pair of two static or sleeping bodies, none of two joined
-    /// bodies). Boxes are grown by RUBBLE_CONTACT_MARGIN plus the body's reach this step,
+    /// bodies, none of two bodies of infinite mass; a moving kinematic body pairs with sleeping
+    /// ones). Boxes are grown by RUBBLE_CONTACT_MARGIN plus the body's reach this step,
     /// (|v| + |omega| r) dt, so that the narrow phase sees every pair that could touch before the
     /// next step (speculative contacts: a fast body meets what lies in its path instead of
     /// tunnelling through it).

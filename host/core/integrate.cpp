@@ -15,6 +15,11 @@ void integrateVelocities(std::span<BodyMomentum> momenta, std::span<const BodyFo
                   momenta.size() == poses.size() && momenta.size() == velocities.size() &&
                   momenta.size() == beforeForces.size());
     for (std::size_t i = 0; i < momenta.size(); ++i) {
+        // A kinematic body keeps the velocities it was given: no force moves it.
+        if (masses[i].flags & RUBBLE_BODY_KINEMATIC) {
+            beforeForces[i] = velocities[i];
+            continue;
+        }
         beforeForces[i] = beforeForcesItem(momenta[i], masses[i], velocities[i]);
         if (masses[i].flags & RUBBLE_BODY_ASLEEP) continue;
         momenta[i] = integrateMomentumItem(momenta[i], forces[i], masses[i], gravity, dt);
@@ -37,6 +42,11 @@ void integratePositions(std::span<BodyPose> poses, std::span<BodyVelocity> veloc
     RUBBLE_ASSERT(poses.size() == velocities.size() && poses.size() == momenta.size());
     RUBBLE_ASSERT(symplectic || atStart.size() == poses.size());
     for (std::size_t i = 0; i < poses.size(); ++i) {
+        // A kinematic body moves with its own velocities, which nothing changes.
+        if (masses[i].flags & RUBBLE_BODY_KINEMATIC) {
+            poses[i] = integratePositionItem(poses[i], velocities[i], dt);
+            continue;
+        }
         if (masses[i].inverseMass == 0.0f || (masses[i].flags & RUBBLE_BODY_ASLEEP)) continue;
         poses[i] = symplectic ? integratePositionSymplecticItem(poses[i], velocities[i], momenta[i],
                                                                 masses[i], dt)

@@ -10,6 +10,7 @@
 namespace rubble {
 
 /// Stage integrateVelocities: P += dt (F + m g), L += dt tau, then v = P/m, omega = I_w^-1 L.
+/// A kinematic body's velocities stay as they are (and are its `beforeForces`).
 /// Every body's velocities before the forces go to `beforeForces` (beforeForcesItem): the
 /// approach speeds of restitution, and the velocities explicit Euler moves positions with.
 /// reads: momenta, forces, masses, poses, velocities   writes: momenta, velocities, beforeForces
@@ -33,6 +34,7 @@ void absorbVelocityChange(std::span<shared::BodyMomentum> momenta,
 /// turned by the new momentum's angular velocity at the half-step orientation. Explicit Euler:
 /// x += dt v0, q += dt/2 (omega0, 0) q with the start-of-step velocities `atStart`. Quaternions are
 /// renormalised; velocities are then derived again from the momenta at the new orientation.
+/// A kinematic body moves by its velocities (explicit Euler), which stay as they are.
 /// reads: velocities (or atStart), momenta, masses   writes: poses, velocities
 void integratePositions(std::span<shared::BodyPose> poses,
                         std::span<shared::BodyVelocity> velocities,

@@ -31,6 +31,24 @@ MassProperties sphereMassProperties(float radius) {
     return mp;
 }
 
+MassProperties capsuleMassProperties(float radius, float halfHeight) {
+    const double r = radius, h = halfHeight, pi = std::numbers::pi;
+    const double cylinder = pi * r * r * 2.0 * h;
+    const double ball = 4.0 / 3.0 * pi * r * r * r; // the two hemispheres
+    MassProperties mp;
+    mp.volume = cylinder + ball;
+    const double along = cylinder * r * r / 2.0 + ball * 2.0 / 5.0 * r * r;
+    // Across: the cylinder's m (r^2/4 + L^2/12); the hemispheres' 83/320 m r^2 about their own
+    // centres of mass plus m (h + 3r/8)^2, which sums to m (2r^2/5 + h^2 + 3hr/4).
+    const double across = cylinder * (r * r / 4.0 + (2.0 * h) * (2.0 * h) / 12.0) +
+                          ball * (83.0 / 320.0 * r * r + (h + 3.0 * r / 8.0) * (h + 3.0 * r / 8.0));
+    mp.inertia = glm::dmat3(0.0);
+    mp.inertia[0][0] = across;
+    mp.inertia[1][1] = along;
+    mp.inertia[2][2] = across;
+    return mp;
+}
+
 namespace {
 
 // The per-axis sums of one triangle's coordinates w0, w1, w2 that the face integrals need.

@@ -26,6 +26,11 @@ MassProperties boxMassProperties(glm::vec3 halfExtents);
 /// A solid sphere of radius r (m), centred on the origin.
 MassProperties sphereMassProperties(float radius);
 
+/// A solid capsule centred on the origin: a cylinder of radius r and length 2 h along y, closed
+/// by two hemispheres of radius r (m). Each hemisphere's inertia about the centre is its own
+/// about its centre of mass, 83/320 m r^2 across, moved by the parallel-axis term to h + 3r/8.
+MassProperties capsuleMassProperties(float radius, float halfHeight);
+
 /// A closed triangle mesh whose triangles wind counter-clockwise seen from outside, by the
 /// polyhedral integration of Eberly ("Polyhedral Mass Properties (Revisited)", 2002), which
 /// reduces the volume integrals to sums over the triangles (divergence theorem). The volume is

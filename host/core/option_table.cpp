@@ -189,6 +189,12 @@ const std::vector<Option>& table() {
             {.key = "solver.warm_start",
              .name = "warm-start",
              .help = "Start from the last step's impulses, matched by feature id"}),
+        simulationOption<&S::continuous>(
+            {.key = "continuous",
+             .name = "continuous",
+             .uses = kEverywhere,
+             .help = "Speculative contacts widened by each pair's motion in the step, so that "
+                     "fast bodies do not tunnel (docs/collision.md)"}),
         simulationOption<&S::coupling>({.key = "coupling",
                                         .name = "coupling",
                                         .help = "Whether debris on the device pushes the bodies "

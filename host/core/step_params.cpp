@@ -18,6 +18,7 @@ StepParams makeStepParams(const SimulationOptions& o, std::int64_t stepsTaken) {
     p.integrator = o.integrator;
     p.collision = o.collisionMethod();
     p.particleSpacing = o.collision.particleSpacing;
+    p.continuous = o.continuous;
     p.solver = o.solver;
     p.rows = solverParams(o);
     p.jacobiRelaxation = jacobiRelaxation(o.solver);

@@ -22,6 +22,7 @@ struct StepParams {
     Integrator integrator = Integrator::Symplectic;
     CollisionMethod collision = CollisionMethod::Sat;
     float particleSpacing = 0.1f;     ///< m
+    bool continuous = true;           ///< contact margins widened by the motion (SatCollision)
     SolverOptions solver;             ///< the scene's solver block as given
     shared::SolverParams rows{};      ///< the contact rows of the jacobi family (solverParams)
     float jacobiRelaxation = 1.0f;    ///< jacobiRelaxation(solver)

@@ -12,6 +12,20 @@
 namespace rubble {
 namespace {
 
+// The arms of side `side` (0: a, 1: b) of a contact's rows for a body of infinite mass that
+// turns: the shared rows leave them zero for a body that does not move (static, asleep), whose
+// angular velocity is zero; a kinematic body's is not. Rows of bodies that do not turn are left
+// as they are, bit for bit.
+void turningWall(NormalRow& nr, FrictionRows& fr, int side, const SolverVelocity& v, glm::vec3 arm,
+                 float inverseMass) {
+    if (inverseMass > 0.0f || (v.angular[0] == 0.0f && v.angular[1] == 0.0f && v.angular[2] == 0.0f))
+        return;
+    Lanes& normal = side == 0 ? nr.crossA : nr.crossB;
+    normal = toLanes(glm::cross(arm, fromLanes(nr.normal)));
+    for (int d = 0; d < 2; ++d)
+        (side == 0 ? fr.crossA[d] : fr.crossB[d]) = toLanes(glm::cross(arm, fromLanes(fr.tangent[d])));
+}
+
 // Last step's impulses are sorted by pair (storeContactImpulses).
 bool pairLess(const ContactImpulse& x, const ContactImpulse& y) {
     return x.a != y.a ? x.a < y.a : x.b < y.b;
@@ -195,6 +209,11 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                 fr.mass[d] = d == 0 ? rf.mass.x : rf.mass.y;
             }
             rows.frictions.push_back(fr);
+            // A body that does not move but turns (a kinematic one) carries the contact point
+            // round with it: its arm enters J v, while no impulse turns it (its turn stays 0).
+            turningWall(rows.normals.back(), rows.frictions.back(), 0, bodyA, ra, ima);
+            turningWall(rows.normals.back(), rows.frictions.back(), 1, bodyB,
+                        p.position - toVec3(positionB), imb);
 
             ContactKey key;
             key.a = m.a;

@@ -36,6 +36,11 @@ bool isAsleep(const shared::BodyMass& m) {
     return (m.flags & RUBBLE_BODY_ASLEEP) != 0;
 }
 
+// A kinematic body that moves at all: it never sleeps, and wakes and keeps awake what it touches.
+bool movingKinematic(const shared::BodyMass& m, const shared::BodyVelocity& v) {
+    return (m.flags & RUBBLE_BODY_KINEMATIC) && fastestPoint(v, 1.0f) > 0.0f;
+}
+
 // The body pairs of the manifolds with points, into st.touching.
 std::span<const BodyPair> touchingPairs(std::span<const Manifold> manifolds, SleepState& st) {
     st.touching.clear();
@@ -74,6 +79,11 @@ std::uint32_t wakeIslands(std::span<const BodyPair> touching, std::span<const Bo
     st.restless.assign(n, 0);
     bool any = false;
     for (std::uint32_t i = 0; i < n; ++i) {
+        if (movingKinematic(masses[i], approach[i])) {
+            st.restless[i] = 1;
+            any = true;
+            continue;
+        }
         if (!isDynamic(masses[i]) || isAsleep(masses[i])) continue;
         st.restless[i] = st.wasAsleep[i] != 0 || fastestPoint(approach[i], radii[i]) >= kSleepSpeed;
         any = any || st.restless[i];
@@ -89,8 +99,10 @@ std::uint32_t wakeIslands(std::span<const BodyPair> touching, std::span<const Bo
         else
             st.wakeGroup[st.group[i]] = 1;
     };
+    // Dynamic bodies and moving kinematic ones (restless, never asleep) wake what they touch.
+    auto takesPart = [&](std::uint32_t i) { return isDynamic(masses[i]) || st.restless[i]; };
     auto touch = [&](std::uint32_t a, std::uint32_t b) {
-        if (!isDynamic(masses[a]) || !isDynamic(masses[b])) return;
+        if (!takesPart(a) || !takesPart(b)) return;
         if (st.restless[a] && isAsleep(masses[b])) mark(b);
         if (st.restless[b] && isAsleep(masses[a])) mark(a);
     };
@@ -129,6 +141,14 @@ SleepReport updateSleep(std::span<const BodyPair> touching, std::span<const Body
         st.slowFor[i] = slow ? st.slowFor[i] + dt : 0.0f;
         st.restless[i] = !slow || wokenFromOutside ? 1 : 0;
     }
+    // A body that a moving kinematic body touches is carried or pushed: restless, never slow.
+    for (const BodyPair& t : touching)
+        for (const auto& [k, d] : {std::pair{t.a, t.b}, std::pair{t.b, t.a}})
+            if (isDynamic(masses[d]) && !isAsleep(masses[d]) &&
+                movingKinematic(masses[k], velocities[k])) {
+                st.restless[d] = 1;
+                st.slowFor[d] = 0.0f;
+            }
 
     // Islands over dynamic bodies: contacts, joints, and the groups that sleep together.
     st.islands.reset(n);

@@ -66,6 +66,12 @@ Result<Shape> buildShape(const ShapeDesc& d) {
         s.normal = d.normal;
         s.offset = d.offset;
         return s;
+    case ShapeType::Capsule:
+        s.radius = d.radius;
+        s.halfHeight = d.halfHeight;
+        s.unitMass = capsuleMassProperties(d.radius, d.halfHeight);
+        s.boundingRadius = d.halfHeight + d.radius;
+        return s;
     case ShapeType::Convex:
     case ShapeType::Mesh:
         break;
@@ -115,6 +121,7 @@ ShapeGeometry geometryOf(const Shape& shape) {
     g.type = shape.type;
     g.halfExtents = shape.halfExtents;
     g.radius = shape.radius;
+    g.halfHeight = shape.halfHeight;
     g.normal = shape.normal;
     g.offset = shape.offset;
     g.boundingRadius = shape.boundingRadius;

@@ -24,7 +24,8 @@ struct Shape {
     std::string name;
     ShapeType type = ShapeType::Box;
     glm::vec3 halfExtents{0.0f};  ///< box, m
-    float radius = 0.0f;          ///< sphere, m
+    float radius = 0.0f;          ///< sphere and capsule, m
+    float halfHeight = 0.0f;      ///< capsule: the segment from (0, -h, 0) to (0, h, 0), m
     glm::vec3 normal{0.0f, 1.0f, 0.0f}; ///< plane, unit, out of the solid
     float offset = 0.0f;          ///< plane, m
     ConvexPolygons hull;          ///< box, convex, mesh

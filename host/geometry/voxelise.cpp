@@ -46,8 +46,9 @@ bool insideTriangles(glm::vec3 point, const std::vector<glm::vec3>& vertices,
 VoxelCost voxelCost(const Shape& shape, float spacing) {
     if (shape.type == ShapeType::Plane) return {};
     glm::dvec3 extent(2.0 * double(shape.radius));
+    if (shape.type == ShapeType::Capsule) extent.y += 2.0 * double(shape.halfHeight);
     double triangles = 0;
-    if (shape.type != ShapeType::Sphere) {
+    if (shape.type != ShapeType::Sphere && shape.type != ShapeType::Capsule) {
         const bool ownMesh = shape.type == ShapeType::Mesh && !shape.mesh.triangles.empty();
         const std::vector<glm::vec3>& vertices = ownMesh ? shape.mesh.vertices : shape.hull.vertices;
         glm::dvec3 lo(vertices.front()), hi(vertices.front());
@@ -75,9 +76,9 @@ std::vector<glm::vec3> voxeliseShape(const Shape& shape, float spacing, bool sur
     std::vector<glm::vec3> vertices;
     std::vector<glm::uvec3> triangles;
     glm::vec3 lo(0.0f), hi(0.0f);
-    if (shape.type == ShapeType::Sphere) {
-        lo = glm::vec3(-shape.radius);
-        hi = glm::vec3(shape.radius);
+    if (shape.type == ShapeType::Sphere || shape.type == ShapeType::Capsule) {
+        hi = glm::vec3(shape.radius, shape.radius + shape.halfHeight, shape.radius);
+        lo = -hi;
     } else {
         const bool ownMesh = shape.type == ShapeType::Mesh && !shape.mesh.triangles.empty();
         vertices = ownMesh ? shape.mesh.vertices : shape.hull.vertices;
@@ -95,6 +96,11 @@ std::vector<glm::vec3> voxeliseShape(const Shape& shape, float spacing, bool sur
     };
     auto inside = [&](glm::vec3 p) {
         if (shape.type == ShapeType::Sphere) return glm::length(p) <= shape.radius;
+        if (shape.type == ShapeType::Capsule) {
+            // Within the radius of the segment from -y to +y.
+            const float y = std::clamp(p.y, -shape.halfHeight, shape.halfHeight);
+            return glm::length(p - glm::vec3(0.0f, y, 0.0f)) <= shape.radius;
+        }
         return insideTriangles(p, vertices, triangles);
     };
     // Inside flags with a one-cell border of outside around the grid.

@@ -14,6 +14,11 @@ double lowestDistance(const ShapeGeometry& s, const TrajectoryRow& r, glm::dvec3
         return glm::dot(n, centre) - offset - s.radius;
     case ShapeType::Plane:
         return 0.0;
+    case ShapeType::Capsule: {
+        // The lower end of the segment, less the radius.
+        const glm::dvec3 axis = glm::dquat(r.orientation) * glm::dvec3(0.0, s.halfHeight, 0.0);
+        return glm::dot(n, centre) - std::abs(glm::dot(n, axis)) - offset - s.radius;
+    }
     default: {
         double lowest = 1e300;
         const glm::dquat q(r.orientation);

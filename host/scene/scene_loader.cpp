@@ -133,6 +133,16 @@ class SceneLoader {
                 RUBBLE_TRY(s.checkKeys({"type", "radius"}));
                 RUBBLE_TRY(s.require("radius"));
                 RUBBLE_TRY(s.read("radius", d.radius, Range::Length));
+            } else if (type == "capsule") {
+                d.type = ShapeType::Capsule;
+                RUBBLE_TRY(s.checkKeys({"type", "radius", "half_height"}));
+                RUBBLE_TRY(s.require("radius"));
+                RUBBLE_TRY(s.require("half_height"));
+                RUBBLE_TRY(s.read("radius", d.radius, Range::Length));
+                RUBBLE_TRY(s.read("half_height", d.halfHeight, Range::NonNegative));
+                if (d.halfHeight > float(kMaxLength))
+                    return s.fail("half_height", "must be at most " + lengthText(kMaxLength) +
+                                                     " m, got " + std::to_string(d.halfHeight));
             } else if (type == "convex") {
                 d.type = ShapeType::Convex;
                 RUBBLE_TRY(s.checkKeys({"type", "vertices"}));
@@ -157,7 +167,7 @@ class SceneLoader {
                 RUBBLE_TRY(s.read("offset", d.offset));
             } else {
                 return s.fail("type", "unknown shape type \"" + type +
-                                          "\" (expected box, sphere, convex, mesh or plane)");
+                                          "\" (expected box, sphere, capsule, convex, mesh or plane)");
             }
             shapeIndex_[name] = std::uint32_t(scene_.shapes.size());
             scene_.shapes.push_back(std::move(d));
@@ -238,6 +248,17 @@ class SceneLoader {
             b.density = d;
         }
         const ShapeDesc& shape = scene_.shapes[b.shape];
+        if (b.isKinematic) {
+            if (b.isStatic)
+                return r.fail("kinematic", "a body is static or kinematic, not both");
+            if (b.mass || b.density)
+                return r.fail(b.mass ? "mass" : "density",
+                              "a kinematic body has infinite mass (its velocities move it); "
+                              "remove mass and density");
+            if (shape.type == ShapeType::Plane)
+                return r.fail("shape", "plane shapes are for static bodies only");
+            return {};
+        }
         if (b.isStatic) {
             if (b.mass || b.density)
                 return r.fail(b.mass ? "mass" : "density",
@@ -269,15 +290,16 @@ class SceneLoader {
         for (std::size_t i = 0; i < list.size(); ++i) {
             ObjectReader r(list[i], "bodies[" + std::to_string(i) + "]", file_);
             RUBBLE_TRY(r.checkIsObject());
-            RUBBLE_TRY(r.checkKeys({"name", "shape", "static", "mass", "density", "position",
-                                    "orientation", "linear_velocity", "angular_velocity",
-                                    "material", "debris"}));
+            RUBBLE_TRY(r.checkKeys({"name", "shape", "static", "kinematic", "mass", "density",
+                                    "position", "orientation", "linear_velocity",
+                                    "angular_velocity", "material", "debris"}));
             BodyDesc b;
             b.where = r.where();
             RUBBLE_TRY(r.require("name"));
             RUBBLE_TRY(r.read("name", b.name));
             RUBBLE_TRY(lookupShape(r, b.shape));
             RUBBLE_TRY(lookupMaterial(r, b.material));
+            RUBBLE_TRY(r.read("kinematic", b.isKinematic));
             RUBBLE_TRY(readMassFields(r, b));
             RUBBLE_TRY(r.read("position", b.position));
             RUBBLE_TRY(r.readQuaternion("orientation", b.orientation));

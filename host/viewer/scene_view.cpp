@@ -196,6 +196,10 @@ void SceneView::addAabbs(std::span<const BodyPose> poses, DrawList& out) const {
         Bounds box;
         if (shape.type == ShapeType::Sphere) {
             box.addSphere(p, shape.radius);
+        } else if (shape.type == ShapeType::Capsule) {
+            const glm::vec3 axis = orientation(poses[i]) * glm::vec3(0.0f, shape.halfHeight, 0.0f);
+            box.addSphere(p + axis, shape.radius);
+            box.addSphere(p - axis, shape.radius);
         } else {
             const glm::mat3 r = glm::mat3_cast(orientation(poses[i]));
             for (const glm::vec3& v : shape.vertices) box.add(p + r * v);

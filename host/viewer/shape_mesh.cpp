@@ -54,20 +54,26 @@ RenderMesh fromTriangles(const std::vector<glm::vec3>& vertices,
     return m;
 }
 
-RenderMesh sphere(float radius) {
+// A sphere, or with halfHeight > 0 a capsule: the sphere's upper half raised by halfHeight, its
+// lower half lowered, and the equator drawn twice so that a band of cylinder joins them.
+RenderMesh sphere(float radius, float halfHeight = 0.0f) {
     RenderMesh m;
     const float pi = 3.14159265358979f;
-    for (int i = 0; i <= kSphereStacks; ++i) {
+    const int equator = kSphereStacks / 2;
+    const int rings = halfHeight > 0.0f ? kSphereStacks + 1 : kSphereStacks;
+    for (int k = 0; k <= rings; ++k) {
+        const int i = halfHeight > 0.0f && k > equator ? k - 1 : k;
+        const glm::vec3 shift(0.0f, k <= equator ? halfHeight : -halfHeight, 0.0f);
         const float theta = pi * float(i) / kSphereStacks; // from +y down
         for (int j = 0; j <= kSphereSlices; ++j) {
             const float phi = 2.0f * pi * float(j) / kSphereSlices;
             const glm::vec3 n(std::sin(theta) * std::sin(phi), std::cos(theta),
                               std::sin(theta) * std::cos(phi));
-            m.vertices.push_back({radius * n, n});
+            m.vertices.push_back({radius * n + shift, n});
         }
     }
     const std::uint32_t row = kSphereSlices + 1;
-    for (std::uint32_t i = 0; i < kSphereStacks; ++i)
+    for (std::uint32_t i = 0; i < std::uint32_t(rings); ++i)
         for (std::uint32_t j = 0; j < kSphereSlices; ++j) {
             const std::uint32_t a = i * row + j, b = a + row;
             m.indices.insert(m.indices.end(), {a, b, a + 1, a + 1, b, b + 1});
@@ -87,6 +93,8 @@ RenderMesh buildRenderMesh(const ShapeGeometry& shape) {
                                            : fromTriangles(shape.meshVertices, shape.meshTriangles);
     case ShapeType::Sphere:
         return sphere(shape.radius);
+    case ShapeType::Capsule:
+        return sphere(shape.radius, shape.halfHeight);
     case ShapeType::Plane:
         return {};
     }

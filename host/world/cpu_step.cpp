@@ -97,6 +97,9 @@ Status stepCpu(WorldState& s, StepStats& stats) {
         StageTimer t(stats.integratePositionsMs);
         integratePositions(bodies.poses, bodies.velocities, s.velocitiesAtStart, bodies.momenta,
                            bodies.masses, p.dt, p.symplectic());
+        // Kinematic bodies given a target end the step on it (their velocities led there).
+        for (const auto& [body, pose] : s.kinematicTargets) bodies.poses[body] = pose;
+        s.kinematicTargets.clear();
     }
     RUBBLE_TRY(checkStop(s));
     {

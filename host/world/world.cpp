@@ -104,6 +104,7 @@ BodyState World::body(std::uint32_t i) const {
     b.mass = s.bodies.masses[i].mass;
     b.inertia = toMat3(s.bodies.masses[i].inertiaBody);
     b.isStatic = s.isStatic(i);
+    b.isKinematic = (s.bodies.masses[i].flags & RUBBLE_BODY_KINEMATIC) != 0;
     b.asleep = (s.bodies.masses[i].flags & RUBBLE_BODY_ASLEEP) != 0;
     return b;
 }

@@ -35,9 +35,68 @@ Status checkLemkeFrictionless(const Scene& scene) {
                          " (set it to 0, or use lcp-jacobi, which bounds friction)");
 }
 
+// Kinematic bodies move on the CPU's SAT pipeline with PGS only: the device takes kinematic
+// bodies from an offloaded world's CPU half alone (its obstacles), the particle path places the
+// particles of a body that does not integrate once, at load, and only PGS's rows give a turning
+// body of infinite mass its arms (host/dynamics/contact_rows.cpp).
+Status checkKinematic(const Scene& scene) {
+    for (const BodyDesc& b : scene.bodies) {
+        if (!b.isKinematic) continue;
+        if (scene.simulation.backend == Backend::OpenCl)
+            return makeError(ErrorKind::NotSupported, b.where + ".kinematic",
+                             "kinematic body \"" + b.name +
+                                 "\": the opencl backend does not step kinematic bodies yet; "
+                                 "run it on the cpu backend (--backend cpu)");
+        if (scene.simulation.collisionMethod() == CollisionMethod::Particles)
+            return makeError(ErrorKind::NotSupported, b.where + ".kinematic",
+                             "kinematic body \"" + b.name +
+                                 "\": particle collision places the particles of bodies "
+                                 "that do not integrate once; collide with sat (--collision sat)");
+        if (scene.simulation.solverType() != SolverType::Pgs)
+            return makeError(ErrorKind::NotSupported, b.where + ".kinematic",
+                             "kinematic body \"" + b.name + "\": the " +
+                                 std::string(toString(scene.simulation.solverType())) +
+                                 " solver's rows do not see a turning wall; solve with pgs "
+                                 "(--solver pgs)");
+    }
+    return {};
+}
+
+// Capsules collide on the CPU only (SAT, or particles from the voxeliser): the device's narrow
+// phase has no capsule pairs.
+Status checkCapsules(const Scene& scene) {
+    const bool device = scene.simulation.backend == Backend::OpenCl;
+    if (!device) return {};
+    for (const BodyDesc& b : scene.bodies) {
+        const ShapeDesc& shape = scene.shapes[b.shape];
+        if (shape.type != ShapeType::Capsule) continue;
+        return makeError(ErrorKind::NotSupported, b.where + ".shape",
+                         "body \"" + b.name + "\" is a capsule (shape \"" + shape.name + "\"): " +
+                             "the opencl backend does not collide capsules yet; run it on the "
+                             "cpu backend (--backend cpu)");
+    }
+    return {};
+}
+
+// Turning continuous collision off is the CPU's SAT path's choice: the device's SAT always widens
+// its margins, and particles have none to widen.
+Status checkContinuous(const Scene& scene) {
+    const SimulationOptions& sim = scene.simulation;
+    if (sim.continuous) return {};
+    if (sim.backend == Backend::OpenCl || sim.collisionMethod() == CollisionMethod::Particles)
+        return makeError(ErrorKind::NotSupported, scene.file + ": simulation.continuous",
+                         "continuous collision can be turned off on the cpu backend with sat "
+                         "collision only (the device's sat always widens its contact margins; "
+                         "particles have none to widen)");
+    return {};
+}
+
 // Refuses options and scene parts that the pipeline cannot run, naming the field.
 Status checkSupported(const Scene& scene) {
     RUBBLE_TRY(checkBackendCombination(scene));
+    RUBBLE_TRY(checkKinematic(scene));
+    RUBBLE_TRY(checkCapsules(scene));
+    RUBBLE_TRY(checkContinuous(scene));
     RUBBLE_TRY(checkLemkeFrictionless(scene));
     return {};
 }
@@ -46,6 +105,11 @@ BodyMass makeMass(const BodyDesc& b, const Shape& shape) {
     BodyMass m{};
     if (b.isStatic) {
         m.flags = RUBBLE_BODY_STATIC;
+        return m;
+    }
+    // Infinite mass, as a static body; its velocities are its own (integratePositions).
+    if (b.isKinematic) {
+        m.flags = RUBBLE_BODY_KINEMATIC;
         return m;
     }
     const double volume = shape.unitMass.volume;
@@ -114,7 +178,10 @@ void appendBodyArrays(BodyArrays& a, const BodyDesc& b, const Shape& shape) {
     a.poses.push_back(pose);
     a.masses.push_back(mass);
     a.momenta.push_back(momentum);
-    a.velocities.push_back(shared::velocityFromMomentumItem(momentum, mass, pose.orientation));
+    // A kinematic body has no momenta: its velocities are the state.
+    a.velocities.push_back(
+        b.isKinematic ? BodyVelocity{toFloat4(b.linearVelocity), toFloat4(b.angularVelocity)}
+                      : shared::velocityFromMomentumItem(momentum, mass, pose.orientation));
     a.forces.push_back(BodyForce{});
     a.shapeOf.push_back(b.shape);
     a.materialOf.push_back(b.material);
@@ -153,7 +220,7 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     s->bodies.masses.reserve(n);
     for (const BodyDesc& b : scene.bodies) {
         appendBody(*s, b);
-        if (!b.isStatic)
+        if (!b.isStatic && !b.isKinematic)
             RUBBLE_TRY(checkMassRange(s->bodies.masses.back(), b.where,
                                       b.mass ? "mass" : "density"));
     }

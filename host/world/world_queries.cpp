@@ -96,10 +96,17 @@ Status World::setVelocity(std::uint32_t i, glm::vec3 linear, glm::vec3 angular) 
     if (i >= s.bodyCount())
         return makeError(ErrorKind::BadInput, where,
                          "past the last body (" + std::to_string(s.bodyCount()) + ")");
-    if (s.isStatic(i))
+    const bool kinematic = (s.bodies.masses[i].flags & RUBBLE_BODY_KINEMATIC) != 0;
+    if (s.isStatic(i) && !kinematic)
         return makeError(ErrorKind::BadInput, where, s.names[i] + " is static");
     if (!isFinite(linear) || !isFinite(angular))
         return makeError(ErrorKind::BadInput, where, "the velocity must be finite");
+    if (kinematic) {
+        // Only the cpu backend has kinematic bodies (World::create refuses them elsewhere).
+        s.blowUp.rebase = true;
+        s.bodies.velocities[i] = BodyVelocity{toFloat4(linear), toFloat4(angular)};
+        return {};
+    }
     s.blowUp.rebase = true; // the host sets the energy: the blow-up watch starts again
     // A CPU body of an offloaded scene lives in the CPU world.
     if (s.offload && s.offload->worldToCpu.at(i) != kNotOnCpu) {
@@ -115,6 +122,38 @@ Status World::setVelocity(std::uint32_t i, glm::vec3 linear, glm::vec3 angular) 
     s.bodies.velocities[i] =
         shared::velocityFromMomentumItem(s.bodies.momenta[i], m, pose.orientation);
     s.bodies.masses[i].flags &= ~RUBBLE_BODY_ASLEEP;
+    return {};
+}
+
+Status World::setKinematicTarget(std::uint32_t i, glm::vec3 position, glm::quat orientation) {
+    WorldState& s = *s_;
+    const std::string where = "setKinematicTarget: body " + std::to_string(i);
+    if (i >= s.bodyCount())
+        return makeError(ErrorKind::BadInput, where,
+                         "past the last body (" + std::to_string(s.bodyCount()) + ")");
+    if (!(s.bodies.masses[i].flags & RUBBLE_BODY_KINEMATIC))
+        return makeError(ErrorKind::BadInput, where, s.names[i] + " is not kinematic");
+    const float length = glm::length(orientation);
+    if (!isFinite(position) || !std::isfinite(length) || !(length > 1e-6f))
+        return makeError(ErrorKind::BadInput, where,
+                         "the position must be finite and the orientation a finite, non-zero "
+                         "quaternion");
+    s.blowUp.rebase = true;
+    const float dt = s.options.dt;
+    const BodyPose& pose = s.bodies.poses[i];
+    const glm::quat from = toQuat(pose.orientation);
+    glm::quat to = orientation / length;
+    // The shorter way round: q and -q are one orientation.
+    if (glm::dot(from, to) < 0.0f) to = -to;
+    // The turn from `from` to `to` as a rotation vector, in the world frame.
+    const glm::quat turn = to * glm::conjugate(from);
+    const glm::vec3 axis(turn.x, turn.y, turn.z);
+    const float sine = glm::length(axis);
+    const glm::vec3 rotation =
+        sine > 0.0f ? axis * (2.0f * std::atan2(sine, turn.w) / sine) : glm::vec3(0.0f);
+    s.bodies.velocities[i] =
+        BodyVelocity{toFloat4((position - toVec3(pose.position)) / dt), toFloat4(rotation / dt)};
+    s.kinematicTargets.push_back({i, BodyPose{toFloat4(position), toFloat4(to)}});
     return {};
 }
 

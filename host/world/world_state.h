@@ -54,6 +54,8 @@ struct WorldState {
 
     std::int64_t step = 0;
     StepStats stats;
+    /// Poses that kinematic bodies reach at the end of the next step (World::setKinematicTarget).
+    std::vector<std::pair<std::uint32_t, BodyPose>> kinematicTargets;
 
     // The CPU pipeline: its stages, chosen when the world is built, and this step's contacts.
     std::unique_ptr<CollisionStage> collision;

@@ -76,6 +76,10 @@ struct SimulationOptions {
     CollisionOptions collision;
     SolverOptions solver;
     Coupling coupling = Coupling::OneWay;
+    /// Continuous collision: each pair's contact margin grows by how much closer its bodies can
+    /// come in the step (speculative contacts), so that fast bodies do not pass through thin
+    /// ones. Off, the margin is the fixed RUBBLE_CONTACT_MARGIN (the CPU's SAT path only).
+    bool continuous = true;
 
     /// The collision method in effect: the scene's, else the backend's default (sat on cpu,
     /// particles on opencl; SAT and PGS on the device are asked for by naming sat).

@@ -30,7 +30,7 @@ struct MaterialDesc {
 inline constexpr double kMinLength = 1e-4;
 inline constexpr double kMaxLength = 1e5;
 
-enum class ShapeType { Box, Sphere, Convex, Mesh, Plane };
+enum class ShapeType { Box, Sphere, Convex, Mesh, Plane, Capsule };
 
 /// A named shape as the file gives it. Vertices are still in the file's frame: the centre of
 /// mass is moved to the origin when the world is built.
@@ -39,7 +39,8 @@ struct ShapeDesc {
     ShapeType type = ShapeType::Box;
     std::string where;               ///< `file: shapes.<name>`, for errors
     glm::vec3 halfExtents{0.5f};     ///< box, m
-    float radius = 0.5f;             ///< sphere, m
+    float radius = 0.5f;             ///< sphere and capsule, m
+    float halfHeight = 0.5f;         ///< capsule: half the length of its segment (local y), m
     std::vector<glm::vec3> points;   ///< convex: its vertices; mesh: the OBJ's vertices, scaled, m
     std::vector<glm::uvec3> triangles; ///< mesh: the OBJ's faces as triangles
     std::string file;                ///< mesh: the OBJ path as resolved against the scene's folder
@@ -55,6 +56,9 @@ struct BodyDesc {
     std::uint32_t shape = 0;           ///< index into Scene::shapes
     std::uint32_t material = 0;        ///< index into Scene::materials
     bool isStatic = false;
+    /// Moved by its velocities (or a target pose from the host), never by forces or contacts:
+    /// infinite mass, no mass or density.
+    bool isKinematic = false;
     bool debris = false;
     std::optional<float> mass;         ///< kg
     std::optional<float> density;      ///< kg/m^3

@@ -17,7 +17,8 @@ struct ShapeGeometry {
     std::string name;
     ShapeType type = ShapeType::Box;
     glm::vec3 halfExtents{0.0f};        ///< box
-    float radius = 0.0f;                ///< sphere
+    float radius = 0.0f;                ///< sphere, capsule
+    float halfHeight = 0.0f;            ///< capsule: its segment runs from -y to +y this far
     glm::vec3 normal{0.0f, 1.0f, 0.0f}; ///< plane: unit, out of the solid
     float offset = 0.0f;                ///< plane: dot(normal, x) = offset on its surface
     float boundingRadius = 0.0f;        ///< largest distance of the shape from its origin

@@ -33,9 +33,10 @@ struct BodyState {
     glm::vec3 angularVelocity{0.0f};   ///< rad/s
     glm::vec3 linearMomentum{0.0f};    ///< kg m/s
     glm::vec3 angularMomentum{0.0f};   ///< about the centre of mass, kg m^2/s
-    float mass = 0.0f;                 ///< kg; 0 for static bodies
+    float mass = 0.0f;                 ///< kg; 0 for static and kinematic bodies
     glm::mat3 inertia{0.0f};           ///< body frame, about the centre of mass, kg m^2
-    bool isStatic = false;
+    bool isStatic = false;             ///< infinite mass: a static or a kinematic body
+    bool isKinematic = false;          ///< moved by its velocities or a target pose only
     bool asleep = false;
 };
 
@@ -276,9 +277,19 @@ class World {
     Status readAngularVelocities(std::uint32_t first, std::span<float> out) const;
 
     /// Sets a dynamic body's linear (m/s) and angular (rad/s) velocity, world frame, now, and
-    /// wakes it; its momenta follow (P = m v, L = I_w w). Errors: BadInput for a body index past
-    /// the last, a static body or a velocity that is not finite; Device.
+    /// wakes it; its momenta follow (P = m v, L = I_w w). A kinematic body takes the velocities
+    /// as they are (it has no momenta) and moves by them from the next step on. Errors:
+    /// BadInput for a body index past the last, a static body or a velocity that is not finite;
+    /// Device.
     Status setVelocity(std::uint32_t body, glm::vec3 linear, glm::vec3 angular);
+
+    /// Moves a kinematic body to a pose (position of its centre of mass, m; orientation, body to
+    /// world) over the next step: its velocities become those that reach the pose in one step
+    /// (what the contacts with it see), and the step ends with the body at the pose. It keeps
+    /// these velocities afterwards unless given another target or setVelocity. Errors:
+    /// BadInput for a body index past the last, a body that is not kinematic, or a pose that
+    /// is not finite.
+    Status setKinematicTarget(std::uint32_t body, glm::vec3 position, glm::quat orientation);
 
     /// Index of the scene material with that name, if any; 0 is "default".
     std::optional<std::uint32_t> findMaterial(std::string_view name) const;

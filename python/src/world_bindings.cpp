@@ -289,9 +289,33 @@ at a time may use it. Arrays are float32, one row per body in scene order.)");
             check(s.world->setVelocity(i, vec3From(v, "velocity"), angular));
         },
         py::arg("body"), py::arg("velocity"), py::arg("angular") = py::none(),
-        "Sets a dynamic body's linear velocity (m/s, world) and, when given, its angular "
-        "velocity (rad/s, world); wakes it. body is an index or a name. Raises "
+        "Sets a dynamic or kinematic body's linear velocity (m/s, world) and, when given, its "
+        "angular velocity (rad/s, world); wakes it. body is an index or a name. Raises "
         "rubble.SceneError for a static body.");
+    w.def(
+        "set_kinematic_target",
+        [](PyWorld& s, const py::handle& body, const py::handle& position,
+           const py::handle& orientation) {
+            InUse use(s);
+            const std::uint32_t i = bodyIndex(s, body);
+            glm::quat q = s.world->body(i).orientation;
+            if (!orientation.is_none()) {
+                const auto a =
+                    py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(
+                        orientation);
+                if (!a || a.size() != 4)
+                    throw py::value_error("orientation: expected four numbers w, x, y, z, got " +
+                                          std::string(py::str(py::repr(orientation))));
+                const double* d = a.data();
+                q = glm::quat(float(d[0]), float(d[1]), float(d[2]), float(d[3]));
+            }
+            check(s.world->setKinematicTarget(i, vec3From(position, "position"), q));
+        },
+        py::arg("body"), py::arg("position"), py::arg("orientation") = py::none(),
+        "Moves a kinematic body to a pose over the next step: position of its centre of mass "
+        "(m, world) and, when given, orientation (w, x, y, z; default: the one it has). Its "
+        "velocities become those that reach the pose in one step, and it keeps them afterwards. "
+        "body is an index or a name. Raises rubble.SceneError for a body that is not kinematic.");
     w.def(
         "apply_impulse",
         [](PyWorld& s, const py::handle& body, const py::handle& impulse, const py::handle& at) {

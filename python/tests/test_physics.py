@@ -127,3 +127,29 @@ def test_masses_past_the_stated_ratio_warn_and_run():
            "(1e+09 kg) differ 1:1e+18; stacks stand up to 1:100" in w.warnings[0]
     w.step()
     assert rubble.World.load(falling_sphere()).warnings == []
+
+
+def test_capsule_loads_and_a_kinematic_target_carries_it():
+    # A capsule lying on a kinematic deck that the host moves 1 cm a step along x.
+    scene = {
+        "format": "rubble-scene", "version": 1, "name": "deck",
+        "simulation": {"dt": 0.01},
+        "materials": {"default": {"friction": 0.8}},
+        "shapes": {"deck": {"type": "box", "half_extents": [2, 0.1, 2]},
+                   "pill": {"type": "capsule", "radius": 0.1, "half_height": 0.3}},
+        "bodies": [{"name": "deck", "shape": "deck", "kinematic": True},
+                   {"name": "pill", "shape": "pill", "mass": 1.0, "position": [0, 0.2, 0],
+                    "orientation": [0.70710678, 0, 0, -0.70710678]}],
+    }
+    w = rubble.World.load(scene)
+    w.step(20)
+    for i in range(1, 101):
+        w.set_kinematic_target("deck", [0.01 * i, 0, 0])
+        w.step()
+        if i == 50:  # the capsule has caught up with the deck by now
+            start = w.positions[1].copy()
+    np.testing.assert_array_equal(w.positions[0], np.float32([1.0, 0, 0]))
+    # Carried along its axis for the last 0.5 s without slipping.
+    np.testing.assert_allclose(w.positions[1] - start, [0.5, 0, 0], atol=1e-3)
+    with pytest.raises(rubble.SceneError):
+        w.set_kinematic_target("pill", [0, 0, 0])

@@ -14,6 +14,8 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_SHAPE_HULL 0u   // box, convex and mesh: their half-edge hull
 #define RUBBLE_SHAPE_SPHERE 1u // centre and radius
 #define RUBBLE_SHAPE_PLANE 2u  // infinite, static: solid below dot(normal, x) = offset
+#define RUBBLE_SHAPE_CAPSULE 3u // CPU only (host/collision/capsule_contact.h): radius, and bounds
+                                // around the segment from -y to +y swept by it
 
 // A hull face has at most this many vertices on the device: clipping buffers live in private
 // memory (an incident face, plus one vertex per reference edge, plus one), and their size is
