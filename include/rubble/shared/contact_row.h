@@ -35,11 +35,11 @@ RUBBLE_STATIC_ASSERT_SIZE(ContactRow, 128);
 
 // The penetration a particle contact leaves to the Baumgarte term uncorrected: the scene's slop,
 // or a tenth of the particle spacing (a fifth of a particle's radius) when that is more. Bodies
-// made of spheres rest on bumps, and the per-row Jacobi solve at 10 sweeps does not hold a deep
-// pile exactly: with a slop of 5 mm every resting contact of debris_16k asked for a separating
-// velocity (0.2 / dt x its depth) that the solve turned into motion, and the pile crept at
-// 1 m/s for 30 s. Slop as the allowed penetration: Catto, "Iterative dynamics with temporal
-// coherence", 2005; measured in docs/opencl.md ("The creep of deep piles").
+// made of spheres rest on bumps, and the per-row Jacobi solve with its few sweeps does not hold a
+// deep pile exactly: with a slop below the bumps' depth every resting contact asks for a
+// separating velocity (0.2 / dt x its depth) that the solve turns into motion, and the pile
+// creeps. Slop as the allowed penetration: Catto, "Iterative dynamics with temporal coherence",
+// 2005.
 #define RUBBLE_PARTICLE_SLOP_FRACTION 0.1f
 RUBBLE_FN float particleSlopItem(float slop, float particleSpacing) {
     return fmax(slop, RUBBLE_PARTICLE_SLOP_FRACTION * particleSpacing);

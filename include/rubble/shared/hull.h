@@ -17,7 +17,7 @@ RUBBLE_SHARED_BEGIN
 
 // A hull face has at most this many vertices on the device: clipping buffers live in private
 // memory (an incident face, plus one vertex per reference edge, plus one), and their size is
-// what the narrow phase's speed depends on most (32 was 20 - 40% slower on debris_16k). Boxes
+// what the narrow phase's speed depends on most, so they are no larger than the hulls need. Boxes
 // have 4, the shipped meshes' hulls 8 at most; a hull with a larger face is refused when the
 // pipeline is made (host/gpu/hull_data.cpp).
 #define RUBBLE_HULL_MAX_FACE_VERTICES 16u
