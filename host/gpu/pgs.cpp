@@ -11,11 +11,6 @@
 namespace rubble::gpu {
 namespace {
 
-// The last colors of a step go to one serial launch once together they hold no more elements
-// than this: on PoCL's two threads a launch costs some 30 - 50 us in the loaded machine's
-// measurements (device busy time against wall time), more than a hundred elements do.
-constexpr std::uint32_t kSerialElements = 128;
-
 // Bytes one launch of a sweep kernel moves for a color of `elements` elements with `points`
 // rows: each element's record, both bodies' velocities read and written, and per point its
 // rows (`rowBytes`) and its impulses read and written.
@@ -248,10 +243,11 @@ Status Pipeline::colorPgs() {
     if (inBlocks > 0)
         g.launches.push_back({0, inBlocks, RUBBLE_PGS_BLOCKS, pointsIn(0, inBlocks), blocks});
     // One launch per color, but the last colors, once together they hold no more than
-    // kSerialElements, in one launch on one work-item (a launch costs more than they do).
+    // serialElements (host/gpu/tuning.h), in one launch on one work-item (a launch costs more).
     const std::span<const std::uint32_t> start = coloring.start();
     std::uint32_t tail = coloring.colors();
-    while (tail > 0 && start[coloring.colors()] - start[tail - 1] <= kSerialElements) --tail;
+    const std::uint32_t serial = c.workSizes().serialElements;
+    while (tail > 0 && start[coloring.colors()] - start[tail - 1] <= serial) --tail;
     if (coloring.colors() - tail < 2) tail = coloring.colors(); // nothing to merge
     for (std::uint32_t k = 0; k < tail; ++k) {
         const std::uint32_t first = inBlocks + start[k], count = start[k + 1] - start[k];

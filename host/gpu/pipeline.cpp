@@ -34,7 +34,8 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
     p->deterministic_ = in.deterministic;
     p->particlePgs_ = in.collision == CollisionMethod::Particles && in.particlePgs;
     p->pgsBlocks_ = in.pgsBlocks >= 0 ? std::uint32_t(in.pgsBlocks)
-                                      : defaultPgsBlocks(c.workSizes().pgsBlocks, n);
+                                      : defaultPgsBlocks(c.workSizes().pgsBlocks, n,
+                                                         c.workSizes().pgsBlockBodies);
     p->lcpStride_ = lcpStride(in.surfaces, bodies.masses);
     p->kinematic_.assign(n, 0);
     std::copy(kinematic.begin(), kinematic.begin() + std::min(kinematic.size(), n),
