@@ -32,8 +32,8 @@ namespace rubble::gpu {
 //                                                                           solve, colored
 //
 // A timed default is judged by the solve stage's ms/step of `rubble run SCENE --backend opencl
-// --collision sat --metrics m.json` with the value changed (--pgs-blocks N for the block count);
-// its figures belong in bench/results, not here.
+// --collision sat --metrics m.json` with the value changed (--pgs-blocks N for the block count,
+// the constant below for the others); the figures belong in bench/results, not here.
 //
 // A sweep kernel of the device's Gauss-Seidel solve (kernels/pgs_sweep.cl) runs in one of three
 // launch modes (RUBBLE_PGS_PER_ITEM, RUBBLE_PGS_SERIAL, RUBBLE_PGS_BLOCKS in
@@ -44,7 +44,9 @@ namespace rubble::gpu {
 //
 // What a value other than the default changes (TuningEffect), as tests/gpu/tuning_test checks:
 // sortItems, broadGroup, pairGroup, contiguousItems and serialElements only share the same work
-// out differently among work-items and launches, and every trajectory keeps its bits. jointDouble
+// out differently among work-items and launches, and every trajectory keeps its bits (sortItems
+// also regroups the float sum of the box widths that sizes the broad phase's columns, which
+// decide where pairs are looked for, not which are found). jointDouble
 // changes the precision of the joints' position projection (float against double), and
 // pgsBlocks and pgsBlockBodies the order of the Gauss-Seidel updates: the same physics within a
 // tolerance, not the same bits.
