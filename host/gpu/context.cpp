@@ -42,7 +42,9 @@ Context::~Context() {
     if (context_) clReleaseContext(context_);
 }
 
-Result<std::shared_ptr<Context>> Context::create(const RunOptions& run) { return create(run, {}); }
+Result<std::shared_ptr<Context>> Context::create(const RunOptions& run) {
+    return create(run, {});
+}
 
 Result<std::shared_ptr<Context>> Context::create(const RunOptions& run,
                                                  std::span<const TuningValue> tuning) {

@@ -15,7 +15,9 @@ std::uint32_t floorPow2(std::uint64_t x) {
     return p;
 }
 
-std::uint32_t units(const DeviceInfo& d) { return std::max<std::uint32_t>(1, d.computeUnits); }
+std::uint32_t units(const DeviceInfo& d) {
+    return std::max<std::uint32_t>(1, d.computeUnits);
+}
 
 // Groups of 64, or the device's largest if smaller: a wavefront on AMD, two warps on NVIDIA,
 // one vector loop of PoCL's CPU device. No kernel uses local memory beyond a few words, so
@@ -77,7 +79,9 @@ const std::array<TuningParameter, 8> kTable = {{
 
 } // namespace
 
-std::span<const TuningParameter> tuningParameters() { return kTable; }
+std::span<const TuningParameter> tuningParameters() {
+    return kTable;
+}
 
 WorkSizes workSizesFor(const DeviceInfo& device) {
     WorkSizes w;
@@ -95,17 +99,19 @@ Result<WorkSizes> tunedWorkSizes(WorkSizes sizes, std::span<const TuningValue> v
             std::string names;
             for (const TuningParameter& t : kTable)
                 names += (names.empty() ? "" : ", ") + std::string(t.name);
-            return makeError(ErrorKind::BadInput, where, "is not a tuning parameter; they are " + names);
+            return makeError(ErrorKind::BadInput, where,
+                             "is not a tuning parameter; they are " + names);
         }
         if (p->flag && v.value > 1)
-            return makeError(ErrorKind::BadInput, where, "is 0 or 1, not " + std::to_string(v.value));
+            return makeError(ErrorKind::BadInput, where,
+                             "is 0 or 1, not " + std::to_string(v.value));
         const bool group = p->field == &WorkSizes::broadGroup || p->field == &WorkSizes::pairGroup;
         if ((group || p->field == &WorkSizes::sortItems) && v.value == 0)
             return makeError(ErrorKind::BadInput, where, "must be at least 1");
         if (group && v.value > device.maxWorkGroupSize)
             return makeError(ErrorKind::BadInput, where,
-                             std::to_string(v.value) + " is more than the device's largest "
-                             "work-group, " + std::to_string(device.maxWorkGroupSize));
+                             std::to_string(v.value) + " is more than the device's largest " +
+                                 "work-group, " + std::to_string(device.maxWorkGroupSize));
         sizes.*p->field = v.value;
     }
     return sizes;
@@ -114,7 +120,8 @@ Result<WorkSizes> tunedWorkSizes(WorkSizes sizes, std::span<const TuningValue> v
 std::uint32_t defaultPgsBlocks(std::uint32_t deviceBlocks, std::size_t bodies,
                                std::uint32_t blockBodies) {
     if (deviceBlocks == 0) return 0;
-    const std::size_t fit = std::max<std::size_t>(1, bodies / std::max<std::uint32_t>(1, blockBodies));
+    const std::size_t fit =
+        std::max<std::size_t>(1, bodies / std::max<std::uint32_t>(1, blockBodies));
     return std::uint32_t(std::min<std::size_t>(deviceBlocks, fit));
 }
 

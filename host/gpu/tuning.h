@@ -90,7 +90,7 @@ struct TuningParameter {
     std::string_view define;         ///< the -D macro the kernels read; empty: host only
     bool flag;                       ///< 0 or 1 (-D without the `u` of a count)
     std::string_view meaning;
-    std::string_view rule;     ///< its default, as a rule
+    std::string_view rule; ///< its default, as a rule
     TuningSource source;
     std::string_view chosenBy; ///< the device query or the benchmark behind the rule
     TuningEffect effect;

@@ -70,8 +70,7 @@ TEST(TuningTable, NamesEachParameterOnceAndBuildsFromItsDefines) {
         if (p.define.empty()) continue;
         EXPECT_TRUE(defines.insert(p.define).second) << p.define;
         sizes.*p.field = 3;
-        const std::string option =
-            " -D" + std::string(p.define) + "=3" + (p.flag ? "" : "u");
+        const std::string option = " -D" + std::string(p.define) + "=3" + (p.flag ? "" : "u");
         EXPECT_NE(gpu::buildOptionsFor(sizes).find(option), std::string::npos) << option;
     }
     EXPECT_EQ(names.size(), 8u);
@@ -133,8 +132,8 @@ class Tuning : public test::GpuTest {
   protected:
     // A context built with `name` at its other value (the device's default for every other).
     std::shared_ptr<gpu::Context> tunedContext(std::string_view name) {
-        const gpu::TuningValue v{name, otherValue(name, context()->workSizes().*
-                                                          parameterNamed(name).field)};
+        const gpu::TuningValue v{
+            name, otherValue(name, context()->workSizes().*parameterNamed(name).field)};
         Result<std::shared_ptr<gpu::Context>> c =
             gpu::Context::create(RunOptions{}, std::span(&v, 1));
         EXPECT_TRUE(c.ok()) << c.error().describe();
@@ -185,8 +184,7 @@ TEST_P(OrderTuning, StepsEveryRunToTheDefaultsBits) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(, OrderTuning,
-                         ::testing::ValuesIn(namesWith([](TuningEffect e) {
+INSTANTIATE_TEST_SUITE_P(, OrderTuning, ::testing::ValuesIn(namesWith([](TuningEffect e) {
                              return e == TuningEffect::Order;
                          })),
                          [](const auto& param) { return param.param; });
@@ -197,7 +195,9 @@ INSTANTIATE_TEST_SUITE_P(, OrderTuning,
 // updates within 2.5 cm, the bounces and the explosion of small_sat amplifying the difference
 // most. A change that broke either path (a lost row or joint, a block sweeping bodies of another
 // block) leaves a crate sunk or a link loose by far more.
-float boundFor(TuningEffect effect) { return effect == TuningEffect::Precision ? 1e-4f : 0.025f; }
+float boundFor(TuningEffect effect) {
+    return effect == TuningEffect::Precision ? 1e-4f : 0.025f;
+}
 
 class NearTuning : public Tuning, public ::testing::WithParamInterface<std::string> {};
 
@@ -217,14 +217,13 @@ TEST_P(NearTuning, EndsEveryRunNearTheDefault) {
             ASSERT_TRUE(std::isfinite(apart)) << r.scene << ": body " << i;
             largest = std::max(largest, apart);
         }
-        std::printf("[ %s ] %s (blocks %d): %.3g m from the default\n", GetParam().c_str(),
-                    r.scene, r.blocks, largest);
+        std::printf("[ %s ] %s (blocks %d): %.3g m from the default\n", GetParam().c_str(), r.scene,
+                    r.blocks, largest);
         EXPECT_LE(largest, boundFor(p.effect)) << r.scene << " (blocks " << r.blocks << ")";
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(, NearTuning,
-                         ::testing::ValuesIn(namesWith([](TuningEffect e) {
+INSTANTIATE_TEST_SUITE_P(, NearTuning, ::testing::ValuesIn(namesWith([](TuningEffect e) {
                              return e != TuningEffect::Order;
                          })),
                          [](const auto& param) { return param.param; });
