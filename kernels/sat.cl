@@ -57,9 +57,9 @@ collideShapes(const uint capacity, __global const uint* pairCount,
         previousOf[p] = q;
         // Features only from last step's own pairs, those it collided: a still pair carried
         // while its bodies slept runs the whole SAT when it is found again, as on the CPU, whose
-        // narrow phase keeps the features of the pairs it collided only (with them, a pile that
-        // had come to rest after an explosion, its crates at odd angles, woke to other manifolds
-        // than the CPU's: docs/opencl.md, "A world at rest is left out").
+        // narrow phase keeps the features of the pairs it collided only (with features from
+        // before the sleep, a pile at rest at odd angles would wake to other manifolds than the
+        // CPU's).
         PairCache cache = q < ownRun ? previousFeatures[q] : emptyPairCacheItem();
         const float margin =
             pairMarginItem(velocities[pair.a], velocities[pair.b], spin[pair.a], spin[pair.b], dt);

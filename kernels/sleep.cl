@@ -86,10 +86,10 @@ wakeTouchedPairs(const uint capacity, __global const uint* pairCount,
 
 // The wake through resting piles, SAT on the device: in round `collisionRound` of the step's
 // collision, each of last step's entries that held impulses (its pairs and the still pairs it
-// carried, markStillPairs in kernels/pgs.cl: bodies that touched as they came to rest) wakes its
-// sleeping body when the other was woken in an earlier round. The host repeats it, a round a
-// launch, until a round wakes none, so that a hit wakes the sleeping bodies it reaches through
-// touching ones before the solve, as the CPU wakes an island as one.
+// carried, markStillPairs in kernels/pgs_still_pairs.cl: bodies that touched as they came to
+// rest) wakes its sleeping body when the other was woken in an earlier round. The host repeats
+// it, a round a launch, until a round wakes none, so that a hit wakes the sleeping bodies it
+// reaches through touching ones before the solve, as the CPU wakes an island as one.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 wakeStillPairs(const uint previousCapacity, __global const uint* previousCount,
                __global const BodyPairRecord* previousPairs,

@@ -1,7 +1,6 @@
 // host/gpu/context.cpp: creating the context, queue, program and kernels of one device.
 #include "host/gpu/context.h"
 
-#include <algorithm>
 #include <clblast.h>
 
 #include <chrono>
@@ -33,39 +32,6 @@ Result<std::string> programSource(const RunOptions& run) {
     return text;
 }
 
-WorkSizes workSizesFor(const DeviceInfo& device) {
-    auto floorPow2 = [](std::uint64_t x) {
-        std::uint32_t p = 1;
-        while (std::uint64_t(p) * 2 <= x && p < (1u << 30)) p *= 2;
-        return p;
-    };
-    WorkSizes w;
-    const std::uint32_t group =
-        std::min<std::uint32_t>(64, floorPow2(std::max<std::uint64_t>(1, device.maxWorkGroupSize)));
-    w.broadGroup = group;
-    w.pairGroup = group;
-    const std::uint64_t lanes = std::uint64_t(std::max<std::uint32_t>(1, device.computeUnits)) * 64;
-    w.sortItems = std::clamp<std::uint32_t>(floorPow2(2 * lanes - 1), 256, 4096);
-    w.pgsBlocks = device.cpu ? 4 * std::max<std::uint32_t>(1, device.computeUnits) : 0;
-    w.contiguousItems = device.cpu;
-    w.jointDouble = device.fp64;
-    return w;
-}
-
-std::uint32_t defaultPgsBlocks(std::uint32_t deviceBlocks, std::size_t bodies) {
-    if (deviceBlocks == 0) return 0;
-    const std::size_t fit = std::max<std::size_t>(1, bodies / kPgsBlockBodies);
-    return std::uint32_t(std::min<std::size_t>(deviceBlocks, fit));
-}
-
-std::string buildOptionsFor(const WorkSizes& sizes) {
-    return std::string(kBuildOptions) + " -DRUBBLE_SORT_ITEMS=" + std::to_string(sizes.sortItems) +
-           "u -DRUBBLE_GROUP_BROAD=" + std::to_string(sizes.broadGroup) +
-           "u -DRUBBLE_GROUP_PAIRS=" + std::to_string(sizes.pairGroup) +
-           "u -DRUBBLE_CONTIGUOUS_ITEMS=" + (sizes.contiguousItems ? "1" : "0") +
-           " -DRUBBLE_JOINT_DOUBLE=" + (sizes.jointDouble ? "1" : "0");
-}
-
 Context::~Context() {
     // CLBlast keeps the programs it built (lcp-jacobi) in a cache of its own, released at exit
     // after this context otherwise: Oclgrind then frees them twice and aborts.
@@ -81,14 +47,21 @@ Context::~Context() {
 }
 
 Result<std::shared_ptr<Context>> Context::create(const RunOptions& run) {
+    return create(run, {});
+}
+
+Result<std::shared_ptr<Context>> Context::create(const RunOptions& run,
+                                                 std::span<const TuningValue> tuning) {
     Result<DeviceInfo> device = chooseDevice(run.device);
     RUBBLE_TRY(device);
+    Result<WorkSizes> sizes = tunedWorkSizes(workSizesFor(*device), tuning, *device);
+    RUBBLE_TRY(sizes);
     Result<std::string> source = programSource(run);
     RUBBLE_TRY(source);
 
     std::shared_ptr<Context> c(new Context());
     c->device_ = *device;
-    c->sizes_ = workSizesFor(c->device_);
+    c->sizes_ = *sizes;
     cl_int err = CL_SUCCESS;
     const cl_context_properties props[] = {
         CL_CONTEXT_PLATFORM, reinterpret_cast<cl_context_properties>(c->device_.platformId), 0};

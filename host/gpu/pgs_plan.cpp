@@ -8,14 +8,6 @@
 #include "host/gpu/pgs.h"
 
 namespace rubble::gpu {
-namespace {
-
-// The last colors of a step go to one serial launch once together they hold no more elements
-// than this: a launch costs more than a hundred elements take.
-constexpr std::uint32_t kSerialElements = 128;
-
-} // namespace
-
 Status PgsSolve::readSummaries(StageQueue& q, const PairStore& pairs) {
     if (summariesRead_) return {};
     const Context& c = q.c();
@@ -160,10 +152,11 @@ Status PgsSolve::plan(StageQueue& q, const PairStore& pairs, const DeviceJoints&
     if (inBlocks > 0)
         launches_.push_back({0, inBlocks, RUBBLE_PGS_BLOCKS, pointsIn(0, inBlocks), blocks});
     // One launch per color, but the last colors, once together they hold no more than
-    // kSerialElements, in one launch on one work-item (a launch costs more than they do).
+    // serialElements (host/gpu/tuning.h), in one launch on one work-item (a launch costs more).
     const std::span<const std::uint32_t> start = coloring.start();
     std::uint32_t tail = coloring.colors();
-    while (tail > 0 && start[coloring.colors()] - start[tail - 1] <= kSerialElements) --tail;
+    const std::uint32_t serial = q.c().workSizes().serialElements;
+    while (tail > 0 && start[coloring.colors()] - start[tail - 1] <= serial) --tail;
     if (coloring.colors() - tail < 2) tail = coloring.colors(); // nothing to merge
     for (std::uint32_t k = 0; k < tail; ++k) {
         const std::uint32_t first = inBlocks + start[k], count = start[k + 1] - start[k];

@@ -58,7 +58,8 @@ Status Pipeline::makeStages(const PipelineInput& in) {
     if (pairPgs()) {
         const std::uint32_t blocks = in.pgsBlocks >= 0
                                          ? std::uint32_t(in.pgsBlocks)
-                                         : defaultPgsBlocks(q.c().workSizes().pgsBlocks, n);
+                                         : defaultPgsBlocks(q.c().workSizes().pgsBlocks, n,
+                                                            q.c().workSizes().pgsBlockBodies);
         RUBBLE_TRY(pgs_.create(q, std::uint32_t(n), blocks));
         RUBBLE_TRY(joints_.create(q, in.joints, bodies, bodies_.kinematic));
     }

@@ -597,9 +597,7 @@ TEST_F(PgsTwin, AWorldAtRestIsLeftOutUntilAnExplosionWakesIt) {
 }
 
 // Every block takes its friction rows and warm start by point, as one block does: two stacks in
-// two blocks, no element between them, step the CPU's bits, every body every step; built with
-// -DRUBBLE_PGS_BLOCKS_BY_POINT=0 the blocks take those rows element by element and part from
-// the CPU.
+// two blocks, no element between them, step the CPU's bits, every body every step.
 TEST_F(PgsTwin, BlocksByPointStepTheCpuBitForBit) {
     // Bodies 1 - 3 and 4 - 6: of seven bodies, two blocks cut at body 4.
     const std::string json = cratesOnTheFloor(0.5f, R"(
@@ -615,37 +613,19 @@ TEST_F(PgsTwin, BlocksByPointStepTheCpuBitForBit) {
        "linear_velocity": [-0.6, 0, 0.5]},
       {"name": "b2", "shape": "crate", "mass": 1, "position": [2.97, 2.45, 0.02],
        "orientation": [0.9998, 0.02, 0, 0]})");
-    RunOptions built;
-    built.buildOptions = "-DRUBBLE_PGS_BLOCKS_BY_POINT=0";
-    Result<std::shared_ptr<gpu::Context>> elementOrder = openDevice(built);
-    ASSERT_TRUE(elementOrder.ok()) << elementOrder.error().describe();
-    Scene scene = sceneOf(json);
+    const Scene scene = sceneOf(json);
     World cpu = world(scene, Backend::Cpu);
     World device = world(scene, Backend::OpenCl, 2);
-    scene.simulation.backend = Backend::OpenCl;
-    scene.simulation.collision.method = CollisionMethod::Sat;
-    scene.simulation.solver.type = SolverType::Pgs;
-    RunOptions run;
-    run.context = *elementOrder;
-    run.pgsBlocks = 2;
-    Result<World> byElement = World::create(scene, run);
-    ASSERT_TRUE(byElement.ok()) << byElement.error().describe();
-    int parted = 0;
     std::uint32_t contacts = 0;
     for (int step = 1; step <= 60; ++step) {
         ASSERT_TRUE(cpu.step().ok()) << "step " << step;
         ASSERT_TRUE(device.step().ok()) << "step " << step;
-        ASSERT_TRUE(byElement->step().ok()) << "step " << step;
         contacts = std::max(contacts, cpu.lastStep().contactCount);
-        for (std::uint32_t i = 0; i < cpu.bodyCount(); ++i) {
+        for (std::uint32_t i = 0; i < cpu.bodyCount(); ++i)
             ASSERT_TRUE(test::sameBits(cpu.body(i), device.body(i)))
                 << cpu.bodyName(i) << " at step " << step;
-            if (parted == 0 && !test::sameBits(cpu.body(i), byElement->body(i))) parted = step;
-        }
     }
-    std::printf("[ two stacks in two blocks ] by element apart from the CPU at step %d\n", parted);
     EXPECT_GE(contacts, 20u) << "two stacks of three on the floor, four points a face";
-    EXPECT_GT(parted, 0) << "the element order (-DRUBBLE_PGS_BLOCKS_BY_POINT=0) is not the CPU's";
 }
 
 // A column of sixteen leaning over, toppling slowly: on the device as on the CPU

@@ -158,7 +158,8 @@ inline Result<std::unique_ptr<DeviceStage>> satStage(std::shared_ptr<gpu::Contex
     RUBBLE_TRY(d->pairs.create(sq, std::max<std::uint32_t>(1024, 4 * n), false));
     const std::uint32_t blocks =
         pgsBlocks >= 0 ? std::uint32_t(pgsBlocks)
-                       : gpu::defaultPgsBlocks(sq.c().workSizes().pgsBlocks, n);
+                       : gpu::defaultPgsBlocks(sq.c().workSizes().pgsBlocks, n,
+                                              sq.c().workSizes().pgsBlockBodies);
     RUBBLE_TRY(d->pgs.create(sq, n, blocks));
     RUBBLE_TRY(d->joints.create(sq, {}, view, d->bodies.kinematic));
     RUBBLE_TRY(sq.finish());

@@ -137,7 +137,8 @@ RUBBLE_FN BodyPose integratePositionItem(BodyPose pose, BodyVelocity v, float dt
 // Symplectic Euler positions: x += dt v with the new velocity; the orientation turns with the
 // angular velocity of the new momentum L at the half-step orientation (explicit midpoint), since
 // omega = I_w(q)^-1 L changes as the body turns. The first-order update pumps energy into a
-// tumbling body; the midpoint keeps it (docs/integrators.md measures both).
+// tumbling body step after step; turning at the half-step orientation keeps its energy close to
+// constant (docs/integrators.md compares the two).
 RUBBLE_FN BodyPose integratePositionSymplecticItem(BodyPose pose, BodyVelocity v, BodyMomentum p,
                                                    BodyMass m, float dt) {
     BodyPose r;

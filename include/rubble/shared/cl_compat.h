@@ -14,7 +14,7 @@
 // A pointer into device memory (the flattened hulls read by the narrow phase); plain on the host.
 #define RUBBLE_GLOBAL __global
 // The joints' position projection factors its matrices in double, as the CPU's does, on a device
-// with fp64 (the host says so in the build options: WorkSizes::jointDouble), else in float.
+// with fp64, else in float: the tuning parameter jointDouble (host/gpu/tuning.h), passed with -D.
 #if defined(RUBBLE_JOINT_DOUBLE) && RUBBLE_JOINT_DOUBLE
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 typedef double JointReal;

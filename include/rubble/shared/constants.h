@@ -12,9 +12,9 @@
 #define RUBBLE_SORT_DIGIT_BITS 4u
 #define RUBBLE_SORT_BUCKETS 16u
 
-// Work sizes chosen per device: host/gpu/context.cpp derives them from the device's limits
-// (workSizesFor) and passes them to the program as build options (-D); the host dispatches with
-// the context's values, never with these defaults, which are what PoCL's CPU device gets.
+// Work sizes chosen per device, tuning parameters of host/gpu/tuning.h: the host derives them
+// from the device's limits and passes them to the program as build options (-D), and dispatches
+// with the same values; these defaults only let a header compile alone.
 // Work-items of a radix sort pass (and of the broad phase's bounds), each owning a chunk.
 #ifndef RUBBLE_SORT_ITEMS
 #define RUBBLE_SORT_ITEMS 256u

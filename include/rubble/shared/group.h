@@ -2,17 +2,16 @@
 // launch. A kernel whose work-items each add to one global word (a count in the status block, a
 // largest change, the next free slot of a list) adds to a __local word instead, and one work-item
 // adds the group's total to the global word: one global atomic per group instead of one per
-// work-item. On a CPU device, work-items on two cores that update one global word move its cache
-// line back and forth between the cores; a local word per group keeps that to one update a
-// group. Each group function holds barriers: every work-item of the group calls it. The split of
+// work-item, so that work-items on different cores do not pass the word's cache line back and
+// forth. Each group function holds barriers: every work-item of the group calls it. The split of
 // a launch's items (itemRangeItem) compiles on the host too, for its tests.
 #pragma once
 
 #include "rubble/shared/cl_compat.h"
 
 // 1 on a CPU device: each work-item of a strided launch takes a run of consecutive items; 0 (a
-// GPU) the items of its group one group-width apart (itemRangeItem). The host sets it with the
-// work sizes (WorkSizes::contiguousItems).
+// GPU) the items of its group one group-width apart (itemRangeItem). A tuning parameter: the host
+// derives it from the device (contiguousItems in host/gpu/tuning.h) and passes it with -D.
 #ifndef RUBBLE_CONTIGUOUS_ITEMS
 #define RUBBLE_CONTIGUOUS_ITEMS 0
 #endif
@@ -29,10 +28,10 @@ typedef struct ItemRange {
 // Neighbours in a list (the pairs of one body, sorted together) are then handled by one group.
 // Within the block, with `contiguous`, work-item k takes the k-th of `size` equal runs: on a CPU
 // device the work-items of a group run one after the other on one core, each reading its run
-// front to back, which the core's prefetcher follows (items a group-width apart are 64 records
-// apart, more than a page for the narrow phase's 96-byte caches, so each read would miss the
-// cache). Without, work-item k goes through the block from its k-th item, `size` apart: on a GPU
-// adjacent work-items read adjacent items at once.
+// front to back, which the core's prefetcher follows (items a group-width apart can be more than
+// a page apart). Without, work-item k goes through the block from its k-th item, `size` apart: on
+// a GPU adjacent work-items read adjacent items at once. Either way each item is handled by one
+// work-item, so the split changes which work-item does the work, not the work.
 RUBBLE_FN ItemRange itemRangeItem(uint n, uint groups, uint size, uint group, uint item,
                                   int contiguous) {
     const uint perGroup = (n + groups - 1u) / groups;

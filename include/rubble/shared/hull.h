@@ -19,8 +19,8 @@ RUBBLE_SHARED_BEGIN
 
 // A hull face has at most this many vertices on the device: clipping buffers live in private
 // memory (an incident face, plus one vertex per reference edge, plus one), and their size is
-// what the narrow phase's speed depends on most, so the bound is as small as the shapes allow.
-// Boxes have 4, the shipped meshes' hulls 8 at most; a hull with a larger face is refused when the
+// what the narrow phase's speed depends on most, so they are no larger than the hulls need. Boxes
+// have 4, the shipped meshes' hulls 8 at most; a hull with a larger face is refused when the
 // pipeline is made (host/gpu/hull_data.cpp).
 #define RUBBLE_HULL_MAX_FACE_VERTICES 16u
 #define RUBBLE_CLIP_CAPACITY (2u * RUBBLE_HULL_MAX_FACE_VERTICES + 1u)

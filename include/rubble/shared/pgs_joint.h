@@ -1,5 +1,5 @@
 // include/rubble/shared/pgs_joint.h: ball and hinge joints on the device, per element: their
-// velocity rows in projected Gauss-Seidel (kernels/pgs.cl, the same colored sweeps as the
+// velocity rows in projected Gauss-Seidel (kernels/pgs_sweep.cl, the same colored sweeps as the
 // contacts) and their position projection after integratePositions. A float port of the CPU's
 // host/dynamics/joints.cpp (prepareJoints, warmStartJoints, solveJointVelocity) and of
 // host/dynamics/joint_positions.cpp's joint-by-joint projection; tests/gpu/pgs_twin_test.cpp

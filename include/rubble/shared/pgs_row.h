@@ -1,8 +1,8 @@
 // include/rubble/shared/pgs_row.h: the contact rows of projected Gauss-Seidel and their updates,
 // per element. The CPU reference builds its rows with pgsContactRowItem
 // (host/dynamics/contact_rows.cpp, stage 5) and sweeps them in host/dynamics/pgs.cpp; the device
-// builds the same rows in kernels/pgs.cl (buildPgsRows) and sweeps them color by color with the
-// updates below, which repeat the CPU's arithmetic operation for operation.
+// builds the same rows in kernels/pgs_rows.cl (buildPgsRows) and sweeps them (pgs_sweep.cl) with
+// the updates below, which repeat the CPU's arithmetic operation for operation.
 #pragma once
 
 #include "rubble/shared/contact_row.h"
@@ -18,10 +18,10 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_WARM_START_MATCH_DISTANCE 0.02f
 // The split position pass stops when no push impulse changed by more than this in a sweep, N s.
 #define RUBBLE_PUSH_TOLERANCE 1e-6f
-// A device sweep without a push sweep beside it (kernels/pgs.cl, solvePgs).
+// A device sweep without a push sweep beside it (kernels/pgs_sweep.cl, solvePgs).
 #define RUBBLE_PGS_NO_PUSH 0xffffffffu
 
-// A pair's summary word on the device (kernels/pgs.cl, summarizePairs), which the host colors
+// A pair's summary word on the device (kernels/pgs_rows.cl, summarizePairs), which the host colors
 // from: its point count in the low bits, and which of its bodies move in the solve. An element's
 // `rows` word is the same word.
 #define RUBBLE_PGS_POINTS 7u
