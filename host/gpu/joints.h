@@ -1,5 +1,5 @@
-// host/gpu/joints.h: a world's joints on the device (kernels/pgs.cl's joint rows, the position
-// projection): in body frames once per world, their rows and impulses kept between steps, the
+// host/gpu/joints.h: a world's joints on the device (kernels/pgs_joints.cl, and their rows in
+// the sweeps): in body frames once per world, their rows and impulses kept between steps, the
 // jointed bodies' groups (which sleep and wake as one), and the projection's direct groups and
 // coloring. The CPU twin is the joint part of PgsSolver (host/dynamics/).
 #pragma once

@@ -247,7 +247,7 @@ TEST_F(DeviceCases, SatExplosionIntoASleepingRowKeepsItsMomentum) {
     test::expectExplodedRowKeepsItsMomentum(w, 1e-3);
 }
 
-// The layer pass on the device (kernels/pgs.cl, layerPgs): 100 kg on 1 kg, and on two 1 kg
+// The layer pass on the device (kernels/pgs_push.cl, layerPgs): 100 kg on 1 kg, and on two 1 kg
 // boxes, stand at 10 iterations and sleep, to the reference's bounds; 1:10 closer still.
 TEST_F(DeviceCases, SatHeavyBoxOnALightOneStands) {
     World w = deviceWorld(test::massStackScene({1.0, 100.0}, test::kDeviceSatSimulation));

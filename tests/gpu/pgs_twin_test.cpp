@@ -469,7 +469,7 @@ std::uint64_t launches(const World& w, const std::string& kernel) {
 // every crate near where it started; then a second more builds no rows and sweeps nothing (a
 // pile asleep costs no solve). Near: within 5 cm in the CPU's order (one block) and within 6 cm
 // in the orders that are not the CPU's (a pile that falls moves metres). Colored, a sweep takes
-// each pair's points both ways and its normal rows twice (kernels/pgs.cl, solveElement): taken
+// each pair's points both ways and its normal rows twice (kernels/pgs_sweep.cl, solveElement): taken
 // first to last only, the piles would lean toward the corner of their manifolds' first points.
 TEST_F(PgsTwin, PyramidAndStackStandAndSleepOnTheDevice) {
     // As the device suits (PoCL's CPU device: one block for worlds this small, the CPU's order),
