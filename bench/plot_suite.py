@@ -7,7 +7,8 @@
       gained · joint error (scenes with joints) · ms/step";
   bench/plot_suite.py bench/results/<machine>/solver_suite.csv --out docs/images/solver_suite.png
       draws the top body's drift, the deepest penetration and the energy gained of every scene,
-      one bar per solver and path, on log axes (matplotlib from Debian's python3-matplotlib).
+      one bar per solver and path, on log axes, zeros drawn at 1e-6 (matplotlib from Debian's
+      python3-matplotlib).
 """
 import argparse
 import csv
@@ -51,6 +52,13 @@ def table(rows):
     for r in rows:
         if r["scene"] not in scenes:
             scenes.append(r["scene"])
+    # A configuration that ran nowhere is a note under the table, not a column.
+    notes = []
+    for c in list(configs):
+        mine = [r for r in rows if (r["solver"], r["path"], r["settings"]) == c]
+        if all(r["steps"] == "0" for r in mine):
+            notes.append("%s on %s: skipped everywhere (%s)." % (c[0], c[1], short(mine[0]["skipped"])))
+            configs.remove(c)
     head = "| scene | " + " | ".join("%s, %s (%s)" % c for c in configs) + " |"
     out = [head, "| --- |" + " --- |" * len(configs)]
     for s in scenes:
@@ -60,13 +68,23 @@ def table(rows):
                                                              r["settings"]) == c]
             cells.append(cell(found[0]) if found else "")
         out.append("| %s | %s |" % (s, " | ".join(cells)))
+    if notes:
+        out.append("")
+        out.extend(notes)
     return "\n".join(out)
 
 
 def short(reason):
-    # The reason's first clause: enough to tell no joint rows from no device.
-    reason = reason.split(": ", 1)[-1]
-    return reason.split(" (")[0].split(";")[0][:80]
+    """The reason's first clause, without the file and field it names: enough to tell no joint
+    rows from too many rows or no device."""
+    parts = reason.split(": ")
+    while len(parts) > 1 and (parts[0].endswith(".json") or parts[0].startswith("simulation.")
+                              or parts[0].startswith("step ")):
+        parts = parts[1:]
+    text = ": ".join(parts)
+    for stop in (" (", ";", ", and"):
+        text = text.split(stop)[0]
+    return text[:80]
 
 
 def plot(rows, out):

@@ -14,7 +14,8 @@ namespace rubble {
 namespace {
 
 // A "top" body stands when at the end of the run it is within kStandSideways of where it
-// started horizontally and has sunk less than kStandSink (soft contacts give under a load), m.
+// started horizontally and upwards and has sunk less than kStandSink (soft contacts give under
+// a load), m.
 constexpr double kStandSideways = 0.1;
 constexpr double kStandSink = 0.5;
 
@@ -148,7 +149,7 @@ SuiteRow runOne(Scene scene, SolverType solver, const std::string& path, const S
     const glm::vec3 moved = world.body(*watched).position - start;
     row.topDrift = glm::length(moved);
     const bool stood = row.skipped.empty() && std::hypot(moved.x, moved.z) < kStandSideways &&
-                       -moved.y < kStandSink;
+                       -moved.y < kStandSink && moved.y < kStandSideways;
     if (named) row.stands = std::string(stood ? "yes" : "no");
     return row;
 }

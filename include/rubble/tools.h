@@ -119,7 +119,7 @@ struct SuiteRow {
     std::string settings; ///< `iterations=10` or `substeps=5 relax=1`
     int steps = 0;        ///< steps taken (fewer when the run stopped)
     /// `yes` when the body named "top" ends within 0.1 m of where it started horizontally and
-    /// sank less than 0.5 m, `no` otherwise, `-` for a scene without one
+    /// upwards and sank less than 0.5 m, `no` otherwise, `-` for a scene without one
     std::string stands{"-"};
     /// The "top" body's (else the highest body's) distance from its start at the end, m
     double topDrift = 0;
