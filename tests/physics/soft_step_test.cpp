@@ -1,6 +1,6 @@
 // tests/physics/soft_step_test.cpp: the soft-step solver against closed forms and plain
-// expectations: a box at rest without jitter, a stack of ten, a bounce's height, friction on
-// slopes, a pendulum's period on a ball joint, 1000 kg on 1 kg at its springs' overlap.
+// expectations: a box at rest without jitter, a stack of ten, a bounce's height and speed, friction
+// on slopes, a pendulum's period on a ball joint, 1000 kg on 1 kg at its springs' overlap.
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -71,6 +71,25 @@ TEST(SoftStep, BounceRisesToRestitutionSquaredHeight) {
         World world = test::worldFromText(test::dropScene(e, kSoft));
         test::expectReboundHeight(world, e, 0.03f * e * e * 5.987f, 0.05f);
     }
+}
+
+// A ball with restitution 1 leaves the floor in the step of contact at the speed it arrived
+// with (restitution from the normal speed before the step, after the substeps).
+TEST(SoftStep, ElasticBallLeavesAtItsArrivalSpeed) {
+    World world = test::worldFromText(test::dropScene(1.0f, kSoft));
+    float arrival = 0.0f;
+    for (int i = 0; i < 120; ++i) {
+        ASSERT_TRUE(world.step().ok());
+        const float vy = world.body(1).linearVelocity.y;
+        if (vy < 0.0f) {
+            arrival = -vy;
+            continue;
+        }
+        ASSERT_GT(arrival, 10.0f) << "it fell about 6 m before the bounce";
+        EXPECT_NEAR(vy, arrival, 1e-4f * arrival) << "m/s up after " << arrival << " m/s down";
+        return;
+    }
+    FAIL() << "no bounce in 2 s";
 }
 
 double slopeAngle(const World& world) {
