@@ -67,6 +67,17 @@ GpuCommands::GpuCommands(CLI::App& app) {
     solvers_->add_option("--csv", s.csv, "Write the per-iteration table as CSV");
     solvers_->add_flag("--frictionless", s.frictionless,
                        "Set every material's friction to 0 (lemke solves frictionless sets)");
+    solvers_->add_flag("--suite", s.suite,
+                       "Run the solver test set instead: every scene of the folder (or the "
+                       "scene) with every solver on every path, at equal constraint passes");
+    solvers_->add_option("--steps", s.steps, "--suite: steps of each run");
+    solvers_->add_option("--passes", s.passes,
+                         "--suite: constraint passes per step (pgs iterations; soft-step "
+                         "substeps x (1 + relax))");
+    solvers_->add_option("--relax", s.relax, "--suite: soft step's relax passes per substep");
+    solvers_->add_option("--paths", s.paths,
+                         "--suite: cpu, device-colored, device-blocks (default all)")
+        ->delimiter(',');
     addRunFlag(solvers_, "device", s.run);
     addRunFlag(solvers_, "kernel-dir", s.run);
 }

@@ -44,6 +44,12 @@ struct SolversArgs {
     Overrides overrides;       ///< --collision; else the scene's
     bool frictionless = false; ///< every material's friction set to 0, so that lemke can solve
     RunOptions run;
+    // --suite: the solver test set instead of one frozen step (`scene` a file or a folder).
+    bool suite = false;
+    int steps = 300;
+    int passes = 10;
+    int relax = 1;
+    std::vector<std::string> paths{"cpu", "device-colored", "device-blocks"};
 };
 
 /// The gpu subcommands of one `rubble` invocation, after parsing.

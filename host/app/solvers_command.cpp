@@ -1,9 +1,12 @@
 // host/app/solvers_command.cpp: `rubble solvers SCENE --step N`: one step's contact set frozen,
 // and every solver's residual and complementarity error on it, iteration by iteration, as a
 // table and a CSV (docs/solvers.md defines the numbers).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -84,7 +87,85 @@ void printTable(const SolversTable& table, int iterations) {
 
 } // namespace
 
+std::string suiteNumber(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    return buf;
+}
+
+// The suite's rows as CSV: the columns of SuiteRow, a skipped run's reason quoted.
+Status writeSuiteCsv(const std::string& path, std::span<const SuiteRow> rows) {
+    std::ofstream out(path, std::ios::binary);
+    if (!out) return makeError(ErrorKind::Io, path, "cannot be written");
+    out << "scene,solver,path,settings,steps,stands,top_drift,penetration,energy_gained,"
+           "joint_error,ms_per_step,skipped\n";
+    for (const SuiteRow& r : rows) {
+        std::string why = r.skipped;
+        std::replace(why.begin(), why.end(), '"', '\'');
+        std::replace(why.begin(), why.end(), '\n', ' ');
+        out << r.scene << ',' << r.solver << ',' << r.path << ',' << r.settings << ','
+            << r.steps << ',' << r.stands << ',' << suiteNumber(r.topDrift) << ','
+            << suiteNumber(r.penetration) << ',' << suiteNumber(r.energyGained) << ','
+            << suiteNumber(r.jointError) << ',' << suiteNumber(r.msPerStep) << ",\"" << why
+            << "\"\n";
+    }
+    out.flush();
+    if (!out) return makeError(ErrorKind::Io, path, "writing failed");
+    return {};
+}
+
+// The scene files of the suite: the folder's *.json in name order, or the one file.
+std::vector<std::string> suiteScenes(const std::string& where) {
+    namespace fs = std::filesystem;
+    std::vector<std::string> files;
+    std::error_code ec;
+    if (!fs::is_directory(where, ec)) return {where};
+    for (const fs::directory_entry& e : fs::directory_iterator(where, ec))
+        if (e.path().extension() == ".json") files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+int suiteCommand(const SolversArgs& args) {
+    SuiteOptions o;
+    o.scenes = suiteScenes(args.scene);
+    if (o.scenes.empty())
+        return report(makeError(ErrorKind::BadInput, args.scene, "has no *.json scenes"));
+    o.steps = args.steps;
+    o.passes = args.passes;
+    o.relax = args.relax;
+    o.paths = args.paths;
+    o.run = args.run;
+    Result<std::vector<SuiteRow>> rows = runSolverSuite(o);
+    if (!rows) return report(rows.error());
+    std::printf("| scene | solver | path | settings | stands | top drift (m) | deepest "
+                "penetration (m) | energy gained (J) | joint error (m) | ms/step |\n"
+                "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+    for (const SuiteRow& r : *rows) {
+        if (!r.skipped.empty() && r.steps == 0) {
+            std::printf("| %s | %s | %s | %s | skipped: %s | | | | | |\n", r.scene.c_str(),
+                        r.solver.c_str(), r.path.c_str(), r.settings.c_str(),
+                        r.skipped.c_str());
+            continue;
+        }
+        std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", r.scene.c_str(),
+                    r.solver.c_str(), r.path.c_str(), r.settings.c_str(),
+                    (r.skipped.empty() ? r.stands : "stopped at step " +
+                                                         std::to_string(r.steps))
+                        .c_str(),
+                    suiteNumber(r.topDrift).c_str(), suiteNumber(r.penetration).c_str(),
+                    suiteNumber(r.energyGained).c_str(), suiteNumber(r.jointError).c_str(),
+                    suiteNumber(r.msPerStep).c_str());
+    }
+    if (!args.csv.empty()) {
+        if (Status s = writeSuiteCsv(args.csv, *rows); !s) return report(s.error());
+        std::printf("wrote %s\n", args.csv.c_str());
+    }
+    return kExitOk;
+}
+
 int solversCommand(const SolversArgs& args) {
+    if (args.suite) return suiteCommand(args);
     if (args.iterations < 1)
         return report(makeError(ErrorKind::BadInput, "--iterations", "must be 1 or more"));
     Result<Scene> scene = loadScene(args.scene);

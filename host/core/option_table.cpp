@@ -114,6 +114,7 @@ template <auto... Path> Option runOption(Option o) {
 constexpr unsigned kEverywhere = kUseFlag | kUseCompare;
 constexpr double kMaxSteps = 1e9;
 constexpr double kMaxIterations = 1e5;
+constexpr double kMaxSubsteps = 1000;
 
 // The table. Defaults are not written here: they are the members' initialisers in options.h.
 const std::vector<Option>& table() {
@@ -195,6 +196,52 @@ const std::vector<Option>& table() {
              .uses = kEverywhere,
              .help = "Speculative contacts widened by each pair's motion in the step, so that "
                      "fast bodies do not tunnel (docs/collision.md)"}),
+        simulationOption<&S::solver, &SolverOptions::substeps>(
+            {.key = "solver.substeps",
+             .name = "substeps",
+             .uses = kEverywhere,
+             .range = {.min = 1, .max = kMaxSubsteps},
+             .help = "Soft step: substeps per step, each one biased pass"}),
+        simulationOption<&S::solver, &SolverOptions::relaxIterations>(
+            {.key = "solver.relax_iterations",
+             .name = "relax-iterations",
+             .uses = kEverywhere,
+             .range = {.min = 0, .max = kMaxSubsteps},
+             .help = "Soft step: passes without bias after each substep's positions"}),
+        simulationOption<&S::solver, &SolverOptions::contactHertz>(
+            {.key = "solver.contact_hertz",
+             .name = "contact-hertz",
+             .uses = kEverywhere,
+             .range = {.min = 0, .minOpen = true},
+             .unit = "Hz",
+             .help = "Soft step: contact stiffness (at most a quarter of the substep rate is "
+                     "used)"}),
+        simulationOption<&S::solver, &SolverOptions::dampingRatio>(
+            {.key = "solver.damping_ratio",
+             .name = "damping-ratio",
+             .uses = kEverywhere,
+             .range = {.min = 0},
+             .help = "Soft step: contact damping ratio"}),
+        simulationOption<&S::solver, &SolverOptions::jointHertz>(
+            {.key = "solver.joint_hertz",
+             .name = "joint-hertz",
+             .uses = kEverywhere,
+             .range = {.min = 0, .minOpen = true},
+             .unit = "Hz",
+             .help = "Soft step: joint stiffness"}),
+        simulationOption<&S::solver, &SolverOptions::jointDampingRatio>(
+            {.key = "solver.joint_damping_ratio",
+             .name = "joint-damping-ratio",
+             .uses = kEverywhere,
+             .range = {.min = 0},
+             .help = "Soft step: joint damping ratio"}),
+        simulationOption<&S::solver, &SolverOptions::maxPushSpeed>(
+            {.key = "solver.max_push_speed",
+             .name = "max-push-speed",
+             .uses = kEverywhere,
+             .range = {.min = 0, .minOpen = true},
+             .unit = "m/s",
+             .help = "Soft step: fastest a contact pushes penetrating bodies apart"}),
         simulationOption<&S::coupling>({.key = "coupling",
                                         .name = "coupling",
                                         .help = "Whether debris on the device pushes the bodies "

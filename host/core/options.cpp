@@ -10,7 +10,8 @@ namespace {
 constexpr std::string_view kIntegrators[] = {"symplectic", "explicit"};
 constexpr std::string_view kBackends[] = {"cpu", "opencl"};
 constexpr std::string_view kMethods[] = {"sat", "particles"};
-constexpr std::string_view kSolvers[] = {"pgs", "jacobi", "lcp-jacobi", "lemke"};
+constexpr std::string_view kSolvers[] = {"pgs", "jacobi", "lcp-jacobi", "lemke",
+                                         "soft-step"};
 constexpr std::string_view kCouplings[] = {"one-way", "two-way"};
 
 template <class E> std::string_view nameOf(E v) {

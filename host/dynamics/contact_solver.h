@@ -1,8 +1,8 @@
 // host/dynamics/contact_solver.h: the solver stages of the CPU step (buildContactRows, solve,
 // the position corrections after integratePositions, and sleeping) behind one interface, so that
 // a world picks its solver once, when it is built: PgsSolver (host/dynamics/pgs_solver.h, the
-// reference) or the CPU twins of the device's solvers (host/dynamics/jacobi_solver.h: jacobi,
-// lcp-jacobi, lemke).
+// reference), SoftStepSolver (host/dynamics/soft_step_solver.h) or the CPU twins of the device's
+// solvers (host/dynamics/jacobi_solver.h: jacobi, lcp-jacobi, lemke).
 #pragma once
 
 #include <cstdint>
@@ -64,6 +64,9 @@ class ContactSolver {
     /// After integratePositions: position-level corrections. writes: poses, velocities
     virtual void solvePositions(const SolverScene& scene, Bodies bodies,
                                 const StepParams& params) = 0;
+    /// True when solve moves the bodies itself, in substeps (soft step): the step then leaves
+    /// integratePositions out, and solvePositions puts the bodies where the substeps took them.
+    virtual bool integratesPositions() const { return false; }
     /// Stage islands: sleeping and waking. Returns the bodies asleep after it.
     /// writes: masses (flags), velocities and momenta of bodies put to sleep
     virtual std::uint32_t sleep(const SolverScene& scene, Bodies bodies,

@@ -6,6 +6,7 @@
 
 #include "host/dynamics/lemke.h"
 #include "host/dynamics/pgs_solver.h"
+#include "host/dynamics/soft_step_solver.h"
 
 namespace rubble {
 
@@ -128,6 +129,8 @@ std::unique_ptr<ContactSolver> makeContactSolver(SolverType type) {
         return std::make_unique<LcpJacobiSolver>();
     case SolverType::Lemke:
         return std::make_unique<LemkeSolver>();
+    case SolverType::SoftStep:
+        return std::make_unique<SoftStepSolver>();
     }
     return std::make_unique<PgsSolver>();
 }

@@ -11,13 +11,18 @@ Status checkBackendCombination(const Scene& scene) {
     const SimulationOptions& sim = scene.simulation;
     const std::string field = scene.file + ": simulation.";
     const SolverType solver = sim.solverType();
-    // Joint rows live in PGS; the other solvers take contact rows only. On the cpu backend, and
-    // on opencl with SAT, every body steps with the scene's solver, so a joint needs pgs (on
-    // opencl with particles jointed bodies step on the CPU with PGS).
+    // The soft step has no device version yet: refused rather than replaced by another solver.
+    if (sim.backend == Backend::OpenCl && solver == SolverType::SoftStep)
+        return makeError(ErrorKind::NotSupported, field + "solver.type",
+                         "the soft-step solver runs on the cpu backend only (simulation.backend: "
+                         "\"cpu\", --backend cpu); on opencl solve with pgs (--solver pgs)");
+    // Joint rows live in PGS and the soft step; the other solvers take contact rows only. On the
+    // cpu backend, and on opencl with SAT, every body steps with the scene's solver, so a joint
+    // needs pgs (on opencl with particles jointed bodies step on the CPU with PGS).
     const bool deviceSat =
         sim.backend == Backend::OpenCl && sim.collisionMethod() == CollisionMethod::Sat;
-    if ((sim.backend != Backend::OpenCl || deviceSat) && solver != SolverType::Pgs &&
-        !scene.joints.empty()) {
+    const bool jointRows = solver == SolverType::Pgs || solver == SolverType::SoftStep;
+    if ((sim.backend != Backend::OpenCl || deviceSat) && !jointRows && !scene.joints.empty()) {
         std::string first = scene.joints.front().where;
         if (first.rfind(scene.file + ": ", 0) == 0) first.erase(0, scene.file.size() + 2);
         return makeError(ErrorKind::NotSupported, field + "solver.type",

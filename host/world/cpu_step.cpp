@@ -95,8 +95,10 @@ Status stepCpu(WorldState& s, StepStats& stats) {
     RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.integratePositionsMs);
-        integratePositions(bodies.poses, bodies.velocities, s.velocitiesAtStart, bodies.momenta,
-                           bodies.masses, p.dt, p.symplectic());
+        // A solver with substeps has moved the bodies in its solve.
+        if (!s.solver->integratesPositions())
+            integratePositions(bodies.poses, bodies.velocities, s.velocitiesAtStart, bodies.momenta,
+                               bodies.masses, p.dt, p.symplectic());
         // Kinematic bodies given a target end the step on it (their velocities led there).
         for (const auto& [body, pose] : s.kinematicTargets) bodies.poses[body] = pose;
         s.kinematicTargets.clear();

@@ -41,6 +41,7 @@ enum class SolverType {
     Jacobi,    ///< per-row parallel projected Jacobi, matrix-free
     LcpJacobi, ///< projected Jacobi on the dense Delassus matrix
     Lemke,     ///< exact LCP pivoting for small frictionless systems
+    SoftStep,  ///< substeps with soft constraints, relax and restitution (Catto's soft step)
 };
 
 /// Whether debris on the device pushes the bodies on the CPU.
@@ -56,6 +57,14 @@ struct SolverOptions {
     float slop = 0.005f;     ///< penetration left uncorrected, m
     float relaxation = 1.0f; ///< over- or under-relaxation of each impulse update
     bool warmStart = true;   ///< start from last step's impulses matched by feature id
+    // Soft step (docs/solvers.md, "Soft step"); the other solvers ignore these.
+    int substeps = 4;               ///< substeps per step, each one biased pass
+    int relaxIterations = 1;        ///< passes without bias after each substep's positions
+    float contactHertz = 30.0f;     ///< contact stiffness, Hz (at most substep rate / 4)
+    float dampingRatio = 10.0f;     ///< contact damping ratio
+    float jointHertz = 60.0f;       ///< joint stiffness, Hz
+    float jointDampingRatio = 2.0f; ///< joint damping ratio
+    float maxPushSpeed = 3.0f;      ///< fastest a contact pushes overlapping bodies apart, m/s
 };
 
 /// The `simulation.collision` block of a scene.

@@ -97,6 +97,46 @@ struct SolversTable {
 Result<SolversTable> compareSolvers(Scene scene, const RunOptions& run, int step, int iterations,
                                     bool frictionless);
 
+/// What the solver suite runs (`rubble solvers --suite`, docs/solvers.md, "The solver test
+/// set").
+struct SuiteOptions {
+    std::vector<std::string> scenes; ///< scene files
+    int steps = 300;                 ///< steps of each run
+    /// Constraint passes per step, the suite's equal cost: pgs, jacobi and lcp-jacobi take this
+    /// many iterations, soft-step passes / (1 + relax) substeps of one biased and `relax`
+    /// relaxing passes each (at least one substep).
+    int passes = 10;
+    int relax = 1;                   ///< soft step's relax passes per substep
+    std::vector<std::string> paths{"cpu", "device-colored", "device-blocks"};
+    std::vector<SolverType> solvers{SolverType::Pgs, SolverType::Jacobi, SolverType::LcpJacobi,
+                                    SolverType::SoftStep};
+    RunOptions run; ///< the device of the device paths
+};
+
+/// One scene, one solver, one path: what the run did (docs/solvers.md defines the columns).
+struct SuiteRow {
+    std::string scene, solver, path;
+    std::string settings; ///< `iterations=10` or `substeps=5 relax=1`
+    int steps = 0;        ///< steps taken (fewer when the run stopped)
+    /// `yes` when the body named "top" ends within 0.1 m of where it started horizontally and
+    /// upwards and sank less than 0.5 m, `no` otherwise, `-` for a scene without one
+    std::string stands{"-"};
+    /// The "top" body's (else the highest body's) distance from its start at the end, m
+    double topDrift = 0;
+    double penetration = 0; ///< the deepest contact of any step, before its solve, m
+    /// How far kinetic plus potential energy ever rose above the start's, J
+    double energyGained = 0;
+    double jointError = 0; ///< the largest anchor separation of any joint at any step, m
+    double msPerStep = 0;  ///< wall time of the steps over their count
+    std::string skipped;   ///< why the run did not happen or stopped; empty when it ran
+};
+
+/// Each scene on each path with each solver that the path has, at equal constraint passes.
+/// A combination that cannot run (no device, no joint rows, no device soft step, too many rows)
+/// is a row saying why. Errors: BadInput for steps or passes below 1 or a scene that does
+/// not load.
+Result<std::vector<SuiteRow>> runSolverSuite(const SuiteOptions& options);
+
 /// One OpenCL device; `index` counts every device of every platform in order.
 struct DeviceDesc {
     std::uint32_t index = 0;

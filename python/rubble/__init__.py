@@ -23,7 +23,7 @@ from rubble._tables import Table, make_table
 SceneSource = Union[str, "os.PathLike[str]", Mapping[str, Any]]
 
 __all__ = [
-    "World", "compare", "solvers", "devices", "example_scene", "example_scenes", "sweep",
+    "World", "compare", "solvers", "solver_suite", "devices", "example_scene", "example_scenes", "sweep",
     "Table", "Error", "SceneError", "NotSupportedError", "DeviceError", "NumericalError",
     "LimitError", "StepInterrupted", "IoError", "__version__",
 ]
@@ -99,6 +99,35 @@ def solvers(scene: SceneSource, step: int = 30, iterations: int = 50, *,
     columns, info = _core.solvers(scene, step, iterations, options, frictionless,
                                   **_scene_args(base_dir, label))
     return make_table(columns, info, as_frame)
+
+
+def solver_suite(scenes: Optional[Union[str, "os.PathLike[str]", List[str]]] = None,
+                 steps: int = 300, passes: int = 10, relax: int = 1,
+                 paths: Optional[List[str]] = None, *,
+                 device: Optional[Union[int, str]] = None, as_frame: Optional[bool] = None):
+    """Runs the solver test set as ``rubble solvers --suite``: every scene with pgs, jacobi,
+    lcp-jacobi and soft-step on the CPU, and pgs and soft-step on the device's colored and
+    blocked paths, at equal constraint passes (soft step: passes // (1 + relax) substeps).
+
+    scenes: scene files, or a folder of them (default: the repository's scenes/solver).
+    paths: any of "cpu", "device-colored", "device-blocks" (default all three).
+    Returns the table of ``rubble solvers --suite --csv`` (columns scene, solver, path,
+    settings, steps, stands, top_drift, penetration, energy_gained, joint_error, ms_per_step,
+    skipped). Raises rubble.SceneError for a scene that does not load or bad counts.
+    """
+    if scenes is None:
+        scenes = _SCENES / "solver"
+    if isinstance(scenes, (str, os.PathLike)):
+        folder = os.fspath(scenes)
+        scenes = ([os.path.join(folder, f) for f in sorted(os.listdir(folder))
+                   if f.endswith(".json")] if os.path.isdir(folder) else [folder])
+    options: Dict[str, Any] = {}
+    if device is not None:
+        options["device"] = device
+    columns = _core.solver_suite([os.fspath(s) for s in scenes], steps, passes, relax,
+                                 list(paths or ["cpu", "device-colored", "device-blocks"]),
+                                 options)
+    return make_table(columns, {}, as_frame)
 
 
 def devices() -> List[Dict[str, Any]]:

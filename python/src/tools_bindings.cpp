@@ -102,9 +102,54 @@ py::dict solverInfo(const SolversTable& t) {
     return info;
 }
 
+// The rows of `rubble solvers --suite --csv`, in its column order.
+py::dict suiteColumns(const std::vector<SuiteRow>& rows) {
+    auto text = [&](std::string SuiteRow::*field) {
+        std::vector<std::string> v;
+        for (const SuiteRow& r : rows) v.push_back(r.*field);
+        return py::array(py::cast(v));
+    };
+    py::dict d;
+    d["scene"] = text(&SuiteRow::scene);
+    d["solver"] = text(&SuiteRow::solver);
+    d["path"] = text(&SuiteRow::path);
+    d["settings"] = text(&SuiteRow::settings);
+    d["steps"] = column<long long>(rows, &SuiteRow::steps);
+    d["stands"] = text(&SuiteRow::stands);
+    d["top_drift"] = column<double>(rows, &SuiteRow::topDrift);
+    d["penetration"] = column<double>(rows, &SuiteRow::penetration);
+    d["energy_gained"] = column<double>(rows, &SuiteRow::energyGained);
+    d["joint_error"] = column<double>(rows, &SuiteRow::jointError);
+    d["ms_per_step"] = column<double>(rows, &SuiteRow::msPerStep);
+    d["skipped"] = text(&SuiteRow::skipped);
+    return d;
+}
+
 } // namespace
 
 void bindTools(py::module_& m) {
+    m.def(
+        "solver_suite",
+        [](const std::vector<std::string>& scenes, int steps, int passes, int relax,
+           const std::vector<std::string>& paths, const py::dict& options) {
+            SuiteOptions o;
+            o.scenes = scenes;
+            o.steps = steps;
+            o.passes = passes;
+            o.relax = relax;
+            o.paths = paths;
+            Scene unused;
+            applyKeywords(options, "solver_suite", unused, o.run);
+            Result<std::vector<SuiteRow>> rows = [&] {
+                py::gil_scoped_release release;
+                return runSolverSuite(o);
+            }();
+            check(rows, "solver_suite");
+            return suiteColumns(*rows);
+        },
+        py::arg("scenes"), py::arg("steps"), py::arg("passes"), py::arg("relax"),
+        py::arg("paths"), py::arg("options"),
+        "The rows of `rubble solvers --suite --csv` for these scene files.");
     m.def(
         "compare",
         [](const py::object& scene, const py::dict& a, const py::dict& b, int steps,

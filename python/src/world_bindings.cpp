@@ -192,7 +192,7 @@ scene: a path to a scene file (str or os.PathLike) or a dict in the scene format
 base_dir: where a dict's mesh files are found (default: the working directory).
 label: the name a dict scene's errors give its file (default "<scene dict>").
 **options: the command line's options: steps, dt, backend ("cpu" or "opencl"), integrator,
-    solver ("pgs", "jacobi", "lcp-jacobi", "lemke"), iterations, collision ("sat" or
+    solver ("pgs", "jacobi", "lcp-jacobi", "lemke", "soft-step"), iterations, collision ("sat" or
     "particles"), particle_spacing, device (index or name fragment), kernel_dir, deterministic.
 
 Raises rubble.SceneError naming the file and the field (or the option) for bad input,

@@ -85,3 +85,23 @@ def test_devices_are_the_commands(rubble_binary):
     assert len(devices) == len(listed) >= 1
     for d, line in zip(devices, listed):
         assert line.startswith(f"{d['index']}: {d['name']} (platform {d['platform']};")
+
+
+def test_solver_suite_gives_the_commands_rows(tmp_path, rubble_binary):
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    for name in ("stack_20", "light_under_heavy"):
+        src = rubble.example_scene("stack_10").replace("stack_10.json", "solver/%s.json" % name)
+        (scenes / ("%s.json" % name)).write_text(open(src).read())
+    out = tmp_path / "suite.csv"
+    run_command(rubble_binary, "solvers", "--suite", scenes, "--steps", 4, "--paths", "cpu",
+                "--csv", out)
+    expected = csv_rows(out)
+    table = rubble.solver_suite(scenes, steps=4, paths=["cpu"], as_frame=False)
+    assert list(table) == list(expected[0])
+    assert len(expected) == 8  # 2 scenes x 4 solvers
+    for i, row in enumerate(expected):
+        assert table["scene"][i] == row["scene"] and table["solver"][i] == row["solver"]
+        assert int(table["steps"][i]) == int(row["steps"]) == 4
+        assert table["stands"][i] == row["stands"] == "yes"
+        assert "%.4g" % table["penetration"][i] == row["penetration"]

@@ -28,6 +28,13 @@ SimulationOptions otherSimulation() {
     s.solver.slop = 0.01f;
     s.solver.relaxation = 1.5f;
     s.solver.warmStart = false;
+    s.solver.substeps = 9;
+    s.solver.relaxIterations = 3;
+    s.solver.contactHertz = 45.0f;
+    s.solver.dampingRatio = 0.5f;
+    s.solver.jointHertz = 20.0f;
+    s.solver.jointDampingRatio = 7.0f;
+    s.solver.maxPushSpeed = 0.75f;
     s.coupling = Coupling::TwoWay;
     s.continuous = false;
     return s;
@@ -161,7 +168,8 @@ const OutOfRange kOutOfRange[] = {
     {"collision.particle_spacing", "1e-50",
      "must be between 0.0001 and 100000, got 1e-50 (0 as a float)"},
     {"collision.particle_spacing", "1e+06", "must be between 0.0001 and 100000, got 1000000"},
-    {"solver.type", "sor", "unknown value \"sor\" (expected pgs, jacobi, lcp-jacobi or lemke)"},
+    {"solver.type", "sor",
+     "unknown value \"sor\" (expected pgs, jacobi, lcp-jacobi, lemke or soft-step)"},
     {"solver.iterations", "0", "must be between 1 and 100000, got 0"},
     {"solver.iterations", "100001", "must be between 1 and 100000, got 100001"},
     {"solver.baumgarte", "1.5", "must be between 0 and 1, got 1.5"},

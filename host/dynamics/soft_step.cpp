@@ -1,0 +1,381 @@
+// host/dynamics/soft_step.cpp: CPU stage 6 of the soft-step solver: substeps with soft contacts
+// and joints, relax passes, restitution.
+#include "host/dynamics/soft_step.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "host/core/math.h"
+
+namespace rubble {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+// A contact against a body that does not move takes this many times the contact hertz (Box2D
+// v3's static softness: nothing on the other side gives way).
+constexpr float kStillContactHertzScale = 2.0f;
+
+// J v of a row along d: the relative velocity of b against a at the contact point.
+inline float rowSpeed(const SolverVelocity& a, const SolverVelocity& b, Lanes d, Lanes crossA,
+                      Lanes crossB) {
+    return sum3(d * (b.linear - a.linear) + crossB * b.angular - crossA * a.angular);
+}
+
+// M^-1 J^T lambda.
+inline void applyRow(SolverVelocity& a, SolverVelocity& b, Lanes d, Lanes turnA, Lanes turnB,
+                     float inverseMassA, float inverseMassB, float lambda) {
+    a.linear -= d * (inverseMassA * lambda);
+    a.angular -= turnA * lambda;
+    b.linear += d * (inverseMassB * lambda);
+    b.angular += turnB * lambda;
+}
+
+Lanes rotateLanes(shared::float4 q, glm::vec3 v) {
+    return toLanes(toVec3(shared::quatRotate(q, toFloat4(v))));
+}
+
+// The cross-product matrix: skew(r) v = r x v (glm is column-major).
+glm::mat3 skew(glm::vec3 r) {
+    return glm::mat3(glm::vec3(0.0f, r.z, -r.y), glm::vec3(-r.z, 0.0f, r.x),
+                     glm::vec3(r.y, -r.x, 0.0f));
+}
+
+glm::mat3 safeInverse(const glm::mat3& k) {
+    const float det = glm::determinant(k);
+    return std::abs(det) > 1e-12f ? glm::inverse(k) : glm::mat3(0.0f);
+}
+glm::mat2 safeInverse(const glm::mat2& k) {
+    const float det = glm::determinant(k);
+    return std::abs(det) > 1e-12f ? glm::inverse(k) : glm::mat2(0.0f);
+}
+
+// One pass over the contacts: each point's normal row (soft with bias, rigid without; a gap is
+// closed within the substep and no further), then its two friction rows within
+// |lambda_t| <= mu lambda_n. Returns the largest |applied change|, N s.
+float solveContacts(ContactRows& rows, std::span<SoftContactPoint> points, SolverBodies& bodies,
+                    const SoftPoses& poses, const SoftStepSettings& s, bool useBias) {
+    float residual = 0.0f;
+    const float inverseH = 1.0f / s.h;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        NormalRow& r = rows.normals[i];
+        SoftContactPoint& p = points[i];
+        SolverVelocity& a = bodies.velocity[r.a];
+        SolverVelocity& b = bodies.velocity[r.b];
+        // The separation now: the start's, moved by the bodies' motion within the step.
+        const Lanes pointA = poses.moved[r.a] + rotateLanes(poses.pose[r.a].orientation, p.anchorA);
+        const Lanes pointB = poses.moved[r.b] + rotateLanes(poses.pose[r.b].orientation, p.anchorB);
+        const float separation =
+            p.separation + sum3(r.normal * ((pointB - p.offsetB) - (pointA - p.offsetA)));
+        float bias = 0.0f, massScale = 1.0f, impulseScale = 0.0f;
+        if (separation > 0.0f) {
+            bias = separation * inverseH; // speculative: close the gap within the substep
+        } else if (useBias) {
+            const Softness& soft = p.soft;
+            bias = std::max(soft.biasRate * separation, -s.maxPushSpeed);
+            massScale = soft.massScale;
+            impulseScale = soft.impulseScale;
+        }
+        const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
+        const float change = -r.mass * massScale * (speed + bias) - impulseScale * r.impulse;
+        const float total = std::max(r.impulse + change, 0.0f);
+        const float applied = total - r.impulse;
+        r.impulse = total;
+        p.maxNormalImpulse = std::max(p.maxNormalImpulse, total);
+        applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB, applied);
+        residual = std::max(residual, std::abs(applied));
+
+        FrictionRows& f = rows.frictions[i];
+        const float bound = f.friction * r.impulse;
+        for (int k = 0; k < 2; ++k) {
+            const float tangentSpeed = rowSpeed(a, b, f.tangent[k], f.crossA[k], f.crossB[k]);
+            const float next = std::clamp(f.impulse[k] - f.mass[k] * tangentSpeed, -bound, bound);
+            const float step = next - f.impulse[k];
+            f.impulse[k] = next;
+            applyRow(a, b, f.tangent[k], f.turnA[k], f.turnB[k], f.inverseMassA, f.inverseMassB,
+                     step);
+            residual = std::max(residual, std::abs(step));
+        }
+    }
+    return residual;
+}
+
+void warmStartContacts(const ContactRows& rows, SolverBodies& bodies) {
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const NormalRow& n = rows.normals[i];
+        SolverVelocity& a = bodies.velocity[n.a];
+        SolverVelocity& b = bodies.velocity[n.b];
+        applyRow(a, b, n.normal, n.turnA, n.turnB, n.inverseMassA, n.inverseMassB, n.impulse);
+        const FrictionRows& f = rows.frictions[i];
+        for (int k = 0; k < 2; ++k)
+            applyRow(a, b, f.tangent[k], f.turnA[k], f.turnB[k], f.inverseMassA, f.inverseMassB,
+                     f.impulse[k]);
+    }
+}
+
+// A joint's arms at the bodies' current orientations.
+void jointArms(const Joint& j, const SoftPoses& poses, glm::vec3& ra, glm::vec3& rb) {
+    ra = toVec3(shared::quatRotate(poses.pose[j.a].orientation, toFloat4(j.anchorA)));
+    rb = toVec3(shared::quatRotate(poses.pose[j.b].orientation, toFloat4(j.anchorB)));
+}
+
+// The hinge rows at the current orientations: their angular Jacobian on a (a_1 x b_2,
+// a_1 x c_2) and the constraint values (a_1 . b_2, a_1 . c_2).
+void hingeRows(const Joint& j, const SoftPoses& poses, glm::vec3 turn[2], glm::vec2& c) {
+    const shared::float4 qa = poses.pose[j.a].orientation, qb = poses.pose[j.b].orientation;
+    const glm::vec3 a1 = toVec3(shared::quatRotate(qa, toFloat4(j.axisA)));
+    const glm::vec3 b2 = toVec3(shared::quatRotate(qb, toFloat4(j.perpB[0])));
+    const glm::vec3 c2 = toVec3(shared::quatRotate(qb, toFloat4(j.perpB[1])));
+    turn[0] = glm::cross(a1, b2);
+    turn[1] = glm::cross(a1, c2);
+    c = glm::vec2(glm::dot(a1, b2), glm::dot(a1, c2));
+}
+
+void applyPoint(const Joint& j, glm::vec3 ra, glm::vec3 rb, glm::vec3 impulse,
+                SolverBodies& bodies) {
+    SolverVelocity& a = bodies.velocity[j.a];
+    SolverVelocity& b = bodies.velocity[j.b];
+    a.linear -= toLanes(impulse * bodies.inverseMass[j.a]);
+    a.angular -= toLanes(bodies.inverseInertia[j.a] * glm::cross(ra, impulse));
+    b.linear += toLanes(impulse * bodies.inverseMass[j.b]);
+    b.angular += toLanes(bodies.inverseInertia[j.b] * glm::cross(rb, impulse));
+}
+
+void applyTurn(const Joint& j, const glm::vec3 turn[2], glm::vec2 impulse, SolverBodies& bodies) {
+    const glm::vec3 torque = turn[0] * impulse.x + turn[1] * impulse.y;
+    bodies.velocity[j.a].angular += toLanes(bodies.inverseInertia[j.a] * torque);
+    bodies.velocity[j.b].angular -= toLanes(bodies.inverseInertia[j.b] * torque);
+}
+
+void warmStartJoints(std::span<const Joint> joints, const SoftPoses& poses, SolverBodies& bodies) {
+    for (const Joint& j : joints) {
+        if (!j.active) continue;
+        glm::vec3 ra, rb;
+        jointArms(j, poses, ra, rb);
+        applyPoint(j, ra, rb, j.pointImpulse, bodies);
+        if (j.type != JointType::Hinge) continue;
+        glm::vec3 turn[2];
+        glm::vec2 c;
+        hingeRows(j, poses, turn, c);
+        applyTurn(j, turn, j.turnImpulse, bodies);
+    }
+}
+
+// One pass over the joints: the hinge's two angular rows as a 2x2 block, then the anchor's
+// three rows as a 3x3 block, at the bodies' current poses; soft toward C = 0 with bias, rigid
+// on C' = 0 without. Returns the largest |applied change|, N s.
+float solveJoints(std::span<Joint> joints, SolverBodies& bodies, const SoftPoses& poses,
+                  std::span<const Softness> softness, bool useBias) {
+    float residual = 0.0f;
+    for (std::size_t n = 0; n < joints.size(); ++n) {
+        Joint& j = joints[n];
+        if (!j.active) continue;
+        const Softness& soft = softness[n];
+        const float massScale = useBias ? soft.massScale : 1.0f;
+        const float impulseScale = useBias ? soft.impulseScale : 0.0f;
+        const float biasRate = useBias ? soft.biasRate : 0.0f;
+        const glm::mat3& ia = bodies.inverseInertia[j.a];
+        const glm::mat3& ib = bodies.inverseInertia[j.b];
+        if (j.type == JointType::Hinge) {
+            glm::vec3 turn[2];
+            glm::vec2 c;
+            hingeRows(j, poses, turn, c);
+            const glm::mat3 sum = ia + ib;
+            const float k00 = glm::dot(turn[0], sum * turn[0]);
+            const float k01 = glm::dot(turn[0], sum * turn[1]);
+            const float k11 = glm::dot(turn[1], sum * turn[1]);
+            const glm::mat2 mass = safeInverse(glm::mat2(k00, k01, k01, k11));
+            const glm::vec3 dw =
+                fromLanes(bodies.velocity[j.a].angular) - fromLanes(bodies.velocity[j.b].angular);
+            const glm::vec2 speed(glm::dot(turn[0], dw), glm::dot(turn[1], dw));
+            const glm::vec2 impulse =
+                -massScale * (mass * (speed + biasRate * c)) - impulseScale * j.turnImpulse;
+            j.turnImpulse += impulse;
+            applyTurn(j, turn, impulse, bodies);
+            residual = std::max(residual, std::max(std::abs(impulse.x), std::abs(impulse.y)));
+        }
+        glm::vec3 ra, rb;
+        jointArms(j, poses, ra, rb);
+        const SolverVelocity& a = bodies.velocity[j.a];
+        const SolverVelocity& b = bodies.velocity[j.b];
+        const glm::vec3 speed = (fromLanes(b.linear) + glm::cross(fromLanes(b.angular), rb)) -
+                                (fromLanes(a.linear) + glm::cross(fromLanes(a.angular), ra));
+        const glm::vec3 separation =
+            (toVec3(poses.pose[j.b].position) + rb) - (toVec3(poses.pose[j.a].position) + ra);
+        const glm::mat3 sa = skew(ra), sb = skew(rb);
+        const glm::mat3 k = glm::mat3(bodies.inverseMass[j.a] + bodies.inverseMass[j.b]) -
+                            sa * ia * sa - sb * ib * sb;
+        const glm::vec3 impulse = -massScale * (safeInverse(k) * (speed + biasRate * separation)) -
+                                  impulseScale * j.pointImpulse;
+        j.pointImpulse += impulse;
+        applyPoint(j, ra, rb, impulse, bodies);
+        const glm::vec3 size = glm::abs(impulse);
+        residual = std::max(residual, std::max(size.x, std::max(size.y, size.z)));
+    }
+    return residual;
+}
+
+// x += h v, q turned by h w, for the bodies that move.
+void movePoses(const SolverBodies& bodies, float h, SoftPoses& poses) {
+    for (std::size_t i = 0; i < poses.pose.size(); ++i) {
+        if (!bodies.moves(std::uint32_t(i))) continue;
+        const SolverVelocity& v = bodies.velocity[i];
+        const Lanes step = v.linear * h;
+        poses.moved[i] += step;
+        shared::BodyPose& pose = poses.pose[i];
+        pose.position = toFloat4(toVec3(pose.position) + fromLanes(step));
+        pose.orientation =
+            shared::quatIntegrate(pose.orientation, toFloat4(fromLanes(v.angular)), h);
+    }
+}
+
+// Restitution after the substeps (Box2D v3's b2ApplyRestitution): a point that approached faster
+// than the threshold before the step and pushed in a substep leaves at -e times that speed.
+void applyRestitution(ContactRows& rows, std::span<SoftContactPoint> points, SolverBodies& bodies,
+                      float threshold) {
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        SoftContactPoint& p = points[i];
+        if (p.restitution == 0.0f || p.relativeVelocity > -threshold || p.maxNormalImpulse == 0.0f)
+            continue;
+        NormalRow& r = rows.normals[i];
+        SolverVelocity& a = bodies.velocity[r.a];
+        SolverVelocity& b = bodies.velocity[r.b];
+        const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
+        const float change = -r.mass * (speed + p.restitution * p.relativeVelocity);
+        const float total = std::max(r.impulse + change, 0.0f);
+        applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB,
+                 total - r.impulse);
+        r.impulse = total;
+        p.maxNormalImpulse = std::max(p.maxNormalImpulse, total);
+    }
+}
+
+} // namespace
+
+Softness softnessFor(float hertz, float dampingRatio, float h, float ima, float imb,
+                     float againstStill) {
+    if (ima == 0.0f || imb == 0.0f) return makeSoftness(againstStill * hertz, dampingRatio, h);
+    return makeSoftness(hertz, dampingRatio, h);
+}
+
+Softness makeSoftness(float hertz, float dampingRatio, float h) {
+    if (hertz == 0.0f) return Softness{};
+    const float omega = 2.0f * kPi * hertz;
+    const float a1 = 2.0f * dampingRatio + h * omega;
+    const float a2 = h * omega * a1;
+    const float a3 = 1.0f / (1.0f + a2);
+    return Softness{omega / a1, a2 * a3, a3};
+}
+
+SoftStepSettings makeSoftStepSettings(const SolverOptions& o, float dt) {
+    SoftStepSettings s;
+    s.substeps = std::max(o.substeps, 1);
+    s.relaxIterations = std::max(o.relaxIterations, 0);
+    s.h = dt / float(s.substeps);
+    const float hertz = std::min(o.contactHertz, 0.25f / s.h);
+    s.contactHertz = hertz;
+    s.dampingRatio = o.dampingRatio;
+    s.jointHertz = o.jointHertz;
+    s.jointDampingRatio = o.jointDampingRatio;
+    s.maxPushSpeed = o.maxPushSpeed;
+    s.restitutionThreshold = RUBBLE_RESTITUTION_THRESHOLD;
+    s.warmStart = o.warmStart;
+    return s;
+}
+
+void prepareSoftContacts(std::span<const Manifold> manifolds, const ContactRows& rows,
+                         std::span<const shared::BodyPose> poses, const SolverBodies& bodies,
+                         std::span<const shared::BodyVelocity> approach,
+                         std::span<const MaterialDesc> materials,
+                         std::span<const std::uint32_t> materialOf,
+                         std::span<const BodyPair> joined, std::vector<SoftContactPoint>& points) {
+    // The points in the order buildContactRows read them (before its interleaving).
+    std::vector<SoftContactPoint> inOrder;
+    inOrder.reserve(rows.size());
+    for (const Manifold& m : manifolds) {
+        if (m.count == 0) continue;
+        if (!bodies.moves(m.a) && !bodies.moves(m.b)) continue;
+        if (isJoinedPair(joined, m.a, m.b)) continue;
+        const float restitution = std::max(materials[materialOf[m.a]].restitution,
+                                           materials[materialOf[m.b]].restitution);
+        const shared::BodyPose& pa = poses[m.a];
+        const shared::BodyPose& pb = poses[m.b];
+        const glm::vec3 xa = toVec3(pa.position), xb = toVec3(pb.position);
+        const shared::BodyVelocity& va = approach[m.a];
+        const shared::BodyVelocity& vb = approach[m.b];
+        for (std::uint32_t k = 0; k < m.count; ++k) {
+            const ContactPoint& c = m.points[k];
+            SoftContactPoint p;
+            const glm::vec3 ra = c.position - xa, rb = c.position - xb;
+            p.offsetA = toLanes(ra);
+            p.offsetB = toLanes(rb);
+            p.anchorA = toVec3(shared::quatRotateInverse(pa.orientation, toFloat4(ra)));
+            p.anchorB = toVec3(shared::quatRotateInverse(pb.orientation, toFloat4(rb)));
+            p.separation = -c.depth;
+            const glm::vec3 pointA = toVec3(va.linear) + glm::cross(toVec3(va.angular), ra);
+            const glm::vec3 pointB = toVec3(vb.linear) + glm::cross(toVec3(vb.angular), rb);
+            p.relativeVelocity = glm::dot(m.normal, pointB - pointA);
+            p.restitution = restitution;
+            inOrder.push_back(p);
+        }
+    }
+    points.resize(rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        points[i] = inOrder[rows.built.empty() ? i : rows.built[i]];
+}
+
+void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points, std::span<Joint> joints,
+                   SolverBodies& bodies, std::span<const shared::BodyVelocity> start,
+                   std::span<const shared::BodyVelocity> afterForces, const SoftStepSettings& s,
+                   SoftPoses& poses, std::vector<float>& residuals) {
+    const std::size_t n = bodies.velocity.size();
+    // Each substep takes its share of the forces' velocity change.
+    std::vector<SolverVelocity> forcesShare(n);
+    const float share = 1.0f / float(s.substeps);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!bodies.moves(std::uint32_t(i))) continue;
+        const Lanes v0 = toLanes(toVec3(start[i].linear)), w0 = toLanes(toVec3(start[i].angular));
+        forcesShare[i].linear = (toLanes(toVec3(afterForces[i].linear)) - v0) * share;
+        forcesShare[i].angular = (toLanes(toVec3(afterForces[i].angular)) - w0) * share;
+        bodies.velocity[i] = SolverVelocity{v0, w0};
+    }
+    if (!s.warmStart) {
+        for (NormalRow& r : rows.normals) r.impulse = 0.0f;
+        for (FrictionRows& f : rows.frictions) f.impulse[0] = f.impulse[1] = 0.0f;
+        for (Joint& j : joints) {
+            j.pointImpulse = glm::vec3(0.0f);
+            j.turnImpulse = glm::vec2(0.0f);
+        }
+    }
+    // Each constraint's spring.
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        points[i].soft =
+            softnessFor(s.contactHertz, s.dampingRatio, s.h, rows.normals[i].inverseMassA,
+                        rows.normals[i].inverseMassB, kStillContactHertzScale);
+    std::vector<Softness> jointSoftness(joints.size());
+    for (std::size_t i = 0; i < joints.size(); ++i)
+        jointSoftness[i] =
+            softnessFor(s.jointHertz, s.jointDampingRatio, s.h, bodies.inverseMass[joints[i].a],
+                        bodies.inverseMass[joints[i].b], 1.0f);
+    residuals.clear();
+    for (int sub = 0; sub < s.substeps; ++sub) {
+        for (std::size_t i = 0; i < n; ++i) {
+            bodies.velocity[i].linear += forcesShare[i].linear;
+            bodies.velocity[i].angular += forcesShare[i].angular;
+        }
+        warmStartJoints(joints, poses, bodies);
+        warmStartContacts(rows, bodies);
+        float residual = solveJoints(joints, bodies, poses, jointSoftness, true);
+        residual = std::max(residual, solveContacts(rows, points, bodies, poses, s, true));
+        residuals.push_back(residual);
+        movePoses(bodies, s.h, poses);
+        for (int k = 0; k < s.relaxIterations; ++k) {
+            float relaxed = solveJoints(joints, bodies, poses, jointSoftness, false);
+            relaxed = std::max(relaxed, solveContacts(rows, points, bodies, poses, s, false));
+            residuals.push_back(relaxed);
+        }
+    }
+    applyRestitution(rows, points, bodies, s.restitutionThreshold);
+}
+
+} // namespace rubble

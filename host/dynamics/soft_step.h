@@ -1,0 +1,106 @@
+// host/dynamics/soft_step.h: CPU stage 6 of the soft-step solver, solveSoftStep: substeps that
+// integrate the bodies, with soft contacts and joints, relax passes and restitution (Catto,
+// "Solver2D", 2024; the Box2D v3 solver). The device version does not exist yet.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "host/dynamics/contact_rows.h"
+#include "host/dynamics/joints.h"
+#include "host/dynamics/solver_bodies.h"
+#include "rubble/options.h"
+#include "rubble/shared/body.h"
+
+namespace rubble {
+
+/// A soft constraint's coefficients for one substep h (Catto, "Solver2D: soft step", and Box2D
+/// v3's b2MakeSoft): with zeta the damping ratio and omega = 2 pi hertz, a1 = 2 zeta + h omega,
+/// a2 = h omega a1, a3 = 1 / (1 + a2); the velocity bias is biasRate C, the impulse
+/// -massScale m_eff (Cdot + biasRate C) - impulseScale lambda_accumulated.
+struct Softness {
+    float biasRate = 0.0f;     ///< omega / a1, 1/s
+    float massScale = 1.0f;    ///< a2 a3
+    float impulseScale = 0.0f; ///< a3
+};
+
+/// The coefficients of a spring of `hertz` (Hz) and `dampingRatio` over a substep of h seconds;
+/// a rigid constraint without bias ({0, 1, 0}) when hertz is 0.
+Softness makeSoftness(float hertz, float dampingRatio, float h);
+
+/// What a soft contact point needs beyond its rows (ContactRows, in the same order).
+struct SoftContactPoint {
+    Lanes offsetA{},
+        offsetB{}; ///< contact point from each centre of mass at the step's start, world, m
+    glm::vec3 anchorA{0.0f}, anchorB{0.0f}; ///< the same offsets in the bodies' frames, m
+    float separation = 0.0f;       ///< along the normal at the step's start, m (negative: overlap)
+    float relativeVelocity = 0.0f; ///< normal speed of b against a before the step's forces, m/s
+    float restitution = 0.0f;      ///< max(e_a, e_b)
+    float maxNormalImpulse = 0.0f; ///< largest normal impulse of the substeps, N s
+    Softness soft;                 ///< this point's spring (softnessFor)
+};
+
+/// The soft step's settings of one step, from SolverOptions and dt.
+struct SoftStepSettings {
+    int substeps = 4;
+    int relaxIterations = 1;
+    float h = 1.0f / 240.0f;    ///< substep, s
+    float contactHertz = 30.0f; ///< capped at a quarter of the substep rate, Hz
+    float dampingRatio = 10.0f;
+    float jointHertz = 60.0f; ///< Hz
+    float jointDampingRatio = 2.0f;
+    float maxPushSpeed = 3.0f;         ///< m/s
+    float restitutionThreshold = 0.5f; ///< slower approaches do not bounce, m/s
+    bool warmStart = true;
+};
+
+/// The settings for a step of dt seconds. The contact hertz is capped at a quarter of the
+/// substep rate (Box2D v3's rule: stiffer than that, a substep cannot follow the spring).
+SoftStepSettings makeSoftStepSettings(const SolverOptions& options, float dt);
+
+/// The spring of a constraint between bodies of inverse masses ima and imb (0: does not move)
+/// at `hertz`: against a body that does not move, `againstStill` times the hertz (contacts 2, as
+/// Box2D v3's static softness: nothing on the other side gives way; joints 1). The stiffness
+/// m_eff omega^2 follows the constraint's effective mass, about the lighter body's: a load of
+/// weight W on it overlaps by W / (m_eff omega^2) at rest (docs/solvers.md, "Mass ratios").
+Softness softnessFor(float hertz, float dampingRatio, float h, float ima, float imb,
+                     float againstStill);
+
+/// The bodies' poses during the substeps, by body index: where each body is now and how far it
+/// has moved since the step began.
+struct SoftPoses {
+    std::vector<shared::BodyPose> pose;
+    std::vector<Lanes> moved; ///< x - x_start, m
+};
+
+/// The extra data of the soft contact points: offsets, separations and approach speeds, from the
+/// rows buildContactRows made from these manifolds (rows.built maps each row to its point in
+/// manifold order; manifolds skipped by buildContactRows are skipped alike).
+/// reads: manifolds, rows, poses, approach velocities, materials   writes: points
+void prepareSoftContacts(std::span<const Manifold> manifolds, const ContactRows& rows,
+                         std::span<const shared::BodyPose> poses, const SolverBodies& bodies,
+                         std::span<const shared::BodyVelocity> approach,
+                         std::span<const MaterialDesc> materials,
+                         std::span<const std::uint32_t> materialOf,
+                         std::span<const BodyPair> joined, std::vector<SoftContactPoint>& points);
+
+/// Stage solveSoftStep. The bodies' velocities start from `start` (before the step's forces);
+/// each of the substeps adds 1/substeps of the forces' velocity change (`afterForces - start`),
+/// warm-starts the joints and contacts with their accumulated impulses, solves joints then
+/// contacts once with bias (soft constraints; a contact's separation is updated from the
+/// bodies' motion within the step, so no new collision is needed), moves the bodies by h, and
+/// runs the relax passes (no bias, rigid). Then restitution (rows that bounced: target speed
+/// -e v_before, as Box2D v3's b2ApplyRestitution). The accumulated impulses are per substep.
+/// residuals[k] is the largest |impulse change| of the k-th pass (biased or relax).
+/// reads: rows, points, joints, start and afterForces velocities
+/// writes: bodies' velocities, poses (the poses at the step's end), impulses, residuals
+void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points, std::span<Joint> joints,
+                   SolverBodies& bodies, std::span<const shared::BodyVelocity> start,
+                   std::span<const shared::BodyVelocity> afterForces,
+                   const SoftStepSettings& settings, SoftPoses& poses,
+                   std::vector<float>& residuals);
+
+} // namespace rubble

@@ -1,0 +1,95 @@
+// host/dynamics/soft_step_solver.cpp: the soft-step solver's stages over the body arrays: rows,
+// substeps (which move the bodies), and sleeping.
+#include "host/dynamics/soft_step_solver.h"
+
+#include <algorithm>
+
+#include "host/core/math.h"
+
+namespace rubble {
+
+void SoftStepSolver::prepareRadii(const SolverScene& scene, BodiesView bodies) {
+    SoftStepCache& c = cache_;
+    if (c.radii.size() == bodies.count()) return;
+    c.radii.resize(bodies.count());
+    for (std::uint32_t i = 0; i < bodies.count(); ++i)
+        c.radii[i] = scene.shapes[bodies.shapeOf[i]].boundingRadius;
+}
+
+bool SoftStepSolver::wake(const SolverScene& scene, Bodies bodies,
+                          std::span<const shared::BodyVelocity> approach,
+                          const StepContacts& contacts, const StepParams&) {
+    prepareRadii(scene, bodies);
+    return wakeIslands(contacts.manifolds, scene.joined, cache_.radii, bodies.masses, approach,
+                       cache_.sleep) > 0;
+}
+
+void SoftStepSolver::buildRows(const SolverScene& scene, BodiesView bodies,
+                               std::span<const shared::BodyVelocity> approach,
+                               const StepContacts& contacts, const StepParams& params) {
+    SoftStepCache& c = cache_;
+    if (!c.jointsBuilt) {
+        c.joints = makeJoints(scene.joints, bodies.poses);
+        c.jointsBuilt = true;
+    }
+    gatherSolverMasses(bodies.masses, bodies.poses, c.bodies);
+    gatherSolverVelocities(bodies.velocities, c.bodies);
+    const SolverOptions& o = params.solver;
+    const ContactRowSettings settings{params.dt, o.baumgarte, o.slop, o.warmStart,
+                                      params.collision == CollisionMethod::Particles};
+    buildContactRows(contacts.manifolds, bodies.poses, c.bodies, approach, scene.materials,
+                     bodies.materialOf, scene.joined, c.impulses, settings, c.contacts);
+    prepareSoftContacts(contacts.manifolds, c.contacts, bodies.poses, c.bodies, approach,
+                        scene.materials, bodies.materialOf, scene.joined, c.points);
+    // prepareJoints keeps the impulses (or zeroes them without warm start) and marks the joints
+    // that move; the soft step computes its own arms and masses at each substep's poses.
+    prepareJoints(c.joints, bodies.poses, c.bodies, o.warmStart, params.dt);
+    c.start.assign(approach.begin(), approach.end());
+    c.poses.pose.assign(bodies.poses.begin(), bodies.poses.end());
+    c.poses.moved.assign(bodies.count(), Lanes{});
+}
+
+Status SoftStepSolver::solve(const SolverScene&, Bodies bodies,
+                             std::span<const shared::BodyVelocity> before, const StepContacts&,
+                             const StepParams& params) {
+    SoftStepCache& c = cache_;
+    const SoftStepSettings settings = makeSoftStepSettings(params.solver, params.dt);
+    solveSoftStep(c.contacts, c.points, c.joints, c.bodies, c.start, before, settings, c.poses,
+                  c.residuals);
+    scatterSolverVelocities(c.bodies, bodies.velocities);
+    storeContactImpulses(c.contacts, c.impulses, c.bodies, c.nextImpulses, c.impulseScratch);
+    std::swap(c.impulses, c.nextImpulses);
+    return {};
+}
+
+void SoftStepSolver::solvePositions(const SolverScene&, Bodies bodies, const StepParams&) {
+    SoftStepCache& c = cache_;
+    for (std::uint32_t i = 0; i < bodies.count(); ++i) {
+        if (!c.bodies.moves(i)) continue;
+        bodies.poses[i] = c.poses.pose[i];
+        bodies.velocities[i] = shared::velocityFromMomentumItem(bodies.momenta[i], bodies.masses[i],
+                                                                bodies.poses[i].orientation);
+    }
+}
+
+std::uint32_t SoftStepSolver::sleep(const SolverScene& scene, Bodies bodies,
+                                    const StepContacts& contacts, const StepParams& params) {
+    SoftStepCache& c = cache_;
+    prepareRadii(scene, bodies);
+    c.lastSleep = updateSleep(contacts.manifolds, scene.joined, c.radii, bodies.masses,
+                              bodies.velocities, bodies.momenta, params.dt, c.sleep);
+    return c.lastSleep.asleepBodies;
+}
+
+void SoftStepSolver::bodiesChanged(std::span<const std::uint32_t> newIndex, BodiesView) {
+    SoftStepCache& c = cache_;
+    for (Joint& j : c.joints) {
+        j.a = newIndex[j.a];
+        j.b = newIndex[j.b];
+    }
+    c.impulses.clear();
+    c.sleep = SleepState{};
+    c.radii.clear();
+}
+
+} // namespace rubble
