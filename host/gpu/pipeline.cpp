@@ -346,7 +346,7 @@ Status Pipeline::enqueueSatSolve(const StepParams& params) {
     RUBBLE_TRY(clearForces());
     profile_.setStage(DeviceStage::Sleep);
     // Islands on the host decide once the step is met (updateIslandsOnHost).
-    if (!islands_.enabled()) RUBBLE_TRY(sleepBodies(dt));
+    if (!islands_.enabled() && params.sleep) RUBBLE_TRY(sleepBodies(dt));
     // This step's pairs, features and impulses are the next step's. With SAT, a step that found
     // no pairs after one that found none, with no body state from the host between, keeps last
     // step's set as it is: it holds still pairs only, and none of them can have moved (a moving
@@ -385,7 +385,7 @@ Status Pipeline::enqueueFromCollision(const StepParams& params) {
     RUBBLE_TRY(integratePositions(dt, symplectic));
     RUBBLE_TRY(clearForces());
     profile_.setStage(DeviceStage::Sleep);
-    RUBBLE_TRY(sleepBodies(dt));
+    if (params.sleep) RUBBLE_TRY(sleepBodies(dt));
     if (gatherImpulses_) RUBBLE_TRY(gatherObstacleImpulses());
     // This step's contacts and impulses become the next step's warm start.
     warmSwapped_ = false;
@@ -444,7 +444,7 @@ Status Pipeline::endStep(const StepParams& params, std::span<const std::string> 
         RUBBLE_TRY(finish());
     }
     DeviceStatus st = statusFromSlots();
-    if (islands_.enabled()) {
+    if (islands_.enabled() && params.sleep) {
         // The CPU's updateSleep on the step's velocities; the stopped bodies go to the device.
         profile_.setStage(DeviceStage::Sleep);
         const auto islandsStart = std::chrono::steady_clock::now();

@@ -76,6 +76,9 @@ struct SimulationOptions {
     CollisionOptions collision;
     SolverOptions solver;
     Coupling coupling = Coupling::OneWay;
+    /// Whether still bodies go to sleep (CPU islands, the device's sleep); false keeps every
+    /// body awake, as a benchmark that times every step's full work asks.
+    bool sleep = true;
 
     /// The collision method in effect: the scene's, else the backend's default (sat on cpu,
     /// particles on opencl; SAT and PGS on the device are asked for by naming sat).

@@ -29,6 +29,7 @@ SimulationOptions otherSimulation() {
     s.solver.relaxation = 1.5f;
     s.solver.warmStart = false;
     s.coupling = Coupling::TwoWay;
+    s.sleep = false;
     return s;
 }
 
