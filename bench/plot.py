@@ -9,7 +9,8 @@ writes
   bench_stages.png       where a step's time goes, stage by stage (mean ms/step over the run), for
                          each rubble configuration on each debris pile: the CPU stages of the cpu
                          backend beside the device stages of the opencl backend.
-With --table, prints the results as a Markdown table instead (the tables of docs/BENCHMARKS.md).
+With --table, prints the results as a Markdown table instead (the tables of docs/BENCHMARKS.md);
+a run with --repeat gives one row per scene and configuration, the medians over its runs.
 """
 import argparse
 import csv
@@ -53,9 +54,38 @@ def read_results(path):
     return rows
 
 
+# The figures of a row that a run over repetitions gives as medians.
+FIGURES = ["bodies", "median_ms", "p90_ms", "mean_ms", "peak_mib", "sunk", "floor_penetration_m",
+           "mean_drift_m_per_s", "kinetic_energy_j", "moving", "asleep", "ratio_to_reference"]
+
+
+def median_rows(rows):
+    """One row per scene, seed and configuration of a run with --repeat: each figure the median
+    of the runs that finished (`runs`: finished/all); a group none of whose runs finished keeps
+    its first failure."""
+    groups = {}
+    for r in rows:
+        groups.setdefault((r["scene"], r.get("seed", ""), r["config"]), []).append(r)
+    out = []
+    for group in groups.values():
+        ok = [r for r in group if r["status"] == "ok"]
+        merged = dict(ok[0] if ok else group[0])
+        merged["runs"] = "%d/%d" % (len(ok), len(group))
+        for key in FIGURES:
+            values = sorted(float(r[key]) for r in ok if r.get(key, "") not in ("", None))
+            n = len(values)
+            merged[key] = "%r" % ((values[n // 2] + values[(n - 1) // 2]) / 2.0) if n else ""
+        out.append(merged)
+    return out
+
+
 def print_table(path):
-    """Every row of the CSV, failures included, as Markdown."""
+    """Every row of the CSV, failures included, as Markdown; a run with --repeat as the medians
+    of each scene and configuration."""
     rows = read_results(path)
+    repeated = any(r.get("repeat") for r in rows)
+    if repeated:
+        rows = median_rows(rows)
 
     def num(key, fmt, scale=1.0):
         def cell(r):
@@ -68,14 +98,16 @@ def print_table(path):
 
     # The columns after scene and config: a title and its cell of an ok row.
     columns = [
-        ("bodies", lambda r: r["bodies"]), ("median ms", num("median_ms", "%.3g")),
+        ("bodies", num("bodies", "%d")), ("median ms", num("median_ms", "%.3g")),
         ("p90 ms", num("p90_ms", "%.3g")), ("mean ms", num("mean_ms", "%.3g")),
-        ("peak MiB", num("peak_mib", "%.0f")), ("sunk", text("sunk")),
+        ("peak MiB", num("peak_mib", "%.0f")), ("sunk", num("sunk", "%g")),
         ("floor pen. mm", num("floor_penetration_m", "%.1f", 1000.0)),
         ("drift m/s", num("mean_drift_m_per_s", "%.3f")),
-        ("energy J", num("kinetic_energy_j", "%.3g")), ("moving", text("moving")),
-        ("asleep", text("asleep")), ("ratio", num("ratio_to_reference", "%.2f")),
+        ("energy J", num("kinetic_energy_j", "%.3g")), ("moving", num("moving", "%g")),
+        ("asleep", num("asleep", "%g")), ("ratio", num("ratio_to_reference", "%.2f")),
     ]
+    if repeated:
+        columns.insert(0, ("runs", text("runs")))
     line = lambda cells: print("| " + " | ".join(cells) + " |")
     line(["scene", "config"] + [title for title, _ in columns])
     line(["---", "---"] + ["---:"] * len(columns))
@@ -83,9 +115,12 @@ def print_table(path):
         # A run with --seeds names each row's seed after its scene.
         scene = r["scene"] + (" seed %s" % r["seed"] if r.get("seed") else "")
         if r["status"] != "ok":
-            # The reason in the second column of figures, the others empty.
-            reason = r["status"].split("(")[0].strip()[:90]
-            print("| %s | %s | | %s |%s" % (scene, r["config"], reason, " |" * (len(columns) - 2)))
+            # The reason in the median's column, the other figures empty.
+            cells = [r.get("runs", "") if title == "runs" else "" for title, _ in columns]
+            cells[[title for title, _ in columns].index("median ms")] = (
+                r["status"].split("(")[0].strip()[:90])
+            print("| %s | %s |" % (scene, r["config"]) +
+                  "".join(" %s |" % c if c else " |" for c in cells))
             continue
         line([scene, r["config"]] + [cell(r) for _, cell in columns])
 
