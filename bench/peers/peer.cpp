@@ -18,7 +18,7 @@ double bodyMass(const BodyDesc& body, const Shape& shape) {
 }
 
 int runPeer(int argc, char** argv, const std::string& engine, const std::string& version,
-            const PeerFactory& factory) {
+            const PeerFactory& factory, const PeerOptions& options) {
     CLI::App app{"Runs a rubble scene on " + engine + " for the benchmarks"};
     std::string scenePath, out, metrics;
     std::optional<int> steps;
@@ -28,6 +28,7 @@ int runPeer(int argc, char** argv, const std::string& engine, const std::string&
     app.add_option("--out", out, "Trajectory, .csv or .jsonl");
     app.add_option("--every", every, "Write every K-th step");
     app.add_option("--metrics", metrics, "Summary, .json");
+    if (options) options(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -105,6 +106,7 @@ int runPeer(int argc, char** argv, const std::string& engine, const std::string&
         if (const std::optional<std::size_t> asleep = w.asleep()) j["asleep"] = {{"last", *asleep}};
         j["engine"] = engine;
         j["engine_version"] = version;
+        if (const std::string device = w.device(); !device.empty()) j["device"] = device;
         j["caveats"] = w.caveats();
         if (Status s = writeFileAtomically(metrics, j.dump(2) + "\n"); !s) return fail(s.error());
     }

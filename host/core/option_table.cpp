@@ -246,6 +246,11 @@ const std::vector<Option>& table() {
                                         .name = "coupling",
                                         .help = "Whether debris on the device pushes the bodies "
                                                 "on the CPU"}),
+        simulationOption<&S::sleep>({.key = "sleep",
+                                     .name = "sleep",
+                                     .uses = kEverywhere,
+                                     .help = "Whether still bodies go to sleep; false keeps "
+                                             "every body awake"}),
         runOption<&RunOptions::device>({.name = "device",
                                         .uses = kEverywhere,
                                         .help = "OpenCL device: a name fragment or an index"}),
@@ -540,7 +545,8 @@ std::string optionTypeName(const Option& option) {
     case OptionKind::Choice:
         return listText(option.choices, "|", false, "|");
     case OptionKind::Bool:
-        return "";
+        // A run option's flag stands alone; a scene option's flag overrides the file both ways.
+        return option.scope == OptionScope::Simulation ? "true|false" : "";
     case OptionKind::Text:
         return "TEXT";
     }

@@ -23,6 +23,7 @@ StepParams makeStepParams(const SimulationOptions& o, std::int64_t stepsTaken) {
     p.rows = solverParams(o);
     p.jacobiRelaxation = jacobiRelaxation(o.solver);
     p.lcpJacobiRelaxation = lcpJacobiRelaxation(o.solver);
+    p.sleep = o.sleep;
     return p;
 }
 

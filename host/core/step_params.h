@@ -27,6 +27,7 @@ struct StepParams {
     shared::SolverParams rows{};      ///< the contact rows of the jacobi family (solverParams)
     float jacobiRelaxation = 1.0f;    ///< jacobiRelaxation(solver)
     float lcpJacobiRelaxation = 1.0f; ///< lcpJacobiRelaxation(solver)
+    bool sleep = true;                ///< still bodies may go to sleep (SimulationOptions::sleep)
 
     bool symplectic() const { return integrator == Integrator::Symplectic; }
 };

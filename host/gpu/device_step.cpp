@@ -186,8 +186,9 @@ Status Pipeline::solvePairs(const StepParams& params) {
     RUBBLE_TRY(joints_.project(q, bodies_));
     RUBBLE_TRY(bodies_.clearForces(q));
     profile.setStage(DeviceStage::Sleep);
-    // Islands on the host decide once the step is met.
-    if (!islands_) RUBBLE_TRY(sleepBodies(q, bodies_, &pairs_, nullptr, joints_, dt));
+    // Islands on the host decide once the step is met; a world kept awake does not sleep.
+    if (!islands_ && params.sleep)
+        RUBBLE_TRY(sleepBodies(q, bodies_, &pairs_, nullptr, joints_, dt));
     // This step's pairs, features and impulses are the next step's. With SAT, a step that found
     // no pairs after one that found none, with no body state from the host between, keeps last
     // step's set as it is: it holds still pairs only, and none of them can have moved (a moving
@@ -229,7 +230,7 @@ Status Pipeline::solveParticles(const StepParams& params) {
     RUBBLE_TRY(integratePositions(q, bodies_, dt, params.symplectic()));
     RUBBLE_TRY(bodies_.clearForces(q));
     profile.setStage(DeviceStage::Sleep);
-    RUBBLE_TRY(sleepBodies(q, bodies_, nullptr, &k, joints_, dt));
+    if (params.sleep) RUBBLE_TRY(sleepBodies(q, bodies_, nullptr, &k, joints_, dt));
     if (gatherImpulses_) RUBBLE_TRY(obstacles_.gather(q, k.rows, k.bodyStart, k.bodyList));
     // This step's contacts and impulses become the next step's warm start.
     if (solver.warmStart) RUBBLE_TRY(particles_.keepForWarmStart(q));
@@ -261,7 +262,7 @@ Status Pipeline::meetStep(const StepParams& params, std::span<const std::string>
         RUBBLE_TRY(q.finish());
     }
     DeviceStatus st = q.lastStatus();
-    if (islands_) {
+    if (islands_ && params.sleep) {
         // The CPU's updateSleep on the step's velocities; the stopped bodies go to the device.
         q.profile().setStage(DeviceStage::Sleep);
         const auto islandsStart = std::chrono::steady_clock::now();

@@ -111,7 +111,7 @@ Status stepCpu(WorldState& s, StepStats& stats) {
     RUBBLE_TRY(checkStop(s));
     {
         StageTimer t(stats.islandsMs);
-        stats.asleep = s.solver->sleep(solverScene, bodies, contacts, p);
+        if (p.sleep) stats.asleep = s.solver->sleep(solverScene, bodies, contacts, p);
     }
     stats.pairCount = std::uint32_t(contacts.pairs.size());
     stats.contactCount = contacts.contactCount;

@@ -89,6 +89,9 @@ struct SimulationOptions {
     /// come in the step (speculative contacts), so that fast bodies do not pass through thin
     /// ones. Off, the margin is the fixed RUBBLE_CONTACT_MARGIN (the CPU's SAT path only).
     bool continuous = true;
+    /// Whether still bodies go to sleep (CPU islands, the device's sleep); false keeps every
+    /// body awake, as a benchmark that times every step's full work asks.
+    bool sleep = true;
 
     /// The collision method in effect: the scene's, else the backend's default (sat on cpu,
     /// particles on opencl; SAT and PGS on the device are asked for by naming sat).

@@ -37,8 +37,8 @@ void translate(const ErrorException& e) {
 // with underscores (rubble._core.OPTION_KEYS, which the sweeps read).
 constexpr std::string_view kKeywords[] = {"steps",      "dt",         "backend",
                                           "integrator", "solver",     "iterations",
-                                          "collision",  "particle_spacing", "device",
-                                          "kernel_dir", "deterministic"};
+                                          "collision",  "particle_spacing", "sleep",
+                                          "device",     "kernel_dir", "deterministic"};
 
 // A keyword's value as the command line would write it, for the option table to read and check
 // (so that a keyword is refused exactly where a flag would be): True/False as true/false, an int

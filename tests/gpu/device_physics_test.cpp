@@ -50,6 +50,50 @@ TEST_F(DevicePhysics, APileOf256BoxesComesToRest) {
     EXPECT_LT(sunk.depth, 0.05) << "m, " << sunk.name << "'s lowest particle below the floor";
 }
 
+// A stack of three unit boxes on the floor, with `simulation` as given.
+std::string stackOfThree(const std::string& simulation) {
+    return R"({"format": "rubble-scene", "version": 1, "simulation": {)" + simulation + R"(},
+      "shapes": {"floor": {"type": "plane"}, "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
+      "bodies": [{"name": "floor", "shape": "floor", "static": true},
+                 {"name": "b0", "shape": "crate", "mass": 1, "position": [0, 0.5, 0]},
+                 {"name": "b1", "shape": "crate", "mass": 1, "position": [0, 1.5, 0]},
+                 {"name": "b2", "shape": "crate", "mass": 1, "position": [0, 2.5, 0]}]})";
+}
+
+// simulation.sleep on each of the device's sleep paths (SAT by the host's islands, SAT with
+// each body by itself, particles with Jacobi): with true the settled stack is asleep after 4 s,
+// with false no box is, and the stack stands as it does asleep.
+TEST_F(DevicePhysics, SleepFalseKeepsEverySettledBodyAwake) {
+    const std::string sat = R"("collision": {"method": "sat"})";
+    const std::string particles =
+        R"("collision": {"method": "particles", "particle_spacing": 0.25}, "solver": {"type": "jacobi"})";
+    struct Path {
+        const char* name;
+        std::string simulation;
+        bool bodySleep;
+    };
+    for (const Path& path : {Path{"sat, islands", sat, false}, Path{"sat, body sleep", sat, true},
+                             Path{"particles, jacobi", particles, false}}) {
+        for (const bool sleep : {true, false}) {
+            SCOPED_TRACE(std::string(path.name) + (sleep ? ", sleep true" : ", sleep false"));
+            RunOptions run;
+            run.bodySleep = path.bodySleep;
+            World w = deviceWorld(
+                stackOfThree(path.simulation + R"(, "sleep": )" + (sleep ? "true" : "false")), run);
+            ASSERT_TRUE(test::stepWorld(w, 240));
+            for (std::uint32_t i = 1; i <= 3; ++i) {
+                EXPECT_EQ(w.body(i).asleep, sleep) << w.bodyName(i);
+                EXPECT_NEAR(w.body(i).position.x, 0.0f, 0.02f) << w.bodyName(i);
+                EXPECT_NEAR(w.body(i).position.y, float(i) - 0.5f, 0.05f) << w.bodyName(i);
+            }
+            EXPECT_EQ(w.lastStep().asleep, sleep ? 3u : 0u);
+            if (!sleep) {
+                EXPECT_GT(w.lastStep().contactCount, 0u) << "awake: collided every step";
+            }
+        }
+    }
+}
+
 // Five unit boxes on each other stand for 10 s: the top one stays within 5 cm of where it was.
 TEST_F(DevicePhysics, AStackOfFiveStands) {
     World w = deviceWorld(boxes(R"({"type": "grid", "shape": "crate", "mass": 1,

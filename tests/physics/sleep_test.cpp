@@ -49,6 +49,27 @@ TEST(Sleep, StillIslandSleepsAfterHalfASecondAndCostsNothing) {
     EXPECT_TRUE(world.contacts().empty());
 }
 
+// simulation.sleep false: the same stack settles as it does with sleep, and stays awake, its
+// contacts collided and solved every step; the stack of the test above is asleep by then.
+TEST(Sleep, SleepFalseKeepsASettledStackAwake) {
+    std::string text = kStack;
+    text.insert(text.find("\"shapes\""), R"("simulation": {"sleep": false}, )");
+    World awake = test::worldFromText(text);
+    World sleeping = test::worldFromText(kStack);
+    ASSERT_TRUE(test::stepWorld(awake, 180));
+    ASSERT_TRUE(test::stepWorld(sleeping, 180));
+    EXPECT_TRUE(allAsleep(sleeping, 1, 4));
+    EXPECT_TRUE(noneAsleep(awake, 1, 4));
+    EXPECT_EQ(awake.lastStep().asleep, 0u);
+    EXPECT_GE(awake.lastStep().contactCount, 12u) << "three box faces of 4 points each";
+    for (std::uint32_t i = 1; i <= 3; ++i) {
+        // Settled: slow, and where it started (a box's centre 0.5 m above the one below).
+        EXPECT_LT(glm::length(awake.body(i).linearVelocity), 0.05f) << awake.bodyName(i);
+        EXPECT_NEAR(awake.body(i).position.y, float(i) - 0.5f, 0.02f) << awake.bodyName(i);
+        EXPECT_NEAR(awake.body(i).position.x, 0.0f, 0.01f) << awake.bodyName(i);
+    }
+}
+
 TEST(Sleep, PushThroughTheApiWakesTheWholeIsland) {
     World world = test::worldFromText(kStack);
     ASSERT_TRUE(test::stepWorld(world, 120));

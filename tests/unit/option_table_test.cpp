@@ -37,6 +37,7 @@ SimulationOptions otherSimulation() {
     s.solver.maxPushSpeed = 0.75f;
     s.coupling = Coupling::TwoWay;
     s.continuous = false;
+    s.sleep = false;
     return s;
 }
 

@@ -1,0 +1,44 @@
+# bench/run --repeat: every configuration runs N times on a scene, in turn, each run a row of the
+# CSV named by its repetition, with medians over the runs at the end; bench/plot.py --table gives
+# such a run as one row per scene and configuration, the medians of its runs.
+import csv
+import statistics
+import subprocess
+import sys
+
+import pytest
+
+from conftest import REPO
+
+SCRIPT = REPO / "bench" / "run"
+
+
+def test_three_runs_in_turn_and_their_medians(rubble_binary, tmp_path):
+    out = tmp_path / "repeat.csv"
+    done = subprocess.run([sys.executable, str(SCRIPT), "--build", str(rubble_binary.parent),
+                           "--scenes", "stack_10", "--configs", "cpu-sat-pgs", "--repeat", "3",
+                           "--steps", "5", "--out", str(out)], capture_output=True, text=True,
+                          cwd=REPO, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert "over 3 runs each, medians:" in done.stdout
+    rows = list(csv.DictReader(out.open()))
+    assert [r["repeat"] for r in rows] == ["1", "2", "3"]
+    assert all(r["status"] == "ok" and r["steps"] == "5" for r in rows)
+
+    plot = ["/usr/bin/python3", str(REPO / "bench" / "plot.py")]
+    probe = subprocess.run(plot[:1] + ["-c", "import matplotlib"], capture_output=True)
+    if probe.returncode != 0:
+        pytest.skip("bench/plot.py needs Debian's python3-matplotlib under /usr/bin/python3")
+    table = subprocess.run(plot + [str(out), "--table"], capture_output=True, text=True)
+    assert table.returncode == 0, table.stderr
+    lines = [l for l in table.stdout.splitlines() if l.startswith("| stack_10 ")]
+    assert len(lines) == 1, table.stdout
+    cells = [c.strip() for c in lines[0].strip("|").split("|")]
+    assert cells[:4] == ["stack_10", "cpu-sat-pgs", "3/3", "11"]
+    assert cells[4] == "%.3g" % statistics.median(float(r["median_ms"]) for r in rows)
+
+
+def test_repeat_must_be_one_or_more(rubble_binary):
+    done = subprocess.run([sys.executable, str(SCRIPT), "--build", str(rubble_binary.parent),
+                           "--repeat", "0"], capture_output=True, text=True, timeout=60)
+    assert done.returncode != 0 and "--repeat 0" in done.stderr
