@@ -167,6 +167,7 @@ class Box3dWorld final : public PeerWorld {
             break;
         }
         case ShapeType::Sphere:
+        case ShapeType::Capsule:
         case ShapeType::Plane:
             break;
         }
@@ -216,6 +217,11 @@ class Box3dWorld final : public PeerWorld {
         if (shape.type == ShapeType::Sphere) {
             const b3Sphere sphere{b3Vec3{0.0f, 0.0f, 0.0f}, shape.radius};
             b3CreateSphereShape(id, &def, &sphere);
+        } else if (shape.type == ShapeType::Capsule) {
+            // rubble's capsule: the segment from (0, -h, 0) to (0, h, 0), radius r.
+            const b3Capsule capsule{b3Vec3{0.0f, -shape.halfHeight, 0.0f},
+                                    b3Vec3{0.0f, shape.halfHeight, 0.0f}, shape.radius};
+            b3CreateCapsuleShape(id, &def, &capsule);
         } else if (shape.type == ShapeType::Plane) {
             b3CreateHullShape(id, &def, &planeBox.base);
         } else if (const b3HullData* hull = shapes_[d.shape].data()) {
