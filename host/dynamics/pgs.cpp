@@ -9,21 +9,6 @@
 namespace rubble {
 namespace {
 
-// J v of a row along d: the relative velocity of b against a at the contact point.
-inline float rowSpeed(const SolverVelocity& a, const SolverVelocity& b, Lanes d, Lanes crossA,
-                      Lanes crossB) {
-    return sum3(d * (b.linear - a.linear) + crossB * b.angular - crossA * a.angular);
-}
-
-// M^-1 J^T lambda.
-inline void applyRow(SolverVelocity& a, SolverVelocity& b, Lanes d, Lanes turnA, Lanes turnB,
-                     float inverseMassA, float inverseMassB, float lambda) {
-    a.linear -= d * (inverseMassA * lambda);
-    a.angular -= turnA * lambda;
-    b.linear += d * (inverseMassB * lambda);
-    b.angular += turnB * lambda;
-}
-
 // A row bounces when it has a bounce speed and stopped its bodies in this step's solve: they
 // reached the contact.
 bool isBouncing(const NormalRow& r) {

@@ -16,21 +16,6 @@ constexpr float kPi = 3.14159265358979f;
 // v3's static softness: nothing on the other side gives way).
 constexpr float kStillContactHertzScale = 2.0f;
 
-// J v of a row along d: the relative velocity of b against a at the contact point.
-inline float rowSpeed(const SolverVelocity& a, const SolverVelocity& b, Lanes d, Lanes crossA,
-                      Lanes crossB) {
-    return sum3(d * (b.linear - a.linear) + crossB * b.angular - crossA * a.angular);
-}
-
-// M^-1 J^T lambda.
-inline void applyRow(SolverVelocity& a, SolverVelocity& b, Lanes d, Lanes turnA, Lanes turnB,
-                     float inverseMassA, float inverseMassB, float lambda) {
-    a.linear -= d * (inverseMassA * lambda);
-    a.angular -= turnA * lambda;
-    b.linear += d * (inverseMassB * lambda);
-    b.angular += turnB * lambda;
-}
-
 Lanes rotateLanes(shared::float4 q, glm::vec3 v) {
     return toLanes(toVec3(shared::quatRotate(q, toFloat4(v))));
 }

@@ -33,6 +33,21 @@ struct SolverVelocity {
     Lanes angular{}; ///< rad/s
 };
 
+/// J v of a row along d: the relative velocity of b against a at the contact point.
+inline float rowSpeed(const SolverVelocity& a, const SolverVelocity& b, Lanes d, Lanes crossA,
+                      Lanes crossB) {
+    return sum3(d * (b.linear - a.linear) + crossB * b.angular - crossA * a.angular);
+}
+
+/// M^-1 J^T lambda onto both bodies' velocities.
+inline void applyRow(SolverVelocity& a, SolverVelocity& b, Lanes d, Lanes turnA, Lanes turnB,
+                     float inverseMassA, float inverseMassB, float lambda) {
+    a.linear -= d * (inverseMassA * lambda);
+    a.angular -= turnA * lambda;
+    b.linear += d * (inverseMassB * lambda);
+    b.angular += turnB * lambda;
+}
+
 /// One solve's view of every body, by body index. World frame throughout.
 struct SolverBodies {
     std::vector<SolverVelocity> velocity;
