@@ -19,17 +19,17 @@ Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
                          "the OpenCL pipeline takes fewer than " +
                              std::to_string(RUBBLE_TAG_MAX_BODIES) + " bodies; this world has " +
                              std::to_string(n));
-    PipelineHandle p(new Pipeline());
-    Result<std::unique_ptr<StageQueue>> queue = StageQueue::create(std::move(context));
-    RUBBLE_TRY(queue);
-    p->queue_ = std::move(*queue);
-    if (Status made = p->makeStages(in); !made.ok()) {
-        Error e = made.error();
-        // A buffer the device or the process had no room for (host/gpu/memory.h).
+    // A buffer the device or the process had no room for (host/gpu/memory.h) says so.
+    auto named = [](Error e) {
         if (e.kind == ErrorKind::Limit && e.where == "device memory")
             e.where = "device memory, creating the world's device buffers";
         return e;
-    }
+    };
+    PipelineHandle p(new Pipeline());
+    Result<std::unique_ptr<StageQueue>> queue = StageQueue::create(std::move(context));
+    if (!queue.ok()) return named(queue.error());
+    p->queue_ = std::move(*queue);
+    if (Status made = p->makeStages(in); !made.ok()) return named(made.error());
     return p;
 }
 
