@@ -235,7 +235,7 @@ PLANTS = [
     ("tests/unit/pgs_test.cpp", '#include "host/world/world_state.h"', "by host/world alone"),
     ("include/rubble/shared/body.h", '#include "host/core/math.h"', "a kernel header"),
     ("include/rubble/shared/body.h", "#include <vector>", "a kernel header"),
-    ("kernels/pgs.cl", '#include "host/core/limits.h"', "a kernel includes only"),
+    ("kernels/pgs_sweep.cl", '#include "host/core/limits.h"', "a kernel includes only"),
     ("include/rubble/world.h", '#include "host/core/bodies.h"', "the public API includes"),
     ("host/core/integrate.cpp", '#include "host/dynamics/forces.h"',
      "host/core includes host/dynamics"),
