@@ -35,9 +35,12 @@ static void wakeTouchedBodies(const uint a, const uint b, __global const BodyVel
                               __global uint* flags, __global float* slowFor,
                               __global uint* restless, const uint collisionRound,
                               __global uint* status) {
-    const uint fa = flags[a], fb = flags[b];
-    const uint ra = collisionRound > 0u ? restless[a] : 0u;
-    const uint rb = collisionRound > 0u ? restless[b] : 0u;
+    // Read as atomics: another work-item may be waking either body (wakeBody). Either value
+    // gives the same decision: a body woken in this launch wakes nobody in it (its approach
+    // velocity is a sleeping body's, zero, and its round mark is not an earlier round's).
+    const uint fa = atomic_or(&flags[a], 0u), fb = atomic_or(&flags[b], 0u);
+    const uint ra = collisionRound > 0u ? atomic_or(&restless[a], 0u) : 0u;
+    const uint rb = collisionRound > 0u ? atomic_or(&restless[b], 0u) : 0u;
     uint wake = RUBBLE_NO_BODY;
     if (wakesInRoundItem(fa, fb, approach[b], rb, collisionRound)) wake = a;
     if (wakesInRoundItem(fb, fa, approach[a], ra, collisionRound)) wake = b;
@@ -101,12 +104,13 @@ wakeStillPairs(const uint previousCapacity, __global const uint* previousCount,
     for (uint q = r.first; q < r.end; q += r.step) {
         if (previousImpulseCount[q] == 0u) continue;
         const BodyPairRecord pair = previousPairs[q];
-        const uint fa = flags[pair.a], fb = flags[pair.b];
+        // Read as atomics: another work-item may be waking either body (wakeBody). Either
+        // value gives the same decision: a body woken in this round wakes nobody in it.
+        const uint fa = atomic_or(&flags[pair.a], 0u), fb = atomic_or(&flags[pair.b], 0u);
+        const uint ra = atomic_or(&restless[pair.a], 0u), rb = atomic_or(&restless[pair.b], 0u);
         uint wake = RUBBLE_NO_BODY;
-        if ((fa & RUBBLE_BODY_ASLEEP) && wokenBeforeItem(fb, restless[pair.b], collisionRound))
-            wake = pair.a;
-        if ((fb & RUBBLE_BODY_ASLEEP) && wokenBeforeItem(fa, restless[pair.a], collisionRound))
-            wake = pair.b;
+        if ((fa & RUBBLE_BODY_ASLEEP) && wokenBeforeItem(fb, rb, collisionRound)) wake = pair.a;
+        if ((fb & RUBBLE_BODY_ASLEEP) && wokenBeforeItem(fa, ra, collisionRound)) wake = pair.b;
         wakeBody(wake, collisionRound, flags, slowFor, restless, status);
     }
 }

@@ -190,8 +190,12 @@ Status SatBroadPhase::findPairs(StageQueue& q, const DeviceBodies& b, PairStore&
                    .arg(bodyStart_)
                    .arg(pairs.current.pairs)
                    .run(count, sizes.broadGroup));
-    // The count travels with the pairs (last step's set keeps its own).
-    return q.copy(q.status(), pairs.current.count, sizeof(cl_uint),
+    // The count travels with the pairs (last step's set keeps its own). Both words of the set's
+    // count go: the first is the pairs found; the second, the entries kept, is the carry's to
+    // write at the end of the step (PairStore::keep) before any step reads it, so the status
+    // word after the pairs' stands there until then. (A copy of the first word alone leaves
+    // Oclgrind seeing the second as never written from then on.)
+    return q.copy(q.status(), pairs.current.count, 2 * sizeof(cl_uint),
                   RUBBLE_STATUS_PAIRS * sizeof(cl_uint), 0);
 }
 
