@@ -8,20 +8,10 @@
 
 namespace rubble {
 
-void PgsSolver::prepareRadii(const SolverScene& scene, BodiesView bodies) {
-    SolverCache& c = cache_;
-    if (c.radii.size() == bodies.count()) return;
-    c.radii.resize(bodies.count());
-    for (std::uint32_t i = 0; i < bodies.count(); ++i)
-        c.radii[i] = scene.shapes[bodies.shapeOf[i]].boundingRadius;
-}
-
 bool PgsSolver::wake(const SolverScene& scene, Bodies bodies,
                      std::span<const shared::BodyVelocity> approach, const StepContacts& contacts,
                      const StepParams&) {
-    prepareRadii(scene, bodies);
-    return wakeIslands(contacts.manifolds, scene.joined, cache_.radii, bodies.masses, approach,
-                       cache_.sleep) > 0;
+    return cache_.islands.wake(scene, bodies, approach, contacts.manifolds);
 }
 
 void PgsSolver::buildRows(const SolverScene& scene, BodiesView bodies,
@@ -94,11 +84,7 @@ void PgsSolver::solvePositions(const SolverScene&, Bodies bodies, const StepPara
 
 std::uint32_t PgsSolver::sleep(const SolverScene& scene, Bodies bodies,
                                const StepContacts& contacts, const StepParams& params) {
-    SolverCache& c = cache_;
-    prepareRadii(scene, bodies);
-    c.lastSleep = updateSleep(contacts.manifolds, scene.joined, c.radii, bodies.masses,
-                              bodies.velocities, bodies.momenta, params.dt, c.sleep);
-    return c.lastSleep.asleepBodies;
+    return cache_.islands.sleep(scene, bodies, contacts.manifolds, params.dt);
 }
 
 void PgsSolver::bodiesChanged(std::span<const std::uint32_t> newIndex, BodiesView bodies) {
@@ -110,8 +96,7 @@ void PgsSolver::bodiesChanged(std::span<const std::uint32_t> newIndex, BodiesVie
     }
     if (c.jointsBuilt) c.jointGroups = groupJoints(c.joints, bodies.masses);
     c.impulses.clear();
-    c.sleep = SleepState{};
-    c.radii.clear();
+    c.islands.reset();
 }
 
 } // namespace rubble

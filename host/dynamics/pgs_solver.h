@@ -8,7 +8,7 @@
 
 #include "host/dynamics/contact_rows.h"
 #include "host/dynamics/contact_solver.h"
-#include "host/dynamics/islands.h"
+#include "host/dynamics/solver_islands.h"
 #include "host/dynamics/joint_positions.h"
 #include "host/dynamics/joints.h"
 #include "host/dynamics/solver_bodies.h"
@@ -34,9 +34,7 @@ struct SolverCache {
     std::vector<float> residuals;       ///< largest |impulse change| of each sweep, N s
     bool pushed = false;                ///< the split position pass ran this step
     JointPositionReport jointPositions; ///< the last position correction
-    SleepState sleep;
-    std::vector<float> radii; ///< each body's bounding radius, m (for sleeping)
-    SleepReport lastSleep;
+    SolverIslands islands; ///< islands and sleep timers
 };
 
 /// Projected Gauss-Seidel with warm start, split impulses, joints and islands.
@@ -74,8 +72,6 @@ class PgsSolver final : public ContactSolver {
     const SolverCache& cache() const { return cache_; }
 
   private:
-    void prepareRadii(const SolverScene& scene, BodiesView bodies);
-
     SolverCache cache_;
 };
 

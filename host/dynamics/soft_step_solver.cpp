@@ -8,20 +8,10 @@
 
 namespace rubble {
 
-void SoftStepSolver::prepareRadii(const SolverScene& scene, BodiesView bodies) {
-    SoftStepCache& c = cache_;
-    if (c.radii.size() == bodies.count()) return;
-    c.radii.resize(bodies.count());
-    for (std::uint32_t i = 0; i < bodies.count(); ++i)
-        c.radii[i] = scene.shapes[bodies.shapeOf[i]].boundingRadius;
-}
-
 bool SoftStepSolver::wake(const SolverScene& scene, Bodies bodies,
                           std::span<const shared::BodyVelocity> approach,
                           const StepContacts& contacts, const StepParams&) {
-    prepareRadii(scene, bodies);
-    return wakeIslands(contacts.manifolds, scene.joined, cache_.radii, bodies.masses, approach,
-                       cache_.sleep) > 0;
+    return cache_.islands.wake(scene, bodies, approach, contacts.manifolds);
 }
 
 void SoftStepSolver::buildRows(const SolverScene& scene, BodiesView bodies,
@@ -74,11 +64,7 @@ void SoftStepSolver::solvePositions(const SolverScene&, Bodies bodies, const Ste
 
 std::uint32_t SoftStepSolver::sleep(const SolverScene& scene, Bodies bodies,
                                     const StepContacts& contacts, const StepParams& params) {
-    SoftStepCache& c = cache_;
-    prepareRadii(scene, bodies);
-    c.lastSleep = updateSleep(contacts.manifolds, scene.joined, c.radii, bodies.masses,
-                              bodies.velocities, bodies.momenta, params.dt, c.sleep);
-    return c.lastSleep.asleepBodies;
+    return cache_.islands.sleep(scene, bodies, contacts.manifolds, params.dt);
 }
 
 void SoftStepSolver::bodiesChanged(std::span<const std::uint32_t> newIndex, BodiesView) {
@@ -88,8 +74,7 @@ void SoftStepSolver::bodiesChanged(std::span<const std::uint32_t> newIndex, Bodi
         j.b = newIndex[j.b];
     }
     c.impulses.clear();
-    c.sleep = SleepState{};
-    c.radii.clear();
+    c.islands.reset();
 }
 
 } // namespace rubble

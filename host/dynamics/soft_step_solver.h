@@ -7,7 +7,7 @@
 
 #include "host/dynamics/contact_rows.h"
 #include "host/dynamics/contact_solver.h"
-#include "host/dynamics/islands.h"
+#include "host/dynamics/solver_islands.h"
 #include "host/dynamics/joints.h"
 #include "host/dynamics/soft_step.h"
 #include "host/dynamics/solver_bodies.h"
@@ -27,9 +27,7 @@ struct SoftStepCache {
     std::vector<shared::BodyVelocity> start; ///< velocities before the step's forces
     SoftPoses poses;                         ///< the bodies' poses through the substeps
     std::vector<float> residuals;
-    SleepState sleep;
-    std::vector<float> radii;
-    SleepReport lastSleep;
+    SolverIslands islands; ///< islands and sleep timers
 };
 
 /// Catto's soft step: substeps, soft contacts and joints, relax passes, restitution after.
@@ -64,8 +62,6 @@ class SoftStepSolver final : public ContactSolver {
     void bodiesChanged(std::span<const std::uint32_t> newIndex, BodiesView bodies) override;
 
   private:
-    void prepareRadii(const SolverScene& scene, BodiesView bodies);
-
     SoftStepCache cache_;
 };
 
