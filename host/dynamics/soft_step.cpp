@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "host/core/math.h"
+#include "host/dynamics/joint_rows.h"
 
 namespace rubble {
 namespace {
@@ -18,21 +19,6 @@ constexpr float kStillContactHertzScale = 2.0f;
 
 Lanes rotateLanes(shared::float4 q, glm::vec3 v) {
     return toLanes(toVec3(shared::quatRotate(q, toFloat4(v))));
-}
-
-// The cross-product matrix: skew(r) v = r x v (glm is column-major).
-glm::mat3 skew(glm::vec3 r) {
-    return glm::mat3(glm::vec3(0.0f, r.z, -r.y), glm::vec3(-r.z, 0.0f, r.x),
-                     glm::vec3(r.y, -r.x, 0.0f));
-}
-
-glm::mat3 safeInverse(const glm::mat3& k) {
-    const float det = glm::determinant(k);
-    return std::abs(det) > 1e-12f ? glm::inverse(k) : glm::mat3(0.0f);
-}
-glm::mat2 safeInverse(const glm::mat2& k) {
-    const float det = glm::determinant(k);
-    return std::abs(det) > 1e-12f ? glm::inverse(k) : glm::mat2(0.0f);
 }
 
 // One pass over the contacts: each point's normal row (soft with bias, rigid without; a gap is
@@ -104,45 +90,16 @@ void jointArms(const Joint& j, const SoftPoses& poses, glm::vec3& ra, glm::vec3&
     rb = toVec3(shared::quatRotate(poses.pose[j.b].orientation, toFloat4(j.anchorB)));
 }
 
-// The hinge rows at the current orientations: their angular Jacobian on a (a_1 x b_2,
-// a_1 x c_2) and the constraint values (a_1 . b_2, a_1 . c_2).
-void hingeRows(const Joint& j, const SoftPoses& poses, glm::vec3 turn[2], glm::vec2& c) {
-    const shared::float4 qa = poses.pose[j.a].orientation, qb = poses.pose[j.b].orientation;
-    const glm::vec3 a1 = toVec3(shared::quatRotate(qa, toFloat4(j.axisA)));
-    const glm::vec3 b2 = toVec3(shared::quatRotate(qb, toFloat4(j.perpB[0])));
-    const glm::vec3 c2 = toVec3(shared::quatRotate(qb, toFloat4(j.perpB[1])));
-    turn[0] = glm::cross(a1, b2);
-    turn[1] = glm::cross(a1, c2);
-    c = glm::vec2(glm::dot(a1, b2), glm::dot(a1, c2));
-}
-
-void applyPoint(const Joint& j, glm::vec3 ra, glm::vec3 rb, glm::vec3 impulse,
-                SolverBodies& bodies) {
-    SolverVelocity& a = bodies.velocity[j.a];
-    SolverVelocity& b = bodies.velocity[j.b];
-    a.linear -= toLanes(impulse * bodies.inverseMass[j.a]);
-    a.angular -= toLanes(bodies.inverseInertia[j.a] * glm::cross(ra, impulse));
-    b.linear += toLanes(impulse * bodies.inverseMass[j.b]);
-    b.angular += toLanes(bodies.inverseInertia[j.b] * glm::cross(rb, impulse));
-}
-
-void applyTurn(const Joint& j, const glm::vec3 turn[2], glm::vec2 impulse, SolverBodies& bodies) {
-    const glm::vec3 torque = turn[0] * impulse.x + turn[1] * impulse.y;
-    bodies.velocity[j.a].angular += toLanes(bodies.inverseInertia[j.a] * torque);
-    bodies.velocity[j.b].angular -= toLanes(bodies.inverseInertia[j.b] * torque);
-}
-
 void warmStartJoints(std::span<const Joint> joints, const SoftPoses& poses, SolverBodies& bodies) {
     for (const Joint& j : joints) {
         if (!j.active) continue;
         glm::vec3 ra, rb;
         jointArms(j, poses, ra, rb);
-        applyPoint(j, ra, rb, j.pointImpulse, bodies);
+        applyPointImpulse(j, ra, rb, j.pointImpulse, bodies);
         if (j.type != JointType::Hinge) continue;
         glm::vec3 turn[2];
-        glm::vec2 c;
-        hingeRows(j, poses, turn, c);
-        applyTurn(j, turn, j.turnImpulse, bodies);
+        hingeRows(j, poses.pose[j.a], poses.pose[j.b], turn, nullptr);
+        applyTurnImpulse(j, turn, j.turnImpulse, bodies);
     }
 }
 
@@ -164,19 +121,15 @@ float solveJoints(std::span<Joint> joints, SolverBodies& bodies, const SoftPoses
         if (j.type == JointType::Hinge) {
             glm::vec3 turn[2];
             glm::vec2 c;
-            hingeRows(j, poses, turn, c);
-            const glm::mat3 sum = ia + ib;
-            const float k00 = glm::dot(turn[0], sum * turn[0]);
-            const float k01 = glm::dot(turn[0], sum * turn[1]);
-            const float k11 = glm::dot(turn[1], sum * turn[1]);
-            const glm::mat2 mass = safeInverse(glm::mat2(k00, k01, k01, k11));
+            hingeRows(j, poses.pose[j.a], poses.pose[j.b], turn, &c);
+            const glm::mat2 mass = safeInverse(hingeMatrix(turn, ia, ib));
             const glm::vec3 dw =
                 fromLanes(bodies.velocity[j.a].angular) - fromLanes(bodies.velocity[j.b].angular);
             const glm::vec2 speed(glm::dot(turn[0], dw), glm::dot(turn[1], dw));
             const glm::vec2 impulse =
                 -massScale * (mass * (speed + biasRate * c)) - impulseScale * j.turnImpulse;
             j.turnImpulse += impulse;
-            applyTurn(j, turn, impulse, bodies);
+            applyTurnImpulse(j, turn, impulse, bodies);
             residual = std::max(residual, std::max(std::abs(impulse.x), std::abs(impulse.y)));
         }
         glm::vec3 ra, rb;
@@ -187,13 +140,12 @@ float solveJoints(std::span<Joint> joints, SolverBodies& bodies, const SoftPoses
                                 (fromLanes(a.linear) + glm::cross(fromLanes(a.angular), ra));
         const glm::vec3 separation =
             (toVec3(poses.pose[j.b].position) + rb) - (toVec3(poses.pose[j.a].position) + ra);
-        const glm::mat3 sa = skew(ra), sb = skew(rb);
-        const glm::mat3 k = glm::mat3(bodies.inverseMass[j.a] + bodies.inverseMass[j.b]) -
-                            sa * ia * sa - sb * ib * sb;
+        const glm::mat3 k =
+            pointMatrix(ra, rb, bodies.inverseMass[j.a], bodies.inverseMass[j.b], ia, ib);
         const glm::vec3 impulse = -massScale * (safeInverse(k) * (speed + biasRate * separation)) -
                                   impulseScale * j.pointImpulse;
         j.pointImpulse += impulse;
-        applyPoint(j, ra, rb, impulse, bodies);
+        applyPointImpulse(j, ra, rb, impulse, bodies);
         const glm::vec3 size = glm::abs(impulse);
         residual = std::max(residual, std::max(size.x, std::max(size.y, size.z)));
     }
