@@ -57,6 +57,21 @@ Dispatch PgsSolve::launch(StageQueue& q, KernelId id, const PgsLaunch& l) const 
     return d;
 }
 
+// A sweep's launch with the rows, the joints and the bodies bound after its first arguments:
+// what the warm start and the velocity sweeps both read next.
+Dispatch PgsSolve::rowLaunch(StageQueue& q, KernelId id, const PgsLaunch& l,
+                             const DeviceJoints& joints, const DeviceBodies& b) const {
+    Dispatch d = launch(q, id, l);
+    d.arg(normalRows_)
+        .arg(frictionRows_)
+        .arg(impulses_)
+        .arg(joints.joints)
+        .arg(joints.rows)
+        .arg(b.jacobi)
+        .arg(b.velocities);
+    return d;
+}
+
 Status PgsSolve::summarize(StageQueue& q, DeviceBodies& b, PairStore& pairs, DeviceJoints& joints,
                            const StepParams& params) {
     const Context& c = q.c();
@@ -131,14 +146,7 @@ Status PgsSolve::solve(StageQueue& q, DeviceBodies& b, PairStore& pairs, DeviceJ
     RUBBLE_TRY(b.copyVelocities(q, b.before));
     if (o.warmStart) {
         for (const PgsLaunch& l : launches_) {
-            RUBBLE_TRY(launch(q, KernelId::WarmStartPgs, l)
-                           .arg(normalRows_)
-                           .arg(frictionRows_)
-                           .arg(impulses_)
-                           .arg(joints.joints)
-                           .arg(joints.rows)
-                           .arg(b.jacobi)
-                           .arg(b.velocities)
+            RUBBLE_TRY(rowLaunch(q, KernelId::WarmStartPgs, l, joints, b)
                            .run(l.items(group), group));
             q.profile().setLastBytes(sweepBytes(l.count, l.points, rowBytes));
         }
@@ -162,14 +170,7 @@ Status PgsSolve::solve(StageQueue& q, DeviceBodies& b, PairStore& pairs, DeviceJ
         const cl_uint last = it + 1 == o.iterations ? 1u : 0u;
         const cl_uint pushSweep = fused ? cl_uint(it) : RUBBLE_PGS_NO_PUSH;
         for (const PgsLaunch& l : launches_) {
-            RUBBLE_TRY(launch(q, KernelId::SolvePgs, l)
-                           .arg(normalRows_)
-                           .arg(frictionRows_)
-                           .arg(impulses_)
-                           .arg(joints.joints)
-                           .arg(joints.rows)
-                           .arg(b.jacobi)
-                           .arg(b.velocities)
+            RUBBLE_TRY(rowLaunch(q, KernelId::SolvePgs, l, joints, b)
                            .arg(relaxation)
                            .arg(last)
                            .arg(cl_uint(it))

@@ -85,6 +85,8 @@ class PgsSolve {
 
   private:
     Dispatch launch(StageQueue& q, KernelId id, const PgsLaunch& l) const;
+    Dispatch rowLaunch(StageQueue& q, KernelId id, const PgsLaunch& l, const DeviceJoints& joints,
+                       const DeviceBodies& b) const;
     std::uint32_t blocks_ = 0;
     Buffer elements_;    ///< this step's PgsElement records, block by block, then by color
     Buffer buildOrder_;  ///< the pairs' elements (indices into elements) in pair order
