@@ -51,10 +51,10 @@ Status Pipeline::makeStages(const PipelineInput& in) {
         RUBBLE_TRY(pairs_.create(q, std::max<std::uint32_t>(1024, 4 * std::uint32_t(n)), false));
         if (in.hostSleep) islands_ = std::make_unique<HostIslands>(in.hostSleep);
     }
-    // Particles: those of the set (none with SAT; the Jacobi stages' per-body lists are made
-    // either way), and with PGS a pair of one point per contact.
-    RUBBLE_TRY(particles_.create(q, sat() ? nullptr : in.particles, bodies,
-                                    particlePgs_ ? &pairs_ : nullptr, in.contactCapacity));
+    // Particles: their set and contact buffers, and with PGS a pair of one point per contact.
+    if (!sat())
+        RUBBLE_TRY(particles_.create(q, in.particles, bodies, particlePgs_ ? &pairs_ : nullptr,
+                                     in.contactCapacity));
     if (pairPgs()) {
         const std::uint32_t blocks = in.pgsBlocks >= 0
                                          ? std::uint32_t(in.pgsBlocks)
