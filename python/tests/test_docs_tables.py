@@ -1,7 +1,9 @@
 # The docs' tables of figures are made from bench/results by a command quoted above each one,
-# `<!-- table: bench/plot.py RESULTS.csv --table ... -->`: each command is run again and its output
-# must be the table that follows it, so a doc cannot drift from its results file; in the reference
-# docs (opencl.md, BENCHMARKS.md) every table of figures has such a command.
+# `<!-- table: bench/plot.py RESULTS.csv --table ... -->` (or bench/plot_suite.py for the solver
+# suite's results): each command is run again and its output must be the table that follows it,
+# and any lines it prints after the table must follow it in the doc too, so a doc cannot drift
+# from its results file; in the reference docs (opencl.md, BENCHMARKS.md, solvers.md) every table
+# of figures has such a command.
 import re
 import shlex
 import subprocess
@@ -13,11 +15,14 @@ from conftest import REPO
 
 MARK = "<!-- table:"
 # The docs whose every table of figures is made this way, and so must quote at least one.
-MADE_FROM_RESULTS = ["docs/opencl.md", "docs/BENCHMARKS.md"]
+MADE_FROM_RESULTS = ["docs/opencl.md", "docs/BENCHMARKS.md", "docs/solvers.md"]
+# The table tools a doc may quote.
+TOOLS = ["bench/plot.py", "bench/plot_suite.py"]
 
 
 def quoted_tables(path):
-    """(line number, command, table lines) for every table command in a Markdown file."""
+    """(line number, command, table lines, the doc's lines after the table) for every table
+    command in a Markdown file."""
     lines = path.read_text().splitlines()
     found = []
     for i, line in enumerate(lines):
@@ -30,7 +35,7 @@ def quoted_tables(path):
             if not after.startswith("|"):
                 break
             table.append(after.rstrip())
-        found.append((i + 1, command, table))
+        found.append((i + 1, command, table, lines[i + 1 + len(table):]))
     return found
 
 
@@ -54,8 +59,8 @@ def tables_of_figures(path):
 
 def commands():
     docs = sorted((REPO / "docs").glob("*.md")) + [REPO / "README.md"]
-    return [pytest.param(path, line, command, table, id=f"{path.name}:{line}")
-            for path in docs for line, command, table in quoted_tables(path)]
+    return [pytest.param(path, line, command, table, rest, id=f"{path.name}:{line}")
+            for path in docs for line, command, table, rest in quoted_tables(path)]
 
 
 def test_the_reference_docs_make_their_tables_from_results():
@@ -65,15 +70,19 @@ def test_the_reference_docs_make_their_tables_from_results():
             assert made, f"{name}:{line}: a table of figures without its command above it"
 
 
-@pytest.mark.parametrize("path,line,command,table", commands())
-def test_a_quoted_table_is_what_its_command_prints(path, line, command, table):
+@pytest.mark.parametrize("path,line,command,table,rest", commands())
+def test_a_quoted_table_is_what_its_command_prints(path, line, command, table, rest):
     words = shlex.split(command)
-    # Only the table tool, on a results file in the repository: the docs run nothing else.
-    assert words[0] == "bench/plot.py" and "--table" in words, f"{path.name}:{line}: {command}"
+    # Only the table tools, on a results file in the repository: the docs run nothing else.
+    assert words[0] in TOOLS and "--table" in words, f"{path.name}:{line}: {command}"
     assert words[1].startswith("bench/results/"), f"{path.name}:{line}: {command}"
     assert table, f"{path.name}:{line}: no table right below the command"
-    done = subprocess.run([sys.executable, str(REPO / "bench" / "plot.py"), *words[1:]],
+    done = subprocess.run([sys.executable, str(REPO / words[0]), *words[1:]],
                           capture_output=True, text=True, cwd=REPO, timeout=60)
     assert done.returncode == 0, f"{path.name}:{line}: {command}\n{done.stderr}"
-    assert done.stdout.splitlines() == table, (
+    printed = done.stdout.splitlines()
+    assert printed[:len(table)] == table, (
         f"{path.name}:{line}: the table is not what `{command}` prints; print it again")
+    after = printed[len(table):]
+    assert rest[:len(after)] == after, (
+        f"{path.name}:{line}: the lines `{command}` prints after its table are not the doc's")
