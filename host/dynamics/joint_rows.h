@@ -20,8 +20,8 @@ inline glm::mat3 skew(glm::vec3 r) {
 }
 
 /// K of the point rows: (m_a^-1 + m_b^-1) 1 - [r_a] I_a^-1 [r_a] - [r_b] I_b^-1 [r_b].
-inline glm::mat3 pointMatrix(glm::vec3 ra, glm::vec3 rb, float ima, float imb,
-                             const glm::mat3& ia, const glm::mat3& ib) {
+inline glm::mat3 pointMatrix(glm::vec3 ra, glm::vec3 rb, float ima, float imb, const glm::mat3& ia,
+                             const glm::mat3& ib) {
     const glm::mat3 sa = skew(ra), sb = skew(rb);
     return glm::mat3(ima + imb) - sa * ia * sa - sb * ib * sb;
 }

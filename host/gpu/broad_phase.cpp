@@ -75,8 +75,8 @@ Status SatBroadPhase::run(StageQueue& q, const DeviceBodies& b, const DeviceShap
     return findPairs(q, b, pairs, sort);
 }
 
-Status SatBroadPhase::computeAabbs(StageQueue& q, const DeviceBodies& b,
-                                   const DeviceShapes& shapes, float dt) {
+Status SatBroadPhase::computeAabbs(StageQueue& q, const DeviceBodies& b, const DeviceShapes& shapes,
+                                   float dt) {
     const cl_uint count = b.count;
     const cl_float step = dt;
     return Dispatch(q.c(), KernelId::ComputeAabbs, &q.profile())

@@ -40,11 +40,11 @@ class SatBroadPhase {
     std::uint32_t planeCount_ = 0, joinedCount_ = 0;
     std::uint32_t gridBits_ = 0;  ///< the columns' keys are below 2^gridBits
     std::uint32_t sweepBits_ = 0; ///< the sweep keys' bits, below the column's in an entry's key
-    Buffer planes_; ///< indices of the plane bodies
-    Buffer joined_; ///< joined body pairs (min, max), sorted
-    Buffer boxes_;      ///< BodyBox (a plane body: its world plane in min)
-    Buffer spin_;       ///< the part of the reach due to turning, m
-    Buffer broadFlags_; ///< RUBBLE_BROAD_*
+    Buffer planes_;               ///< indices of the plane bodies
+    Buffer joined_;               ///< joined body pairs (min, max), sorted
+    Buffer boxes_;                ///< BodyBox (a plane body: its world plane in min)
+    Buffer spin_;                 ///< the part of the reach due to turning, m
+    Buffer broadFlags_;           ///< RUBBLE_BROAD_*
     Buffer partials_, grid_;
     Buffer keys_, values_, keysAlt_, valuesAlt_; ///< (cell, body) entries, 4 per body at most
     Buffer cellBoxes_;                           ///< each sorted entry's box

@@ -76,8 +76,8 @@ Status DeviceBodies::enqueueRead(StageQueue& q, Bodies bodies, bool timed) {
 void DeviceBodies::takeSleepFlags(Bodies bodies) const {
     for (std::size_t i = 0; i < flagsHost.size(); ++i) {
         if (kinematic[i]) continue; // the host's own flags
-        bodies.masses[i].flags = (bodies.masses[i].flags & ~RUBBLE_BODY_ASLEEP) |
-                                 (flagsHost[i] & RUBBLE_BODY_ASLEEP);
+        bodies.masses[i].flags =
+            (bodies.masses[i].flags & ~RUBBLE_BODY_ASLEEP) | (flagsHost[i] & RUBBLE_BODY_ASLEEP);
     }
 }
 

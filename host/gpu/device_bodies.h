@@ -29,7 +29,7 @@ struct DeviceBodies {
     std::uint32_t moving = 0;
     /// Masses as the device holds them (kinematic bodies as walls), as last uploaded.
     std::vector<shared::BodyMass> deviceMasses;
-    bool forcesOnDevice = false; ///< the force buffer holds non-zero forces
+    bool forcesOnDevice = false;    ///< the force buffer holds non-zero forces
     std::vector<cl_uint> flagsHost; ///< the flags read by the last enqueueRead
 
     /// Sizes the arrays for `bodies` and uploads them. Errors: Device.

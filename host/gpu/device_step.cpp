@@ -224,8 +224,8 @@ Status Pipeline::solveParticles(const StepParams& params) {
     if (dense)
         RUBBLE_TRY(jacobi_.solveDense(q, bodies_, k, lcpStride_, solver.iterations,
                                       params.lcpJacobiRelaxation));
-    RUBBLE_TRY(jacobi_.solve(q, bodies_, k, dense ? 0 : solver.iterations,
-                             params.jacobiRelaxation));
+    RUBBLE_TRY(
+        jacobi_.solve(q, bodies_, k, dense ? 0 : solver.iterations, params.jacobiRelaxation));
     profile.setStage(DeviceStage::IntegratePositions);
     RUBBLE_TRY(integratePositions(q, bodies_, dt, params.symplectic()));
     RUBBLE_TRY(bodies_.clearForces(q));
@@ -289,10 +289,10 @@ Status Pipeline::meetStep(const StepParams& params, std::span<const std::string>
     stats.largestPenetration = std::max(stats.largestPenetration, st.largestPenetration);
     stats.solverResidual = std::max(stats.solverResidual, st.solverResidual);
     if (st.firstNonFinite < bodies_.count)
-        return makeError(ErrorKind::Numerical, "body " + names[st.firstNonFinite],
-                         "its state is not finite after step " + std::to_string(params.step + 1) +
-                             " (t = " +
-                             std::to_string(double(params.step + 1) * double(params.dt)) + " s)");
+        return makeError(
+            ErrorKind::Numerical, "body " + names[st.firstNonFinite],
+            "its state is not finite after step " + std::to_string(params.step + 1) +
+                " (t = " + std::to_string(double(params.step + 1) * double(params.dt)) + " s)");
     return {};
 }
 

@@ -20,8 +20,8 @@ Status prepareJacobiBodies(StageQueue& q, DeviceBodies& b);
 class JacobiSolve {
   public:
     /// Row lists per body, warm start (last step's contacts, `warmStart`), rows.
-    Status buildRows(StageQueue& q, DeviceBodies& b, ContactBuffers& k,
-                     std::uint32_t particles, const shared::SolverParams& params, bool warmStart);
+    Status buildRows(StageQueue& q, DeviceBodies& b, ContactBuffers& k, std::uint32_t particles,
+                     const shared::SolverParams& params, bool warmStart);
     /// Copies the velocities to `before`, gathers the rows' impulses (warm start, or the dense
     /// solve's), then `iterations` sweeps (rows, then the gather); the momenta take up the
     /// velocity change.

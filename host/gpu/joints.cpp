@@ -36,8 +36,7 @@ Status DeviceJoints::create(StageQueue& q, std::span<const shared::PgsJoint> wor
     // groupJoints), for the position projection and for sleeping together.
     UnionFind sets(n);
     for (std::uint32_t j = 0; j < g.count; ++j)
-        if (g.dynamicA[j] && g.dynamicB[j])
-            sets.unite(g.host[j].a, g.host[j].b);
+        if (g.dynamicA[j] && g.dynamicB[j]) sets.unite(g.host[j].a, g.host[j].b);
     // The projection's groups: joints by their group's root, then by index. A group of at most
     // RUBBLE_JOINT_DIRECT_ROWS rows is projected as one; the joints of a larger one are
     // colored for the joint-by-joint sweeps.
@@ -67,8 +66,7 @@ Status DeviceJoints::create(StageQueue& q, std::span<const shared::PgsJoint> wor
         } else {
             for (std::size_t m = first; m < last; ++m) {
                 const std::uint32_t j = keyed[m].second;
-                g.coloring.add(j, g.host[j].a, g.host[j].b, g.dynamicA[j],
-                                    g.dynamicB[j]);
+                g.coloring.add(j, g.host[j].a, g.host[j].b, g.dynamicA[j], g.dynamicB[j]);
             }
         }
         first = last;

@@ -16,10 +16,10 @@ namespace rubble::gpu {
 
 struct DeviceJoints {
     std::uint32_t count = 0, bodyCount = 0, groupCount = 0;
-    Buffer joints;    ///< PgsJoint per joint
-    Buffer rows;      ///< PgsJointRow per joint: this step's, with the kept impulses
-    Buffer bodies;    ///< the jointed bodies
-    Buffer groupOf;   ///< per jointed body: its joint group (RUBBLE_NO_GROUP: not dynamic)
+    Buffer joints;     ///< PgsJoint per joint
+    Buffer rows;       ///< PgsJointRow per joint: this step's, with the kept impulses
+    Buffer bodies;     ///< the jointed bodies
+    Buffer groupOf;    ///< per jointed body: its joint group (RUBBLE_NO_GROUP: not dynamic)
     Buffer groupVotes; ///< per joint group: a member stays awake (1), a member is awake (2)
     // The position projection: joint groups of at most RUBBLE_JOINT_DIRECT_ROWS rows solved as
     // one (JointGroup records, their members, their scratch); the joints of larger groups joint

@@ -144,8 +144,8 @@ Result<std::vector<BodyPair>> PairStore::downloadPairs(StageQueue& q, std::uint3
     return pairs;
 }
 
-Result<std::vector<shared::ContactManifold>> PairStore::downloadManifolds(
-    StageQueue& q, std::uint32_t count) const {
+Result<std::vector<shared::ContactManifold>>
+PairStore::downloadManifolds(StageQueue& q, std::uint32_t count) const {
     return download<shared::ContactManifold>(q.c(), manifolds, std::min(count, current.capacity));
 }
 

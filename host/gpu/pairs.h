@@ -40,12 +40,12 @@ class PairStore {
     Status create(StageQueue& q, std::uint32_t guess, bool withKeys);
 
     PairSet current, previous;
-    Buffer found;      ///< the broad phase's candidates, in any order (BodyPairRecord)
-    Buffer manifolds;  ///< ContactManifold per pair of `current`, in pair order (count 0: none)
+    Buffer found;     ///< the broad phase's candidates, in any order (BodyPairRecord)
+    Buffer manifolds; ///< ContactManifold per pair of `current`, in pair order (count 0: none)
     /// Per pair of `current`: its index among last step's entries (collideShapes), their count
     /// when it is new.
     Buffer previousOf;
-    Buffer summaries;  ///< PGS, per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
+    Buffer summaries; ///< PGS, per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
 
     /// Sizes this step's per-pair arrays for `capacity` pairs (last step's keep their size: the
     /// next narrow phase reads them before they change). Errors: Device.

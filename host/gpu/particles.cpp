@@ -46,8 +46,7 @@ Status ParticleCollision::create(StageQueue& q, const ParticleSet* set, BodiesVi
     for (Buffer* b : {&contacts_.next, &contacts_.previous, &contacts_.previousRows})
         RUBBLE_TRY(b->reserve(c.context(), 16));
     // A first guess of the contacts: a few per particle; it grows when a step needs more.
-    const std::uint32_t guess =
-        capacity > 0 ? capacity : std::max<std::uint32_t>(1024, 2 * count_);
+    const std::uint32_t guess = capacity > 0 ? capacity : std::max<std::uint32_t>(1024, 2 * count_);
     if (pairs_) RUBBLE_TRY(pairs_->create(q, guess, true));
     return setCapacity(q, guess);
 }

@@ -146,8 +146,8 @@ Status PgsSolve::solve(StageQueue& q, DeviceBodies& b, PairStore& pairs, DeviceJ
     RUBBLE_TRY(b.copyVelocities(q, b.before));
     if (o.warmStart) {
         for (const PgsLaunch& l : launches_) {
-            RUBBLE_TRY(rowLaunch(q, KernelId::WarmStartPgs, l, joints, b)
-                           .run(l.items(group), group));
+            RUBBLE_TRY(
+                rowLaunch(q, KernelId::WarmStartPgs, l, joints, b).run(l.items(group), group));
             q.profile().setLastBytes(sweepBytes(l.count, l.points, rowBytes));
         }
     }
@@ -156,8 +156,7 @@ Status PgsSolve::solve(StageQueue& q, DeviceBodies& b, PairStore& pairs, DeviceJ
     // launches of velocity sweep k, unless a row may bounce, whose target the velocity sweeps
     // decide (markBounces): then it runs after them.
     bounces_ = o.iterations > 0 && !launches_.empty() && st.bounces;
-    pushes_ = o.iterations > 0 && !launches_.empty() &&
-               (st.pushes || bounces_);
+    pushes_ = o.iterations > 0 && !launches_.empty() && (st.pushes || bounces_);
     const bool pushes = pushes_, fused = fusedPushes();
     const std::size_t sweeps = std::size_t(std::max(o.iterations, 0));
     if (pushes) {
@@ -186,7 +185,7 @@ Status PgsSolve::solve(StageQueue& q, DeviceBodies& b, PairStore& pairs, DeviceJ
             const std::uint64_t push =
                 fused ? l.count * (4 * sizeof(shared::BodyVelocity) + 8) + l.points * 32 : 0;
             q.profile().setLastBytes(sweepBytes(l.count, l.points, rowBytes) + push +
-                                  (last ? l.points * sizeof(shared::PgsImpulse) : 0));
+                                     (last ? l.points * sizeof(shared::PgsImpulse) : 0));
         }
     }
     if (pushes && !fused) {
@@ -201,7 +200,8 @@ Status PgsSolve::solve(StageQueue& q, DeviceBodies& b, PairStore& pairs, DeviceJ
                        .arg(q.status())
                        .run(count, group));
         q.profile().setLastBytes(count * sizeof(shared::PgsElement) +
-                              rowCount_ * (sizeof(shared::PgsNormalRow) + sizeof(shared::float4)));
+                                 rowCount_ *
+                                     (sizeof(shared::PgsNormalRow) + sizeof(shared::float4)));
         for (cl_uint sweep = 0; sweep < sweeps; ++sweep) {
             for (const PgsLaunch& l : launches_) {
                 RUBBLE_TRY(launch(q, KernelId::PushPgs, l)
@@ -252,8 +252,8 @@ Status PgsSolve::solve(StageQueue& q, DeviceBodies& b, PairStore& pairs, DeviceJ
                        .run(1, 1));
         // At least: every element and row read once, each body's layer and marks.
         q.profile().setLastBytes(count * sizeof(shared::PgsElement) +
-                              rowCount_ * sizeof(shared::PgsNormalRow) +
-                              n * (sizeof(shared::JacobiBody) + 2 * sizeof(cl_uint)));
+                                 rowCount_ * sizeof(shared::PgsNormalRow) +
+                                 n * (sizeof(shared::JacobiBody) + 2 * sizeof(cl_uint)));
     }
     if (bounces_) {
         RUBBLE_TRY(reserveGrowing(c, solved_, b.count * sizeof(shared::BodyVelocity)));
@@ -299,9 +299,10 @@ Status PgsSolve::bounce(StageQueue& q, DeviceBodies& b, const StepParams& params
                        .arg(b.poses)
                        .arg(b.velocities)
                        .run(l.items(group), group));
-        q.profile().setLastBytes(bytes(l) + l.count * 2 *
-                                             (2 * sizeof(shared::BodyMomentum) +
-                                              sizeof(shared::BodyMass) + sizeof(shared::BodyPose)));
+        q.profile().setLastBytes(bytes(l) +
+                                 l.count * 2 *
+                                     (2 * sizeof(shared::BodyMomentum) + sizeof(shared::BodyMass) +
+                                      sizeof(shared::BodyPose)));
     }
     return {};
 }

@@ -88,8 +88,8 @@ class PgsSolve {
     Dispatch rowLaunch(StageQueue& q, KernelId id, const PgsLaunch& l, const DeviceJoints& joints,
                        const DeviceBodies& b) const;
     std::uint32_t blocks_ = 0;
-    Buffer elements_;    ///< this step's PgsElement records, block by block, then by color
-    Buffer buildOrder_;  ///< the pairs' elements (indices into elements) in pair order
+    Buffer elements_;   ///< this step's PgsElement records, block by block, then by color
+    Buffer buildOrder_; ///< the pairs' elements (indices into elements) in pair order
     /// The blocks' first elements and the end of the last, then each block's passes over its
     /// elements' points.
     Buffer blockStarts_;
@@ -105,17 +105,17 @@ class PgsSolve {
     Buffer bounceResidual_; ///< per restitution sweep: the largest change, float bits
     // The layer pass's scratch: per body its layer and marks, the rows' lists, the histogram.
     Buffer layer_, loaded_, layerRows_, layerSorted_, layerHistogram_;
-    bool bounces_ = false; ///< this step: a row may bounce (the restitution pass runs)
-    bool pushes_ = false;  ///< this step: the split position pass ran (applyPushes moves)
-    std::uint32_t rowCount_ = 0; ///< points with rows this step
+    bool bounces_ = false;         ///< this step: a row may bounce (the restitution pass runs)
+    bool pushes_ = false;          ///< this step: the split position pass ran (applyPushes moves)
+    std::uint32_t rowCount_ = 0;   ///< points with rows this step
     std::uint32_t jointCount_ = 0; ///< joints among this step's elements (they come first)
     // The plan on the host (host/gpu/pgs_plan.cpp).
     Coloring coloring_;
-    std::vector<ColorElement> stepElements_;  ///< the joints, then the pairs with rows
-    std::vector<ColorElement> coloredPairs_;  ///< the pairs with rows between blocks
-    std::vector<std::uint32_t> coloredHost_;  ///< the elements between blocks (indices)
-    std::vector<std::uint32_t> placeHost_;    ///< each element's place in elementsHost_
-    std::vector<std::uint32_t> blockOfHost_;  ///< each element's block, or all ones: colored
+    std::vector<ColorElement> stepElements_; ///< the joints, then the pairs with rows
+    std::vector<ColorElement> coloredPairs_; ///< the pairs with rows between blocks
+    std::vector<std::uint32_t> coloredHost_; ///< the elements between blocks (indices)
+    std::vector<std::uint32_t> placeHost_;   ///< each element's place in elementsHost_
+    std::vector<std::uint32_t> blockOfHost_; ///< each element's block, or all ones: colored
     std::vector<std::uint32_t> blockStartsHost_, nextHost_, pointsHost_;
     std::vector<cl_uint> summariesHost_;
     std::vector<shared::BodyPairRecord> pairsHost_;

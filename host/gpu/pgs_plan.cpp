@@ -25,7 +25,8 @@ Status PgsSolve::readSummaries(StageQueue& q, const PairStore& pairs) {
 void PgsSolve::touching(std::vector<BodyPair>& out) const {
     out.clear();
     for (std::size_t p = 0; p < summariesHost_.size(); ++p)
-        if (summariesHost_[p] & RUBBLE_PGS_POINTS) out.push_back({pairsHost_[p].a, pairsHost_[p].b});
+        if (summariesHost_[p] & RUBBLE_PGS_POINTS)
+            out.push_back({pairsHost_[p].a, pairsHost_[p].b});
 }
 
 Status PgsSolve::plan(StageQueue& q, const PairStore& pairs, const DeviceJoints& joints,
@@ -38,15 +39,14 @@ Status PgsSolve::plan(StageQueue& q, const PairStore& pairs, const DeviceJoints&
     // pairs with rows in pair order.
     stepElements_.clear();
     for (std::uint32_t j = 0; j < joints.count; ++j)
-        stepElements_.push_back({RUBBLE_PGS_JOINT_ELEMENT | j, joints.host[j].a,
-                                     joints.host[j].b, joints.dynamicA[j] != 0,
-                                     joints.dynamicB[j] != 0});
+        stepElements_.push_back({RUBBLE_PGS_JOINT_ELEMENT | j, joints.host[j].a, joints.host[j].b,
+                                 joints.dynamicA[j] != 0, joints.dynamicB[j] != 0});
     for (std::uint32_t p = 0; p < pairCount; ++p) {
         const cl_uint summary = summariesHost_[p];
         if ((summary & RUBBLE_PGS_POINTS) == 0) continue;
         stepElements_.push_back({p, pairsHost_[p].a, pairsHost_[p].b,
-                                     (summary & RUBBLE_PGS_MOVES_A) != 0,
-                                     (summary & RUBBLE_PGS_MOVES_B) != 0});
+                                 (summary & RUBBLE_PGS_MOVES_A) != 0,
+                                 (summary & RUBBLE_PGS_MOVES_B) != 0});
     }
     const std::span<const ColorElement> all(stepElements_);
     // Blocks (a CPU device): the bodies cut into ranges of indices, an element whose moving
@@ -184,8 +184,7 @@ Status PgsSolve::plan(StageQueue& q, const PairStore& pairs, const DeviceJoints&
     // The blocks' starts go up only when there are blocks (a launch of another mode binds the
     // buffer but reads nothing of it).
     const std::span<const std::uint32_t> blockStarts(blockStartsHost_);
-    RUBBLE_TRY(
-        reserveGrowing(c, blockStarts_, std::max<std::size_t>(4, blockStarts.size_bytes())));
+    RUBBLE_TRY(reserveGrowing(c, blockStarts_, std::max<std::size_t>(4, blockStarts.size_bytes())));
     RUBBLE_TRY(enqueueUpload(c, elements_, elements, &q.profile()));
     if (inBlocks > 0) RUBBLE_TRY(enqueueUpload(c, blockStarts_, blockStarts, &q.profile()));
     return enqueueUpload(c, buildOrder_, buildOrder, &q.profile());

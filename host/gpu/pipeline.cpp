@@ -8,10 +8,11 @@
 
 namespace rubble::gpu {
 
-void PipelineDeleter::operator()(Pipeline* p) const { delete p; }
+void PipelineDeleter::operator()(Pipeline* p) const {
+    delete p;
+}
 
-Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context,
-                                        const PipelineInput& in) {
+Result<PipelineHandle> Pipeline::create(std::shared_ptr<Context> context, const PipelineInput& in) {
     const BodiesView bodies = in.bodies;
     const std::size_t n = bodies.count();
     if (n >= RUBBLE_TAG_MAX_BODIES)

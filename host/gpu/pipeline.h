@@ -72,8 +72,7 @@ class Pipeline {
     /// Makes the stages of the world's method and uploads its bodies (and particles or hulls).
     /// Errors: NotSupported past RUBBLE_TAG_MAX_BODIES bodies or for a hull the device cannot
     /// clip, Device.
-    static Result<PipelineHandle> create(std::shared_ptr<Context> context,
-                                         const PipelineInput& in);
+    static Result<PipelineHandle> create(std::shared_ptr<Context> context, const PipelineInput& in);
 
     const Context& context() const { return queue_->c(); }
     const std::shared_ptr<Context>& sharedContext() const { return queue_->sharedContext(); }
@@ -97,8 +96,7 @@ class Pipeline {
     /// Waits for the step, reads its status and device times into `stats`. On a contact
     /// overflow the buffers grow and the stages from collision on run again (said on stderr).
     /// Errors: Device, Limit, Numerical (a body that is not finite, named by `names`).
-    Status endStep(const StepParams& params, std::span<const std::string> names,
-                   StepStats& stats);
+    Status endStep(const StepParams& params, std::span<const std::string> names, StepStats& stats);
     /// Whether the last step left the world at rest, so that the next one would change nothing
     /// on the device: SAT with the host's islands, every moving body asleep, no pair found in
     /// it or in the kept set's step, no obstacles, and nothing uploaded since. The caller may
@@ -113,9 +111,7 @@ class Pipeline {
     std::vector<CommandTotals> profileTotals() const { return queue_->profile().totals(); }
     /// Whether the steps keep each command's times for lastCommands() (rubble run --trace).
     void keepCommands(bool keep) { queue_->profile().keepCommands(keep); }
-    std::span<const DeviceCommand> lastCommands() const {
-        return queue_->profile().lastCommands();
-    }
+    std::span<const DeviceCommand> lastCommands() const { return queue_->profile().lastCommands(); }
     /// Carries another pipeline's totals on (a world's device arrays built again).
     void keepProfileOf(const Pipeline& old) { queue_->profile().addTotals(old.queue_->profile()); }
 
@@ -127,8 +123,7 @@ class Pipeline {
     bool pairPgs() const { return sat() || particlePgs_; }
     // The device step's parts (host/gpu/device_step.cpp).
     Status enqueueStep(const StepParams& params, const StepInputs& in);
-    Status meetStep(const StepParams& params, std::span<const std::string> names,
-                    StepStats& stats);
+    Status meetStep(const StepParams& params, std::span<const std::string> names, StepStats& stats);
     Status collideSat(const StepParams& params);
     Status collideParticlePairs(const StepParams& params);
     Status solvePairs(const StepParams& params);

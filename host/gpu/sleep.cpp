@@ -81,8 +81,7 @@ Status wakeTouchedPairs(StageQueue& q, DeviceBodies& b, const PairStore& pairs,
     return wakeJointGroups(q, b, joints, 2u, collisionRound);
 }
 
-Status wakeStillPairs(StageQueue& q, DeviceBodies& b, const PairStore& pairs,
-                      std::uint32_t round) {
+Status wakeStillPairs(StageQueue& q, DeviceBodies& b, const PairStore& pairs, std::uint32_t round) {
     const Context& c = q.c();
     const cl_uint collisionRound = round;
     const std::size_t group = c.workSizes().pairGroup;
@@ -97,8 +96,8 @@ Status wakeStillPairs(StageQueue& q, DeviceBodies& b, const PairStore& pairs,
         .run(q.strideItems(pairs.previous.capacity, group), group);
 }
 
-Status sleepBodies(StageQueue& q, DeviceBodies& b, const PairStore* pairs,
-                   const ContactBuffers* k, const DeviceJoints& g, float dt) {
+Status sleepBodies(StageQueue& q, DeviceBodies& b, const PairStore* pairs, const ContactBuffers* k,
+                   const DeviceJoints& g, float dt) {
     const Context& c = q.c();
     Profile* profile = &q.profile();
     // Restless marks from the contacts: the pairs with points of PGS, or the Jacobi rows.
@@ -122,14 +121,14 @@ Status sleepBodies(StageQueue& q, DeviceBodies& b, const PairStore* pairs,
         }
     } else {
         RUBBLE_ASSERT(k != nullptr);
-        RUBBLE_TRY(Dispatch(c, KernelId::MarkRestless, profile)
-                       .arg(q.status())
-                       .arg(k->rows)
-                       .arg(b.velocities)
-                       .arg(b.flags)
-                       .arg(b.restless)
-                       .run(q.strideItems(k->capacity, RUBBLE_GROUP_CONTACTS),
-                            RUBBLE_GROUP_CONTACTS));
+        RUBBLE_TRY(
+            Dispatch(c, KernelId::MarkRestless, profile)
+                .arg(q.status())
+                .arg(k->rows)
+                .arg(b.velocities)
+                .arg(b.flags)
+                .arg(b.restless)
+                .run(q.strideItems(k->capacity, RUBBLE_GROUP_CONTACTS), RUBBLE_GROUP_CONTACTS));
     }
     // Joint groups sleep as one: a member that would stay awake holds the others.
     const cl_uint members = g.bodyCount;
@@ -231,8 +230,7 @@ Result<HostSleepCounts> HostIslands::update(StageQueue& q, DeviceBodies& b,
     RUBBLE_TRY(upload(c, b.flags, flags_));
     if (readBack) b.flagsHost.assign(flags_.begin(), flags_.end());
     if (r.fellAsleep > 0) {
-        RUBBLE_TRY(
-            upload(c, b.velocities, std::span<const shared::BodyVelocity>(velocities)));
+        RUBBLE_TRY(upload(c, b.velocities, std::span<const shared::BodyVelocity>(velocities)));
         RUBBLE_TRY(upload(c, b.momenta, std::span<const shared::BodyMomentum>(momenta)));
     }
     return r;

@@ -27,13 +27,12 @@ Status wakeTouchedPairs(StageQueue& q, DeviceBodies& b, const PairStore& pairs,
                         const DeviceJoints& joints, std::uint32_t round);
 /// SAT, in collision round `round`: the sleeping bodies that last step's entries with impulses
 /// join to a body woken in an earlier round wake.
-Status wakeStillPairs(StageQueue& q, DeviceBodies& b, const PairStore& pairs,
-                      std::uint32_t round);
+Status wakeStillPairs(StageQueue& q, DeviceBodies& b, const PairStore& pairs, std::uint32_t round);
 /// Stage sleepBodies: restless marks from the rows (the pairs' manifolds and the joints when
 /// `pairs` is given, else the Jacobi rows of `k`), joint groups held together, then each
 /// body's sleep.
-Status sleepBodies(StageQueue& q, DeviceBodies& b, const PairStore* pairs,
-                   const ContactBuffers* k, const DeviceJoints& joints, float dt);
+Status sleepBodies(StageQueue& q, DeviceBodies& b, const PairStore* pairs, const ContactBuffers* k,
+                   const DeviceJoints& joints, float dt);
 
 /// What a host-side sleep decision did (HostSleep::update).
 struct HostSleepCounts {
@@ -79,8 +78,8 @@ class HostIslands {
     /// asleep are stopped on the device and in `readBack`, the flags go to the device (when it
     /// put any to sleep or woke any). Errors: Device.
     Result<HostSleepCounts> update(StageQueue& q, DeviceBodies& b,
-                                 std::span<const BodyPair> touching, float dt,
-                                 const std::optional<Bodies>& readBack);
+                                   std::span<const BodyPair> touching, float dt,
+                                   const std::optional<Bodies>& readBack);
     /// Bodies asleep after the last update (or reset).
     std::uint32_t asleep() const { return asleep_; }
 

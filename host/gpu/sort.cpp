@@ -11,7 +11,8 @@ Status exclusiveScan(StageQueue& q, const Buffer& in, const Buffer& out, std::ui
                    .arg(in)
                    .arg(out)
                    .run(1, 1));
-    q.profile().setLastBytes((2 * std::size_t(count) + 1) * sizeof(cl_uint)); // in read, out written
+    q.profile().setLastBytes((2 * std::size_t(count) + 1) *
+                             sizeof(cl_uint)); // in read, out written
     return {};
 }
 

@@ -86,8 +86,7 @@ Status StageQueue::enqueueStatusRead() {
 
 Status StageQueue::writeStatusSlot(std::uint32_t slot, cl_uint value) {
     statusHost_[slot] = value;
-    return writeBytes(*context_, status_, slot * sizeof(cl_uint), &value, sizeof value,
-                      Wait::Done);
+    return writeBytes(*context_, status_, slot * sizeof(cl_uint), &value, sizeof value, Wait::Done);
 }
 
 } // namespace rubble::gpu

@@ -45,9 +45,7 @@ struct DeviceStage {
     Status finish() { return q().finish(); }
     Status computeAabbs(float dt) { return broad.computeAabbs(q(), bodies, shapes, dt); }
     Status findPairs() { return broad.findPairs(q(), bodies, pairs, sort); }
-    Status broadPhase(float dt) {
-        return broad.run(q(), bodies, shapes, pairs, sort, dt);
-    }
+    Status broadPhase(float dt) { return broad.run(q(), bodies, shapes, pairs, sort, dt); }
     /// Waits for the pair count; past the capacity the pair buffers grow and findPairs runs
     /// again. Returns the count.
     Result<std::uint32_t> readPairCount() {
@@ -156,10 +154,10 @@ inline Result<std::unique_ptr<DeviceStage>> satStage(std::shared_ptr<gpu::Contex
     RUBBLE_TRY(d->shapes.create(sq, d->in.shapes, view.shapeOf));
     RUBBLE_TRY(d->broad.create(sq, view, d->in.shapes, d->in.joined));
     RUBBLE_TRY(d->pairs.create(sq, std::max<std::uint32_t>(1024, 4 * n), false));
-    const std::uint32_t blocks =
-        pgsBlocks >= 0 ? std::uint32_t(pgsBlocks)
-                       : gpu::defaultPgsBlocks(sq.c().workSizes().pgsBlocks, n,
-                                              sq.c().workSizes().pgsBlockBodies);
+    const std::uint32_t blocks = pgsBlocks >= 0
+                                     ? std::uint32_t(pgsBlocks)
+                                     : gpu::defaultPgsBlocks(sq.c().workSizes().pgsBlocks, n,
+                                                             sq.c().workSizes().pgsBlockBodies);
     RUBBLE_TRY(d->pgs.create(sq, n, blocks));
     RUBBLE_TRY(d->joints.create(sq, {}, view, d->bodies.kinematic));
     RUBBLE_TRY(sq.finish());
