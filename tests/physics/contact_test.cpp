@@ -129,6 +129,38 @@ TEST(Contacts, DroppedBoxReboundsToRestitutionSquaredHeight) {
     EXPECT_LT(glm::length(world.body(box).angularVelocity), 0.05f);
 }
 
+TEST(Contacts, PerfectlyElasticBallLeavesAtItsArrivalSpeedAndReturnsToItsHeight) {
+    // Restitution 1 at 60 Hz: in the step of contact the ball's velocity turns from -v to +v
+    // (the stored speed it arrived with), and every rebound reaches the drop height again.
+    World world = test::worldFromText(R"({"format": "rubble-scene", "version": 1,
+      "simulation": {"dt": 0.016666667, "gravity": [0, -10, 0]},
+      "materials": {"bouncy": {"friction": 0.5, "restitution": 1.0}},
+      "shapes": {"ground": {"type": "plane"}, "ball": {"type": "sphere", "radius": 0.5}},
+      "bodies": [{"name": "floor", "shape": "ground", "static": true},
+                 {"name": "ball", "shape": "ball", "mass": 1, "position": [0, 1.5, 0],
+                  "material": "bouncy"}]})");
+    const std::uint32_t ball = 1;
+    const float drop = 1.0f; // the ball's bottom starts 1 m up
+    int bounces = 0;
+    float last = 0.0f, apex = 0.0f;
+    for (int i = 0; i < 600 && bounces < 4; ++i) {
+        ASSERT_TRUE(test::stepWorld(world, 1));
+        const BodyState b = world.body(ball);
+        const float v = b.linearVelocity.y;
+        if (last < 0.0f && v > 0.0f) {
+            EXPECT_NEAR(v, -last, 1e-5f * -last) << "bounce " << bounces;
+            if (bounces > 0) {
+                EXPECT_NEAR(apex, drop, 5e-3f * drop) << "rebound " << bounces;
+            }
+            ++bounces;
+            apex = 0.0f;
+        }
+        apex = std::max(apex, b.position.y - 0.5f);
+        last = v;
+    }
+    EXPECT_EQ(bounces, 4);
+}
+
 TEST(Contacts, FrictionAndRestitutionCombinePerContact) {
     // A bouncy ball on a dead floor bounces (the larger restitution); a slippery block on a rough
     // floor slides with sqrt(0.04 * 1.0) = 0.2.
@@ -144,18 +176,20 @@ TEST(Contacts, FrictionAndRestitutionCombinePerContact) {
                  {"name": "block", "shape": "block", "mass": 1, "position": [0, 0.2, 0],
                   "linear_velocity": [3, 0, 0], "material": "ice"}]})");
     const std::uint32_t ball = 1, block = 2;
-    float ballUp = 0.0f, v0 = 0.0f, v1 = 0.0f;
+    float ballUp = 0.0f, ballDown = 0.0f, v0 = 0.0f, v1 = 0.0f;
     for (int i = 1; i <= 240; ++i) {
         ASSERT_TRUE(test::stepWorld(world, 1));
         ballUp = std::max(ballUp, world.body(ball).linearVelocity.y);
+        if (ballUp == 0.0f) ballDown = std::max(ballDown, -world.body(ball).linearVelocity.y);
         if (i == 24) v0 = world.body(block).linearVelocity.x;  // after 0.1 s of sliding
         if (i == 120) v1 = world.body(block).linearVelocity.x; // 0.4 s later
     }
     // The block slows at mu g, mu = sqrt(0.04 * 1.0).
     EXPECT_NEAR((v0 - v1) / 0.4f, 0.2f * 9.81f, 0.005f * 0.2f * 9.81f);
-    // It hits at sqrt(2 g 1 m) = 4.43 m/s and leaves at 0.8 of that (the step's fall reaches
-    // the floor a little faster than the closed form, hence 3 cm/s).
-    EXPECT_NEAR(ballUp, 0.8f * std::sqrt(2.0f * 9.81f), 0.03f);
+    // It hits at about sqrt(2 g 1 m) = 4.43 m/s (the last step's velocity before the contact,
+    // within two steps of gravity) and leaves at 0.8 of that.
+    EXPECT_NEAR(ballDown, std::sqrt(2.0f * 9.81f), 2.0f * 9.81f * 0.004166667f);
+    EXPECT_NEAR(ballUp, 0.8f * ballDown, 1e-5f * ballDown);
 }
 
 // A ball dropped from 5.987 m at 60 Hz rebounds to e^2 of that within 1 mm: the approach speed

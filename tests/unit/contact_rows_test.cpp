@@ -98,19 +98,21 @@ TEST(ContactRows, TargetsStopOrCloseTheGapAndBouncesLeaveAtETimesTheContactSpeed
     // A 1 cm gap that 0.3 m/s does not close in 1/60 s: approach up to 0.6 m/s is allowed.
     EXPECT_NEAR(f.build({floorContact(1, 0, -0.01f)}).normals[0].targetSpeed, -0.6f, 1e-5f);
     // A gap of 2 cm closed at 2 m/s before this step's gravity and 2 + g dt after it: the gap
-    // closes exactly in the solve, and the bounce leaves from the contact. On the path the
-    // symplectic steps sample (2 + g dt / 2 m/s at the step's start) the box meets the floor at
-    // t_c with u_c = sqrt(u0^2 + 2 g gap), leaves at e u_c, and ends the step at e u_c tau -
-    // g tau^2 / 2 (the split pass's lift) with the stored velocity e u_c - g (dt / 2 - t_c).
+    // closes exactly in the solve, and the bounce leaves from the contact at e 2 m/s, the speed
+    // it arrived with. On the path the symplectic steps sample (2 + g dt / 2 m/s at the step's
+    // start) the box meets the floor at u_c = sqrt(u0^2 + 2 g gap) and rises to (e u_c)^2 / 2g;
+    // the split pass lifts it to where the later steps at e 2 - k g dt m/s reach that apex.
     const double g = 9.81, dt = 1.0 / 60.0, gap = 0.02, e = 0.5;
     f.setVelocity(1, {0, float(-2.0 - g * dt), 0});
     f.beforeForces[1].linear = toFloat4(glm::vec3(0, -2, 0));
     rows = f.build({floorContact(1, 0, -float(gap))});
     const double u0 = 2.0 + 0.5 * g * dt, uc = std::sqrt(u0 * u0 + 2.0 * g * gap);
-    const double tc = 2.0 * gap / (u0 + uc), tau = dt - tc;
+    const double leave = e * 2.0;
+    double later = 0.0;
+    for (double v = leave - g * dt; v > 0.0; v -= g * dt) later += v * dt;
     EXPECT_NEAR(rows.normals[0].targetSpeed, -gap / dt, 1e-4);
-    EXPECT_NEAR(rows.normals[0].bounceSpeed, e * uc - g * (0.5 * dt - tc), 1e-4);
-    EXPECT_NEAR(rows.normals[0].bounceLift, (e * uc * tau - 0.5 * g * tau * tau) / dt, 1e-4);
+    EXPECT_NEAR(rows.normals[0].bounceSpeed, leave, 1e-6);
+    EXPECT_NEAR(rows.normals[0].bounceLift, ((e * uc) * (e * uc) / (2.0 * g) - later) / dt, 1e-3);
     // At rest before the forces, whatever gravity adds within the step: no bounce (at 10 Hz
     // gravity alone adds 0.98 m/s, above the threshold).
     f.setVelocity(1, {0, -0.981f, 0});

@@ -88,10 +88,12 @@ typedef struct Bounce {
 // faster than RUBBLE_RESTITUTION_THRESHOLD bounces (at rest before the forces, nothing does,
 // whatever dt). Symplectic Euler's positions are samples at the steps of the path whose velocity
 // at the step's start is the stored one plus half a step of a, u0 = before + a dt / 2: on it the
-// bodies meet at t_c = 2 gap / (u0 + u_c) with u_c = sqrt(u0^2 + 2 a gap), leave at e u_c, and at
-// the step's end are e u_c tau - a tau^2 / 2 apart (tau = dt - t_c) with the stored velocity
-// e u_c - a (dt / 2 - t_c). So the rebound keeps e^2 of the drop height to round-off. The
-// comparisons are std::max's (the same signed zeros and NaNs on the host and the device).
+// bodies meet at t_c = 2 gap / (u0 + u_c) with u_c = sqrt(u0^2 + 2 a gap) and leave at e u_c.
+// The stored velocity is e times the approach before the forces, as an impulse-based engine
+// leaves a contact (a ball with e = 1 leaves at the speed it arrived with), and the split pass
+// lifts the bodies to where that speed's later steps reach the path's apex: the rebound keeps
+// e^2 of the drop height to round-off. The comparisons are std::max's (the same signed zeros and
+// NaNs on the host and the device).
 RUBBLE_FN Bounce bounceItem(float restitution, float before, float after, float gap, float dt) {
     Bounce none;
     none.speed = 0.0f;
@@ -109,9 +111,21 @@ RUBBLE_FN Bounce bounceItem(float restitution, float before, float after, float 
     const float left = dt - tc;
     const float tau = left < 0.0f ? 0.0f : left;
     Bounce b;
-    b.speed = restitution * uc - a * (0.5f * dt - tc);
+    b.speed = restitution * closing;
     if (b.speed <= 0.0f) return none;
-    const float rise = restitution * uc * tau - 0.5f * a * tau * tau;
+    // On the continuous path the bodies leave the contact at e u_c and are e u_c tau - a tau^2 / 2
+    // apart at the step's end. Under a steady pull (a > 0) the steps after this one take the
+    // stored speed v down by a dt a step, and rise K v dt - a dt^2 K (K + 1) / 2 before they turn
+    // (K = floor(v / (a dt))): the bodies end this step that much below the path's apex,
+    // (e u_c)^2 / (2 a) above the contact.
+    float rise = restitution * uc * tau - 0.5f * a * tau * tau;
+    const float perStep = a * dt;
+    if (perStep > 0.0f && b.speed < 1.0e4f * perStep) {
+        const float k = floor(b.speed / perStep);
+        const float later = dt * (k * b.speed - 0.5f * perStep * k * (k + 1.0f));
+        const float leave = restitution * uc;
+        rise = leave * leave / (2.0f * a) - later;
+    }
     b.lift = (rise < 0.0f ? 0.0f : rise) / dt;
     return b;
 }
