@@ -11,10 +11,9 @@
 // contact where its element places its rows.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 prepareSoftContacts(const uint count, __global const uint* order,
-                    __global const PgsElement* elements,
-                    __global const ContactManifold* manifolds, __global const BodyPose* poses,
-                    __global const BodyVelocity* approach, __global const float4* surfaces,
-                    __global SoftContact* contacts) {
+                    __global const PgsElement* elements, __global const ContactManifold* manifolds,
+                    __global const BodyPose* poses, __global const BodyVelocity* approach,
+                    __global const float4* surfaces, __global SoftContact* contacts) {
     const uint i = get_global_id(0);
     if (i >= count) return;
     const PgsElement e = elements[order[i]];
@@ -24,8 +23,8 @@ prepareSoftContacts(const uint count, __global const uint* order,
     const BodyVelocity aa = approach[e.a], ab = approach[e.b];
     const float restitution = fmax(surfaces[e.a].y, surfaces[e.b].y);
     for (uint k = 0; k < points; ++k)
-        contacts[e.normal[k]] = softContactItem(m.points[k], m.points[k].w, m.normal, pa, pb, aa,
-                                                ab, restitution);
+        contacts[e.normal[k]] =
+            softContactItem(m.points[k], m.points[k].w, m.normal, pa, pb, aa, ab, restitution);
 }
 
 // One work-item per body: a body that moves starts the substeps from its velocities before the
@@ -54,8 +53,7 @@ __kernel void beginSoftStep(const uint count, __global const JacobiBody* bodies,
 
 // One work-item per body: a substep's share of the forces' velocity change.
 __kernel void addSoftForces(const uint count, __global const JacobiBody* bodies,
-                            __global const BodyVelocity* share,
-                            __global BodyVelocity* velocities) {
+                            __global const BodyVelocity* share, __global BodyVelocity* velocities) {
     const uint i = get_global_id(0);
     if (i >= count || !movesInSolveItem(bodies[i])) return;
     BodyVelocity v = velocities[i];
@@ -79,8 +77,7 @@ static PgsJointRow softJointRow(const PgsElement e, __global const PgsJoint* joi
 // impulses (warmStartJoints, warmStartContacts).
 static void warmStartSoftElement(const PgsElement e, __global const PgsNormalRow* normalRows,
                                  __global const PgsFrictionRows* frictionRows,
-                                 __global const float4* impulses,
-                                 __global const PgsJoint* joints,
+                                 __global const float4* impulses, __global const PgsJoint* joints,
                                  __global const PgsJointRow* jointRows,
                                  __global const JacobiBody* bodies,
                                  __global const BodyPose* softPoses,
@@ -113,11 +110,10 @@ static void warmStartSoftElement(const PgsElement e, __global const PgsNormalRow
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 warmStartSoft(const uint first, const uint count, const uint mode,
               __global const PgsElement* elements, __global const uint* blockStarts,
-              __global const PgsNormalRow* normalRows,
-              __global const PgsFrictionRows* frictionRows, __global const float4* impulses,
-              __global const PgsJoint* joints, __global const PgsJointRow* jointRows,
-              __global const JacobiBody* bodies, __global const BodyPose* softPoses,
-              __global BodyVelocity* velocities) {
+              __global const PgsNormalRow* normalRows, __global const PgsFrictionRows* frictionRows,
+              __global const float4* impulses, __global const PgsJoint* joints,
+              __global const PgsJointRow* jointRows, __global const JacobiBody* bodies,
+              __global const BodyPose* softPoses, __global BodyVelocity* velocities) {
     const uint end = elementsEnd(count, mode, blockStarts);
     const uint passes = slotPasses(mode, blockStarts);
     for (uint pass = 0u; pass < passes; ++pass)
@@ -134,10 +130,9 @@ static float solveSoftElement(const PgsElement e, __global const PgsNormalRow* n
                               __global const PgsFrictionRows* frictionRows,
                               __global float4* impulses, __global const SoftContact* contacts,
                               __global const PgsJoint* joints, __global PgsJointRow* jointRows,
-                              __global const JacobiBody* bodies,
-                              __global const BodyPose* softPoses, __global const float4* moved,
-                              __global BodyVelocity* velocities, const SoftPass p,
-                              const float4 jointSoft, const uint slot) {
+                              __global const JacobiBody* bodies, __global const BodyPose* softPoses,
+                              __global const float4* moved, __global BodyVelocity* velocities,
+                              const SoftPass p, const float4 jointSoft, const uint slot) {
     const uint from = slotFrom(slot), to = slotEnd(e.rows & RUBBLE_PGS_POINTS, slot);
     if (e.id & RUBBLE_PGS_JOINT_ELEMENT) {
         if (from > 0u) return 0.0f;
@@ -146,8 +141,8 @@ static float solveSoftElement(const PgsElement e, __global const PgsNormalRow* n
         const BodyPose pa = softPoses[e.a], pb = softPoses[e.b];
         const PgsJointRow r = softJointRow(e, joints, jointRows, ja, jb, softPoses);
         const float4 soft = p.useBias ? jointSoft : make4(0.0f, 1.0f, 0.0f, 0.0f);
-        const PgsJointUpdate u = solveSoftJointItem(loadPair(e.a, e.b, velocities), joints[j], r,
-                                                    pa, pb, ja, jb, soft);
+        const PgsJointUpdate u =
+            solveSoftJointItem(loadPair(e.a, e.b, velocities), joints[j], r, pa, pb, ja, jb, soft);
         storePair(u.v, e.a, e.b, jointMoves(ja, jb), velocities);
         jointRows[j].pointImpulse = vec4(u.pointImpulse.x, u.pointImpulse.y, u.pointImpulse.z);
         jointRows[j].turnImpulse = u.turnImpulse;
@@ -162,8 +157,8 @@ static float solveSoftElement(const PgsElement e, __global const PgsNormalRow* n
         const uint at = e.normal[k];
         float4 l = impulses[at];
         const PgsNormalRow r = normalRows[at];
-        const float separation = softSeparationItem(contacts[at], r.normal, movedA,
-                                                    pa.orientation, movedB, pb.orientation);
+        const float separation = softSeparationItem(contacts[at], r.normal, movedA, pa.orientation,
+                                                    movedB, pb.orientation);
         const PgsUpdate n = solveSoftNormalItem(r, v, separation, l.x, p);
         v = n.v;
         l.x = n.accumulated;
@@ -184,15 +179,15 @@ static float solveSoftElement(const PgsElement e, __global const PgsNormalRow* n
 // point in the CPU's order. The last pass of the step puts its largest change in the status
 // block.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-solveSoft(const uint first, const uint count, const uint mode,
-          __global const PgsElement* elements, __global const uint* blockStarts,
-          __global const PgsNormalRow* normalRows, __global const PgsFrictionRows* frictionRows,
-          __global float4* impulses, __global const SoftContact* contacts,
-          __global const PgsJoint* joints, __global PgsJointRow* jointRows,
-          __global const JacobiBody* bodies, __global const BodyPose* softPoses,
-          __global const float4* moved, __global BodyVelocity* velocities, const float4 soft,
-          const float4 softStill, const float4 jointSoft, const float4 settings,
-          const uint useBias, const uint lastPass, __global uint* status) {
+solveSoft(const uint first, const uint count, const uint mode, __global const PgsElement* elements,
+          __global const uint* blockStarts, __global const PgsNormalRow* normalRows,
+          __global const PgsFrictionRows* frictionRows, __global float4* impulses,
+          __global const SoftContact* contacts, __global const PgsJoint* joints,
+          __global PgsJointRow* jointRows, __global const JacobiBody* bodies,
+          __global const BodyPose* softPoses, __global const float4* moved,
+          __global BodyVelocity* velocities, const float4 soft, const float4 softStill,
+          const float4 jointSoft, const float4 settings, const uint useBias, const uint lastPass,
+          __global uint* status) {
     SoftPass p;
     p.soft = soft;
     p.softStill = softStill;
@@ -207,11 +202,10 @@ solveSoft(const uint first, const uint count, const uint mode,
     const uint passes = slotPasses(mode, blockStarts);
     for (uint pass = 0u; pass < passes; ++pass)
         for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
-            residual = fmax(residual,
-                            solveSoftElement(elements[first + i], normalRows, frictionRows,
-                                             impulses, contacts, joints, jointRows, bodies,
-                                             softPoses, moved, velocities, p, jointSoft,
-                                             passSlot(mode, pass)));
+            residual = fmax(
+                residual, solveSoftElement(elements[first + i], normalRows, frictionRows, impulses,
+                                           contacts, joints, jointRows, bodies, softPoses, moved,
+                                           velocities, p, jointSoft, passSlot(mode, pass)));
     if (lastPass && residual > 0.0f) atomic_max(&largest[0], as_uint(residual));
     if (!groupDone()) return;
     if (largest[0] > 0u) atomic_max(&status[RUBBLE_STATUS_RESIDUAL], largest[0]);
@@ -261,11 +255,11 @@ static void bounceSoftElement(const PgsElement e, __global const PgsNormalRow* n
 
 // Restitution and the impulses kept, one launch.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-bounceSoft(const uint first, const uint count, const uint mode,
-           __global const PgsElement* elements, __global const uint* blockStarts,
-           __global const PgsNormalRow* normalRows, __global const PgsFrictionRows* frictionRows,
-           __global float4* impulses, __global const SoftContact* contacts,
-           __global BodyVelocity* velocities, const float threshold, __global PgsImpulse* kept) {
+bounceSoft(const uint first, const uint count, const uint mode, __global const PgsElement* elements,
+           __global const uint* blockStarts, __global const PgsNormalRow* normalRows,
+           __global const PgsFrictionRows* frictionRows, __global float4* impulses,
+           __global const SoftContact* contacts, __global BodyVelocity* velocities,
+           const float threshold, __global PgsImpulse* kept) {
     const uint end = elementsEnd(count, mode, blockStarts);
     const uint passes = slotPasses(mode, blockStarts);
     for (uint pass = 0u; pass < passes; ++pass)
@@ -281,9 +275,8 @@ bounceSoft(const uint first, const uint count, const uint mode,
 __kernel void finishSoftStep(const uint count, __global uint* status,
                              __global const JacobiBody* bodies, __global const BodyMass* masses,
                              __global const BodyPose* softPoses,
-                             __global const BodyVelocity* before,
-                             __global BodyVelocity* velocities, __global BodyMomentum* momenta,
-                             __global BodyPose* poses) {
+                             __global const BodyVelocity* before, __global BodyVelocity* velocities,
+                             __global BodyMomentum* momenta, __global BodyPose* poses) {
     const uint i = get_global_id(0);
     if (i >= count) return;
     const BodyMass m = masses[i];
@@ -295,7 +288,7 @@ __kernel void finishSoftStep(const uint count, __global uint* status,
     poses[i] = pose;
     velocities[i] = velocityFromMomentumItem(p, m, pose.orientation);
     const float4 x = pose.position, q = pose.orientation;
-    if (!isfinite(x.x + x.y + x.z + q.x + q.y + q.z + q.w + p.linear.x + p.linear.y +
-                  p.linear.z + p.angular.x + p.angular.y + p.angular.z))
+    if (!isfinite(x.x + x.y + x.z + q.x + q.y + q.z + q.w + p.linear.x + p.linear.y + p.linear.z +
+                  p.angular.x + p.angular.y + p.angular.z))
         atomic_min(&status[RUBBLE_STATUS_NONFINITE], i);
 }

@@ -78,9 +78,7 @@ class PgsSolve {
     std::span<const PgsLaunch> launches() const { return launches_; }
     std::uint32_t rowCount() const { return rowCount_; }
     /// The pairs with rows among the step's elements (they follow the joints).
-    std::uint32_t pairElements() const {
-        return std::uint32_t(placeHost_.size()) - jointCount_;
-    }
+    std::uint32_t pairElements() const { return std::uint32_t(placeHost_.size()) - jointCount_; }
     /// The step's plan and rows as the device holds them, for a solver that goes through the
     /// same elements in the same launches (the soft step, host/gpu/soft_step.h).
     struct RowBuffers {

@@ -127,9 +127,9 @@ Status attachScene(WorldState& s, const Scene& scene, std::shared_ptr<gpu::Conte
     // The options in effect: SAT feeds PGS or the soft step, particles the scene's solver
     // (deviceSolver: the Jacobi family for a debris set).
     options.collision.method = options.collisionMethod();
-    const SolverType satSolver =
-        scene.simulation.solverType() == SolverType::SoftStep ? SolverType::SoftStep
-                                                              : SolverType::Pgs;
+    const SolverType satSolver = scene.simulation.solverType() == SolverType::SoftStep
+                                     ? SolverType::SoftStep
+                                     : SolverType::Pgs;
     options.solver.type = sat ? satSolver : deviceSolver(scene);
     return attachDevice(s, std::move(context), options);
 }

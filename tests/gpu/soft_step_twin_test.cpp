@@ -79,7 +79,7 @@ TEST_F(SoftStepTwin, JointsStepTheCpuBitForBit) {
       {"name": "frame", "shape": "link", "static": true, "position": [3, 1, 0]},
       {"name": "door", "shape": "crate", "mass": 5, "position": [3.6, 1, 0],
        "angular_velocity": [0, 2, 0]})",
-                                      R"(
+                                       R"(
       {"type": "ball", "a": "pivot", "b": "bob", "anchor": [0, 3, 0]},
       {"type": "hinge", "a": "frame", "b": "door", "anchor": [3, 1, 0], "axis": [0, 1, 0]})"));
     World cpu = world(scene, Backend::Cpu);
@@ -120,8 +120,8 @@ TEST_F(SoftStepTwin, ColoredStackOfTenStands) {
     std::string boxes;
     for (int i = 0; i < 10; ++i)
         boxes += std::string(i ? "," : "") + R"({"name": "box)" + std::to_string(i) +
-                 R"(", "shape": "crate", "mass": 1, "position": [0, )" +
-                 std::to_string(0.5 + i) + ", 0]}";
+                 R"(", "shape": "crate", "mass": 1, "position": [0, )" + std::to_string(0.5 + i) +
+                 ", 0]}";
     Scene scene = sceneOf(crates(boxes));
     scene.simulation.sleep = false;
     World cpu = world(scene, Backend::Cpu);
@@ -149,8 +149,7 @@ TEST_F(SoftStepTwin, ParticleContactsAreRefused) {
     ASSERT_FALSE(w.ok());
     EXPECT_EQ(w.error().kind, ErrorKind::NotSupported);
     EXPECT_NE(w.error().where.find("simulation.solver.type"), std::string::npos);
-    EXPECT_NE(w.error().message.find("sat contacts only"), std::string::npos)
-        << w.error().message;
+    EXPECT_NE(w.error().message.find("sat contacts only"), std::string::npos) << w.error().message;
 }
 
 } // namespace

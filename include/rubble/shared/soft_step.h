@@ -43,9 +43,8 @@ RUBBLE_FN float4 softnessItem(float hertz, float dampingRatio, float h) {
 // The contact point of a manifold point at `point` (world, m) with penetration `depth` along the
 // unit normal n, for bodies at poses pa, pb whose velocities before the step's forces were aa,
 // ab (prepareSoftContacts).
-RUBBLE_FN SoftContact softContactItem(float4 point, float depth, float4 n, BodyPose pa,
-                                      BodyPose pb, BodyVelocity aa, BodyVelocity ab,
-                                      float restitution) {
+RUBBLE_FN SoftContact softContactItem(float4 point, float depth, float4 n, BodyPose pa, BodyPose pb,
+                                      BodyVelocity aa, BodyVelocity ab, float restitution) {
     const float4 rA = pgsArmItem(point, pa.position), rB = pgsArmItem(point, pb.position);
     SoftContact c;
     const float4 anchorA = quatRotateInverse(pa.orientation, rA);
@@ -158,8 +157,8 @@ RUBBLE_FN PgsUpdate softRestitutionItem(PgsNormalRow r, SoftContact c, BodyVeloc
 // bias rate, mass and impulse scales; {0, 1, 0} in a relax pass). The largest |change| (N s) in
 // w of pointImpulse.
 RUBBLE_FN PgsJointUpdate solveSoftJointItem(BodyVelocityPair v, PgsJoint j, PgsJointRow r,
-                                            BodyPose pa, BodyPose pb, JacobiBody ja,
-                                            JacobiBody jb, float4 soft) {
+                                            BodyPose pa, BodyPose pb, JacobiBody ja, JacobiBody jb,
+                                            float4 soft) {
     PgsJointUpdate u;
     u.v = v;
     u.pointImpulse = r.pointImpulse;
@@ -178,9 +177,9 @@ RUBBLE_FN PgsJointUpdate solveSoftJointItem(BodyVelocityPair v, PgsJoint j, PgsJ
         const float s0 = dot3(r.turn[0], dw) + biasRate * c0;
         const float s1 = dot3(r.turn[1], dw) + biasRate * c1;
         const float4 m = r.turnMass;
-        const float4 impulse = vec4(-massScale * (m.x * s0 + m.y * s1) - impulseScale * r.turnImpulse.x,
-                                    -massScale * (m.z * s0 + m.w * s1) - impulseScale * r.turnImpulse.y,
-                                    0.0f);
+        const float4 impulse =
+            vec4(-massScale * (m.x * s0 + m.y * s1) - impulseScale * r.turnImpulse.x,
+                 -massScale * (m.z * s0 + m.w * s1) - impulseScale * r.turnImpulse.y, 0.0f);
         u.turnImpulse = add4(u.turnImpulse, impulse);
         u.v = applyJointTurnItem(u.v, r, impulse, ja, jb);
         residual = fmax(fabs(impulse.x), fabs(impulse.y));
