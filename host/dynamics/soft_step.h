@@ -1,6 +1,6 @@
 // host/dynamics/soft_step.h: CPU stage 6 of the soft-step solver, solveSoftStep: substeps that
 // integrate the bodies, with soft contacts and joints, relax passes and restitution (Catto,
-// "Solver2D", 2024; the Box2D v3 solver). The device version does not exist yet.
+// "Solver2D", 2024; the Box2D v3 solver). The device version is host/gpu/soft_step.h.
 #pragma once
 
 #include <cstdint>

@@ -176,14 +176,11 @@ Status Pipeline::solvePairs(const StepParams& params) {
     Profile& profile = q.profile();
     const float dt = params.dt;
     profile.setStage(DeviceStage::Solve);
-    RUBBLE_TRY(pgs_.solve(q, bodies_, pairs_, joints_, q.lastStatus(), params));
-    profile.setStage(DeviceStage::IntegratePositions);
-    // Without a bounce nothing between the two reads the velocities applyPushes derives again.
-    RUBBLE_TRY(integratePositions(q, bodies_, dt, params.symplectic(), pgs_.fusedPushes()));
-    // As PgsSolver::solvePositions: bounces from the contact, the pushes, the joints.
-    RUBBLE_TRY(pgs_.bounce(q, bodies_, params));
-    RUBBLE_TRY(pgs_.applyPushes(q, bodies_, dt));
-    RUBBLE_TRY(joints_.project(q, bodies_));
+    // The soft step moves the bodies in its substeps (SAT only: backend_check.cpp).
+    if (params.solver.type == SolverType::SoftStep && sat())
+        RUBBLE_TRY(softStep_.solve(q, bodies_, pgs_, pairs_, joints_, params));
+    else
+        RUBBLE_TRY(solvePgsPairs(params));
     RUBBLE_TRY(bodies_.clearForces(q));
     profile.setStage(DeviceStage::Sleep);
     // Islands on the host decide once the step is met; a world kept awake does not sleep.
@@ -200,6 +197,19 @@ Status Pipeline::solvePairs(const StepParams& params) {
     }
     hostWrote_ = false;
     return q.enqueueStatusRead();
+}
+
+Status Pipeline::solvePgsPairs(const StepParams& params) {
+    StageQueue& q = *queue_;
+    const float dt = params.dt;
+    RUBBLE_TRY(pgs_.solve(q, bodies_, pairs_, joints_, q.lastStatus(), params));
+    q.profile().setStage(DeviceStage::IntegratePositions);
+    // Without a bounce nothing between the two reads the velocities applyPushes derives again.
+    RUBBLE_TRY(integratePositions(q, bodies_, dt, params.symplectic(), pgs_.fusedPushes()));
+    // As PgsSolver::solvePositions: bounces from the contact, the pushes, the joints.
+    RUBBLE_TRY(pgs_.bounce(q, bodies_, params));
+    RUBBLE_TRY(pgs_.applyPushes(q, bodies_, dt));
+    return joints_.project(q, bodies_);
 }
 
 Status Pipeline::solveParticles(const StepParams& params) {

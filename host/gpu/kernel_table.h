@@ -79,6 +79,14 @@ enum class KernelId : unsigned {
     PlaceStillPairs,
     CarryStillPairs,
     WakeStillPairs,
+    PrepareSoftContacts,
+    BeginSoftStep,
+    AddSoftForces,
+    WarmStartSoft,
+    SolveSoft,
+    IntegrateSoft,
+    BounceSoft,
+    FinishSoftStep,
     Count
 };
 

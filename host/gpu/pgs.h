@@ -77,6 +77,21 @@ class PgsSolve {
     std::span<const std::uint32_t> rowsBefore() const { return pointsHost_; }
     std::span<const PgsLaunch> launches() const { return launches_; }
     std::uint32_t rowCount() const { return rowCount_; }
+    /// The pairs with rows among the step's elements (they follow the joints).
+    std::uint32_t pairElements() const { return std::uint32_t(placeHost_.size()) - jointCount_; }
+    /// The step's plan and rows as the device holds them, for a solver that goes through the
+    /// same elements in the same launches (the soft step, host/gpu/soft_step.h).
+    struct RowBuffers {
+        const Buffer& elements;   ///< PgsElement records in launch order
+        const Buffer& buildOrder; ///< the pairs' elements in pair order
+        const Buffer& blockStarts;
+        const Buffer& normalRows;
+        const Buffer& frictionRows;
+        const Buffer& impulses; ///< per point: normal, two friction impulses and a spare, N s
+    };
+    RowBuffers rowBuffers() const {
+        return {elements_, buildOrder_, blockStarts_, normalRows_, frictionRows_, impulses_};
+    }
     /// The coloring of the elements between blocks (every element on a GPU).
     const Coloring& coloring() const { return coloring_; }
     /// Reads this step's rows, packed in element order. Errors: Device.

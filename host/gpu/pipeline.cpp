@@ -63,6 +63,7 @@ Status Pipeline::makeStages(const PipelineInput& in) {
                                                             q.c().workSizes().pgsBlockBodies);
         RUBBLE_TRY(pgs_.create(q, std::uint32_t(n), blocks));
         RUBBLE_TRY(joints_.create(q, in.joints, bodies, bodies_.kinematic));
+        if (sat()) RUBBLE_TRY(softStep_.create(q, std::uint32_t(n)));
     }
     if (islands_) islands_->reset(bodies_);
     hostWrote_ = true;

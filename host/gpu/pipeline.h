@@ -23,6 +23,7 @@
 #include "host/gpu/pipeline_handle.h"
 #include "host/gpu/sat.h"
 #include "host/gpu/sleep.h"
+#include "host/gpu/soft_step.h"
 #include "host/gpu/sort.h"
 #include "rubble/world.h"
 
@@ -127,6 +128,7 @@ class Pipeline {
     Status collideSat(const StepParams& params);
     Status collideParticlePairs(const StepParams& params);
     Status solvePairs(const StepParams& params);
+    Status solvePgsPairs(const StepParams& params);
     Status solveParticles(const StepParams& params);
     Result<DeviceStatus> wakeAndSummarize(const StepParams& params, std::uint32_t round);
     Status growPairs(const DeviceStatus& st, const StepParams& params);
@@ -142,6 +144,7 @@ class Pipeline {
     SatBroadPhase broadPhase_;
     DeviceJoints joints_;
     PgsSolve pgs_;
+    SoftStepSolve softStep_; ///< SAT with the soft step: its substeps over pgs_'s plan and rows
     JacobiSolve jacobi_;
     std::unique_ptr<HostIslands> islands_; ///< SAT with the sleep on the host
     CollisionMethod method_ = CollisionMethod::Particles;

@@ -11,11 +11,14 @@ Status checkBackendCombination(const Scene& scene) {
     const SimulationOptions& sim = scene.simulation;
     const std::string field = scene.file + ": simulation.";
     const SolverType solver = sim.solverType();
-    // The soft step has no device version yet: refused rather than replaced by another solver.
-    if (sim.backend == Backend::OpenCl && solver == SolverType::SoftStep)
+    // The device's soft step goes through the SAT path's pairs, plan and rows; particle
+    // contacts have none of them: refused rather than replaced by another solver.
+    if (sim.backend == Backend::OpenCl && solver == SolverType::SoftStep &&
+        sim.collisionMethod() != CollisionMethod::Sat)
         return makeError(ErrorKind::NotSupported, field + "solver.type",
-                         "the soft-step solver runs on the cpu backend only (simulation.backend: "
-                         "\"cpu\", --backend cpu); on opencl solve with pgs (--solver pgs)");
+                         "the soft-step solver on the opencl backend takes sat contacts only "
+                         "(simulation.collision.method: \"sat\", --collision sat); particle "
+                         "contacts solve with pgs or the jacobi family (--solver pgs)");
     // Joint rows live in PGS and the soft step; the other solvers take contact rows only. On the
     // cpu backend, and on opencl with SAT, every body steps with the scene's solver, so a joint
     // needs pgs (on opencl with particles jointed bodies step on the CPU with PGS).
@@ -34,12 +37,13 @@ Status checkBackendCombination(const Scene& scene) {
                              "particles, where jointed bodies step on the CPU with pgs");
     }
     if (sim.backend != Backend::OpenCl) return {};
-    // SAT on the device feeds projected Gauss-Seidel, with every body on the device.
+    // SAT on the device feeds projected Gauss-Seidel or the soft step, with every body on the
+    // device.
     if (deviceSat) {
-        if (solver == SolverType::Pgs) return {};
+        if (solver == SolverType::Pgs || solver == SolverType::SoftStep) return {};
         return makeError(ErrorKind::NotSupported, field + "solver.type",
-                         "sat collision on the opencl backend solves with pgs (--solver pgs); "
-                         "the " +
+                         "sat collision on the opencl backend solves with pgs or soft-step "
+                         "(--solver pgs); the " +
                              std::string(toString(solver)) +
                              " solver takes particle contacts there (--collision particles)");
     }

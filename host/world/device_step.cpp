@@ -124,10 +124,13 @@ Status attachScene(WorldState& s, const Scene& scene, std::shared_ptr<gpu::Conte
     }
     SimulationOptions options = scene.simulation;
     options.backend = Backend::OpenCl;
-    // The options in effect: SAT feeds PGS, particles the scene's solver (deviceSolver: the
-    // Jacobi family for a debris set).
+    // The options in effect: SAT feeds PGS or the soft step, particles the scene's solver
+    // (deviceSolver: the Jacobi family for a debris set).
     options.collision.method = options.collisionMethod();
-    options.solver.type = sat ? SolverType::Pgs : deviceSolver(scene);
+    const SolverType satSolver = scene.simulation.solverType() == SolverType::SoftStep
+                                     ? SolverType::SoftStep
+                                     : SolverType::Pgs;
+    options.solver.type = sat ? satSolver : deviceSolver(scene);
     return attachDevice(s, std::move(context), options);
 }
 

@@ -1,13 +1,16 @@
 // tests/unit/soft_step_test.cpp: mirrors host/dynamics/soft_step.cpp: the soft constraint's
-// coefficients against an implicit spring-damper, the settings' caps, and the soft step refused
-// on the device by name.
+// coefficients against an implicit spring-damper (and the device's, to the bit), the settings'
+// caps, and particle contacts refused on the device by name.
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "host/dynamics/soft_step.h"
+#include "rubble/shared/soft_step.h"
 #include "support/test_util.h"
 
 namespace rubble {
@@ -64,11 +67,11 @@ TEST(SoftStep, SpringsAreStifferAgainstBodiesThatDoNotMove) {
     same(softnessFor(60.0f, 2.0f, h, 0.0f, 1.0f, 1.0f), makeSoftness(60.0f, 2.0f, h));
 }
 
-// The device has no soft step yet: asking for it there names the option instead of stepping
-// with another solver.
-TEST(SoftStep, TheDeviceRefusesItNamingTheOption) {
+// The device's soft step goes through the SAT path's pairs and rows: with particle contacts on
+// opencl it is refused naming the option, and says which collision takes it.
+TEST(SoftStep, TheDeviceRefusesParticleContactsNamingTheOption) {
     const Error e = test::sceneError(R"({"format": "rubble-scene", "version": 1,
-      "simulation": {"backend": "opencl", "collision": {"method": "sat"},
+      "simulation": {"backend": "opencl", "collision": {"method": "particles"},
                      "solver": {"type": "soft-step"}},
       "shapes": {"ground": {"type": "plane"}, "box": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
       "bodies": [{"name": "floor", "shape": "ground", "static": true},
@@ -76,7 +79,24 @@ TEST(SoftStep, TheDeviceRefusesItNamingTheOption) {
     EXPECT_EQ(e.kind, ErrorKind::NotSupported);
     EXPECT_EQ(e.where, "inline.json: simulation.solver.type");
     EXPECT_NE(e.message.find("soft-step"), std::string::npos) << e.message;
-    EXPECT_NE(e.message.find("--backend cpu"), std::string::npos) << e.message;
+    EXPECT_NE(e.message.find("--collision sat"), std::string::npos) << e.message;
+}
+
+// The device's springs (shared::softnessItem, kernels/soft_step.cl) are the CPU's to the bit.
+TEST(SoftStep, TheDevicesSpringsAreTheCpus) {
+    for (const float hertz : {0.0f, 15.0f, 30.0f, 60.0f, 120.0f})
+        for (const float zeta : {0.0f, 2.0f, 10.0f})
+            for (const float h : {1.0f / 240.0f, 1.0f / 300.0f, 0.01f}) {
+                const Softness cpu = makeSoftness(hertz, zeta, h);
+                const shared::float4 device = shared::softnessItem(hertz, zeta, h);
+                EXPECT_EQ(std::bit_cast<std::uint32_t>(cpu.biasRate),
+                          std::bit_cast<std::uint32_t>(device.x))
+                    << hertz << " Hz, zeta " << zeta << ", h " << h;
+                EXPECT_EQ(std::bit_cast<std::uint32_t>(cpu.massScale),
+                          std::bit_cast<std::uint32_t>(device.y));
+                EXPECT_EQ(std::bit_cast<std::uint32_t>(cpu.impulseScale),
+                          std::bit_cast<std::uint32_t>(device.z));
+            }
 }
 
 } // namespace
