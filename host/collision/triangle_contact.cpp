@@ -58,16 +58,18 @@ void addContact(std::vector<TriangleContact>& out, glm::vec3 onBody, glm::vec3 n
     out.push_back({onBody - normal * (0.5f * separation), -separation, normal, feature});
 }
 
-// Sutherland-Hodgman: the part of `in` where dot(n, x - origin) <= 0.
-void clipPolygon(const std::vector<glm::vec3>& in, glm::vec3 n, glm::vec3 origin,
-                 std::vector<glm::vec3>& out) {
+// Sutherland-Hodgman: the part of `in` where dot(n, x - origin) <= 0. A new corner is tagged
+// 0x800 | plane << 8 | the low byte of the tag of the edge's start.
+void clipPolygon(const std::vector<TaggedPoint>& in, glm::vec3 n, glm::vec3 origin,
+                 std::uint32_t plane, std::vector<TaggedPoint>& out) {
     out.clear();
     for (std::size_t i = 0; i < in.size(); ++i) {
-        const glm::vec3 a = in[i], b = in[(i + 1) % in.size()];
-        const float da = glm::dot(n, a - origin), db = glm::dot(n, b - origin);
+        const TaggedPoint a = in[i], b = in[(i + 1) % in.size()];
+        const float da = glm::dot(n, a.position - origin), db = glm::dot(n, b.position - origin);
         if (da <= 0.0f) out.push_back(a);
         if ((da < 0.0f && db > 0.0f) || (da > 0.0f && db < 0.0f))
-            out.push_back(a + (b - a) * (da / (da - db)));
+            out.push_back({a.position + (b.position - a.position) * (da / (da - db)),
+                           0x800u | ((plane & 0x7u) << 8) | (a.tag & 0xFFu)});
     }
 }
 
@@ -265,12 +267,21 @@ void collideTriangleHull(const LevelTriangle& t, std::uint32_t index, PlacedHull
             best = separation, normal = -n, axis = Axis::HullFace, chosenFace = f;
         }
     }
-    // Edge pairs, each axis turned from the triangle towards the hull.
+    // Edge pairs, each axis turned from the triangle towards the hull, for the triangle's edges
+    // that can carry a normal of their own: boundaries and edges convex from this side.
+    bool edgeMayTouch[3];
+    for (std::size_t k = 0; k < 3; ++k)
+        edgeMayTouch[k] = t.edges[k] == EdgeKind::Boundary ||
+                          (t.edges[k] == EdgeKind::Convex && side > 0.0f) ||
+                          (t.edges[k] == EdgeKind::Concave && side < 0.0f);
     const glm::vec3 centre = (t.v[0] + t.v[1] + t.v[2]) / 3.0f;
     const float tolerance = kFeatureTolerance * longestEdge(t);
     for (std::size_t e = 0; e < hull.edgeDirections.size(); ++e) {
         const glm::vec3 dh = hull.edgeDirections[e];
         for (int k = 0; k < 3; ++k) {
+            // An internal edge never gives the normal; past it the neighbour's face (or, here,
+            // this face clipped to the prism) holds whatever touches.
+            if (!edgeMayTouch[k]) continue;
             const glm::vec3 a0 = t.v[std::size_t(k)], a1 = t.v[std::size_t((k + 1) % 3)];
             glm::vec3 u = glm::cross(dh, a1 - a0);
             const float len = glm::length(u);
@@ -306,22 +317,22 @@ void collideTriangleHull(const LevelTriangle& t, std::uint32_t index, PlacedHull
     if (axis == Axis::HullFace) {
         // The triangle clipped to the hull's face; its points below the face touch.
         const glm::vec3 n = hull.faceNormals[chosenFace];
-        hull.polygon.assign(t.v.begin(), t.v.end());
+        hull.polygon = {{t.v[0], 0u}, {t.v[1], 1u}, {t.v[2], 2u}};
         const std::uint32_t start = mesh.faces[chosenFace].edge;
         std::uint32_t h = start;
         do {
             const glm::vec3 w0 = hull.vertices[mesh.edges[h].origin];
             const glm::vec3 w1 = hull.vertices[mesh.edges[mesh.edges[h].next].origin];
-            clipPolygon(hull.polygon, glm::cross(w1 - w0, n), w0, hull.clipped);
+            clipPolygon(hull.polygon, glm::cross(w1 - w0, n), w0, h, hull.clipped);
             std::swap(hull.polygon, hull.clipped);
             h = mesh.edges[h].next;
         } while (h != start && !hull.polygon.empty());
-        for (std::size_t j = 0; j < hull.polygon.size(); ++j) {
-            const glm::vec3 q = hull.polygon[j];
+        for (const TaggedPoint& corner : hull.polygon) {
+            const glm::vec3 q = corner.position;
             const float separation = glm::dot(n, q) - hull.faceOffsets[chosenFace];
             if (separation <= margin)
                 addContact(out, q - n * separation, normal, separation,
-                           featureOf(index, 0x2000u | std::uint32_t(j)));
+                           featureOf(index, 0x2000u | (corner.tag & 0xFFFu)));
         }
         return;
     }
@@ -334,18 +345,19 @@ void collideTriangleHull(const LevelTriangle& t, std::uint32_t index, PlacedHull
     const std::uint32_t start = mesh.faces[incident].edge;
     std::uint32_t h = start;
     do {
-        hull.polygon.push_back(hull.vertices[mesh.edges[h].origin]);
+        hull.polygon.push_back({hull.vertices[mesh.edges[h].origin], mesh.edges[h].origin & 0x7FFu});
         h = mesh.edges[h].next;
     } while (h != start);
     for (int k = 0; k < 3 && !hull.polygon.empty(); ++k) {
-        clipPolygon(hull.polygon, sideNormal(t, k), t.v[std::size_t(k)], hull.clipped);
+        clipPolygon(hull.polygon, sideNormal(t, k), t.v[std::size_t(k)], std::uint32_t(k),
+                    hull.clipped);
         std::swap(hull.polygon, hull.clipped);
     }
-    for (std::size_t j = 0; j < hull.polygon.size(); ++j) {
-        const glm::vec3 p = hull.polygon[j];
-        const float separation = glm::dot(face, p - t.v[0]);
+    for (const TaggedPoint& corner : hull.polygon) {
+        const float separation = glm::dot(face, corner.position - t.v[0]);
         if (separation <= margin)
-            addContact(out, p, face, separation, featureOf(index, 0x1000u | std::uint32_t(j)));
+            addContact(out, corner.position, face, separation,
+                       featureOf(index, 0x1000u | (corner.tag & 0xFFFu)));
     }
 }
 

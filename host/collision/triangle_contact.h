@@ -25,6 +25,13 @@ struct TriangleContact {
     std::uint32_t feature = 0;          ///< the triangle and the point, stable while they touch
 };
 
+/// A polygon corner being clipped, with a tag that names the features that made it (stable
+/// while the same features touch, for the contact's feature id).
+struct TaggedPoint {
+    glm::vec3 position{0.0f};
+    std::uint32_t tag = 0;
+};
+
 /// A convex hull placed in the mesh's frame, with what the triangle tests read of it.
 struct PlacedHull {
     const HalfEdgeMesh* mesh = nullptr; ///< the hull, in its own frame
@@ -35,7 +42,7 @@ struct PlacedHull {
     std::vector<float> faceOffsets;     ///< m
     std::vector<glm::vec3> edgeOrigins, edgeDirections; ///< one per undirected edge, mesh frame
     glm::vec3 centroid{0.0f};
-    std::vector<glm::vec3> polygon, clipped; ///< clipping scratch
+    std::vector<TaggedPoint> polygon, clipped; ///< clipping scratch
 };
 
 /// Places `hull` by the rotation and translation of its frame in the mesh's (reusing `out`).
@@ -62,9 +69,12 @@ void collideTriangleCapsule(const LevelTriangle& t, std::uint32_t index, const S
                             float r, float margin, std::vector<TriangleContact>& out);
 
 /// A convex hull: separating axes (the triangle's normal, the hull's face normals, the cross
-/// products of their edges), the least-penetrating axis that normalAllowed accepts (faces
-/// preferred), then the incident face clipped to the triangle, or the triangle to the hull's
-/// face, or the edges' closest points. Nothing when an axis separates by more than the margin.
+/// products of the hull's edges with the triangle's Boundary edges and its edges convex from the
+/// hull's side), the least-penetrating axis that normalAllowed accepts (faces preferred), then
+/// the incident face clipped to the triangle, or the triangle to the hull's face, or the edges'
+/// closest points. Nothing when an axis separates by more than the margin. Internal edges are
+/// not tested as axes: what touches past them lies over the neighbour, and what this triangle
+/// reports is clipped to its own prism.
 void collideTriangleHull(const LevelTriangle& t, std::uint32_t index, PlacedHull& hull,
                          float margin, std::vector<TriangleContact>& out);
 

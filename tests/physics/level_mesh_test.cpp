@@ -123,25 +123,35 @@ TEST(LevelMesh, CratePileRestsOnAHeightField) {
         heights.str() + R"(},
                        "crate": {"type": "box", "half_extents": [0.25, 0.25, 0.25]}},
             "bodies": [{"name": "hill", "shape": "hill", "static": true}],
-            "generators": [{"type": "grid", "shape": "crate", "mass": 1, "count": [4, 3, 4],
-                            "origin": [-1.2, 1.5, -1.2], "spacing": [0.8, 0.7, 0.8],
+            "generators": [{"type": "grid", "shape": "crate", "mass": 1, "count": [5, 2, 5],
+                            "origin": [-2.0, 1.5, -2.0], "spacing": [1.0, 0.8, 1.0],
                             "rotation_jitter": 0.3, "seed": 3, "name_prefix": "crate"}]})");
-    ASSERT_TRUE(test::stepWorld(w, 900)); // 15 s
+    ASSERT_TRUE(test::stepWorld(w, 780)); // 13 s to come down
+    // Over the last 2 s: how deep any corner goes below the surface, and how far each crate
+    // moves (the pile has come to rest; a crate leaning on another on a bump may still jitter
+    // in place instead of sleeping, so rest is a bound on the motion).
+    const std::vector<glm::vec3> start = test::positionsOf(w);
     float worst = 0.0f;
     std::string who;
-    for (std::uint32_t b = 1; b < w.bodyCount(); ++b) {
-        const BodyState s = w.body(b);
-        ASSERT_LT(glm::length(s.linearVelocity), 0.05f) << w.bodyName(b) << " is not at rest";
-        for (int k = 0; k < 8; ++k) {
-            const glm::vec3 corner =
-                s.position + s.orientation * (0.25f * glm::vec3(k & 1 ? 1 : -1, k & 2 ? 1 : -1,
-                                                                 k & 4 ? 1 : -1));
-            ASSERT_LT(std::abs(corner.x), 5.0f);
-            ASSERT_LT(std::abs(corner.z), 5.0f);
-            const float below = surfaceAt(corner.x, corner.z) - corner.y;
-            if (below > worst) worst = below, who = w.bodyName(b);
+    for (int step = 0; step < 120; ++step) {
+        ASSERT_TRUE(test::stepWorld(w, 1));
+        for (std::uint32_t b = 1; b < w.bodyCount(); ++b) {
+            const BodyState s = w.body(b);
+            for (int k = 0; k < 8; ++k) {
+                const glm::vec3 corner =
+                    s.position + s.orientation * (0.25f * glm::vec3(k & 1 ? 1 : -1,
+                                                                     k & 2 ? 1 : -1,
+                                                                     k & 4 ? 1 : -1));
+                ASSERT_LT(std::abs(corner.x), 5.0f) << w.bodyName(b) << " left the field";
+                ASSERT_LT(std::abs(corner.z), 5.0f) << w.bodyName(b) << " left the field";
+                const float below = surfaceAt(corner.x, corner.z) - corner.y;
+                if (below > worst) worst = below, who = w.bodyName(b);
+            }
         }
     }
+    for (std::uint32_t b = 1; b < w.bodyCount(); ++b)
+        EXPECT_LT(glm::length(w.body(b).position - start[b]), 0.03f)
+            << w.bodyName(b) << " is still moving, m in 2 s";
     EXPECT_LT(worst, 0.01f) << who << " is that far below the surface, m";
 }
 
