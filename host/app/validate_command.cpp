@@ -45,9 +45,18 @@ int validateCommand(const ValidateArgs& args) {
                 world->bodyCount(), statics, kinematicText.c_str(),
                 world->bodyCount() - statics - kinematic, totalMass);
     std::printf("shapes: %zu", scene->shapes.size());
-    for (std::size_t i = 0; i < scene->shapes.size(); ++i)
-        std::printf("%s%s (%s)", i ? ", " : ": ", scene->shapes[i].name.c_str(),
-                    shapeTypeName(scene->shapes[i].type));
+    for (std::size_t i = 0; i < scene->shapes.size(); ++i) {
+        const ShapeDesc& d = scene->shapes[i];
+        // Level geometry: its grid and triangles.
+        std::string detail = shapeTypeName(d.type);
+        if (d.heightField)
+            detail = "heightfield " + std::to_string(d.heightField->columns) + " x " +
+                     std::to_string(d.heightField->rows) + ", " +
+                     std::to_string(d.triangles.size()) + " triangles";
+        else if (d.type == ShapeType::Mesh)
+            detail += ", " + std::to_string(d.triangles.size()) + " triangles";
+        std::printf("%s%s (%s)", i ? ", " : ": ", d.name.c_str(), detail.c_str());
+    }
     std::printf("\n");
     std::size_t balls = 0;
     for (const JointDesc& j : scene->joints) balls += j.type == JointType::Ball ? 1 : 0;

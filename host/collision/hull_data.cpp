@@ -29,6 +29,14 @@ HullData flattenHulls(std::span<const Shape> shapes) {
             r.radius = s.radius;
             r.boundsMax = toFloat4(glm::vec3(s.radius, s.halfHeight + s.radius, s.radius));
             r.boundsMin = toFloat4(-glm::vec3(s.radius, s.halfHeight + s.radius, s.radius));
+        } else if (s.halfEdge.empty()) {
+            // Level geometry without a hull (static only): its bounds make the broad phase's box;
+            // its contacts are its triangles' (level_collision.h).
+            RUBBLE_ASSERT(s.level != nullptr);
+            r.kind = RUBBLE_SHAPE_HULL;
+            r.boundsMin = toFloat4(s.level->boundsMin);
+            r.boundsMax = toFloat4(s.level->boundsMax);
+            r.centroid = toFloat4(0.5f * (s.level->boundsMin + s.level->boundsMax));
         } else {
             RUBBLE_ASSERT(collidesAsHull(s.type));
             const HalfEdgeMesh& m = s.halfEdge;

@@ -135,29 +135,46 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
                 : RUBBLE_CONTACT_MARGIN;
         const shared::HullShape& shapeA = c.hulls.shapes[bodies.shapeOf[pair.a]];
         const shared::HullShape& shapeB = c.hulls.shapes[bodies.shapeOf[pair.b]];
-        // Capsules collide by the CPU's own closest features; the rest as the device does.
-        const shared::ContactManifold found =
-            shapeA.kind == RUBBLE_SHAPE_CAPSULE || shapeB.kind == RUBBLE_SHAPE_CAPSULE
-                ? *collideCapsulePair(scene.shapes[bodies.shapeOf[pair.a]], c.transforms[pair.a],
-                                      scene.shapes[bodies.shapeOf[pair.b]], c.transforms[pair.b],
-                                      margin)
-                : shared::collideShapesClippingInItem(arrays, shapeA, c.transforms[pair.a], shapeB,
-                                                      c.transforms[pair.b], &cache, margin,
-                                                      buffers);
-        if (cache.reusable) c.nextFeatures.push_back({pair, cache});
-        if (found.count == 0) continue;
-        Manifold m;
-        m.a = pair.a;
-        m.b = pair.b;
-        m.normal = toVec3(found.normal);
-        m.count = found.count;
-        for (std::uint32_t i = 0; i < m.count; ++i) {
-            const shared::float4 p = found.points[i];
-            m.points[i] = ContactPoint{toVec3(p), p.w, found.features[i], m.normal};
-            deepest = std::max(deepest, p.w);
+        const Shape& fullA = scene.shapes[bodies.shapeOf[pair.a]];
+        const Shape& fullB = scene.shapes[bodies.shapeOf[pair.b]];
+        // A static mesh collides by its triangles, which may give several manifolds.
+        const bool levelA = fullA.level && (bodies.masses[pair.a].flags & RUBBLE_BODY_STATIC);
+        const bool levelB = fullB.level && (bodies.masses[pair.b].flags & RUBBLE_BODY_STATIC);
+        c.levelManifolds.clear();
+        if (levelA || levelB) {
+            const std::uint32_t mesh = levelA ? pair.a : pair.b, body = levelA ? pair.b : pair.a;
+            collideLevel(*scene.shapes[bodies.shapeOf[mesh]].level, c.transforms[mesh],
+                         scene.shapes[bodies.shapeOf[body]], c.transforms[body], c.boxes[body],
+                         margin, c.level, c.levelManifolds);
+            if (levelB)
+                for (shared::ContactManifold& m : c.levelManifolds)
+                    m.normal = shared::negate4(m.normal);
+        } else {
+            // Capsules collide by the CPU's own closest features; the rest as the device does.
+            c.levelManifolds.push_back(
+                shapeA.kind == RUBBLE_SHAPE_CAPSULE || shapeB.kind == RUBBLE_SHAPE_CAPSULE
+                    ? *collideCapsulePair(fullA, c.transforms[pair.a], fullB, c.transforms[pair.b],
+                                          margin)
+                    : shared::collideShapesClippingInItem(arrays, shapeA, c.transforms[pair.a],
+                                                          shapeB, c.transforms[pair.b], &cache,
+                                                          margin, buffers));
+            if (cache.reusable) c.nextFeatures.push_back({pair, cache});
         }
-        contacts += m.count;
-        out.manifolds.push_back(m);
+        for (const shared::ContactManifold& found : c.levelManifolds) {
+            if (found.count == 0) continue;
+            Manifold m;
+            m.a = pair.a;
+            m.b = pair.b;
+            m.normal = toVec3(found.normal);
+            m.count = found.count;
+            for (std::uint32_t i = 0; i < m.count; ++i) {
+                const shared::float4 p = found.points[i];
+                m.points[i] = ContactPoint{toVec3(p), p.w, found.features[i], m.normal};
+                deepest = std::max(deepest, p.w);
+            }
+            contacts += m.count;
+            out.manifolds.push_back(m);
+        }
         if (contacts > budget) {
             // Bodies piled into each other: stop before the manifolds and rows fill memory.
             out.manifolds.clear();

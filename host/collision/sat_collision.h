@@ -10,6 +10,7 @@
 #include "host/collision/broad_phase.h"
 #include "host/collision/collision_stage.h"
 #include "host/collision/hull_data.h"
+#include "host/collision/level_collision.h"
 #include "rubble/shared/hull_contact.h"
 
 namespace rubble {
@@ -34,6 +35,8 @@ struct CollisionCache {
     HullData hulls;                          ///< the scene's shapes, flattened
     const Shape* hullsOf = nullptr;          ///< the shapes `hulls` was made from
     ClipSpace clip;                          ///< for the hulls' largest face
+    LevelScratch level;                      ///< pairs with a static mesh
+    std::vector<shared::ContactManifold> levelManifolds;
 };
 
 /// The SAT collision method.
@@ -54,7 +57,9 @@ class SatCollision final : public CollisionStage {
     /// manifolds (in pair order, pairs without contacts left out; as points when the solver reads
     /// points), the cache. A pair's margin is RUBBLE_CONTACT_MARGIN plus how much closer the
     /// bodies can come this step (relative translation plus turning): contacts up to that gap
-    /// come out with negative depth, and the solver lets them close only that far.
+    /// come out with negative depth, and the solver lets them close only that far. A static body
+    /// whose shape has a LevelMesh collides by its triangles (level_collision.h), one manifold
+    /// per group of contacts sharing a normal.
     Status narrowPhase(const CollisionScene& scene, BodiesView bodies,
                        const StepParams& params, StepContacts& out) override;
     /// The manifolds' points (manifoldsToContacts).

@@ -46,7 +46,23 @@ float boundingRadiusOf(const std::vector<glm::vec3>& vertices) {
 
 } // namespace
 
-Result<Shape> buildShape(const ShapeDesc& d) {
+namespace {
+
+// The static mesh's triangles, in the shape frame (the file's less the centre shift).
+Status attachLevel(Shape& s, const ShapeDesc& d) {
+    TriangleMesh mesh{d.points, d.triangles};
+    for (glm::vec3& v : mesh.vertices) v -= s.centreShift;
+    Result<LevelMesh> level = buildLevelMesh(mesh, d.where + (d.heightField ? ".heights" : ".file"));
+    RUBBLE_TRY(level);
+    s.mesh = std::move(mesh);
+    s.boundingRadius = std::max(glm::length(level->boundsMin), glm::length(level->boundsMax));
+    s.level = std::make_shared<const LevelMesh>(std::move(*level));
+    return {};
+}
+
+} // namespace
+
+Result<Shape> buildShape(const ShapeDesc& d, ShapeUse use) {
     Shape s;
     s.name = d.name;
     s.type = d.type;
@@ -83,8 +99,18 @@ Result<Shape> buildShape(const ShapeDesc& d) {
         return s;
     }
 
+    // Level geometry without a body to move keeps its own frame when it has no volume to centre.
+    const bool levelOnly = d.type == ShapeType::Mesh && use.level && !use.moving;
+    if (d.heightField) {
+        RUBBLE_TRY(attachLevel(s, d));
+        return s;
+    }
     const std::string where = d.where + (d.type == ShapeType::Convex ? ".vertices" : ".file");
     Result<ConvexPolygons> hull = computeConvexHull(d.points, where);
+    if (!hull && levelOnly) {
+        RUBBLE_TRY(attachLevel(s, d));
+        return s;
+    }
     RUBBLE_TRY(hull);
     s.hull = std::move(*hull);
     const std::vector<glm::uvec3> hullTriangles = s.hull.triangles();
@@ -99,9 +125,16 @@ Result<Shape> buildShape(const ShapeDesc& d) {
     }
     // The hull of a thin sliver passes Qhull but holds no volume worth simulating.
     const float extent = boundingRadiusOf(s.hull.vertices);
-    if (!(s.unitMass.volume > 1e-9 * double(extent) * extent * extent))
+    if (!(s.unitMass.volume > 1e-9 * double(extent) * extent * extent)) {
+        if (levelOnly) {
+            s.hull = {};
+            s.unitMass = {};
+            RUBBLE_TRY(attachLevel(s, d));
+            return s;
+        }
         return makeError(ErrorKind::BadInput, where,
                          "the shape encloses no volume (its points are nearly coplanar)");
+    }
 
     // Move the centre of mass to the origin; the file's frame keeps its orientation.
     s.centreShift = glm::vec3(s.unitMass.centre);
@@ -112,6 +145,11 @@ Result<Shape> buildShape(const ShapeDesc& d) {
     Result<HalfEdgeMesh> halfEdge = buildHalfEdgeMesh(s.hull, where);
     RUBBLE_TRY(halfEdge);
     s.halfEdge = std::move(*halfEdge);
+    if (d.type == ShapeType::Mesh && use.level) {
+        const float radius = s.boundingRadius;
+        RUBBLE_TRY(attachLevel(s, d));
+        s.boundingRadius = std::max(radius, s.boundingRadius);
+    }
     return s;
 }
 

@@ -2,6 +2,7 @@
 // centre of mass at the origin of its frame.
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include <glm/glm.hpp>
@@ -9,6 +10,7 @@
 #include "host/core/mass_properties.h"
 #include "host/geometry/convex_hull.h"
 #include "host/geometry/half_edge.h"
+#include "host/geometry/level_mesh.h"
 #include "host/geometry/obj_mesh.h"
 #include "rubble/error.h"
 #include "rubble/scene.h"
@@ -34,14 +36,25 @@ struct Shape {
     MassProperties unitMass;      ///< at 1 kg/m^3, centre at the origin (planes: zero)
     glm::vec3 centreShift{0.0f};  ///< the file's centre of mass, subtracted from its vertices, m
     float boundingRadius = 0.0f;  ///< largest distance of the shape from its origin, m
+    /// mesh used by a static body: its triangles for the narrow phase (shared between copies).
+    std::shared_ptr<const LevelMesh> level;
+};
+
+/// How the world's bodies use a shape: what buildShape must make of a mesh.
+struct ShapeUse {
+    bool level = false;  ///< a static body has it: the mesh's triangles collide (LevelMesh)
+    bool moving = true;  ///< a dynamic or kinematic body has it: the mesh collides as its hull
 };
 
 /// Builds a shape: the hull (Qhull) for convex and mesh shapes, the mass properties (closed
 /// forms, or polyhedral integration of the hull; a closed mesh uses its own triangles so that a
 /// concave mesh gets its real centre of mass), the shift to the centre of mass, and the hull's
-/// half-edge mesh. Errors: BadInput at the shape's field for degenerate hulls or a half-edge mesh
-/// that breaks its invariants.
-Result<Shape> buildShape(const ShapeDesc& desc);
+/// half-edge mesh. A mesh with `use.level` also gets its LevelMesh; one used by static bodies only
+/// may enclose no volume (a flat or open level), and then keeps the file's frame and has no hull,
+/// as does a heightfield, which keeps its grid's frame. Errors: BadInput at the shape's field for
+/// degenerate hulls or a half-edge mesh that breaks its invariants, or a level mesh without a
+/// triangle of some area.
+Result<Shape> buildShape(const ShapeDesc& desc, ShapeUse use = {});
 
 /// The shape as a host program sees it (World::shape): its hull, its mesh, its sizes.
 ShapeGeometry geometryOf(const Shape& shape);

@@ -8,6 +8,7 @@
 
 #include "host/scene/ragdoll.h"
 #include "host/scene/generators.h"
+#include "host/scene/height_field.h"
 #include "host/scene/json_reader.h"
 #include "host/geometry/obj_mesh.h"
 #include "rubble/scene.h"
@@ -160,6 +161,9 @@ class SceneLoader {
                 RUBBLE_TRY(checkExtent(mesh->vertices, s.where("scale"), d.file));
                 d.points = std::move(mesh->vertices);
                 d.triangles = std::move(mesh->triangles);
+            } else if (type == "heightfield") {
+                RUBBLE_TRY(s.checkKeys({"type", "heights", "spacing", "file", "height_scale"}));
+                RUBBLE_TRY(readHeightField(s, baseDir_, d));
             } else if (type == "plane") {
                 d.type = ShapeType::Plane;
                 RUBBLE_TRY(s.checkKeys({"type", "normal", "offset"}));
@@ -167,7 +171,7 @@ class SceneLoader {
                 RUBBLE_TRY(s.read("offset", d.offset));
             } else {
                 return s.fail("type", "unknown shape type \"" + type +
-                                          "\" (expected box, sphere, capsule, convex, mesh or plane)");
+                                          "\" (expected box, sphere, capsule, convex, mesh, heightfield or plane)");
             }
             shapeIndex_[name] = std::uint32_t(scene_.shapes.size());
             scene_.shapes.push_back(std::move(d));
@@ -255,8 +259,9 @@ class SceneLoader {
                 return r.fail(b.mass ? "mass" : "density",
                               "a kinematic body has infinite mass (its velocities move it); "
                               "remove mass and density");
-            if (shape.type == ShapeType::Plane)
-                return r.fail("shape", "plane shapes are for static bodies only");
+            if (shape.type == ShapeType::Plane || shape.heightField)
+                return r.fail("shape", std::string(shape.heightField ? "heightfield" : "plane") +
+                                           " shapes are for static bodies only");
             return {};
         }
         if (b.isStatic) {
@@ -265,8 +270,9 @@ class SceneLoader {
                               "a static body has infinite mass; remove mass and density");
             return {};
         }
-        if (shape.type == ShapeType::Plane)
-            return r.fail("shape", "plane shapes are for static bodies only; add \"static\": true");
+        if (shape.type == ShapeType::Plane || shape.heightField)
+            return r.fail("shape", std::string(shape.heightField ? "heightfield" : "plane") +
+                                       " shapes are for static bodies only; add \"static\": true");
         if (b.mass && b.density) return r.fail("density", "give mass or density, not both");
         if (!b.mass && !b.density)
             return makeError(ErrorKind::BadInput, r.where(),

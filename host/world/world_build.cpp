@@ -78,6 +78,27 @@ Status checkCapsules(const Scene& scene) {
     return {};
 }
 
+// Static meshes and height fields collide by their triangles in the CPU's SAT narrow phase only:
+// the device has no triangle pairs, and particles would voxelise the level as a closed solid.
+Status checkLevelMeshes(const Scene& scene) {
+    const bool device = scene.simulation.backend == Backend::OpenCl;
+    const bool particles = scene.simulation.collisionMethod() == CollisionMethod::Particles;
+    if (!device && !particles) return {};
+    for (const BodyDesc& b : scene.bodies) {
+        const ShapeDesc& shape = scene.shapes[b.shape];
+        if (!b.isStatic || shape.type != ShapeType::Mesh) continue;
+        const std::string kind = shape.heightField ? "heightfield" : "static triangle mesh";
+        return makeError(ErrorKind::NotSupported, b.where + ".shape",
+                         "body \"" + b.name + "\" is a " + kind + " (shape \"" + shape.name +
+                             "\"): " +
+                             (device ? "the opencl backend does not collide with level "
+                                       "triangles yet; run it on the cpu backend (--backend cpu)"
+                                     : "particle collision does not collide with level "
+                                       "triangles; collide with sat (--collision sat)"));
+    }
+    return {};
+}
+
 // Turning continuous collision off is the CPU's SAT path's choice: the device's SAT always widens
 // its margins, and particles have none to widen.
 Status checkContinuous(const Scene& scene) {
@@ -96,6 +117,7 @@ Status checkSupported(const Scene& scene) {
     RUBBLE_TRY(checkBackendCombination(scene));
     RUBBLE_TRY(checkKinematic(scene));
     RUBBLE_TRY(checkCapsules(scene));
+    RUBBLE_TRY(checkLevelMeshes(scene));
     RUBBLE_TRY(checkContinuous(scene));
     RUBBLE_TRY(checkLemkeFrictionless(scene));
     return {};
@@ -207,8 +229,15 @@ Result<World> World::create(const Scene& scene, const RunOptions& run) {
     s->options.solver.type = scene.simulation.solverType();
     s->run = run;
     s->materials = scene.materials;
-    for (const ShapeDesc& d : scene.shapes) {
-        Result<Shape> shape = buildShape(d);
+    // A mesh on a static body collides by its triangles; on a moving one, by its hull.
+    std::vector<ShapeUse> uses(scene.shapes.size(), ShapeUse{false, false});
+    for (const BodyDesc& b : scene.bodies) {
+        uses[b.shape].level = uses[b.shape].level || b.isStatic;
+        uses[b.shape].moving = uses[b.shape].moving || !b.isStatic;
+    }
+    for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
+        const ShapeDesc& d = scene.shapes[i];
+        Result<Shape> shape = buildShape(d, uses[i]);
         RUBBLE_TRY(shape);
         s->geometry.push_back(geometryOf(*shape));
         s->shapes.push_back(std::move(*shape));

@@ -67,6 +67,11 @@ Result<std::uint32_t> World::addDebris(std::span<const DebrisPiece> pieces) {
         if (s.shapes[d.shape].type == ShapeType::Plane)
             return makeError(ErrorKind::BadInput, where + ".shape",
                              "a plane cannot be debris (planes are static)");
+        if (s.shapes[d.shape].level && s.shapes[d.shape].halfEdge.empty())
+            return makeError(ErrorKind::BadInput, where + ".shape",
+                             "shape \"" + s.shapes[d.shape].name +
+                                 "\" is level geometry with no volume (a height field or a flat "
+                                 "mesh): it cannot be debris");
         if (s.shapes[d.shape].type == ShapeType::Capsule && s.device)
             return makeError(ErrorKind::NotSupported, where + ".shape",
                              "the opencl backend does not collide capsules yet");

@@ -32,6 +32,15 @@ inline constexpr double kMaxLength = 1e5;
 
 enum class ShapeType { Box, Sphere, Convex, Mesh, Plane, Capsule };
 
+/// A height field's grid as the file gives it: heights[row * columns + column], rows along z and
+/// columns along x, centred on the body's position.
+struct HeightFieldDesc {
+    std::uint32_t rows = 0, columns = 0; ///< at least 2 each
+    std::vector<float> heights;          ///< m, rows x columns, row by row
+    glm::vec2 spacing{1.0f};             ///< between columns (x) and rows (z), m
+    std::string file;                    ///< the PNG it was read from, if any
+};
+
 /// A named shape as the file gives it. Vertices are still in the file's frame: the centre of
 /// mass is moved to the origin when the world is built.
 struct ShapeDesc {
@@ -47,6 +56,9 @@ struct ShapeDesc {
     float scale = 1.0f;              ///< mesh: uniform scale applied to the OBJ
     glm::vec3 normal{0.0f, 1.0f, 0.0f}; ///< plane: unit normal pointing out of the solid
     float offset = 0.0f;             ///< plane: dot(normal, x) = offset on the surface, m
+    /// heightfield: its grid. The shape is then a mesh (type Mesh) of the grid's triangles, two
+    /// to a cell, in `points` and `triangles`; static bodies only.
+    std::optional<HeightFieldDesc> heightField;
 };
 
 /// One body, from `bodies` or from a generator.

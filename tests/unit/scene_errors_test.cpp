@@ -92,6 +92,12 @@ const BadCase kCases[] = {
     {"RestitutionAboveOne", "\"friction\": 0.05", "\"restitution\": 1.5", "materials.ice.restitution", "between 0 and 1"},
     {"ZeroPlaneNormal", "\"normal\": [0, 1, 0]", "\"normal\": [0, 0, 0]", "shapes.ground.normal", "zero length"},
     {"BadGeneratorCount", "\"bodies\": [", "\"generators\": [{\"type\": \"grid\", \"shape\": \"crate\", \"mass\": 1, \"count\": [2, 0, 2]}], \"bodies\": [", "generators[0].count", "integer from 1"},
+    {"HeightFieldNonFinite", "\"type\": \"sphere\", \"radius\": 0.25", "\"type\": \"heightfield\", \"spacing\": [0.5, 0.5], \"heights\": [[0, 1], [0, 1e999]]", "shapes.ball.heights[1][1]", "finite"},
+    {"HeightFieldRagged", "\"type\": \"sphere\", \"radius\": 0.25", "\"type\": \"heightfield\", \"spacing\": [0.5, 0.5], \"heights\": [[0, 1, 2], [0, 1]]", "shapes.ball.heights[1]", "the same count"},
+    {"HeightFieldTooFew", "\"type\": \"sphere\", \"radius\": 0.25", "\"type\": \"heightfield\", \"spacing\": [0.5, 0.5], \"heights\": [[0, 1]]", "shapes.ball.heights", "at least 2 x 2"},
+    {"HeightFieldZeroSpacing", "\"type\": \"sphere\", \"radius\": 0.25", "\"type\": \"heightfield\", \"spacing\": [0.5, 0], \"heights\": [[0, 1], [0, 1]]", "shapes.ball.spacing", "expected two spacings"},
+    {"HeightFieldMissingPng", "\"type\": \"sphere\", \"radius\": 0.25", "\"type\": \"heightfield\", \"spacing\": [1, 1], \"file\": \"no/such.png\", \"height_scale\": 2", "shapes.ball.file", "not a readable PNG"},
+    {"HeightFieldOnDynamicBody", "\"type\": \"sphere\", \"radius\": 0.25", "\"type\": \"heightfield\", \"spacing\": [0.5, 0.5], \"heights\": [[0, 1], [0, 1]]", "bodies[2].shape", "heightfield shapes are for static bodies only"},
     {"UnknownJointBody", "\"bodies\": [", "\"joints\": [{\"type\": \"ball\", \"a\": \"c0\", \"b\": \"ghost\", \"anchor\": [0, 1, 0]}], \"bodies\": [", "joints[0].b", "no body named \"ghost\""},
 };
 

@@ -47,7 +47,8 @@ const std::set<std::string> kShipped = {"bench/debris_16k.json",
                                         "solver/pyramid_20.json",
                                         "solver/ragdoll_pile.json",
                                         "solver/stack_20.json",
-                                        "stack_10.json"};
+                                        "stack_10.json",
+                                        "terrain.json"};
 
 // Scenes of the solver test set that go past the mass ratio on purpose: they warn, once.
 const std::set<std::string> kPastTheMassRatio = {"solver/heavy_on_light_1000.json"};
