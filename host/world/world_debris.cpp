@@ -67,9 +67,10 @@ Result<std::uint32_t> World::addDebris(std::span<const DebrisPiece> pieces) {
         if (s.shapes[d.shape].type == ShapeType::Plane)
             return makeError(ErrorKind::BadInput, where + ".shape",
                              "a plane cannot be debris (planes are static)");
-        if (s.shapes[d.shape].type == ShapeType::Capsule && s.device)
+        if (s.shapes[d.shape].type == ShapeType::Capsule && s.device &&
+            s.options.collisionMethod() == CollisionMethod::Particles)
             return makeError(ErrorKind::NotSupported, where + ".shape",
-                             "the opencl backend does not collide capsules yet");
+                             "the opencl backend collides capsules with sat only");
         if (d.material >= s.materials.size())
             return makeError(ErrorKind::BadInput, where + ".material",
                              "no material " + std::to_string(d.material));
