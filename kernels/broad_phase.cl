@@ -42,7 +42,11 @@ computeAabbs(const uint count, const float dt, __global const HullShape* shapes,
     const BodyVelocity v = velocities[i];
     const float turning = spinItem(v, shape.boundingRadius, dt);
     const RigidTransform t = transformOfPose(poses[i]);
-    uint bf = (f & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP)) ? RUBBLE_BROAD_INACTIVE : 0u;
+    // A kinematic body that does not move pairs as a static one; one that moves pairs with
+    // sleeping bodies too, so that it wakes them.
+    const int still = (f & RUBBLE_BODY_KINEMATIC) && !(f & RUBBLE_BODY_WAKING);
+    uint bf = (still || (f & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP))) ? RUBBLE_BROAD_INACTIVE
+                                                                          : 0u;
     BodyBox box;
     if (shape.kind == RUBBLE_SHAPE_PLANE) {
         const float4 plane = worldPlaneItem(shape, t);

@@ -63,6 +63,16 @@ __kernel void integratePositions(const uint count, __global uint* status,
     if (i >= count) return;
     if (status[RUBBLE_STATUS_CONTACTS] > status[RUBBLE_STATUS_CAPACITY]) return;
     const BodyMass m = masses[i];
+    // A kinematic body of the scene moves with its own velocities, which nothing changes (the
+    // host's bodies of debris offloading are placed by the host instead).
+    if (m.flags & RUBBLE_BODY_KINEMATIC) {
+        const BodyPose pose = integratePositionItem(poses[i], velocities[i], dt);
+        poses[i] = pose;
+        const float4 x = pose.position, q = pose.orientation;
+        if (!isfinite(x.x + x.y + x.z + q.x + q.y + q.z + q.w))
+            atomic_min(&status[RUBBLE_STATUS_NONFINITE], i);
+        return;
+    }
     if (m.inverseMass == 0.0f || (flags[i] & RUBBLE_BODY_ASLEEP)) return;
     const BodyMomentum p = momenta[i];
     const BodyPose pose = symplectic

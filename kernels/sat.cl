@@ -17,7 +17,8 @@ collideShapes(const uint capacity, __global const uint* pairCount,
               __global const uint* previousCount, __global const BodyPairRecord* previousPairs,
               __global const PairCache* previousFeatures, __global const HullShape* shapes,
               __global const uint* shapeOf, __global const BodyPose* poses,
-              __global const BodyVelocity* velocities, __global const float* spin,
+              __global const BodyVelocity* velocities, __global const uint* flags,
+              __global const float* spin,
               __global const float4* vertices, __global const uint* vertexEdges,
               __global const uint* neighbourStart, __global const uint* neighbours,
               __global const HullHalfEdge* halfEdges, __global const float4* faces,
@@ -61,6 +62,16 @@ collideShapes(const uint capacity, __global const uint* pairCount,
         // before the sleep, a pile at rest at odd angles would wake to other manifolds than the
         // CPU's).
         PairCache cache = q < ownRun ? previousFeatures[q] : emptyPairCacheItem();
+        // A moving kinematic body meets static and other kinematic bodies: nothing moves them.
+        const uint fixed = RUBBLE_BODY_STATIC | RUBBLE_BODY_KINEMATIC;
+        if ((flags[pair.a] & fixed) && (flags[pair.b] & fixed)) {
+            ContactManifold none = emptyContactsItem();
+            none.a = pair.a;
+            none.b = pair.b;
+            features[p] = cache;
+            manifolds[p] = none;
+            continue;
+        }
         const float margin =
             pairMarginItem(velocities[pair.a], velocities[pair.b], spin[pair.a], spin[pair.b], dt);
         ContactManifold m = collideShapesItem(

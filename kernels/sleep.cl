@@ -87,6 +87,29 @@ wakeTouchedPairs(const uint capacity, __global const uint* pairCount,
                               collisionRound, status);
 }
 
+// The host's islands with SAT: each pair with points between a moving kinematic body and a
+// sleeping one, appended to `touches` (count in `touchCount`) for the host's wake; the pair
+// summaries list only pairs with rows, and such a pair has none until its sleeping body wakes.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
+listKinematicTouches(const uint capacity, __global const uint* pairCount,
+                     __global const BodyPairRecord* pairs,
+                     __global const ContactManifold* manifolds, __global const uint* flags,
+                     __global uint* touchCount, __global BodyPairRecord* touches) {
+    const uint n = min(pairCount[0], capacity);
+    const ItemRange r = itemRange(n);
+    const uint moving = RUBBLE_BODY_KINEMATIC | RUBBLE_BODY_WAKING;
+    for (uint p = r.first; p < r.end; p += r.step) {
+        if (manifolds[p].count == 0u) continue;
+        const BodyPairRecord pair = pairs[p];
+        const uint fa = flags[pair.a], fb = flags[pair.b];
+        const int aWakes = (fa & moving) == moving && (fb & RUBBLE_BODY_ASLEEP);
+        const int bWakes = (fb & moving) == moving && (fa & RUBBLE_BODY_ASLEEP);
+        if (!aWakes && !bWakes) continue;
+        // At most one entry per pair: the buffer holds `capacity`.
+        touches[atomic_inc(touchCount)] = pair;
+    }
+}
+
 // The wake through resting piles, SAT on the device: in round `collisionRound` of the step's
 // collision, each of last step's entries that held impulses (its pairs and the still pairs it
 // carried, markStillPairs in kernels/pgs_still_pairs.cl: bodies that touched as they came to

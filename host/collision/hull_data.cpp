@@ -24,9 +24,10 @@ HullData flattenHulls(std::span<const Shape> shapes) {
             r.kind = RUBBLE_SHAPE_PLANE;
             r.plane = toFloat4(s.normal, s.offset);
         } else if (s.type == ShapeType::Capsule) {
-            // Its bounds make the broad phase's box; its contacts are the CPU's own.
+            // Its bounds make the broad phase's box.
             r.kind = RUBBLE_SHAPE_CAPSULE;
             r.radius = s.radius;
+            r.halfHeight = s.halfHeight;
             r.boundsMax = toFloat4(glm::vec3(s.radius, s.halfHeight + s.radius, s.radius));
             r.boundsMin = toFloat4(-glm::vec3(s.radius, s.halfHeight + s.radius, s.radius));
         } else if (s.halfEdge.empty()) {

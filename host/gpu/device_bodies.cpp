@@ -34,15 +34,24 @@ Status DeviceBodies::upload(StageQueue& q, BodiesView bodies) {
     RUBBLE_TRY(gpu::upload(c, velocities, bodies.velocities));
     RUBBLE_TRY(gpu::upload(c, atStart, bodies.velocities));
     RUBBLE_TRY(gpu::upload(c, momenta, bodies.momenta));
-    // Kinematic bodies are walls on the device; their flags are the host's to set each step.
+    // Kinematic bodies are walls on the device; the host's bodies (debris offloading) have their
+    // flags set by the host each step, the scene's kinematic bodies move by their velocities
+    // (integratePositions) and wake what they touch while those are not zero.
     deviceMasses.assign(bodies.masses.begin(), bodies.masses.end());
     std::vector<cl_uint> deviceFlags(deviceMasses.size());
     moving = 0;
+    movingKinematic = 0;
     for (std::size_t i = 0; i < deviceMasses.size(); ++i) {
         deviceFlags[i] = deviceMasses[i].flags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP);
         if (kinematic[i]) {
             deviceMasses[i] = shared::wallMassItem(deviceMasses[i]);
             deviceFlags[i] = RUBBLE_BODY_KINEMATIC;
+        } else if (deviceMasses[i].flags & RUBBLE_BODY_KINEMATIC) {
+            const bool moves = shared::movesAtAllItem(bodies.velocities[i]);
+            deviceFlags[i] = RUBBLE_BODY_KINEMATIC | (moves ? RUBBLE_BODY_WAKING : 0u);
+            // Never asleep: the world is not at rest while it moves.
+            moving += moves ? 1u : 0u;
+            movingKinematic += moves ? 1u : 0u;
         } else if (!(deviceMasses[i].flags & RUBBLE_BODY_STATIC)) {
             ++moving;
         }

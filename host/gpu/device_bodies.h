@@ -27,6 +27,8 @@ struct DeviceBodies {
     std::vector<std::uint8_t> kinematic;
     /// The bodies that move (neither static nor kinematic), counted at each upload.
     std::uint32_t moving = 0;
+    /// The scene's kinematic bodies whose velocity is not zero, counted at each upload.
+    std::uint32_t movingKinematic = 0;
     /// Masses as the device holds them (kinematic bodies as walls), as last uploaded.
     std::vector<shared::BodyMass> deviceMasses;
     bool forcesOnDevice = false;    ///< the force buffer holds non-zero forces

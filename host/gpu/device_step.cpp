@@ -52,6 +52,7 @@ Status Pipeline::enqueueStep(const StepParams& params, const StepInputs& in) {
     profile.setStage(DeviceStage::IntegrateVelocities);
     RUBBLE_TRY(integrateVelocities(q, bodies_, params.gravity, params.dt));
     gatherImpulses_ = in.gatherObstacleImpulses && obstacles_.count() > 0;
+    stepTargets_ = in.kinematicTargets;
     if (sat()) {
         // SAT and PGS: the host waits once, after the summaries, to plan the solve.
         RUBBLE_TRY(collideSat(params));
@@ -102,6 +103,8 @@ Status Pipeline::collideSat(const StepParams& params) {
             profile.setStage(DeviceStage::Sleep);
             RUBBLE_TRY(pgs_.readSummaries(q, pairs_));
             pgs_.touching(touching_);
+            if (bodies_.movingKinematic > 0)
+                RUBBLE_TRY(islands_->addKinematicTouches(q, bodies_, pairs_, touching_));
             Result<std::uint32_t> islandsWoken = islands_->wake(q, bodies_, touching_);
             RUBBLE_TRY(islandsWoken);
             profile.setStage(DeviceStage::BuildContactRows);
@@ -181,6 +184,7 @@ Status Pipeline::solvePairs(const StepParams& params) {
         RUBBLE_TRY(softStep_.solve(q, bodies_, pgs_, pairs_, joints_, params));
     else
         RUBBLE_TRY(solvePgsPairs(params));
+    stepTargets_ = {};
     RUBBLE_TRY(bodies_.clearForces(q));
     profile.setStage(DeviceStage::Sleep);
     // Islands on the host decide once the step is met; a world kept awake does not sleep.
@@ -206,6 +210,8 @@ Status Pipeline::solvePgsPairs(const StepParams& params) {
     q.profile().setStage(DeviceStage::IntegratePositions);
     // Without a bounce nothing between the two reads the velocities applyPushes derives again.
     RUBBLE_TRY(integratePositions(q, bodies_, dt, params.symplectic(), pgs_.fusedPushes()));
+    // Kinematic bodies given a target end the step on it (their velocities led there).
+    RUBBLE_TRY(targets_.place(q, bodies_, stepTargets_));
     // As PgsSolver::solvePositions: bounces from the contact, the pushes, the joints.
     RUBBLE_TRY(pgs_.bounce(q, bodies_, params));
     RUBBLE_TRY(pgs_.applyPushes(q, bodies_, dt));

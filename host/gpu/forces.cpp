@@ -55,6 +55,24 @@ Status ObstacleCoupling::place(StageQueue& q, DeviceBodies& b,
         .run(count, RUBBLE_GROUP_BODIES);
 }
 
+Status KinematicTargets::place(StageQueue& q, DeviceBodies& b,
+                               std::span<const shared::ObstacleState> targets) {
+    if (targets.empty()) return {};
+    // Non-blocking: the copy stays put until the step is met.
+    statesHost_.assign(targets.begin(), targets.end());
+    RUBBLE_TRY(states_.reserve(q.c().context(), targets.size() * sizeof(shared::ObstacleState)));
+    RUBBLE_TRY(enqueueUpload(q.c(), states_,
+                             std::span<const shared::ObstacleState>(statesHost_), &q.profile()));
+    const cl_uint count = cl_uint(targets.size());
+    return Dispatch(q.c(), KernelId::PlaceObstacles, &q.profile())
+        .arg(count)
+        .arg(states_)
+        .arg(b.poses)
+        .arg(b.velocities)
+        .arg(b.flags)
+        .run(count, RUBBLE_GROUP_BODIES);
+}
+
 Status ObstacleCoupling::gather(StageQueue& q, const Buffer& rows, const Buffer& bodyStart,
                                 const Buffer& bodyList) {
     const cl_uint count = count_;

@@ -16,6 +16,19 @@ namespace rubble::gpu {
 /// An explosion's impulse on the bodies within its radius; wakes them (enqueued).
 Status applyExplosion(StageQueue& q, DeviceBodies& b, const EventDesc& e);
 
+/// The poses the scene's kinematic bodies reach at the end of a step (World::setKinematicTarget):
+/// written over where their velocities took them, as the CPU's step does.
+class KinematicTargets {
+  public:
+    /// Enqueues the poses of `targets` (body, pose, velocity and flags), copied, so that
+    /// `targets` may go. Errors: Device.
+    Status place(StageQueue& q, DeviceBodies& b, std::span<const shared::ObstacleState> targets);
+
+  private:
+    Buffer states_;
+    std::vector<shared::ObstacleState> statesHost_;
+};
+
 /// The host's bodies on the device: kinematic there, placed every step, and the impulses the
 /// device's contact rows put on them (two-way coupling).
 class ObstacleCoupling {

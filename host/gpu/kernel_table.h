@@ -59,6 +59,7 @@ enum class KernelId : unsigned {
     SolvePgs,
     ApplyPushes,
     WakeTouchedPairs,
+    ListKinematicTouches,
     MarkBounces,
     PushPgs,
     LayerPgs,

@@ -62,6 +62,9 @@ struct StepInputs {
     std::span<const EventDesc> explosions;            ///< due this step
     std::span<const shared::ObstacleState> obstacles; ///< one per obstacle, in obstacle order
     bool gatherObstacleImpulses = false;              ///< two-way coupling
+    /// Poses the scene's kinematic bodies end this step on (SAT), each with its body's index,
+    /// velocity and device flags; they must stay put until endStep.
+    std::span<const shared::ObstacleState> kinematicTargets;
     /// When set, the step ends by reading every body back into these arrays (as downloadBodies
     /// does), in the same queue as the step, so that the host waits once: they must stay put
     /// until endStep.
@@ -138,6 +141,8 @@ class Pipeline {
     DeviceBodies bodies_;
     RadixSort sort_;
     ObstacleCoupling obstacles_;
+    KinematicTargets targets_;
+    std::span<const shared::ObstacleState> stepTargets_; ///< this step's kinematic targets
     ParticleCollision particles_;
     PairStore pairs_;
     DeviceShapes shapes_;

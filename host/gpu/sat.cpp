@@ -40,6 +40,7 @@ Status collideShapes(StageQueue& q, const DeviceBodies& b, const DeviceShapes& s
         .arg(s.shapeOf)
         .arg(b.poses)
         .arg(b.velocities)
+        .arg(b.flags)
         .arg(spin)
         .arg(s.vertices)
         .arg(s.vertexEdges)

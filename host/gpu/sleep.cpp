@@ -199,6 +199,29 @@ Result<std::uint32_t> HostIslands::wake(StageQueue& q, DeviceBodies& b,
     return woken;
 }
 
+Status HostIslands::addKinematicTouches(StageQueue& q, const DeviceBodies& b,
+                                        const PairStore& pairs, std::vector<BodyPair>& touching) {
+    const Context& c = q.c();
+    const std::uint32_t capacity = pairs.current.capacity;
+    RUBBLE_TRY(touches_.reserve(c.context(), std::size_t(capacity) * sizeof(shared::BodyPairRecord)));
+    RUBBLE_TRY(touchCount_.reserve(c.context(), sizeof(cl_uint)));
+    RUBBLE_TRY(fill(c, touchCount_, 0u, sizeof(cl_uint), &q.profile()));
+    RUBBLE_TRY(Dispatch(c, KernelId::ListKinematicTouches, &q.profile())
+                   .with([&](Dispatch& d) { pairs.bindCurrent(d); })
+                   .arg(pairs.manifolds)
+                   .arg(b.flags)
+                   .arg(touchCount_)
+                   .arg(touches_)
+                   .run(pairs.strideItems(q), c.workSizes().pairGroup));
+    cl_uint count = 0;
+    RUBBLE_TRY(download(c, touchCount_, std::span(&count, 1), &q.profile()));
+    if (count == 0) return {};
+    touchesHost_.resize(std::min<std::uint32_t>(count, capacity));
+    RUBBLE_TRY(download(c, touches_, std::span(touchesHost_), &q.profile()));
+    for (const shared::BodyPairRecord& t : touchesHost_) touching.push_back({t.a, t.b});
+    return {};
+}
+
 Result<HostSleepCounts> HostIslands::update(StageQueue& q, DeviceBodies& b,
                                             std::span<const BodyPair> touching, float dt,
                                             const std::optional<Bodies>& readBack) {

@@ -15,6 +15,7 @@
 #include "host/gpu/joints.h"
 #include "host/gpu/pairs.h"
 #include "host/gpu/particles.h"
+#include "rubble/shared/broad_phase.h"
 
 namespace rubble::gpu {
 
@@ -80,6 +81,11 @@ class HostIslands {
     Result<HostSleepCounts> update(StageQueue& q, DeviceBodies& b,
                                    std::span<const BodyPair> touching, float dt,
                                    const std::optional<Bodies>& readBack);
+    /// After a collision round, with a moving kinematic body: appends to `touching` this
+    /// round's pairs with points that join one to a sleeping body (they have no rows, so the
+    /// summaries leave them out); waits for them. Errors: Device.
+    Status addKinematicTouches(StageQueue& q, const DeviceBodies& b, const PairStore& pairs,
+                               std::vector<BodyPair>& touching);
     /// Bodies asleep after the last update (or reset).
     std::uint32_t asleep() const { return asleep_; }
 
@@ -91,6 +97,8 @@ class HostIslands {
     std::vector<cl_uint> flags_;
     std::vector<shared::BodyVelocity> approach_, velocities_;
     std::vector<shared::BodyMomentum> momenta_;
+    Buffer touchCount_, touches_; ///< listKinematicTouches' count and pairs
+    std::vector<shared::BodyPairRecord> touchesHost_;
 };
 
 } // namespace rubble::gpu

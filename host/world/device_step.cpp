@@ -185,6 +185,19 @@ Status stepDevice(WorldState& s, StepStats& stats) {
         in.obstacles = o->states;
         in.gatherObstacleImpulses = o->coupling == Coupling::TwoWay;
     }
+    // Kinematic bodies given a target this step (World::setKinematicTarget) end on it.
+    s.deviceTargets.clear();
+    for (const auto& [body, pose] : s.kinematicTargets) {
+        shared::ObstacleState t{};
+        t.pose = pose;
+        t.velocity = s.bodies.velocities[body];
+        t.body = body;
+        t.flags = RUBBLE_BODY_KINEMATIC |
+                  (shared::movesAtAllItem(t.velocity) ? RUBBLE_BODY_WAKING : 0u);
+        s.deviceTargets.push_back(t);
+    }
+    s.kinematicTargets.clear();
+    in.kinematicTargets = s.deviceTargets;
     // Without a CPU world the step ends by reading the bodies back, which the blow-up watch
     // reads after every step: in the step's queue the host waits once, not twice.
     if (!o) in.readBack = s.bodies.view();

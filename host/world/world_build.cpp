@@ -35,18 +35,12 @@ Status checkLemkeFrictionless(const Scene& scene) {
                          " (set it to 0, or use lcp-jacobi, which bounds friction)");
 }
 
-// Kinematic bodies move on the CPU's SAT pipeline with PGS only: the device takes kinematic
-// bodies from an offloaded world's CPU half alone (its obstacles), the particle path places the
-// particles of a body that does not integrate once, at load, and only PGS's rows give a turning
-// body of infinite mass its arms (host/dynamics/contact_rows.cpp).
+// Kinematic bodies move on the SAT pipelines (the CPU's and the device's) with PGS only: the
+// particle path places the particles of a body that does not integrate once, at load, and only
+// PGS's rows give a turning body of infinite mass its arms (rubble/shared/pgs_row.h).
 Status checkKinematic(const Scene& scene) {
     for (const BodyDesc& b : scene.bodies) {
         if (!b.isKinematic) continue;
-        if (scene.simulation.backend == Backend::OpenCl)
-            return makeError(ErrorKind::NotSupported, b.where + ".kinematic",
-                             "kinematic body \"" + b.name +
-                                 "\": the opencl backend does not step kinematic bodies yet; "
-                                 "run it on the cpu backend (--backend cpu)");
         if (scene.simulation.collisionMethod() == CollisionMethod::Particles)
             return makeError(ErrorKind::NotSupported, b.where + ".kinematic",
                              "kinematic body \"" + b.name +
@@ -62,18 +56,19 @@ Status checkKinematic(const Scene& scene) {
     return {};
 }
 
-// Capsules collide on the CPU only (SAT, or particles from the voxeliser): the device's narrow
-// phase has no capsule pairs.
+// The device collides capsules with SAT only: its particle path has no capsule particles.
 Status checkCapsules(const Scene& scene) {
-    const bool device = scene.simulation.backend == Backend::OpenCl;
-    if (!device) return {};
+    const bool deviceParticles = scene.simulation.backend == Backend::OpenCl &&
+                                 scene.simulation.collisionMethod() == CollisionMethod::Particles;
+    if (!deviceParticles) return {};
     for (const BodyDesc& b : scene.bodies) {
         const ShapeDesc& shape = scene.shapes[b.shape];
         if (shape.type != ShapeType::Capsule) continue;
         return makeError(ErrorKind::NotSupported, b.where + ".shape",
                          "body \"" + b.name + "\" is a capsule (shape \"" + shape.name + "\"): " +
-                             "the opencl backend does not collide capsules yet; run it on the "
-                             "cpu backend (--backend cpu)");
+                             "the opencl backend collides capsules with sat only; collide "
+                             "with sat (--collision sat) or run on the cpu backend "
+                             "(--backend cpu)");
     }
     return {};
 }

@@ -72,9 +72,10 @@ Result<std::uint32_t> World::addDebris(std::span<const DebrisPiece> pieces) {
                              "shape \"" + s.shapes[d.shape].name +
                                  "\" is level geometry with no volume (a height field or a flat "
                                  "mesh): it cannot be debris");
-        if (s.shapes[d.shape].type == ShapeType::Capsule && s.device)
+        if (s.shapes[d.shape].type == ShapeType::Capsule && s.device &&
+            s.options.collisionMethod() == CollisionMethod::Particles)
             return makeError(ErrorKind::NotSupported, where + ".shape",
-                             "the opencl backend does not collide capsules yet");
+                             "the opencl backend collides capsules with sat only");
         if (d.material >= s.materials.size())
             return makeError(ErrorKind::BadInput, where + ".material",
                              "no material " + std::to_string(d.material));

@@ -102,7 +102,8 @@ Status World::setVelocity(std::uint32_t i, glm::vec3 linear, glm::vec3 angular) 
     if (!isFinite(linear) || !isFinite(angular))
         return makeError(ErrorKind::BadInput, where, "the velocity must be finite");
     if (kinematic) {
-        // Only the cpu backend has kinematic bodies (World::create refuses them elsewhere).
+        // On the device the host's copy is made current first and uploaded before the next step.
+        RUBBLE_TRY(beginHostChange(s));
         s.blowUp.rebase = true;
         s.bodies.velocities[i] = BodyVelocity{toFloat4(linear), toFloat4(angular)};
         return {};
@@ -138,6 +139,7 @@ Status World::setKinematicTarget(std::uint32_t i, glm::vec3 position, glm::quat 
         return makeError(ErrorKind::BadInput, where,
                          "the position must be finite and the orientation a finite, non-zero "
                          "quaternion");
+    RUBBLE_TRY(beginHostChange(s));
     s.blowUp.rebase = true;
     const float dt = s.options.dt;
     const BodyPose& pose = s.bodies.poses[i];

@@ -20,6 +20,7 @@
 #include "rubble/options.h"
 #include "rubble/scene.h"
 #include "rubble/shared/body.h"
+#include "rubble/shared/obstacle.h"
 #include "rubble/shared/pgs_joint.h"
 #include "rubble/world.h"
 
@@ -56,6 +57,8 @@ struct WorldState {
     StepStats stats;
     /// Poses that kinematic bodies reach at the end of the next step (World::setKinematicTarget).
     std::vector<std::pair<std::uint32_t, BodyPose>> kinematicTargets;
+    /// The same as the device places them, kept until the step is met.
+    std::vector<shared::ObstacleState> deviceTargets;
 
     // The CPU pipeline: its stages, chosen when the world is built, and this step's contacts.
     std::unique_ptr<CollisionStage> collision;

@@ -93,9 +93,9 @@ TEST(Capsule, PileOfCapsulesAndBoxesSettles) {
     EXPECT_LT(w.lastStep().largestPenetration, 0.01f);
 }
 
-TEST(Capsule, DeviceBackendIsRefusedNamingTheBody) {
+TEST(Capsule, DeviceParticlesAreRefusedNamingTheBody) {
     const Error e = test::sceneError(R"({"format": "rubble-scene", "version": 1,
-      "simulation": {"backend": "opencl", "collision": {"method": "sat"}},
+      "simulation": {"backend": "opencl", "collision": {"method": "particles"}},
       "shapes": {"pill": {"type": "capsule", "radius": 0.2, "half_height": 0.3}},
       "bodies": [{"name": "limb", "shape": "pill", "mass": 1}]})");
     EXPECT_EQ(e.kind, ErrorKind::NotSupported) << e.describe();

@@ -136,9 +136,9 @@ TEST(Kinematic, TargetPoseIsReachedEachStep) {
         w.setKinematicTarget(platform, glm::vec3(NAN, 0.0f, 0.0f), glm::quat(1, 0, 0, 0)).ok());
 }
 
-TEST(Kinematic, DevicePathsParticlesAndOtherSolversAreRefusedNamingTheBody) {
+TEST(Kinematic, ParticlesAndOtherSolversAreRefusedNamingTheBody) {
     for (const char* simulation :
-         {R"("backend": "opencl", "collision": {"method": "sat"})", R"("backend": "opencl")",
+         {R"("backend": "opencl", "collision": {"method": "particles"})",
           R"("collision": {"method": "particles"})", R"("solver": {"type": "jacobi"})"}) {
         const Error e = test::sceneError(
             std::string(R"({"format": "rubble-scene", "version": 1, "simulation": {)") +

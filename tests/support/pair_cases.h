@@ -203,4 +203,120 @@ inline PairCases makePairCases(std::uint32_t seed, int count) {
     return c;
 }
 
+/// `count` random pairs with a capsule from `seed`: capsules of three sizes against capsules,
+/// spheres, boxes, random hulls and a plane, placed as makePairCases places its pairs (touching,
+/// a gap within the margin, deep, apart; a capsule lying on a box face in a tenth of them).
+inline PairCases makeCapsuleCases(std::uint32_t seed, int count) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f), sym(-1.0f, 1.0f);
+    PairCases c;
+    Scene& scene = c.in.scene;
+    scene.materials.push_back(MaterialDesc{});
+    auto addShape = [&](const ShapeDesc& d) {
+        Result<Shape> s = buildShape(d);
+        if (!s) abortOn(s.error());
+        c.in.shapes.push_back(std::move(*s));
+        return std::uint32_t(c.in.shapes.size() - 1);
+    };
+    std::vector<std::uint32_t> capsules, others;
+    for (const glm::vec2 rh : {glm::vec2(0.1f, 0.3f), glm::vec2(0.25f, 0.5f), glm::vec2(0.4f, 0.1f)}) {
+        ShapeDesc d;
+        d.type = ShapeType::Capsule;
+        d.radius = rh.x;
+        d.halfHeight = rh.y;
+        d.where = "capsule";
+        capsules.push_back(addShape(d));
+    }
+    std::vector<std::uint32_t> boxes;
+    for (const glm::vec3 h : {glm::vec3(0.5f), glm::vec3(0.8f, 0.1f, 0.6f)}) {
+        ShapeDesc d;
+        d.type = ShapeType::Box;
+        d.halfExtents = h;
+        d.where = "box";
+        boxes.push_back(addShape(d));
+    }
+    others = boxes;
+    for (int i = 0; i < 4; ++i) {
+        c.in.shapes.push_back(randomHull(rng));
+        others.push_back(std::uint32_t(c.in.shapes.size() - 1));
+    }
+    ShapeDesc sphere;
+    sphere.type = ShapeType::Sphere;
+    sphere.radius = 0.3f;
+    sphere.where = "sphere";
+    others.push_back(addShape(sphere));
+    ShapeDesc planeDesc;
+    planeDesc.type = ShapeType::Plane;
+    planeDesc.where = "plane";
+    const std::uint32_t planeShape = addShape(planeDesc);
+    others.insert(others.end(), capsules.begin(), capsules.end());
+    others.push_back(planeShape);
+
+    detail::FlatShapes flat(c.in.shapes);
+    auto pick = [&](const std::vector<std::uint32_t>& v) {
+        return v[std::uniform_int_distribution<std::size_t>(0, v.size() - 1)(rng)];
+    };
+    for (int i = 0; i < count; ++i) {
+        std::uint32_t sa = pick(capsules), sb = pick(others);
+        const bool lying = unit(rng) < 0.1f;
+        if (lying) sb = pick(boxes);
+        if (unit(rng) < 0.5f) std::swap(sa, sb);
+        const float k = unit(rng);
+        const PairKind kind = k < 0.4f   ? PairKind::Touching
+                              : k < 0.6f ? PairKind::Gap
+                              : k < 0.85f ? PairKind::Deep
+                                          : PairKind::Apart;
+        BodyDesc a, b;
+        a.position = glm::vec3(sym(rng), sym(rng), sym(rng)) * 5.0f;
+        a.orientation = randomRotation(rng);
+        b.orientation = randomRotation(rng);
+        glm::vec3 u = randomDirection(rng);
+        const Shape& shapeA = c.in.shapes[sa];
+        const Shape& shapeB = c.in.shapes[sb];
+        if (lying) {
+            // The box level, the capsule lying on its top a few tenths of a degree off level.
+            BodyDesc& box = shapeA.type == ShapeType::Box ? a : b;
+            BodyDesc& cap = shapeA.type == ShapeType::Box ? b : a;
+            box.orientation = glm::quat(1, 0, 0, 0);
+            cap.orientation = glm::angleAxis(glm::radians(90.0f + 0.3f * sym(rng)),
+                                             glm::vec3(0, 0, 1)) *
+                              glm::angleAxis(glm::radians(180.0f) * sym(rng), glm::vec3(1, 0, 0));
+            u = glm::vec3(0.1f * sym(rng), shapeA.type == ShapeType::Box ? 1.0f : -1.0f,
+                          0.1f * sym(rng));
+            u = glm::normalize(u);
+        }
+        if (shapeA.type == ShapeType::Plane)
+            u = glm::mat3_cast(a.orientation) * shapeA.normal;
+        else if (shapeB.type == ShapeType::Plane)
+            u = -(glm::mat3_cast(b.orientation) * shapeB.normal);
+        float t = detail::touchingDistance(flat, c.in.shapes, sa, a, sb, b, u);
+        const float smaller =
+            std::min(shapeA.type == ShapeType::Plane ? 1e9f : shapeA.boundingRadius,
+                     shapeB.type == ShapeType::Plane ? 1e9f : shapeB.boundingRadius);
+        switch (kind) {
+        case PairKind::Touching:
+        case PairKind::CrossedEdges: t += 0.001f * sym(rng); break;
+        case PairKind::Gap: t += 0.004f * unit(rng); break;
+        case PairKind::Deep: t -= 0.3f * smaller * unit(rng); break;
+        case PairKind::Apart: t += 0.01f + unit(rng); break;
+        }
+        b.position = a.position + u * t;
+        b.linearVelocity = randomDirection(rng) * (1.2f * unit(rng));
+        a.isStatic = shapeA.type == ShapeType::Plane;
+        b.isStatic = shapeB.type == ShapeType::Plane;
+        a.mass = b.mass = 1.0f;
+        a.shape = sa;
+        b.shape = sb;
+        for (BodyDesc* d : {&a, &b}) {
+            d->name = "case " + std::to_string(i) + (d == &a ? " a" : " b");
+            scene.bodies.push_back(*d);
+            appendBodyArrays(c.in.bodies, *d, c.in.shapes[d->shape]);
+            c.in.names.push_back(d->name);
+        }
+        c.kinds.push_back(kind);
+    }
+    c.in.surfaces = bodySurfaces(scene.materials, c.in.bodies.materialOf);
+    return c;
+}
+
 } // namespace rubble::test

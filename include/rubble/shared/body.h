@@ -10,7 +10,7 @@ RUBBLE_SHARED_BEGIN
 // Body flags (BodyMass.flags on the host; the device keeps them in an array of their own).
 #define RUBBLE_BODY_STATIC 1u    // infinite mass, never moves
 #define RUBBLE_BODY_ASLEEP 2u    // skipped by integration and the solver until woken
-#define RUBBLE_BODY_KINEMATIC 4u // device: moved by the host (a CPU body), infinite mass there
+#define RUBBLE_BODY_KINEMATIC 4u // infinite mass, moved by its velocities or by the host
 #define RUBBLE_BODY_ABSENT 8u    // device: a kinematic body far from everything, not collided
 #define RUBBLE_BODY_WAKING 16u   // device: a kinematic body that moves: it wakes what it touches
 
@@ -41,6 +41,11 @@ typedef struct BodyVelocity {
     float4 angular;
 } BodyVelocity;
 RUBBLE_STATIC_ASSERT_SIZE(BodyVelocity, 32);
+
+// A velocity that is not zero: a kinematic body with it moves, and wakes what it touches.
+RUBBLE_FN int movesAtAllItem(BodyVelocity v) {
+    return dot3(v.linear, v.linear) > 0.0f || dot3(v.angular, v.angular) > 0.0f;
+}
 
 // 32 bytes: the state's momenta, world frame: linear P in kg m/s, angular L in kg m^2/s.
 typedef struct BodyMomentum {

@@ -14,8 +14,8 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_SHAPE_HULL 0u   // box, convex and mesh: their half-edge hull
 #define RUBBLE_SHAPE_SPHERE 1u // centre and radius
 #define RUBBLE_SHAPE_PLANE 2u  // infinite, static: solid below dot(normal, x) = offset
-#define RUBBLE_SHAPE_CAPSULE 3u // CPU only (host/collision/capsule_contact.h): radius, and bounds
-                                // around the segment from -y to +y swept by it
+#define RUBBLE_SHAPE_CAPSULE 3u // radius and half height (capsule_contact.h), and bounds around
+                                // the segment from -y to +y swept by it
 
 // A hull face has at most this many vertices on the device: clipping buffers live in private
 // memory (an incident face, plus one vertex per reference edge, plus one), and their size is
@@ -42,7 +42,8 @@ typedef struct HullShape {
     uint edgeCount;
     uint faceStart;       // first face (faces, faceEdges)
     uint faceCount;
-    uint pad0, pad1;
+    float halfHeight;     // capsule: half the length of its segment along local y, m
+    uint pad1;
 } HullShape;
 RUBBLE_STATIC_ASSERT_SIZE(HullShape, 112);
 

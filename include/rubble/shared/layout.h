@@ -70,7 +70,7 @@
                                                 edgeStart) F(HullShape,                                                                         \
                                                              edgeCount) F(HullShape, faceStart)                                                 \
                                                 F(HullShape,                                                                                    \
-                                                  faceCount) F(HullShape,                                                                       \
+                                                  faceCount) F(HullShape, halfHeight) F(HullShape,                                                                       \
                                                                pad1) X(HullHalfEdge) F(HullHalfEdge,                                            \
                                                                                        origin) F(HullHalfEdge,                                  \
                                                                                                  face) F(HullHalfEdge,                          \

@@ -3,6 +3,7 @@
 // world frame. SatCollision::narrowPhase and kernels/sat.cl run it once per pair.
 #pragma once
 
+#include "rubble/shared/capsule_contact.h"
 #include "rubble/shared/hull_contact.h"
 #include "rubble/shared/primitive_contact.h"
 
@@ -41,6 +42,32 @@ RUBBLE_FN ContactManifold collideWithPlaneItem(HullArrays arrays, float4 plane, 
                                0);
 }
 
+// Capsule `cap` at tc against `other` at to, in the world frame, normal from the capsule to the
+// other shape (host/collision/capsule_contact.cpp's collideCapsuleWith).
+RUBBLE_FN ContactManifold collideCapsuleWithItem(HullArrays arrays, HullShape cap,
+                                                 RigidTransform tc, HullShape other,
+                                                 RigidTransform to, float margin) {
+    const CapsuleSegment s = capsuleSegmentItem(cap.halfHeight, tc);
+    if (other.kind == RUBBLE_SHAPE_CAPSULE)
+        return collideCapsulesItem(s, cap.radius, capsuleSegmentItem(other.halfHeight, to),
+                                   other.radius, margin);
+    if (other.kind == RUBBLE_SHAPE_SPHERE)
+        return collideCapsuleSphereItem(s, cap.radius, to.translation, other.radius, margin);
+    if (other.kind == RUBBLE_SHAPE_PLANE) {
+        const float4 plane = worldPlaneItem(other, to);
+        ContactManifold m =
+            collidePlaneCapsuleItem(vec4(plane.x, plane.y, plane.z), plane.w, s, cap.radius, margin);
+        m.normal = negate4(m.normal);
+        return m;
+    }
+    // The segment in the hull's frame; the contacts back in the world's.
+    CapsuleSegment inHull;
+    inHull.p0 = transformApplyInverse(to, s.p0);
+    inHull.p1 = transformApplyInverse(to, s.p1);
+    return contactsToWorldItem(
+        collideHullCapsuleItem(hullOfItem(arrays, other), inHull, cap.radius, margin), to, 1);
+}
+
 // Collides shape a at transform ta with shape b at tb, body to world, clipping
 // hull faces in the caller's buffers. Hull pairs read and update the cache; other pairs leave it
 // alone. The result is in the world frame, normal from a to b; a and b are left 0 for the
@@ -50,6 +77,13 @@ RUBBLE_FN ContactManifold collideShapesClippingInItem(HullArrays arrays, HullSha
                                                       RigidTransform tb, PairCache* cache,
                                                       float margin, ClipBuffers buffers) {
     const int hullA = a.kind == RUBBLE_SHAPE_HULL, hullB = b.kind == RUBBLE_SHAPE_HULL;
+    if (a.kind == RUBBLE_SHAPE_CAPSULE)
+        return collideCapsuleWithItem(arrays, a, ta, b, tb, margin);
+    if (b.kind == RUBBLE_SHAPE_CAPSULE) {
+        ContactManifold r = collideCapsuleWithItem(arrays, b, tb, a, ta, margin);
+        r.normal = negate4(r.normal);
+        return r;
+    }
     if (hullA && hullB) {
         const HullContact hc =
             collideHullsCachedItem(hullOfItem(arrays, a), hullOfItem(arrays, b),

@@ -80,6 +80,12 @@ RUBBLE_FN float4 pointRelativeVelocityItem(BodyVelocity va, BodyVelocity vb, flo
     return sub4(add4(vb.linear, cross3(vb.angular, rB)), add4(va.linear, cross3(va.angular, rA)));
 }
 
+// A body of infinite mass that turns: a kinematic one (static and sleeping bodies do not turn).
+RUBBLE_FN int turningWallItem(BodyVelocity v, float inverseMass) {
+    return inverseMass <= 0.0f &&
+           (v.angular.x != 0.0f || v.angular.y != 0.0f || v.angular.z != 0.0f);
+}
+
 // A contact point's arm from a body's centre of mass x, world, m.
 RUBBLE_FN float4 pgsArmItem(float4 point, float4 x) {
     return sub4(vec4(point.x, point.y, point.z), vec4(x.x, x.y, x.z));
@@ -179,6 +185,16 @@ RUBBLE_FN PgsContactRow pgsContactRowItem(float4 point, float depth, float4 n, f
     }
     f->mass = make4(tangentMass[0], tangentMass[1], friction, 0.0f);
     f->inverseMass = make4(inverseMassA, inverseMassB, 0.0f, 0.0f);
+    // A body that does not move but turns (a kinematic one) carries the contact point round with
+    // it: its arm enters J v, while no impulse turns it (its turn stays 0).
+    if (turningWallItem(va, inverseMassA)) {
+        r.normal.crossA = cross3(rA, r.normal.normal);
+        for (int d = 0; d < 2; ++d) f->crossA[d] = cross3(rA, f->tangent[d]);
+    }
+    if (turningWallItem(vb, inverseMassB)) {
+        r.normal.crossB = cross3(rB, r.normal.normal);
+        for (int d = 0; d < 2; ++d) f->crossB[d] = cross3(rB, f->tangent[d]);
+    }
     return r;
 }
 
