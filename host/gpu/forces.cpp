@@ -7,6 +7,21 @@
 #include "host/core/assert.h"
 
 namespace rubble::gpu {
+namespace {
+
+// Kernel placeObstacles: `count` bodies take the poses, velocities and flags of `states`
+// (ObstacleState, each naming its body).
+Status placeBodies(StageQueue& q, DeviceBodies& b, const Buffer& states, cl_uint count) {
+    return Dispatch(q.c(), KernelId::PlaceObstacles, &q.profile())
+        .arg(count)
+        .arg(states)
+        .arg(b.poses)
+        .arg(b.velocities)
+        .arg(b.flags)
+        .run(count, RUBBLE_GROUP_BODIES);
+}
+
+} // namespace
 
 Status applyExplosion(StageQueue& q, DeviceBodies& b, const EventDesc& e) {
     const cl_uint count = b.count;
@@ -45,14 +60,7 @@ Status ObstacleCoupling::place(StageQueue& q, DeviceBodies& b,
     std::copy(states.begin(), states.end(), statesHost_.begin());
     RUBBLE_TRY(enqueueUpload(q.c(), states_, std::span<const shared::ObstacleState>(statesHost_),
                              &q.profile()));
-    const cl_uint count = count_;
-    return Dispatch(q.c(), KernelId::PlaceObstacles, &q.profile())
-        .arg(count)
-        .arg(states_)
-        .arg(b.poses)
-        .arg(b.velocities)
-        .arg(b.flags)
-        .run(count, RUBBLE_GROUP_BODIES);
+    return placeBodies(q, b, states_, count_);
 }
 
 Status KinematicTargets::place(StageQueue& q, DeviceBodies& b,
@@ -61,16 +69,9 @@ Status KinematicTargets::place(StageQueue& q, DeviceBodies& b,
     // Non-blocking: the copy stays put until the step is met.
     statesHost_.assign(targets.begin(), targets.end());
     RUBBLE_TRY(states_.reserve(q.c().context(), targets.size() * sizeof(shared::ObstacleState)));
-    RUBBLE_TRY(enqueueUpload(q.c(), states_,
-                             std::span<const shared::ObstacleState>(statesHost_), &q.profile()));
-    const cl_uint count = cl_uint(targets.size());
-    return Dispatch(q.c(), KernelId::PlaceObstacles, &q.profile())
-        .arg(count)
-        .arg(states_)
-        .arg(b.poses)
-        .arg(b.velocities)
-        .arg(b.flags)
-        .run(count, RUBBLE_GROUP_BODIES);
+    RUBBLE_TRY(enqueueUpload(q.c(), states_, std::span<const shared::ObstacleState>(statesHost_),
+                             &q.profile()));
+    return placeBodies(q, b, states_, cl_uint(targets.size()));
 }
 
 Status ObstacleCoupling::gather(StageQueue& q, const Buffer& rows, const Buffer& bodyStart,

@@ -28,11 +28,16 @@ enum class PairKind { Touching, Gap, Deep, CrossedEdges, Apart };
 
 inline const char* toString(PairKind k) {
     switch (k) {
-    case PairKind::Touching: return "touching";
-    case PairKind::Gap: return "gap within the margin";
-    case PairKind::Deep: return "deep";
-    case PairKind::CrossedEdges: return "crossed edges";
-    case PairKind::Apart: return "apart";
+    case PairKind::Touching:
+        return "touching";
+    case PairKind::Gap:
+        return "gap within the margin";
+    case PairKind::Deep:
+        return "deep";
+    case PairKind::CrossedEdges:
+        return "crossed edges";
+    case PairKind::Apart:
+        return "apart";
     }
     return "?";
 }
@@ -82,6 +87,52 @@ inline float touchingDistance(FlatShapes& f, const std::vector<Shape>& shapes, s
         (touchesAt(f, sa, a, sb, b, u, mid) ? lo : hi) = mid;
     }
     return 0.5f * (lo + hi);
+}
+
+/// Places case i's pair: body b along u from a (against a plane's normal when either is one) at
+/// the touching distance moved by `kind`, with a random velocity, and appends both bodies.
+inline void placePair(PairCases& c, FlatShapes& flat, std::mt19937& rng, int i, PairKind kind,
+                      std::uint32_t sa, BodyDesc& a, std::uint32_t sb, BodyDesc& b, glm::vec3 u) {
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f), sym(-1.0f, 1.0f);
+    const Shape& shapeA = c.in.shapes[sa];
+    const Shape& shapeB = c.in.shapes[sb];
+    // A plane is static; along its normal the other shape meets it face on.
+    if (shapeA.type == ShapeType::Plane)
+        u = glm::mat3_cast(a.orientation) * shapeA.normal;
+    else if (shapeB.type == ShapeType::Plane)
+        u = -(glm::mat3_cast(b.orientation) * shapeB.normal);
+    float t = touchingDistance(flat, c.in.shapes, sa, a, sb, b, u);
+    const float smaller = std::min(shapeA.type == ShapeType::Plane ? 1e9f : shapeA.boundingRadius,
+                                   shapeB.type == ShapeType::Plane ? 1e9f : shapeB.boundingRadius);
+    switch (kind) {
+    case PairKind::Touching:
+    case PairKind::CrossedEdges:
+        t += 0.001f * sym(rng);
+        break;
+    case PairKind::Gap:
+        t += 0.004f * unit(rng);
+        break;
+    case PairKind::Deep:
+        t -= 0.3f * smaller * unit(rng);
+        break;
+    case PairKind::Apart:
+        t += 0.01f + unit(rng);
+        break;
+    }
+    b.position = a.position + u * t;
+    b.linearVelocity = randomDirection(rng) * (1.2f * unit(rng));
+    a.isStatic = shapeA.type == ShapeType::Plane;
+    b.isStatic = shapeB.type == ShapeType::Plane;
+    a.mass = b.mass = 1.0f;
+    a.shape = sa;
+    b.shape = sb;
+    for (BodyDesc* d : {&a, &b}) {
+        d->name = "case " + std::to_string(i) + (d == &a ? " a" : " b");
+        c.in.scene.bodies.push_back(*d);
+        appendBodyArrays(c.in.bodies, *d, c.in.shapes[d->shape]);
+        c.in.names.push_back(d->name);
+    }
+    c.kinds.push_back(kind);
 }
 
 } // namespace detail
@@ -138,14 +189,19 @@ inline PairCases makePairCases(std::uint32_t seed, int count) {
         // Shapes: mostly hull pairs, then spheres and planes in every role.
         const float r = unit(rng);
         std::uint32_t sa, sb;
-        if (r < 0.55f) sa = pick(hulls), sb = pick(hulls);
-        else if (r < 0.67f) sa = pick(hulls), sb = pick(spheres);
-        else if (r < 0.72f) sa = pick(spheres), sb = pick(spheres);
-        else if (r < 0.92f) sa = planeShape, sb = pick(hulls);
-        else sa = planeShape, sb = pick(spheres);
+        if (r < 0.55f)
+            sa = pick(hulls), sb = pick(hulls);
+        else if (r < 0.67f)
+            sa = pick(hulls), sb = pick(spheres);
+        else if (r < 0.72f)
+            sa = pick(spheres), sb = pick(spheres);
+        else if (r < 0.92f)
+            sa = planeShape, sb = pick(hulls);
+        else
+            sa = planeShape, sb = pick(spheres);
         if (unit(rng) < 0.5f) std::swap(sa, sb);
         const float k = unit(rng);
-        PairKind kind = k < 0.4f ? PairKind::Touching
+        PairKind kind = k < 0.4f   ? PairKind::Touching
                         : k < 0.6f ? PairKind::Gap
                         : k < 0.8f ? PairKind::Deep
                         : k < 0.9f ? PairKind::CrossedEdges
@@ -161,43 +217,15 @@ inline PairCases makePairCases(std::uint32_t seed, int count) {
             sa = pick(boxes);
             sb = pick(boxes);
             const float tilt = glm::radians(4.0f);
-            a.orientation = glm::angleAxis(glm::radians(45.0f) + tilt * sym(rng), glm::vec3(1, 0, 0)) *
-                            glm::angleAxis(tilt * sym(rng), glm::vec3(0, 1, 0));
-            b.orientation = glm::angleAxis(glm::radians(90.0f) + tilt * sym(rng), glm::vec3(0, 1, 0)) *
-                            glm::angleAxis(glm::radians(45.0f) + tilt * sym(rng), glm::vec3(1, 0, 0));
+            a.orientation =
+                glm::angleAxis(glm::radians(45.0f) + tilt * sym(rng), glm::vec3(1, 0, 0)) *
+                glm::angleAxis(tilt * sym(rng), glm::vec3(0, 1, 0));
+            b.orientation =
+                glm::angleAxis(glm::radians(90.0f) + tilt * sym(rng), glm::vec3(0, 1, 0)) *
+                glm::angleAxis(glm::radians(45.0f) + tilt * sym(rng), glm::vec3(1, 0, 0));
             u = glm::normalize(glm::vec3(0.05f * sym(rng), 1.0f, 0.05f * sym(rng)));
         }
-        const Shape& shapeA = c.in.shapes[sa];
-        const Shape& shapeB = c.in.shapes[sb];
-        // A plane is static; along its normal the other shape meets it face on.
-        if (shapeA.type == ShapeType::Plane)
-            u = glm::mat3_cast(a.orientation) * shapeA.normal;
-        else if (shapeB.type == ShapeType::Plane)
-            u = -(glm::mat3_cast(b.orientation) * shapeB.normal);
-        float t = detail::touchingDistance(flat, c.in.shapes, sa, a, sb, b, u);
-        const float smaller = std::min(shapeA.type == ShapeType::Plane ? 1e9f : shapeA.boundingRadius,
-                                       shapeB.type == ShapeType::Plane ? 1e9f : shapeB.boundingRadius);
-        switch (kind) {
-        case PairKind::Touching:
-        case PairKind::CrossedEdges: t += 0.001f * sym(rng); break;
-        case PairKind::Gap: t += 0.004f * unit(rng); break;
-        case PairKind::Deep: t -= 0.3f * smaller * unit(rng); break;
-        case PairKind::Apart: t += 0.01f + unit(rng); break;
-        }
-        b.position = a.position + u * t;
-        b.linearVelocity = randomDirection(rng) * (1.2f * unit(rng));
-        a.isStatic = shapeA.type == ShapeType::Plane;
-        b.isStatic = shapeB.type == ShapeType::Plane;
-        a.mass = b.mass = 1.0f;
-        a.shape = sa;
-        b.shape = sb;
-        for (BodyDesc* d : {&a, &b}) {
-            d->name = "case " + std::to_string(i) + (d == &a ? " a" : " b");
-            scene.bodies.push_back(*d);
-            appendBodyArrays(c.in.bodies, *d, c.in.shapes[d->shape]);
-            c.in.names.push_back(d->name);
-        }
-        c.kinds.push_back(kind);
+        detail::placePair(c, flat, rng, i, kind, sa, a, sb, b, u);
     }
     c.in.surfaces = bodySurfaces(scene.materials, c.in.bodies.materialOf);
     return c;
@@ -219,7 +247,8 @@ inline PairCases makeCapsuleCases(std::uint32_t seed, int count) {
         return std::uint32_t(c.in.shapes.size() - 1);
     };
     std::vector<std::uint32_t> capsules, others;
-    for (const glm::vec2 rh : {glm::vec2(0.1f, 0.3f), glm::vec2(0.25f, 0.5f), glm::vec2(0.4f, 0.1f)}) {
+    for (const glm::vec2 rh :
+         {glm::vec2(0.1f, 0.3f), glm::vec2(0.25f, 0.5f), glm::vec2(0.4f, 0.1f)}) {
         ShapeDesc d;
         d.type = ShapeType::Capsule;
         d.radius = rh.x;
@@ -262,8 +291,8 @@ inline PairCases makeCapsuleCases(std::uint32_t seed, int count) {
         if (lying) sb = pick(boxes);
         if (unit(rng) < 0.5f) std::swap(sa, sb);
         const float k = unit(rng);
-        const PairKind kind = k < 0.4f   ? PairKind::Touching
-                              : k < 0.6f ? PairKind::Gap
+        const PairKind kind = k < 0.4f    ? PairKind::Touching
+                              : k < 0.6f  ? PairKind::Gap
                               : k < 0.85f ? PairKind::Deep
                                           : PairKind::Apart;
         BodyDesc a, b;
@@ -272,48 +301,19 @@ inline PairCases makeCapsuleCases(std::uint32_t seed, int count) {
         b.orientation = randomRotation(rng);
         glm::vec3 u = randomDirection(rng);
         const Shape& shapeA = c.in.shapes[sa];
-        const Shape& shapeB = c.in.shapes[sb];
         if (lying) {
             // The box level, the capsule lying on its top a few tenths of a degree off level.
             BodyDesc& box = shapeA.type == ShapeType::Box ? a : b;
             BodyDesc& cap = shapeA.type == ShapeType::Box ? b : a;
             box.orientation = glm::quat(1, 0, 0, 0);
-            cap.orientation = glm::angleAxis(glm::radians(90.0f + 0.3f * sym(rng)),
-                                             glm::vec3(0, 0, 1)) *
-                              glm::angleAxis(glm::radians(180.0f) * sym(rng), glm::vec3(1, 0, 0));
+            cap.orientation =
+                glm::angleAxis(glm::radians(90.0f + 0.3f * sym(rng)), glm::vec3(0, 0, 1)) *
+                glm::angleAxis(glm::radians(180.0f) * sym(rng), glm::vec3(1, 0, 0));
             u = glm::vec3(0.1f * sym(rng), shapeA.type == ShapeType::Box ? 1.0f : -1.0f,
                           0.1f * sym(rng));
             u = glm::normalize(u);
         }
-        if (shapeA.type == ShapeType::Plane)
-            u = glm::mat3_cast(a.orientation) * shapeA.normal;
-        else if (shapeB.type == ShapeType::Plane)
-            u = -(glm::mat3_cast(b.orientation) * shapeB.normal);
-        float t = detail::touchingDistance(flat, c.in.shapes, sa, a, sb, b, u);
-        const float smaller =
-            std::min(shapeA.type == ShapeType::Plane ? 1e9f : shapeA.boundingRadius,
-                     shapeB.type == ShapeType::Plane ? 1e9f : shapeB.boundingRadius);
-        switch (kind) {
-        case PairKind::Touching:
-        case PairKind::CrossedEdges: t += 0.001f * sym(rng); break;
-        case PairKind::Gap: t += 0.004f * unit(rng); break;
-        case PairKind::Deep: t -= 0.3f * smaller * unit(rng); break;
-        case PairKind::Apart: t += 0.01f + unit(rng); break;
-        }
-        b.position = a.position + u * t;
-        b.linearVelocity = randomDirection(rng) * (1.2f * unit(rng));
-        a.isStatic = shapeA.type == ShapeType::Plane;
-        b.isStatic = shapeB.type == ShapeType::Plane;
-        a.mass = b.mass = 1.0f;
-        a.shape = sa;
-        b.shape = sb;
-        for (BodyDesc* d : {&a, &b}) {
-            d->name = "case " + std::to_string(i) + (d == &a ? " a" : " b");
-            scene.bodies.push_back(*d);
-            appendBodyArrays(c.in.bodies, *d, c.in.shapes[d->shape]);
-            c.in.names.push_back(d->name);
-        }
-        c.kinds.push_back(kind);
+        detail::placePair(c, flat, rng, i, kind, sa, a, sb, b, u);
     }
     c.in.surfaces = bodySurfaces(scene.materials, c.in.bodies.materialOf);
     return c;
