@@ -20,6 +20,17 @@ __kernel void applyExplosion(const uint count, const float4 explosion, const flo
     slowFor[i] = 0.0f;
 }
 
+// Velocities the host gave the scene's kinematic bodies since the last step, with their flags
+// (moving ones wake what they touch): the body's pose stays the device's.
+__kernel void setKinematicVelocities(const uint count, __global const ObstacleState* states,
+                                     __global BodyVelocity* velocities, __global uint* flags) {
+    const uint k = get_global_id(0);
+    if (k >= count) return;
+    const ObstacleState o = states[k];
+    velocities[o.body] = o.velocity;
+    flags[o.body] = o.flags;
+}
+
 // The host's bodies at the start of the step, as kinematic bodies: infinite mass on the device,
 // with the velocity the host gave them.
 __kernel void placeObstacles(const uint count, __global const ObstacleState* obstacles,

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "host/core/assert.h"
 #include "rubble/shared/contact_row.h"
 
 namespace rubble::gpu {
@@ -41,6 +42,7 @@ Status DeviceBodies::upload(StageQueue& q, BodiesView bodies) {
     std::vector<cl_uint> deviceFlags(deviceMasses.size());
     moving = 0;
     movingKinematic = 0;
+    kinematicMoves.assign(deviceMasses.size(), 0);
     for (std::size_t i = 0; i < deviceMasses.size(); ++i) {
         deviceFlags[i] = deviceMasses[i].flags & (RUBBLE_BODY_STATIC | RUBBLE_BODY_ASLEEP);
         if (kinematic[i]) {
@@ -52,12 +54,27 @@ Status DeviceBodies::upload(StageQueue& q, BodiesView bodies) {
             // Never asleep: the world is not at rest while it moves.
             moving += moves ? 1u : 0u;
             movingKinematic += moves ? 1u : 0u;
+            kinematicMoves[i] = moves ? 1u : 0u;
         } else if (!(deviceMasses[i].flags & RUBBLE_BODY_STATIC)) {
             ++moving;
         }
     }
     RUBBLE_TRY(gpu::upload(c, masses, deviceMasses));
     return gpu::upload(c, flags, deviceFlags);
+}
+
+void DeviceBodies::setKinematicMotion(std::uint32_t body, bool moves) {
+    RUBBLE_ASSERT(body < kinematicMoves.size());
+    const bool moved = kinematicMoves[body] != 0;
+    if (moves == moved) return;
+    kinematicMoves[body] = moves ? 1u : 0u;
+    if (moves) {
+        ++moving;
+        ++movingKinematic;
+    } else {
+        --moving;
+        --movingKinematic;
+    }
 }
 
 Status DeviceBodies::uploadForces(StageQueue& q, std::span<const shared::BodyForce> bodyForces) {

@@ -27,8 +27,11 @@ struct DeviceBodies {
     std::vector<std::uint8_t> kinematic;
     /// The bodies that move (neither static nor kinematic), counted at each upload.
     std::uint32_t moving = 0;
-    /// The scene's kinematic bodies whose velocity is not zero, counted at each upload.
+    /// The scene's kinematic bodies whose velocity is not zero, counted at each upload and kept
+    /// by setKinematicMotion.
     std::uint32_t movingKinematic = 0;
+    /// Per body: a kinematic body of the scene whose velocity is not zero.
+    std::vector<std::uint8_t> kinematicMoves;
     /// Masses as the device holds them (kinematic bodies as walls), as last uploaded.
     std::vector<shared::BodyMass> deviceMasses;
     bool forcesOnDevice = false;    ///< the force buffer holds non-zero forces
@@ -40,6 +43,9 @@ struct DeviceBodies {
     /// Copies the host's poses, velocities, momenta, masses and flags to the device (the
     /// velocities also as those before the forces, for stages run alone). Errors: Device.
     Status upload(StageQueue& q, BodiesView bodies);
+    /// A kinematic body of the scene given a velocity by the host (not uploaded): whether it
+    /// moves, in the counts above.
+    void setKinematicMotion(std::uint32_t body, bool moves);
     /// This step's forces and torques. Errors: Device.
     Status uploadForces(StageQueue& q, std::span<const shared::BodyForce> forces);
     /// Forces hold for one step: cleared once a step used them (enqueued).

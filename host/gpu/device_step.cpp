@@ -48,6 +48,11 @@ Status Pipeline::enqueueStep(const StepParams& params, const StepInputs& in) {
     RUBBLE_TRY(q.resetStatus(sat() ? 0xffffffffu : particles_.contacts().capacity));
     if (islands_) islands_->beginStep();
     if (obstacles_.count() > 0) RUBBLE_TRY(obstacles_.place(q, bodies_, in.obstacles));
+    if (!in.kinematicVelocities.empty()) {
+        RUBBLE_TRY(targets_.setVelocities(q, bodies_, in.kinematicVelocities));
+        // Body state from the host, as an upload is: last step's pairs may not hold.
+        hostWrote_ = true;
+    }
     for (const EventDesc& e : in.explosions) RUBBLE_TRY(applyExplosion(q, bodies_, e));
     profile.setStage(DeviceStage::IntegrateVelocities);
     RUBBLE_TRY(integrateVelocities(q, bodies_, params.gravity, params.dt));

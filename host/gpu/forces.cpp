@@ -63,6 +63,27 @@ Status ObstacleCoupling::place(StageQueue& q, DeviceBodies& b,
     return placeBodies(q, b, states_, count_);
 }
 
+Status KinematicTargets::setVelocities(StageQueue& q, DeviceBodies& b,
+                                       std::span<const shared::ObstacleState> states) {
+    if (states.empty()) return {};
+    for (const shared::ObstacleState& s : states)
+        b.setKinematicMotion(s.body, (s.flags & RUBBLE_BODY_WAKING) != 0u);
+    // Non-blocking: the copy stays put until the step is met.
+    velocitiesHost_.assign(states.begin(), states.end());
+    RUBBLE_TRY(velocities_.reserve(q.c().context(),
+                                   states.size() * sizeof(shared::ObstacleState)));
+    RUBBLE_TRY(enqueueUpload(q.c(), velocities_,
+                             std::span<const shared::ObstacleState>(velocitiesHost_),
+                             &q.profile()));
+    const cl_uint count = cl_uint(states.size());
+    return Dispatch(q.c(), KernelId::SetKinematicVelocities, &q.profile())
+        .arg(count)
+        .arg(velocities_)
+        .arg(b.velocities)
+        .arg(b.flags)
+        .run(count, RUBBLE_GROUP_BODIES);
+}
+
 Status KinematicTargets::place(StageQueue& q, DeviceBodies& b,
                                std::span<const shared::ObstacleState> targets) {
     if (targets.empty()) return {};

@@ -16,17 +16,23 @@ namespace rubble::gpu {
 /// An explosion's impulse on the bodies within its radius; wakes them (enqueued).
 Status applyExplosion(StageQueue& q, DeviceBodies& b, const EventDesc& e);
 
-/// The poses the scene's kinematic bodies reach at the end of a step (World::setKinematicTarget):
-/// written over where their velocities took them, as the CPU's step does.
+/// What the host gives the scene's kinematic bodies between steps, without a round trip of the
+/// bodies: their velocities at the start of a step (World::setVelocity, setKinematicTarget) and
+/// the poses they reach at its end (setKinematicTarget), written over where their velocities
+/// took them, as the CPU's step does.
 class KinematicTargets {
   public:
+    /// Enqueues the velocities and flags of `states` (body, velocity and flags; the pose is not
+    /// read), copied, so that `states` may go, and counts the bodies that move. Errors: Device.
+    Status setVelocities(StageQueue& q, DeviceBodies& b,
+                         std::span<const shared::ObstacleState> states);
     /// Enqueues the poses of `targets` (body, pose, velocity and flags), copied, so that
     /// `targets` may go. Errors: Device.
     Status place(StageQueue& q, DeviceBodies& b, std::span<const shared::ObstacleState> targets);
 
   private:
-    Buffer states_;
-    std::vector<shared::ObstacleState> statesHost_;
+    Buffer velocities_, states_;
+    std::vector<shared::ObstacleState> velocitiesHost_, statesHost_;
 };
 
 /// The host's bodies on the device: kinematic there, placed every step, and the impulses the

@@ -36,6 +36,7 @@ enum class KernelId : unsigned {
     StoreLcpImpulses,
     ApplyExplosion,
     PlaceObstacles,
+    SetKinematicVelocities,
     GatherObstacleImpulses,
     WakeTouched,
     MarkRestless,

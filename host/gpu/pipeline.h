@@ -65,6 +65,9 @@ struct StepInputs {
     /// Poses the scene's kinematic bodies end this step on (SAT), each with its body's index,
     /// velocity and device flags; they must stay put until endStep.
     std::span<const shared::ObstacleState> kinematicTargets;
+    /// Velocities the host gave the scene's kinematic bodies since the last step, each with its
+    /// body's index and device flags (the pose is not read); they must stay put until endStep.
+    std::span<const shared::ObstacleState> kinematicVelocities;
     /// When set, the step ends by reading every body back into these arrays (as downloadBodies
     /// does), in the same queue as the step, so that the host waits once: they must stay put
     /// until endStep.

@@ -148,6 +148,12 @@ Status beginHostChange(WorldState& s) {
     return {};
 }
 
+void noteKinematicVelocity(WorldState& s, std::uint32_t i) {
+    if (!s.device) return;
+    std::vector<std::uint32_t>& set = s.kinematicVelocitySet;
+    if (std::find(set.begin(), set.end(), i) == set.end()) set.push_back(i);
+}
+
 Status stepDevice(WorldState& s, StepStats& stats) {
     RUBBLE_TRY(checkStop(s));
     const auto start = std::chrono::steady_clock::now();
@@ -173,7 +179,8 @@ Status stepDevice(WorldState& s, StepStats& stats) {
     // Pipeline::atRest so): its step would change nothing there, and the host's copy is the last
     // step's read-back.
     // World::step cleared `stats`: no contacts, no device time.
-    if (!o && s.dueEvents.empty() && !s.hostStale && p.atRest()) {
+    if (!o && s.dueEvents.empty() && !s.hostStale && s.kinematicVelocitySet.empty() &&
+        s.kinematicTargets.empty() && p.atRest()) {
         stats.asleep = stats.deviceAsleep = p.asleepBodies();
         stats.hostMs = msSince(start);
         return {};
@@ -198,6 +205,18 @@ Status stepDevice(WorldState& s, StepStats& stats) {
     }
     s.kinematicTargets.clear();
     in.kinematicTargets = s.deviceTargets;
+    // Kinematic bodies given a velocity since the last step move by it from this step's start.
+    s.deviceVelocities.clear();
+    for (const std::uint32_t body : s.kinematicVelocitySet) {
+        shared::ObstacleState v{};
+        v.velocity = s.bodies.velocities[body];
+        v.body = body;
+        v.flags = RUBBLE_BODY_KINEMATIC |
+                  (shared::movesAtAllItem(v.velocity) ? RUBBLE_BODY_WAKING : 0u);
+        s.deviceVelocities.push_back(v);
+    }
+    s.kinematicVelocitySet.clear();
+    in.kinematicVelocities = s.deviceVelocities;
     // Without a CPU world the step ends by reading the bodies back, which the blow-up watch
     // reads after every step: in the step's queue the host waits once, not twice.
     if (!o) in.readBack = s.bodies.view();

@@ -43,4 +43,8 @@ Status syncHost(WorldState& s);
 /// Makes the host arrays current and marks them changed, before the host writes into them.
 Status beginHostChange(WorldState& s);
 
+/// Kinematic body `i`'s velocity in the host's copy is new: the device's next step takes it
+/// (a no-op without a device).
+void noteKinematicVelocity(WorldState& s, std::uint32_t i);
+
 } // namespace rubble

@@ -1,6 +1,7 @@
 // host/world/world_queries.cpp: what a host program (the Python package) reads from a world in
 // bulk (poses and velocities into its own arrays, contacts, metrics) and what it changes at run
 // time (a body's velocity, an explosion).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -102,10 +103,11 @@ Status World::setVelocity(std::uint32_t i, glm::vec3 linear, glm::vec3 angular) 
     if (!isFinite(linear) || !isFinite(angular))
         return makeError(ErrorKind::BadInput, where, "the velocity must be finite");
     if (kinematic) {
-        // On the device the host's copy is made current first and uploaded before the next step.
-        RUBBLE_TRY(beginHostChange(s));
+        // On the device the next step sets the velocity there (noteKinematicVelocity).
+        RUBBLE_TRY(syncHost(s));
         s.blowUp.rebase = true;
         s.bodies.velocities[i] = BodyVelocity{toFloat4(linear), toFloat4(angular)};
+        noteKinematicVelocity(s, i);
         return {};
     }
     s.blowUp.rebase = true; // the host sets the energy: the blow-up watch starts again
@@ -139,7 +141,9 @@ Status World::setKinematicTarget(std::uint32_t i, glm::vec3 position, glm::quat 
         return makeError(ErrorKind::BadInput, where,
                          "the position must be finite and the orientation a finite, non-zero "
                          "quaternion");
-    RUBBLE_TRY(beginHostChange(s));
+    // The host's copy of the pose is made current; on the device the next step sets the velocity
+    // there and places the pose at its end, without an upload of the bodies.
+    RUBBLE_TRY(syncHost(s));
     s.blowUp.rebase = true;
     const float dt = s.options.dt;
     const BodyPose& pose = s.bodies.poses[i];
@@ -155,7 +159,15 @@ Status World::setKinematicTarget(std::uint32_t i, glm::vec3 position, glm::quat 
         sine > 0.0f ? axis * (2.0f * std::atan2(sine, turn.w) / sine) : glm::vec3(0.0f);
     s.bodies.velocities[i] =
         BodyVelocity{toFloat4((position - toVec3(pose.position)) / dt), toFloat4(rotation / dt)};
-    s.kinematicTargets.push_back({i, BodyPose{toFloat4(position), toFloat4(to)}});
+    noteKinematicVelocity(s, i);
+    // A second target before the step replaces the first.
+    const BodyPose target{toFloat4(position), toFloat4(to)};
+    const auto same = std::find_if(s.kinematicTargets.begin(), s.kinematicTargets.end(),
+                                   [&](const auto& t) { return t.first == i; });
+    if (same != s.kinematicTargets.end())
+        same->second = target;
+    else
+        s.kinematicTargets.push_back({i, target});
     return {};
 }
 

@@ -59,6 +59,12 @@ struct WorldState {
     std::vector<std::pair<std::uint32_t, BodyPose>> kinematicTargets;
     /// The same as the device places them, kept until the step is met.
     std::vector<shared::ObstacleState> deviceTargets;
+    /// Kinematic bodies whose velocity the host set since the last step (setVelocity,
+    /// setKinematicTarget), each once: the device takes their velocities from the host's copy at
+    /// the start of the next step, without an upload of the bodies.
+    std::vector<std::uint32_t> kinematicVelocitySet;
+    /// The same as the device sets them, kept until the step is met.
+    std::vector<shared::ObstacleState> deviceVelocities;
 
     // The CPU pipeline: its stages, chosen when the world is built, and this step's contacts.
     std::unique_ptr<CollisionStage> collision;

@@ -127,6 +127,34 @@ TEST_F(KinematicCapsule, PlatformCarriesABoxWithoutSlip) {
     EXPECT_FALSE(d.body(crate).asleep);
 }
 
+// A platform at rest under a crate that fell asleep: a velocity set from the host starts both
+// (the world at rest steps again), carries the crate, and a zero velocity lets it sleep again.
+TEST_F(KinematicCapsule, VelocitySetFromTheHostMovesAPlatformAtRest) {
+    World d = device(platformScene("[0, 0, 0]")), c = cpu(platformScene("[0, 0, 0]"));
+    const std::uint32_t platform = *d.findBody("platform"), crate = *d.findBody("crate");
+    ASSERT_TRUE(test::stepWorld(d, 120));
+    ASSERT_TRUE(test::stepWorld(c, 120));
+    ASSERT_TRUE(d.body(crate).asleep);
+    const glm::vec3 p0 = d.body(platform).position, c0 = d.body(crate).position;
+    for (World* w : {&d, &c})
+        ASSERT_TRUE(w->setVelocity(platform, glm::vec3(0.0f, 0.0f, 0.5f), glm::vec3(0.0f)).ok());
+    ASSERT_TRUE(test::stepWorld(d, 60)); // 1 s
+    ASSERT_TRUE(test::stepWorld(c, 60));
+    EXPECT_NEAR(d.body(platform).position.z - p0.z, 0.5f, 1e-3f);
+    EXPECT_EQ(d.body(platform).position, c.body(platform).position);
+    EXPECT_FALSE(d.body(crate).asleep);
+    // Friction takes the crate along, as on the CPU.
+    EXPECT_NEAR(d.body(crate).position.z - c0.z, 0.5f, 0.05f);
+    EXPECT_LT(glm::length(d.body(crate).position - c.body(crate).position), 2e-3f);
+    for (World* w : {&d, &c})
+        ASSERT_TRUE(w->setVelocity(platform, glm::vec3(0.0f), glm::vec3(0.0f)).ok());
+    ASSERT_TRUE(test::stepWorld(d, 120));
+    const glm::vec3 stopped = d.body(platform).position;
+    ASSERT_TRUE(test::stepWorld(d, 60));
+    EXPECT_EQ(d.body(platform).position, stopped);
+    EXPECT_TRUE(d.body(crate).asleep);
+}
+
 TEST_F(KinematicCapsule, SlowPlatformKeepsWhatItCarriesAwake) {
     // 1 cm/s is under the sleep speed: the platform's motion keeps the crate awake and along.
     World d = device(platformScene("[0.01, 0, 0]"));
