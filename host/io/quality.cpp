@@ -2,6 +2,7 @@
 #include "host/io/quality.h"
 
 #include <algorithm>
+#include <vector>
 
 namespace rubble {
 namespace {
@@ -35,6 +36,10 @@ QualityReport assessQuality(std::span<const QualityBody> bodies,
                             std::span<const TrajectoryRow> now,
                             std::span<const TrajectoryRow> before, double interval) {
     QualityReport q;
+    // The floors: static planes, found once (a scene has a few among many bodies).
+    std::vector<std::size_t> planes;
+    for (std::size_t j = 0; j < bodies.size(); ++j)
+        if (bodies[j].isStatic && bodies[j].shape->type == ShapeType::Plane) planes.push_back(j);
     std::size_t dynamic = 0;
     for (std::size_t i = 0; i < bodies.size(); ++i) {
         const QualityBody& b = bodies[i];
@@ -49,9 +54,8 @@ QualityReport assessQuality(std::span<const QualityBody> bodies,
         if (glm::length(v) > kMovingSpeed) ++q.moving;
         if (!before.empty() && interval > 0.0)
             q.meanDrift += glm::length(glm::dvec3(r.position) - glm::dvec3(before[i].position)) / interval;
-        for (std::size_t j = 0; j < bodies.size(); ++j) {
+        for (const std::size_t j : planes) {
             const QualityBody& p = bodies[j];
-            if (!p.isStatic || p.shape->type != ShapeType::Plane) continue;
             const glm::dvec3 n = glm::dquat(now[j].orientation) * glm::dvec3(p.shape->normal);
             const double offset = double(p.shape->offset) + glm::dot(n, glm::dvec3(now[j].position));
             if (glm::dot(n, glm::dvec3(r.position)) - offset < 0.0) ++q.sunk;
