@@ -21,6 +21,9 @@ constexpr float kFeatureTolerance = 1e-4f;
 // edge pair by kEdgeBias more (m): faces give the steadier manifolds.
 constexpr float kFaceBias = 5e-4f;
 constexpr float kEdgeBias = 1e-3f;
+// Hulls with at most this many vertices find their support by trying every vertex, which is
+// faster than hill climbing when the vertices are already placed.
+constexpr std::size_t kBruteSupportVertices = 16;
 // Closer than this (m) the direction between closest points is no normal.
 constexpr float kTinyDistance = 1e-6f;
 
@@ -238,8 +241,16 @@ void collideTriangleHull(const LevelTriangle& t, std::uint32_t index, PlacedHull
                          float margin, std::vector<TriangleContact>& out) {
     const HalfEdgeMesh& mesh = *hull.mesh;
     const glm::mat3 toHull = glm::transpose(hull.rotation);
-    // Least of dot(u, x) over the hull, by hill climbing in its own frame.
+    // Least of dot(u, x) over the hull: over the placed vertices when they are few (a box, a
+    // rock), by hill climbing in the hull's own frame otherwise.
+    const bool fewVertices = hull.vertices.size() <= kBruteSupportVertices;
     const auto hullMin = [&](glm::vec3 u) {
+        if (fewVertices) {
+            float low = glm::dot(u, hull.vertices[0]);
+            for (std::size_t v = 1; v < hull.vertices.size(); ++v)
+                low = std::min(low, glm::dot(u, hull.vertices[v]));
+            return low;
+        }
         const std::uint32_t v = supportVertex(mesh, toHull * -u);
         return glm::dot(u, hull.vertices[v]);
     };
