@@ -5,7 +5,7 @@ Run from anywhere: python3 scenes/make_city_block.py. A street along x between t
 buildings, closed at both ends: the road (a flat sheet) and the pavements and buildings (closed
 boxes: blocks with set-back upper floors) are static triangle meshes; a barricade of crates and
 rocks in the middle of the road is blown apart by the scene's explosion, and the fragments hit
-the facades at tens of metres a second, with continuous collision on.
+the facades, with continuous collision on.
 """
 import json
 import os

@@ -92,9 +92,9 @@ std::string boxObj(const float h[3], float cell) {
 // Crates fired at 200 m/s (3.3 m a step at 60 Hz) at a static wall 5 cm thick, tumbling. The
 // wall is a box, or (meshFile given) the same box as a static triangle mesh.
 std::string crateVolleyScene(bool continuous, const std::string& meshFile = "") {
-    const std::string wall =
-        meshFile.empty() ? R"({"type": "box", "half_extents": [0.025, 3, 3]})"
-                         : R"({"type": "mesh", "file": ")" + meshFile + R"("})";
+    const std::string wall = meshFile.empty()
+                                 ? R"({"type": "box", "half_extents": [0.025, 3, 3]})"
+                                 : R"({"type": "mesh", "file": ")" + meshFile + R"("})";
     return std::string(R"({"format": "rubble-scene", "version": 1,
       "simulation": {"dt": 0.016666667, "continuous": )") +
            (continuous ? "true" : "false") + R"(},
@@ -137,7 +137,8 @@ std::string meshWallFile() {
 TEST(Tunnelling, CratesAt200MetresASecondStopAtAThinMeshWall) {
     World w = test::worldFromText(crateVolleyScene(true, meshWallFile()));
     ASSERT_EQ(w.bodyCount(), 51u);
-    ASSERT_NEAR(w.body(0).position.x, 0.0f, 1e-5f) << "a closed mesh is placed by its centre of mass";
+    ASSERT_NEAR(w.body(0).position.x, 0.0f, 1e-5f)
+        << "a closed mesh is placed by its centre of mass";
     EXPECT_LT(farthestCrate(w), -0.025f) << "a crate went into or through the mesh wall";
 }
 
