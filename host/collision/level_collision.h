@@ -24,8 +24,9 @@ struct LevelScratch {
     PlacedHull hull;
 };
 
-/// Contacts whose normals have a cosine above this share a manifold.
-inline constexpr float kSameNormalCosine = 0.9999f;
+/// Contacts whose normals have a cosine above this (about 5.7 degrees apart) share a manifold:
+/// the facets of a curved surface under one body give it one or two manifolds, not one each.
+inline constexpr float kSameNormalCosine = 0.995f;
 
 /// The static level mesh at `levelAt` against `other` (a box, convex hull, mesh hull, sphere or
 /// capsule) at `otherAt`, whose world box (grown by its margin and reach) is `otherBox`:

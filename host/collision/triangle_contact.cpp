@@ -21,6 +21,9 @@ constexpr float kFeatureTolerance = 1e-4f;
 // edge pair by kEdgeBias more (m): faces give the steadier manifolds.
 constexpr float kFaceBias = 5e-4f;
 constexpr float kEdgeBias = 1e-3f;
+// Hulls with at most this many vertices find their support by trying every vertex, which is
+// faster than hill climbing when the vertices are already placed.
+constexpr std::size_t kBruteSupportVertices = 16;
 // Closer than this (m) the direction between closest points is no normal.
 constexpr float kTinyDistance = 1e-6f;
 
@@ -238,8 +241,16 @@ void collideTriangleHull(const LevelTriangle& t, std::uint32_t index, PlacedHull
                          float margin, std::vector<TriangleContact>& out) {
     const HalfEdgeMesh& mesh = *hull.mesh;
     const glm::mat3 toHull = glm::transpose(hull.rotation);
-    // Least of dot(u, x) over the hull, by hill climbing in its own frame.
+    // Least of dot(u, x) over the hull: over the placed vertices when they are few (a box, a
+    // rock), by hill climbing in the hull's own frame otherwise.
+    const bool fewVertices = hull.vertices.size() <= kBruteSupportVertices;
     const auto hullMin = [&](glm::vec3 u) {
+        if (fewVertices) {
+            float low = glm::dot(u, hull.vertices[0]);
+            for (std::size_t v = 1; v < hull.vertices.size(); ++v)
+                low = std::min(low, glm::dot(u, hull.vertices[v]));
+            return low;
+        }
         const std::uint32_t v = supportVertex(mesh, toHull * -u);
         return glm::dot(u, hull.vertices[v]);
     };
@@ -276,18 +287,33 @@ void collideTriangleHull(const LevelTriangle& t, std::uint32_t index, PlacedHull
                           (t.edges[k] == EdgeKind::Concave && side < 0.0f);
     const glm::vec3 centre = (t.v[0] + t.v[1] + t.v[2]) / 3.0f;
     const float tolerance = kFeatureTolerance * longestEdge(t);
+    // The triangle's edges, once for all the hull's edges.
+    glm::vec3 edgeStart[3], edgeEnd[3], edgeVector[3];
+    float edgeLength[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+        edgeStart[k] = t.v[k];
+        edgeEnd[k] = t.v[(k + 1) % 3];
+        edgeVector[k] = edgeEnd[k] - edgeStart[k];
+        edgeLength[k] = glm::length(edgeVector[k]);
+    }
     for (std::size_t e = 0; e < hull.edgeDirections.size(); ++e) {
         const glm::vec3 dh = hull.edgeDirections[e];
+        const float hullEdgeLength = glm::length(dh);
         for (int k = 0; k < 3; ++k) {
             // An internal edge never gives the normal; past it the neighbour's face (or, here,
             // this face clipped to the prism) holds whatever touches.
             if (!edgeMayTouch[k]) continue;
-            const glm::vec3 a0 = t.v[std::size_t(k)], a1 = t.v[std::size_t((k + 1) % 3)];
-            glm::vec3 u = glm::cross(dh, a1 - a0);
+            const glm::vec3 a0 = edgeStart[k], a1 = edgeEnd[k];
+            glm::vec3 u = glm::cross(dh, edgeVector[k]);
             const float len = glm::length(u);
-            if (len <= 1e-5f * glm::length(dh) * glm::length(a1 - a0)) continue;
+            if (len <= 1e-5f * hullEdgeLength * edgeLength[k]) continue;
             u /= len;
             if (glm::dot(u, hull.centroid - centre) < 0.0f) u = -u;
+            // The gap between the two edges' lines along u bounds the separation from above
+            // (the hull's least and the triangle's most include the edges' own points): when it
+            // can neither separate nor win, the support queries are skipped.
+            const float gap = glm::dot(u, hull.edgeOrigins[e]) - glm::dot(u, a0);
+            if (gap <= std::min(margin, best + kEdgeBias)) continue;
             const float low = hullMin(u), high = triangleMax(u);
             const float separation = low - high;
             if (separation > margin) return;
