@@ -27,7 +27,8 @@ static void appendPair(const uint i, const uint j, const uint joinedCount,
     if (at < capacity) pairs[at] = p;
 }
 
-// One work-item per body: its world box grown by the margin and its reach this step (min.w: 1
+// One work-item per body: its world box grown by the margin and its reach this step, or swept
+// along its motion if it is fast (stepBoxItem) (min.w: 1
 // when inactive), its spin (the narrow phase's pair margin), its broad-phase flags. A plane's
 // box holds its world plane instead (min: unit normal, offset grown by the margin).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BROAD, 1, 1))) void
@@ -54,7 +55,7 @@ computeAabbs(const uint count, const float dt, __global const HullShape* shapes,
         box.max = make4(0.0f, 0.0f, 0.0f, 0.0f);
         bf |= RUBBLE_BROAD_NO_BOX;
     } else {
-        box = worldBoxItem(shape, t, RUBBLE_CONTACT_MARGIN + reachItem(v, turning, dt));
+        box = stepBoxItem(shape, t, v, turning, dt);
         if (!finiteBoxItem(box) || (f & RUBBLE_BODY_ABSENT)) bf |= RUBBLE_BROAD_NO_BOX;
         box.min.w = (bf & RUBBLE_BROAD_INACTIVE) ? 1.0f : 0.0f;
     }

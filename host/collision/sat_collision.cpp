@@ -15,12 +15,6 @@
 namespace rubble {
 namespace {
 
-// A body whose translation in one step is more than this many times its bounding radius
-// sweeps its broad-phase box along its motion. Slower bodies (falling, tumbling, thrown) grow
-// their boxes every way, as they did before the sweep existed, so that their pairs, contacts and
-// trajectories stay as they were.
-constexpr float kSweptReach = 8.0f;
-
 bool movesAtAll(const shared::BodyVelocity& v) {
     return shared::dot3(v.linear, v.linear) > 0.0f || shared::dot3(v.angular, v.angular) > 0.0f;
 }
@@ -71,21 +65,12 @@ Status SatCollision::broadPhase(const CollisionScene& scene, BodiesView bodies,
             c.boxes[i] = Aabb{};
             continue;
         }
-        // Continuous collision: grown by how far the body can move this step, every way; a
-        // body that moves much further than its own size in the step (kSweptReach) instead
-        // sweeps its box along its motion (grown by its turn), so that a volley of fast bodies
-        // does not pair each with every other one it could have reached sideways.
-        const glm::vec3 motion = toVec3(bodies.velocities[i].linear) * dt;
-        if (params.continuous && glm::length(motion) > kSweptReach * shape.boundingRadius) {
-            const shared::BodyBox box =
-                shared::worldBoxItem(shape, t, RUBBLE_CONTACT_MARGIN + c.spin[i]);
-            c.boxes[i] = Aabb{toVec3(box.min) + glm::min(motion, glm::vec3(0.0f)),
-                              toVec3(box.max) + glm::max(motion, glm::vec3(0.0f))};
-            continue;
-        }
-        const float reach =
-            params.continuous ? shared::reachItem(bodies.velocities[i], c.spin[i], dt) : 0.0f;
-        const shared::BodyBox box = shared::worldBoxItem(shape, t, RUBBLE_CONTACT_MARGIN + reach);
+        // Continuous collision: grown by how far the body can move this step, or swept along
+        // the motion of a body much faster than its size (shared::stepBoxItem, as the device).
+        const shared::BodyBox box =
+            params.continuous
+                ? shared::stepBoxItem(shape, t, bodies.velocities[i], c.spin[i], dt)
+                : shared::worldBoxItem(shape, t, RUBBLE_CONTACT_MARGIN);
         c.boxes[i] = Aabb{toVec3(box.min), toVec3(box.max)};
     }
     c.broadPhase.pairLimit = pairBudget(n);

@@ -134,6 +134,30 @@ RUBBLE_FN BodyBox worldBoxItem(HullShape shape, RigidTransform t, float margin) 
     return box;
 }
 
+// A body whose motion this step is longer than this many bounding radii sweeps its box along the
+// motion instead of growing it every way by its reach (continuous collision).
+#define RUBBLE_SWEPT_REACH 8.0f
+
+// The box of a body over its step: grown every way by its reach, or, for a body that moves more
+// than RUBBLE_SWEPT_REACH bounding radii, grown by its turn alone and swept along its motion
+// `v.linear dt`, so that a volley of fast bodies does not pair each with every other one it
+// could have reached sideways (SatCollision::broadPhase, computeAabbs).
+RUBBLE_FN BodyBox stepBoxItem(HullShape shape, RigidTransform t, BodyVelocity v, float spin,
+                              float dt) {
+    const float4 motion = vec4(v.linear.x * dt, v.linear.y * dt, v.linear.z * dt);
+    if (!(length3(motion) > RUBBLE_SWEPT_REACH * shape.boundingRadius))
+        return worldBoxItem(shape, t, RUBBLE_CONTACT_MARGIN + reachItem(v, spin, dt));
+    BodyBox box = worldBoxItem(shape, t, RUBBLE_CONTACT_MARGIN + spin);
+    // As glm::min and glm::max: the first operand unless the second is below (above) it.
+    box.min = add4(box.min, vec4(0.0f < motion.x ? 0.0f : motion.x,
+                                 0.0f < motion.y ? 0.0f : motion.y,
+                                 0.0f < motion.z ? 0.0f : motion.z));
+    box.max = add4(box.max, vec4(motion.x < 0.0f ? 0.0f : motion.x,
+                                 motion.y < 0.0f ? 0.0f : motion.y,
+                                 motion.z < 0.0f ? 0.0f : motion.z));
+    return box;
+}
+
 // Closed boxes overlap (touching counts).
 RUBBLE_FN int boxesOverlapItem(BodyBox a, BodyBox b) {
     return a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y && b.min.y <= a.max.y &&
