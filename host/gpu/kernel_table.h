@@ -59,7 +59,6 @@ enum class KernelId : unsigned {
     SolvePgs,
     ApplyPushes,
     WakeTouchedPairs,
-    ListKinematicTouches,
     MarkBounces,
     PushPgs,
     LayerPgs,
@@ -88,6 +87,17 @@ enum class KernelId : unsigned {
     IntegrateSoft,
     BounceSoft,
     FinishSoftStep,
+    PrepareIslands,
+    MarkIslandWakeBodies,
+    MarkIslandWakePairs,
+    MarkIslandWakeJoints,
+    WakeIslandBodies,
+    MeasureIslandBodies,
+    UniteIslandPairs,
+    UniteIslandJoints,
+    UniteIslandGroups,
+    GatherIslands,
+    SleepIslands,
     Count
 };
 

@@ -52,9 +52,9 @@ struct PipelineInput {
     /// Particles: the first guess of the contacts the buffers hold (0: a few per particle);
     /// a step that finds more grows them.
     std::uint32_t contactCapacity = 0;
-    /// SAT: the sleep decided on the host (the world's islands); null, each body sleeps by
-    /// itself on the device (RunOptions::bodySleep).
-    std::shared_ptr<HostSleep> hostSleep;
+    /// SAT: bodies sleep by the CPU's islands, on the device (DeviceIslands); false, each body
+    /// sleeps by itself (RunOptions::bodySleep).
+    bool islands = false;
 };
 
 /// What a step takes from the host besides its parameters.
@@ -151,7 +151,7 @@ class Pipeline {
     PgsSolve pgs_;
     SoftStepSolve softStep_; ///< SAT with the soft step: its substeps over pgs_'s plan and rows
     JacobiSolve jacobi_;
-    std::unique_ptr<HostIslands> islands_; ///< SAT with the sleep on the host
+    std::unique_ptr<DeviceIslands> islands_; ///< SAT sleeping by islands
     CollisionMethod method_ = CollisionMethod::Particles;
     bool particlePgs_ = false;
     bool deterministic_ = false;
@@ -164,7 +164,6 @@ class Pipeline {
     /// whether the host wrote body state since the last step.
     std::uint32_t pairsFound_ = 0, keptFound_ = 0;
     bool hostWrote_ = false;
-    std::vector<BodyPair> touching_; ///< this round's pairs with rows (the host's islands)
 };
 
 } // namespace rubble::gpu
