@@ -245,13 +245,16 @@ static int islandBody(__global const BodyMass* masses, const uint i) {
     return masses[i].inverseMass > 0.0f;
 }
 
-// The root of node `v`'s tree: the smallest node of its island found so far. Read as atomics:
-// another work-item may be hooking a root (uniteNodes).
-static uint islandRoot(__global uint* labels, uint v) {
-    uint up = atomic_or(&labels[v], 0u);
+// The root of node `v`'s tree: the smallest node of its island found so far. Plain volatile
+// reads, not atomics: every work-item's walk ends at the few roots of a large island, and an
+// atomic read would take their cache lines from core to core. A read that misses another
+// work-item's hook still names an ancestor, which is in the same island (uniteNodes' swap only
+// hooks a node that is still a root).
+static uint islandRoot(volatile __global uint* labels, uint v) {
+    uint up = labels[v];
     while (up != v) {
         v = up;
-        up = atomic_or(&labels[v], 0u);
+        up = labels[v];
     }
     return v;
 }
@@ -260,7 +263,7 @@ static uint islandRoot(__global uint* labels, uint v) {
 // still a root (else another work-item hooked it first, and the roots are found again). Every
 // link points to a smaller node, so the trees have no cycles and each root is its island's
 // smallest node, the CPU's UnionFind root; one launch over the edges joins them all.
-static void uniteNodes(__global uint* labels, uint u, uint v) {
+static void uniteNodes(volatile __global uint* labels, uint u, uint v) {
     for (;;) {
         u = islandRoot(labels, u);
         v = islandRoot(labels, v);
