@@ -284,8 +284,10 @@ static int pairsOverflow(const uint capacity, __global const uint* pairCount) {
 // else with its group.
 static void markIslandWake(__global const uint* group, __global uint* marks, const uint i) {
     const uint g = group[i];
-    if (g == RUBBLE_NO_ISLAND) atomic_or(&marks[i], RUBBLE_ISLAND_WAKE_BODY);
-    else atomic_or(&marks[g], RUBBLE_ISLAND_WAKE_GROUP);
+    if (g == RUBBLE_NO_ISLAND)
+        atomic_or(&marks[i], RUBBLE_ISLAND_WAKE_BODY);
+    else
+        atomic_or(&marks[g], RUBBLE_ISLAND_WAKE_GROUP);
 }
 
 // The CPU's touch in wakeIslands: a restless body marks the sleeping body it touches; both take

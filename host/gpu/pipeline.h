@@ -102,11 +102,11 @@ class Pipeline {
     /// Errors: Device, Limit, Numerical (a body that is not finite, named by `names`).
     Status endStep(const StepParams& params, std::span<const std::string> names, StepStats& stats);
     /// Whether the last step left the world at rest, so that the next one would change nothing
-    /// on the device: SAT with the host's islands, every moving body asleep, no pair found in
+    /// on the device: SAT with islands, every moving body asleep, no pair found in
     /// it or in the kept set's step, no obstacles, and nothing uploaded since. The caller may
     /// then leave the step out unless it has something for the device (an explosion).
     bool atRest() const;
-    /// The bodies asleep by the host's islands after the last step.
+    /// The bodies asleep by the islands after the last step.
     std::uint32_t asleepBodies() const { return islands_ ? islands_->asleep() : 0; }
     /// The impulses the rows put on each obstacle in the step met last (two-way coupling).
     std::span<const shared::BodyImpulse> obstacleImpulses() const { return obstacles_.impulses(); }

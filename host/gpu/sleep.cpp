@@ -152,8 +152,8 @@ Status DeviceIslands::create(StageQueue& q, const DeviceBodies& b, std::span<con
     const Context& c = q.c();
     const std::size_t n = b.count, word = sizeof(cl_uint);
     RUBBLE_TRY(upload(c, radii_, radii));
-    for (Buffer* perBody : {&slowFor_, &group_, &wasAsleep_, &restless_, &marks_, &roots_,
-                            &island_, &islandSlowFor_})
+    for (Buffer* perBody :
+         {&slowFor_, &group_, &wasAsleep_, &restless_, &marks_, &roots_, &island_, &islandSlowFor_})
         RUBBLE_TRY(perBody->reserve(c.context(), n * word));
     RUBBLE_TRY(labels_.reserve(c.context(), 2 * n * word));
     reset(b);

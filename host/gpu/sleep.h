@@ -66,8 +66,8 @@ class DeviceIslands {
     bool prepared_ = false; ///< the state was taken from the flags (prepareIslands)
     std::uint32_t asleep_ = 0;
     std::uint32_t roundsWoken_ = 0; ///< bodies the step's collision rounds woke (status)
-    Buffer radii_;     ///< per body: bounding radius, m
-    Buffer slowFor_;   ///< per body: how long it has been slow, s
+    Buffer radii_;                  ///< per body: bounding radius, m
+    Buffer slowFor_;                ///< per body: how long it has been slow, s
     Buffer group_;     ///< per body: the island it fell asleep with (RUBBLE_NO_ISLAND: none)
     Buffer wasAsleep_; ///< per body: asleep at the end of the last step
     Buffer restless_;  ///< per body: restless, this pass's

@@ -215,8 +215,8 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
         return n.bodies * (sizeof(BodyMass) + sizeof(BodyVelocity) + 10 * kWord);
     case KernelId::UniteIslandPairs: // per pair: its summary and pair; both bodies' flags,
         // masses, velocities and labels (a root two links away: an upper bound for piles)
-        return n.pairs * (kWord + kPair + 2 * (kWord + sizeof(BodyMass) + sizeof(BodyVelocity) +
-                                               2 * kWord));
+        return n.pairs *
+               (kWord + kPair + 2 * (kWord + sizeof(BodyMass) + sizeof(BodyVelocity) + 2 * kWord));
     case KernelId::UniteIslandJoints: // per joint: the joint; both bodies' masses and labels
         return n.joints * (sizeof(shared::PgsJoint) + 2 * (sizeof(BodyMass) + 2 * kWord));
     case KernelId::UniteIslandGroups: // per body: its group, its and the group node's labels
@@ -226,8 +226,8 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
         return n.bodies * (sizeof(BodyMass) + 8 * kWord);
     case KernelId::SleepIslands: // per body: mass, root, the root's words, flags, slow time,
         // group and asleep word written; velocity and momentum zeroed (an upper bound)
-        return n.bodies * (sizeof(BodyMass) + 9 * kWord + sizeof(BodyVelocity) +
-                           sizeof(BodyMomentum));
+        return n.bodies *
+               (sizeof(BodyMass) + 9 * kWord + sizeof(BodyVelocity) + sizeof(BodyMomentum));
     default:
         return 0;
     }
