@@ -249,7 +249,8 @@ static int islandBody(__global const BodyMass* masses, const uint i) {
 // reads, not atomics: every work-item's walk ends at the few roots of a large island, and an
 // atomic read would take their cache lines from core to core. A read that misses another
 // work-item's hook still names an ancestor, which is in the same island (uniteNodes' swap only
-// hooks a node that is still a root).
+// hooks a node that is still a root). Oclgrind reports such a read beside a hook of the same word
+// as a data race.
 static uint islandRoot(volatile __global uint* labels, uint v) {
     uint up = labels[v];
     while (up != v) {
@@ -391,20 +392,22 @@ wakeIslandBodies(const uint count, const uint capacity, __global const uint* pai
 }
 
 // Sleep, pass 1, once the step has run: each dynamic awake body's slow time and restless word
-// on its velocity after the step (islandBodyItem); each node its own island (the bodies, then one
-// node per group after them), each root's words cleared.
+// on its velocity after the step (islandBodyItem); each body its own island, each root's words
+// cleared; a body of a group gives the group its index (`groupFirst`, all ones before: the
+// smallest member is the one the CPU unites the others with).
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
 measureIslandBodies(const uint count, __global const uint* flags, __global const BodyMass* masses,
                     __global const BodyVelocity* velocities, __global const float* radii,
-                    __global const uint* wasAsleep, __global float* slowFor,
-                    __global uint* restless, __global uint* labels, __global uint* island,
+                    __global const uint* wasAsleep, __global const uint* group,
+                    __global float* slowFor, __global uint* restless, __global uint* labels,
+                    __global uint* groupFirst, __global uint* island,
                     __global uint* islandSlowFor, const float dt) {
     const uint i = get_global_id(0);
     if (i >= count) return;
     labels[i] = i;
-    labels[count + i] = count + i;
     island[i] = 0u;
     islandSlowFor[i] = as_uint(INFINITY);
+    if (group[i] != RUBBLE_NO_ISLAND) atomic_min(&groupFirst[group[i]], i);
     uint r = 0u;
     if (islandBody(masses, i) && !(flags[i] & RUBBLE_BODY_ASLEEP)) {
         const IslandBody b = islandBodyItem(slowFor[i], wasAsleep[i], velocities[i], radii[i], dt);
@@ -412,6 +415,17 @@ measureIslandBodies(const uint count, __global const uint* flags, __global const
         r = b.restless;
     }
     restless[i] = r;
+}
+
+// Sleep, pass 2 for the groups, before the pairs and joints: the bodies that fell asleep together
+// (asleep, or woken from outside since) stay one island, each linked to its group's smallest
+// member, as the CPU unites each with the first. A body writes only its own link.
+__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
+hookIslandGroups(const uint count, __global const uint* group, __global const uint* groupFirst,
+                 __global uint* labels) {
+    const uint i = get_global_id(0);
+    if (i >= count || group[i] == RUBBLE_NO_ISLAND) return;
+    labels[i] = groupFirst[group[i]];
 }
 
 // Sleep, pass 2: each pair with rows joins its dynamic bodies' islands; a dynamic awake body that
@@ -448,15 +462,6 @@ uniteIslandJoints(const uint count, __global const PgsJoint* joints,
     if (j >= count) return;
     const uint a = joints[j].a, b = joints[j].b;
     if (islandBody(masses, a) && islandBody(masses, b)) uniteNodes(labels, a, b);
-}
-
-// Sleep, pass 2 for the groups: the bodies that fell asleep together (asleep, or woken from
-// outside since) stay one island, through their group's node (`bodies` + the group).
-__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_BODIES, 1, 1))) void
-uniteIslandGroups(const uint bodies, __global const uint* group, __global uint* labels) {
-    const uint i = get_global_id(0);
-    if (i >= bodies || group[i] == RUBBLE_NO_ISLAND) return;
-    uniteNodes(labels, i, bodies + group[i]);
 }
 
 // Sleep, pass 3: each dynamic body's island root (no link changes now); an awake body tells its

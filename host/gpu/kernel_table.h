@@ -93,9 +93,9 @@ enum class KernelId : unsigned {
     MarkIslandWakeJoints,
     WakeIslandBodies,
     MeasureIslandBodies,
+    HookIslandGroups,
     UniteIslandPairs,
     UniteIslandJoints,
-    UniteIslandGroups,
     GatherIslands,
     SleepIslands,
     Count

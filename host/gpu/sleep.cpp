@@ -152,10 +152,9 @@ Status DeviceIslands::create(StageQueue& q, const DeviceBodies& b, std::span<con
     const Context& c = q.c();
     const std::size_t n = b.count, word = sizeof(cl_uint);
     RUBBLE_TRY(upload(c, radii_, radii));
-    for (Buffer* perBody :
-         {&slowFor_, &group_, &wasAsleep_, &restless_, &marks_, &roots_, &island_, &islandSlowFor_})
+    for (Buffer* perBody : {&slowFor_, &group_, &wasAsleep_, &restless_, &marks_, &labels_,
+                            &groupFirst_, &roots_, &island_, &islandSlowFor_})
         RUBBLE_TRY(perBody->reserve(c.context(), n * word));
-    RUBBLE_TRY(labels_.reserve(c.context(), 2 * n * word));
     reset(b);
     return {};
 }
@@ -246,7 +245,8 @@ Status DeviceIslands::update(StageQueue& q, DeviceBodies& b, const PairStore& pa
     // The status block was last read after the step's last collision round.
     roundsWoken_ = q.lastStatus().woken;
     const cl_uint count = b.count;
-    // Each body's slow time and restless word; every node its own island.
+    // Each body's slow time and restless word, its own island; the groups' smallest members.
+    RUBBLE_TRY(fill(c, groupFirst_, 0xffffffffu, std::size_t(count) * sizeof(cl_uint), profile));
     RUBBLE_TRY(Dispatch(c, KernelId::MeasureIslandBodies, profile)
                    .arg(count)
                    .arg(b.flags)
@@ -254,14 +254,23 @@ Status DeviceIslands::update(StageQueue& q, DeviceBodies& b, const PairStore& pa
                    .arg(b.velocities)
                    .arg(radii_)
                    .arg(wasAsleep_)
+                   .arg(group_)
                    .arg(slowFor_)
                    .arg(restless_)
                    .arg(labels_)
+                   .arg(groupFirst_)
                    .arg(island_)
                    .arg(islandSlowFor_)
                    .arg(dt)
                    .run(count, RUBBLE_GROUP_BODIES));
-    // The islands: one launch per kind of edge, each joining all of its edges.
+    // The islands: the groups linked first (each body writes its own link), then one launch per
+    // kind of edge, each joining all of its edges.
+    RUBBLE_TRY(Dispatch(c, KernelId::HookIslandGroups, profile)
+                   .arg(count)
+                   .arg(group_)
+                   .arg(groupFirst_)
+                   .arg(labels_)
+                   .run(count, RUBBLE_GROUP_BODIES));
     RUBBLE_TRY(Dispatch(c, KernelId::UniteIslandPairs, profile)
                    .with([&](Dispatch& d) { pairs.bindCurrent(d); })
                    .arg(pairs.summaries)
@@ -281,11 +290,6 @@ Status DeviceIslands::update(StageQueue& q, DeviceBodies& b, const PairStore& pa
                        .arg(labels_)
                        .run(jointCount, RUBBLE_GROUP_BODIES));
     }
-    RUBBLE_TRY(Dispatch(c, KernelId::UniteIslandGroups, profile)
-                   .arg(count)
-                   .arg(group_)
-                   .arg(labels_)
-                   .run(count, RUBBLE_GROUP_BODIES));
     RUBBLE_TRY(Dispatch(c, KernelId::GatherIslands, profile)
                    .arg(count)
                    .arg(b.flags)

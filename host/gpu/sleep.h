@@ -68,13 +68,14 @@ class DeviceIslands {
     std::uint32_t roundsWoken_ = 0; ///< bodies the step's collision rounds woke (status)
     Buffer radii_;                  ///< per body: bounding radius, m
     Buffer slowFor_;                ///< per body: how long it has been slow, s
-    Buffer group_;     ///< per body: the island it fell asleep with (RUBBLE_NO_ISLAND: none)
-    Buffer wasAsleep_; ///< per body: asleep at the end of the last step
-    Buffer restless_;  ///< per body: restless, this pass's
-    Buffer marks_;     ///< per body: RUBBLE_ISLAND_WAKE_* of a collision round
-    Buffer labels_;    ///< per node (the bodies, then a node per group): its link toward the root
-    Buffer roots_;     ///< per body: its island's root
-    Buffer island_;    ///< per root: RUBBLE_ISLAND_AWAKE and _RESTLESS
+    Buffer group_;         ///< per body: the island it fell asleep with (RUBBLE_NO_ISLAND: none)
+    Buffer wasAsleep_;     ///< per body: asleep at the end of the last step
+    Buffer restless_;      ///< per body: restless, this pass's
+    Buffer marks_;         ///< per body: RUBBLE_ISLAND_WAKE_* of a collision round
+    Buffer labels_;        ///< per body: its link toward its island's root
+    Buffer groupFirst_;    ///< per group (a body index): its smallest member
+    Buffer roots_;         ///< per body: its island's root
+    Buffer island_;        ///< per root: RUBBLE_ISLAND_AWAKE and _RESTLESS
     Buffer islandSlowFor_; ///< per root: the shortest slow time of its awake bodies, float bits
 };
 

@@ -211,16 +211,17 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
         // flags read and written
         return n.bodies * (sizeof(BodyMass) + 5 * kWord);
     case KernelId::MeasureIslandBodies: // per body: flags, mass, velocity, radius, asleep word,
-        // slow time read and written, restless word, two labels, the root's words written
+        // group, slow time read and written, restless word, label, its group's first member, the
+        // root's words written
         return n.bodies * (sizeof(BodyMass) + sizeof(BodyVelocity) + 10 * kWord);
+    case KernelId::HookIslandGroups: // per body: its group, the group's first member, its label
+        return n.bodies * 3 * kWord;
     case KernelId::UniteIslandPairs: // per pair: its summary and pair; both bodies' flags,
         // masses, velocities and labels (a root two links away: an upper bound for piles)
         return n.pairs *
                (kWord + kPair + 2 * (kWord + sizeof(BodyMass) + sizeof(BodyVelocity) + 2 * kWord));
     case KernelId::UniteIslandJoints: // per joint: the joint; both bodies' masses and labels
         return n.joints * (sizeof(shared::PgsJoint) + 2 * (sizeof(BodyMass) + 2 * kWord));
-    case KernelId::UniteIslandGroups: // per body: its group, its and the group node's labels
-        return n.bodies * 3 * kWord;
     case KernelId::GatherIslands: // per body: flags, mass, slow time, restless word, labels to
         // the root, the root written; the root's words
         return n.bodies * (sizeof(BodyMass) + 8 * kWord);
