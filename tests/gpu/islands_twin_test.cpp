@@ -4,12 +4,14 @@
 // flags are the CPU's islands' and its bodies the CPU's bits.
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "gpu_fixture.h"
 #include "host/dynamics/islands.h"
 #include "rubble/shared/sleep.h"
+#include "support/physics_cases.h"
 
 namespace rubble {
 namespace {
@@ -105,6 +107,27 @@ TEST_F(IslandsTwin, PilesSleepAndWakeAsTheCpuIslandsDecide) {
     for (std::uint32_t i : left)
         knocked = std::max(knocked, glm::length(device.body(i).position - resting[i]));
     EXPECT_GT(knocked, 0.3f) << "m: the woken stack took the hit with its mass";
+}
+
+// The island kernels count the bytes they move (host/gpu/traffic.cpp), as every kernel does: the
+// jointed touching row falls asleep by islands and is hit, which runs the wake (its bodies, pairs
+// and joints passes) and the update (its groups, pairs and joints) on the device.
+TEST_F(IslandsTwin, IslandKernelsCountTheirBytes) {
+    World w = deviceWorld(test::jointedRowScene(test::kDeviceSatSimulation));
+    std::uint32_t asleep = 0;
+    for (int i = 0; i < 120; ++i) {
+        ASSERT_TRUE(w.step().ok());
+        asleep = std::max(asleep, w.lastStep().asleep);
+    }
+    std::map<std::string, DeviceCommandTime> byName = test::deviceProfileByName(w);
+    for (const char* name :
+         {"prepareIslands", "markIslandWakeBodies", "markIslandWakePairs", "markIslandWakeJoints",
+          "wakeIslandBodies", "measureIslandBodies", "hookIslandGroups", "uniteIslandPairs",
+          "uniteIslandJoints", "gatherIslands", "sleepIslands"}) {
+        EXPECT_GT(byName[name].launches, 0u) << name;
+        EXPECT_GT(byName[name].bytes, 0u) << name;
+    }
+    EXPECT_GT(asleep, 0u) << "the row fell asleep";
 }
 
 } // namespace
