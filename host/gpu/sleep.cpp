@@ -1,5 +1,5 @@
-// host/gpu/sleep.cpp: sleeping on the device (kernels/sleep.cl): each body by itself, or by
-// islands (SAT). Argument order is the kernel signature's.
+// host/gpu/sleep.cpp: sleeping on the device: each body by itself (kernels/sleep.cl), or by
+// islands (SAT, kernels/islands.cl). Argument order is the kernel signature's.
 #include "host/gpu/sleep.h"
 
 #include "host/core/assert.h"

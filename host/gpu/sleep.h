@@ -1,8 +1,8 @@
 // host/gpu/sleep.h: sleeping on the device. Each body by itself on the device (kernels/sleep.cl:
 // particles, or --body-sleep): the sleeping bodies a waking one touches wake before the rows,
 // and after the step restless marks from the contacts decide each body's sleep. Or, with SAT, by
-// islands (DeviceIslands), so that the device sleeps and wakes as the CPU does. The CPU twins
-// are in host/dynamics/sleep.cpp and islands.cpp.
+// islands (DeviceIslands, kernels/islands.cl), so that the device sleeps and wakes as the CPU
+// does. The CPU twins are in host/dynamics/sleep.cpp and islands.cpp.
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 // tests/gpu/islands_twin_test.cpp: islands and their sleep on the device (DeviceIslands,
-// kernels/sleep.cl) against the CPU's (host/dynamics/islands.cpp): two stacks and a jointed pair
+// kernels/islands.cl) against the CPU's (host/dynamics/islands.cpp): two stacks and a jointed pair
 // fall asleep, a crate dropped on one stack wakes it whole, and every step the device's asleep
 // flags are the CPU's islands' and its bodies the CPU's bits.
 #include <algorithm>

@@ -90,7 +90,7 @@ RUBBLE_FN SleepRecord sleepItem(SleepRecord s, uint restless, int slow, float dt
     return r;
 }
 
-// Islands (SAT on the device, kernels/sleep.cl; the CPU's are host/dynamics/islands.cpp, whose
+// Islands (SAT on the device, kernels/islands.cl; the CPU's are host/dynamics/islands.cpp, whose
 // kSleepSpeed and kTimeToSleep these are): a dynamic body is slow while its fastest point moves
 // slower than RUBBLE_ISLAND_SLEEP_SPEED, and an island whose awake bodies have all been slow for
 // RUBBLE_ISLAND_SLEEP_TIME sleeps as one.
