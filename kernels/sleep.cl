@@ -1,8 +1,9 @@
-// kernels/sleep.cl: entry points of the device's sleeping: the wake before the rows
-// (wakeTouched, wakeTouchedPairs for SAT) and stage sleepBodies after integratePositions: each
-// contact (a particle contact's row, or a SAT pair with points) and each joint tells its bodies
-// whether a neighbour is restless or fast, then each dynamic body updates its sleep. The math is
-// in rubble/shared/sleep.h; the CPU twins in host/dynamics/sleep.cpp.
+// kernels/sleep.cl: entry points of the device's sleeping, each body by itself (particles, or SAT
+// with --body-sleep): the wake before the rows (wakeTouched, wakeTouchedPairs) and stage
+// sleepBodies after integratePositions, where each contact and joint tells its bodies whether a
+// neighbour is restless or fast and each dynamic body updates its sleep. SAT's islands are
+// kernels/islands.cl. The math is in rubble/shared/sleep.h; the CPU twins in
+// host/dynamics/sleep.cpp.
 #include "rubble/shared/broad_phase.h"
 #include "rubble/shared/contact_row.h"
 #include "rubble/shared/group.h"
@@ -85,29 +86,6 @@ wakeTouchedPairs(const uint capacity, __global const uint* pairCount,
         if (manifolds[p].count > 0u)
             wakeTouchedBodies(pairs[p].a, pairs[p].b, approach, flags, slowFor, restless,
                               collisionRound, status);
-}
-
-// The host's islands with SAT: each pair with points between a moving kinematic body and a
-// sleeping one, appended to `touches` (count in `touchCount`) for the host's wake; the pair
-// summaries list only pairs with rows, and such a pair has none until its sleeping body wakes.
-__kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
-listKinematicTouches(const uint capacity, __global const uint* pairCount,
-                     __global const BodyPairRecord* pairs,
-                     __global const ContactManifold* manifolds, __global const uint* flags,
-                     __global uint* touchCount, __global BodyPairRecord* touches) {
-    const uint n = min(pairCount[0], capacity);
-    const ItemRange r = itemRange(n);
-    const uint moving = RUBBLE_BODY_KINEMATIC | RUBBLE_BODY_WAKING;
-    for (uint p = r.first; p < r.end; p += r.step) {
-        if (manifolds[p].count == 0u) continue;
-        const BodyPairRecord pair = pairs[p];
-        const uint fa = flags[pair.a], fb = flags[pair.b];
-        const int aWakes = (fa & moving) == moving && (fb & RUBBLE_BODY_ASLEEP);
-        const int bWakes = (fb & moving) == moving && (fa & RUBBLE_BODY_ASLEEP);
-        if (!aWakes && !bWakes) continue;
-        // At most one entry per pair: the buffer holds `capacity`.
-        touches[atomic_inc(touchCount)] = pair;
-    }
 }
 
 // The wake through resting piles, SAT on the device: in round `collisionRound` of the step's

@@ -270,8 +270,7 @@ const std::vector<Option>& table() {
         runOption<&RunOptions::bodySleep>(
             {.name = "body-sleep",
              .uses = kEverywhere,
-             .help = "SAT on the device: bodies sleep one by one on the device instead of by "
-                     "islands on the host"}),
+             .help = "SAT on the device: bodies sleep one by one instead of by islands"}),
         runOption<&RunOptions::buildOptions>(
             {.name = "build-options",
              .uses = kUseFlag,

@@ -46,7 +46,6 @@ Status Pipeline::enqueueStep(const StepParams& params, const StepInputs& in) {
     profile.setStage(DeviceStage::ApplyForces);
     // The SAT method's manifolds live per pair: its contacts never overflow.
     RUBBLE_TRY(q.resetStatus(sat() ? 0xffffffffu : particles_.contacts().capacity));
-    if (islands_) islands_->beginStep();
     if (obstacles_.count() > 0) RUBBLE_TRY(obstacles_.place(q, bodies_, in.obstacles));
     if (!in.kinematicVelocities.empty()) {
         RUBBLE_TRY(targets_.setVelocities(q, bodies_, in.kinematicVelocities));
@@ -100,20 +99,11 @@ Status Pipeline::collideSat(const StepParams& params) {
             continue;
         }
         if (islands_) {
-            // The CPU's wake: the islands a restless body touches wake, and the collision runs
-            // again for their pairs with sleeping bodies, until a round wakes none.
-            // Nothing asleep at the end of the last step (or since the host's upload): nothing
-            // wakes.
-            if (islands_->asleep() == 0) break;
-            profile.setStage(DeviceStage::Sleep);
-            RUBBLE_TRY(pgs_.readSummaries(q, pairs_));
-            pgs_.touching(touching_);
-            if (bodies_.movingKinematic > 0)
-                RUBBLE_TRY(islands_->addKinematicTouches(q, bodies_, pairs_, touching_));
-            Result<std::uint32_t> islandsWoken = islands_->wake(q, bodies_, touching_);
-            RUBBLE_TRY(islandsWoken);
-            profile.setStage(DeviceStage::BuildContactRows);
-            if (*islandsWoken == 0) break;
+            // The CPU's wake ran on the device after the summaries (wakeAndSummarize): the
+            // islands a restless body touches woke, and the collision runs again for their
+            // pairs with sleeping bodies, until a round wakes none.
+            if (st->woken == woken) break;
+            woken = st->woken;
             hostWrote_ = true;
             continue;
         }
@@ -157,6 +147,13 @@ Result<DeviceStatus> Pipeline::wakeAndSummarize(const StepParams& params, std::u
     if (!islands_) RUBBLE_TRY(wakeTouchedPairs(q, bodies_, pairs_, joints_, round));
     q.profile().setStage(DeviceStage::BuildContactRows);
     RUBBLE_TRY(pgs_.summarize(q, bodies_, pairs_, joints_, params));
+    // By islands, on this round's pairs with rows; nothing asleep at the end of the last step
+    // (or since the host's upload): nothing wakes.
+    if (islands_ && islands_->asleep() > 0) {
+        q.profile().setStage(DeviceStage::Sleep);
+        RUBBLE_TRY(islands_->wake(q, bodies_, pairs_, joints_, bodies_.movingKinematic > 0));
+        q.profile().setStage(DeviceStage::BuildContactRows);
+    }
     return q.readStatus();
 }
 
@@ -192,8 +189,10 @@ Status Pipeline::solvePairs(const StepParams& params) {
     stepTargets_ = {};
     RUBBLE_TRY(bodies_.clearForces(q));
     profile.setStage(DeviceStage::Sleep);
-    // Islands on the host decide once the step is met; a world kept awake does not sleep.
-    if (!islands_ && params.sleep)
+    // By islands, or each body by itself; a world kept awake does not sleep.
+    if (islands_ && params.sleep)
+        RUBBLE_TRY(islands_->update(q, bodies_, pairs_, joints_, dt));
+    else if (params.sleep)
         RUBBLE_TRY(sleepBodies(q, bodies_, &pairs_, nullptr, joints_, dt));
     // This step's pairs, features and impulses are the next step's. With SAT, a step that found
     // no pairs after one that found none, with no body state from the host between, keeps last
@@ -283,17 +282,8 @@ Status Pipeline::meetStep(const StepParams& params, std::span<const std::string>
         RUBBLE_TRY(q.finish());
     }
     DeviceStatus st = q.lastStatus();
-    if (islands_ && params.sleep) {
-        // The CPU's updateSleep on the step's velocities; the stopped bodies go to the device.
-        q.profile().setStage(DeviceStage::Sleep);
-        const auto islandsStart = std::chrono::steady_clock::now();
-        pgs_.touching(touching_);
-        Result<HostSleepCounts> r = islands_->update(q, bodies_, touching_, params.dt, readBack);
-        RUBBLE_TRY(r);
-        if (r->fellAsleep > 0 || r->woken > 0) hostWrote_ = true;
-        st.asleep = r->asleep;
-        stats.islandsMs = msSince(islandsStart);
-    }
+    // The islands' update changed flags and velocities: the next step's pair set is kept again.
+    if (islands_ && params.sleep && islands_->met(st)) hostWrote_ = true;
     if (readBack) bodies_.takeSleepFlags(*readBack);
     TrafficCounts traffic;
     countTraffic(params, st, traffic);

@@ -60,7 +60,6 @@ enum class KernelId : unsigned {
     SolvePgs,
     ApplyPushes,
     WakeTouchedPairs,
-    ListKinematicTouches,
     MarkBounces,
     PushPgs,
     LayerPgs,
@@ -89,6 +88,17 @@ enum class KernelId : unsigned {
     IntegrateSoft,
     BounceSoft,
     FinishSoftStep,
+    PrepareIslands,
+    MarkIslandWakeBodies,
+    MarkIslandWakePairs,
+    MarkIslandWakeJoints,
+    WakeIslandBodies,
+    MeasureIslandBodies,
+    HookIslandGroups,
+    UniteIslandPairs,
+    UniteIslandJoints,
+    GatherIslands,
+    SleepIslands,
     Count
 };
 

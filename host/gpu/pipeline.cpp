@@ -50,7 +50,13 @@ Status Pipeline::makeStages(const PipelineInput& in) {
         RUBBLE_TRY(broadPhase_.create(q, bodies, in.shapes, in.joined));
         // Pairs: a first guess of four per body.
         RUBBLE_TRY(pairs_.create(q, std::max<std::uint32_t>(1024, 4 * std::uint32_t(n)), false));
-        if (in.hostSleep) islands_ = std::make_unique<HostIslands>(in.hostSleep);
+        if (in.islands) {
+            std::vector<float> radii(n);
+            for (std::size_t i = 0; i < n; ++i)
+                radii[i] = in.shapes[bodies.shapeOf[i]].boundingRadius;
+            islands_ = std::make_unique<DeviceIslands>();
+            RUBBLE_TRY(islands_->create(q, bodies_, radii));
+        }
     }
     // Particles: their set and contact buffers, and with PGS a pair of one point per contact.
     if (!sat())
@@ -65,7 +71,6 @@ Status Pipeline::makeStages(const PipelineInput& in) {
         RUBBLE_TRY(joints_.create(q, in.joints, bodies, bodies_.kinematic));
         if (sat()) RUBBLE_TRY(softStep_.create(q, std::uint32_t(n)));
     }
-    if (islands_) islands_->reset(bodies_);
     hostWrote_ = true;
     RUBBLE_TRY(q.finish());
     return {};

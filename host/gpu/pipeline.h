@@ -52,9 +52,9 @@ struct PipelineInput {
     /// Particles: the first guess of the contacts the buffers hold (0: a few per particle);
     /// a step that finds more grows them.
     std::uint32_t contactCapacity = 0;
-    /// SAT: the sleep decided on the host (the world's islands); null, each body sleeps by
-    /// itself on the device (RunOptions::bodySleep).
-    std::shared_ptr<HostSleep> hostSleep;
+    /// SAT: bodies sleep by the CPU's islands, on the device (DeviceIslands); false, each body
+    /// sleeps by itself (RunOptions::bodySleep).
+    bool islands = false;
 };
 
 /// What a step takes from the host besides its parameters.
@@ -105,11 +105,11 @@ class Pipeline {
     /// Errors: Device, Limit, Numerical (a body that is not finite, named by `names`).
     Status endStep(const StepParams& params, std::span<const std::string> names, StepStats& stats);
     /// Whether the last step left the world at rest, so that the next one would change nothing
-    /// on the device: SAT with the host's islands, every moving body asleep, no pair found in
+    /// on the device: SAT with islands, every moving body asleep, no pair found in
     /// it or in the kept set's step, no obstacles, and nothing uploaded since. The caller may
     /// then leave the step out unless it has something for the device (an explosion).
     bool atRest() const;
-    /// The bodies asleep by the host's islands after the last step.
+    /// The bodies asleep by the islands after the last step.
     std::uint32_t asleepBodies() const { return islands_ ? islands_->asleep() : 0; }
     /// The impulses the rows put on each obstacle in the step met last (two-way coupling).
     std::span<const shared::BodyImpulse> obstacleImpulses() const { return obstacles_.impulses(); }
@@ -154,7 +154,7 @@ class Pipeline {
     PgsSolve pgs_;
     SoftStepSolve softStep_; ///< SAT with the soft step: its substeps over pgs_'s plan and rows
     JacobiSolve jacobi_;
-    std::unique_ptr<HostIslands> islands_; ///< SAT with the sleep on the host
+    std::unique_ptr<DeviceIslands> islands_; ///< SAT sleeping by islands
     CollisionMethod method_ = CollisionMethod::Particles;
     bool particlePgs_ = false;
     bool deterministic_ = false;
@@ -167,7 +167,6 @@ class Pipeline {
     /// whether the host wrote body state since the last step.
     std::uint32_t pairsFound_ = 0, keptFound_ = 0;
     bool hostWrote_ = false;
-    std::vector<BodyPair> touching_; ///< this round's pairs with rows (the host's islands)
 };
 
 } // namespace rubble::gpu

@@ -1,32 +1,11 @@
-// host/gpu/sleep.cpp: sleeping on the device (kernels/sleep.cl) and the host's islands over the
-// device's pairs. Argument order is the kernel signature's.
+// host/gpu/sleep.cpp: sleeping on the device: each body by itself (kernels/sleep.cl), or by
+// islands (SAT, kernels/islands.cl). Argument order is the kernel signature's.
 #include "host/gpu/sleep.h"
-
-#include <algorithm>
 
 #include "host/core/assert.h"
 
 namespace rubble::gpu {
 namespace {
-
-// The device's flags with the host's asleep bit (a kinematic body keeps the device's flags).
-void flagsFromIslands(std::span<const shared::BodyMass> masses,
-                      std::span<const std::uint8_t> kinematic, std::vector<cl_uint>& flags) {
-    for (std::size_t i = 0; i < flags.size(); ++i) {
-        if (kinematic[i]) continue;
-        flags[i] = (flags[i] & ~RUBBLE_BODY_ASLEEP) | (masses[i].flags & RUBBLE_BODY_ASLEEP);
-    }
-}
-
-// The host's asleep bit from the device's flags: an explosion on the device wakes bodies.
-void islandsFromFlags(std::span<const cl_uint> flags, std::span<const std::uint8_t> kinematic,
-                      std::span<shared::BodyMass> masses) {
-    for (std::size_t i = 0; i < flags.size(); ++i) {
-        if (kinematic[i]) continue;
-        shared::BodyMass& m = masses[i];
-        m.flags = (m.flags & ~RUBBLE_BODY_ASLEEP) | (flags[i] & RUBBLE_BODY_ASLEEP);
-    }
-}
 
 // A joint group wakes as one: pass 0 marks the groups with an awake member, then `wakePass`
 // (1 after sleepBodies, 2 before the solve) wakes them; pass 2 marks them with the collision
@@ -169,94 +148,178 @@ Status sleepBodies(StageQueue& q, DeviceBodies& b, const PairStore* pairs, const
     return groups ? wakeJointGroups(q, b, g, 1u) : Status{};
 }
 
-void HostIslands::reset(const DeviceBodies& b) {
-    masses_ = b.deviceMasses;
-    asleep_ = 0;
-    for (std::size_t i = 0; i < masses_.size(); ++i)
-        if (!b.kinematic[i] && (masses_[i].flags & RUBBLE_BODY_ASLEEP)) ++asleep_;
-}
-
-Result<std::uint32_t> HostIslands::wake(StageQueue& q, DeviceBodies& b,
-                                        std::span<const BodyPair> touching) {
-    // Nothing asleep at the end of the last step (or since the host's upload): nothing wakes.
-    if (asleep_ == 0) return 0u;
+Status DeviceIslands::create(StageQueue& q, const DeviceBodies& b, std::span<const float> radii) {
     const Context& c = q.c();
-    // The flags and the velocities before the forces once a step: later rounds change only
-    // the flags, and those the host wrote.
-    if (!stepRead_) {
-        flags_.resize(b.count);
-        approach_.resize(b.count);
-        RUBBLE_TRY(enqueueDownload(c, b.flags, std::span(flags_), &q.profile()));
-        RUBBLE_TRY(enqueueDownload(c, b.atStart, std::span(approach_), &q.profile()));
-        RUBBLE_TRY(q.finish());
-        islandsFromFlags(flags_, b.kinematic, masses_);
-        stepRead_ = true;
-    }
-    const std::uint32_t woken = sleep_->wake(touching, masses_, approach_);
-    if (woken == 0) return 0u;
-    flagsFromIslands(masses_, b.kinematic, flags_);
-    RUBBLE_TRY(upload(c, b.flags, flags_));
-    return woken;
-}
-
-Status HostIslands::addKinematicTouches(StageQueue& q, const DeviceBodies& b,
-                                        const PairStore& pairs, std::vector<BodyPair>& touching) {
-    const Context& c = q.c();
-    const std::uint32_t capacity = pairs.current.capacity;
-    RUBBLE_TRY(touches_.reserve(c.context(), std::size_t(capacity) * sizeof(shared::BodyPairRecord)));
-    RUBBLE_TRY(touchCount_.reserve(c.context(), sizeof(cl_uint)));
-    RUBBLE_TRY(fill(c, touchCount_, 0u, sizeof(cl_uint), &q.profile()));
-    RUBBLE_TRY(Dispatch(c, KernelId::ListKinematicTouches, &q.profile())
-                   .with([&](Dispatch& d) { pairs.bindCurrent(d); })
-                   .arg(pairs.manifolds)
-                   .arg(b.flags)
-                   .arg(touchCount_)
-                   .arg(touches_)
-                   .run(pairs.strideItems(q), c.workSizes().pairGroup));
-    cl_uint count = 0;
-    RUBBLE_TRY(download(c, touchCount_, std::span(&count, 1), &q.profile()));
-    if (count == 0) return {};
-    touchesHost_.resize(std::min<std::uint32_t>(count, capacity));
-    RUBBLE_TRY(download(c, touches_, std::span(touchesHost_), &q.profile()));
-    for (const shared::BodyPairRecord& t : touchesHost_) touching.push_back({t.a, t.b});
+    const std::size_t n = b.count, word = sizeof(cl_uint);
+    RUBBLE_TRY(upload(c, radii_, radii));
+    for (Buffer* perBody : {&slowFor_, &group_, &wasAsleep_, &restless_, &marks_, &labels_,
+                            &groupFirst_, &roots_, &island_, &islandSlowFor_})
+        RUBBLE_TRY(perBody->reserve(c.context(), n * word));
+    reset(b);
     return {};
 }
 
-Result<HostSleepCounts> HostIslands::update(StageQueue& q, DeviceBodies& b,
-                                            std::span<const BodyPair> touching, float dt,
-                                            const std::optional<Bodies>& readBack) {
+void DeviceIslands::reset(const DeviceBodies& b) {
+    asleep_ = 0;
+    for (std::size_t i = 0; i < b.deviceMasses.size(); ++i)
+        if (!b.kinematic[i] && (b.deviceMasses[i].flags & RUBBLE_BODY_ASLEEP)) ++asleep_;
+}
+
+Status DeviceIslands::prepare(StageQueue& q, const DeviceBodies& b) {
+    // At the first wake or update, as the CPU's state is made at its first call.
+    if (prepared_) return {};
+    prepared_ = true;
+    const cl_uint count = b.count;
+    return Dispatch(q.c(), KernelId::PrepareIslands, &q.profile())
+        .arg(count)
+        .arg(b.flags)
+        .arg(slowFor_)
+        .arg(group_)
+        .arg(wasAsleep_)
+        .run(count, RUBBLE_GROUP_BODIES);
+}
+
+Status DeviceIslands::wake(StageQueue& q, DeviceBodies& b, const PairStore& pairs,
+                           const DeviceJoints& joints, bool kinematicTouches) {
     const Context& c = q.c();
-    // The step's velocities, momenta and flags: its read-back's, or read now.
-    std::span<shared::BodyVelocity> velocities;
-    std::span<shared::BodyMomentum> momenta;
-    if (readBack) {
-        velocities = readBack->velocities;
-        momenta = readBack->momenta;
-        flags_.assign(b.flagsHost.begin(), b.flagsHost.end());
-    } else {
-        velocities_.resize(b.count);
-        momenta_.resize(b.count);
-        flags_.resize(b.count);
-        velocities = velocities_;
-        momenta = momenta_;
-        RUBBLE_TRY(enqueueDownload(c, b.velocities, velocities, &q.profile()));
-        RUBBLE_TRY(enqueueDownload(c, b.momenta, momenta, &q.profile()));
-        RUBBLE_TRY(download(c, b.flags, std::span(flags_), &q.profile()));
+    Profile* profile = &q.profile();
+    RUBBLE_TRY(prepare(q, b));
+    const cl_uint count = b.count, capacity = pairs.current.capacity;
+    RUBBLE_TRY(fill(c, marks_, 0u, std::size_t(count) * sizeof(cl_uint), profile));
+    RUBBLE_TRY(Dispatch(c, KernelId::MarkIslandWakeBodies, profile)
+                   .arg(count)
+                   .arg(capacity)
+                   .arg(pairs.current.count)
+                   .arg(b.flags)
+                   .arg(b.masses)
+                   .arg(b.atStart)
+                   .arg(radii_)
+                   .arg(wasAsleep_)
+                   .arg(group_)
+                   .arg(restless_)
+                   .arg(marks_)
+                   .run(count, RUBBLE_GROUP_BODIES));
+    const cl_uint kinematic = kinematicTouches ? 1u : 0u;
+    RUBBLE_TRY(Dispatch(c, KernelId::MarkIslandWakePairs, profile)
+                   .with([&](Dispatch& d) { pairs.bindCurrent(d); })
+                   .arg(pairs.summaries)
+                   .arg(pairs.manifolds)
+                   .arg(kinematic)
+                   .arg(b.flags)
+                   .arg(b.masses)
+                   .arg(restless_)
+                   .arg(group_)
+                   .arg(marks_)
+                   .run(pairs.strideItems(q), c.workSizes().pairGroup));
+    if (joints.count > 0) {
+        const cl_uint jointCount = joints.count;
+        RUBBLE_TRY(Dispatch(c, KernelId::MarkIslandWakeJoints, profile)
+                       .arg(jointCount)
+                       .arg(joints.joints)
+                       .arg(capacity)
+                       .arg(pairs.current.count)
+                       .arg(b.flags)
+                       .arg(b.masses)
+                       .arg(restless_)
+                       .arg(group_)
+                       .arg(marks_)
+                       .run(jointCount, RUBBLE_GROUP_BODIES));
     }
-    islandsFromFlags(flags_, b.kinematic, masses_);
-    const HostSleepCounts r = sleep_->update(touching, masses_, velocities, momenta, dt);
-    asleep_ = r.asleep;
-    if (r.fellAsleep == 0 && r.woken == 0) return r;
-    // The new flags, and the stopped bodies' zero velocities and momenta (update wrote them on
-    // the host); the read-back's flags follow b.flagsHost (takeSleepFlags).
-    flagsFromIslands(masses_, b.kinematic, flags_);
-    RUBBLE_TRY(upload(c, b.flags, flags_));
-    if (readBack) b.flagsHost.assign(flags_.begin(), flags_.end());
-    if (r.fellAsleep > 0) {
-        RUBBLE_TRY(upload(c, b.velocities, std::span<const shared::BodyVelocity>(velocities)));
-        RUBBLE_TRY(upload(c, b.momenta, std::span<const shared::BodyMomentum>(momenta)));
+    return Dispatch(c, KernelId::WakeIslandBodies, profile)
+        .arg(count)
+        .arg(capacity)
+        .arg(pairs.current.count)
+        .arg(b.masses)
+        .arg(group_)
+        .arg(marks_)
+        .arg(b.flags)
+        .arg(q.status())
+        .run(count, RUBBLE_GROUP_BODIES);
+}
+
+Status DeviceIslands::update(StageQueue& q, DeviceBodies& b, const PairStore& pairs,
+                             const DeviceJoints& joints, float dt) {
+    const Context& c = q.c();
+    Profile* profile = &q.profile();
+    RUBBLE_TRY(prepare(q, b));
+    // The status block was last read after the step's last collision round.
+    roundsWoken_ = q.lastStatus().woken;
+    const cl_uint count = b.count;
+    // Each body's slow time and restless word, its own island; the groups' smallest members.
+    RUBBLE_TRY(fill(c, groupFirst_, 0xffffffffu, std::size_t(count) * sizeof(cl_uint), profile));
+    RUBBLE_TRY(Dispatch(c, KernelId::MeasureIslandBodies, profile)
+                   .arg(count)
+                   .arg(b.flags)
+                   .arg(b.masses)
+                   .arg(b.velocities)
+                   .arg(radii_)
+                   .arg(wasAsleep_)
+                   .arg(group_)
+                   .arg(slowFor_)
+                   .arg(restless_)
+                   .arg(labels_)
+                   .arg(groupFirst_)
+                   .arg(island_)
+                   .arg(islandSlowFor_)
+                   .arg(dt)
+                   .run(count, RUBBLE_GROUP_BODIES));
+    // The islands: the groups linked first (each body writes its own link), then one launch per
+    // kind of edge, each joining all of its edges.
+    RUBBLE_TRY(Dispatch(c, KernelId::HookIslandGroups, profile)
+                   .arg(count)
+                   .arg(group_)
+                   .arg(groupFirst_)
+                   .arg(labels_)
+                   .run(count, RUBBLE_GROUP_BODIES));
+    RUBBLE_TRY(Dispatch(c, KernelId::UniteIslandPairs, profile)
+                   .with([&](Dispatch& d) { pairs.bindCurrent(d); })
+                   .arg(pairs.summaries)
+                   .arg(b.flags)
+                   .arg(b.masses)
+                   .arg(b.velocities)
+                   .arg(slowFor_)
+                   .arg(restless_)
+                   .arg(labels_)
+                   .run(pairs.strideItems(q), c.workSizes().pairGroup));
+    if (joints.count > 0) {
+        const cl_uint jointCount = joints.count;
+        RUBBLE_TRY(Dispatch(c, KernelId::UniteIslandJoints, profile)
+                       .arg(jointCount)
+                       .arg(joints.joints)
+                       .arg(b.masses)
+                       .arg(labels_)
+                       .run(jointCount, RUBBLE_GROUP_BODIES));
     }
-    return r;
+    RUBBLE_TRY(Dispatch(c, KernelId::GatherIslands, profile)
+                   .arg(count)
+                   .arg(b.flags)
+                   .arg(b.masses)
+                   .arg(slowFor_)
+                   .arg(restless_)
+                   .arg(labels_)
+                   .arg(roots_)
+                   .arg(island_)
+                   .arg(islandSlowFor_)
+                   .run(count, RUBBLE_GROUP_BODIES));
+    return Dispatch(c, KernelId::SleepIslands, profile)
+        .arg(count)
+        .arg(q.status())
+        .arg(b.masses)
+        .arg(roots_)
+        .arg(island_)
+        .arg(islandSlowFor_)
+        .arg(b.flags)
+        .arg(b.velocities)
+        .arg(b.momenta)
+        .arg(slowFor_)
+        .arg(group_)
+        .arg(wasAsleep_)
+        .run(count, RUBBLE_GROUP_BODIES);
+}
+
+bool DeviceIslands::met(const DeviceStatus& st) {
+    asleep_ = st.asleep;
+    return st.fellAsleep > 0 || st.woken > roundsWoken_;
 }
 
 } // namespace rubble::gpu

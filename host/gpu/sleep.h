@@ -1,17 +1,13 @@
 // host/gpu/sleep.h: sleeping on the device. Each body by itself on the device (kernels/sleep.cl:
 // particles, or --body-sleep): the sleeping bodies a waking one touches wake before the rows,
-// and after the step restless marks from the contacts decide each body's sleep. Or, with SAT,
-// as the host decides with the world's islands (HostIslands over a HostSleep), so that the
-// device sleeps and wakes as the CPU does. The CPU twins are in host/dynamics/sleep.cpp.
+// and after the step restless marks from the contacts decide each body's sleep. Or, with SAT, by
+// islands (DeviceIslands, kernels/islands.cl), so that the device sleeps and wakes as the CPU
+// does. The CPU twins are in host/dynamics/sleep.cpp and islands.cpp.
 #pragma once
 
 #include <cstdint>
-#include <memory>
-#include <optional>
 #include <span>
-#include <vector>
 
-#include "host/collision/contact.h"
 #include "host/gpu/joints.h"
 #include "host/gpu/pairs.h"
 #include "host/gpu/particles.h"
@@ -35,70 +31,52 @@ Status wakeStillPairs(StageQueue& q, DeviceBodies& b, const PairStore& pairs, st
 Status sleepBodies(StageQueue& q, DeviceBodies& b, const PairStore* pairs, const ContactBuffers* k,
                    const DeviceJoints& joints, float dt);
 
-/// What a host-side sleep decision did (HostSleep::update).
-struct HostSleepCounts {
-    std::uint32_t asleep = 0;     ///< bodies asleep after it
-    std::uint32_t fellAsleep = 0; ///< bodies it put to sleep (their velocities and momenta zeroed)
-    std::uint32_t woken = 0;      ///< bodies it woke
-};
-
-/// Sleep decided on the host. host/world implements it with the CPU's islands, so that the
-/// device sleeps and wakes as the CPU does; host/gpu does not include host/dynamics.
-class HostSleep {
+/// Islands and their sleep on the device (SAT): the CPU's wakeIslands and updateSleep
+/// (host/dynamics/islands.cpp) as kernels over this step's pairs with rows (the summaries'
+/// RUBBLE_PGS_POINTS) and the joints, with the CPU's state between steps (each body's slow time,
+/// the group it fell asleep with, whether it was asleep at the last step's end), so that the
+/// device sleeps and wakes as the CPU does. The host reads nothing of its own: the counts come
+/// with the status blocks the step reads anyway.
+class DeviceIslands {
   public:
-    virtual ~HostSleep() = default;
-    /// After a collision round, when a body is asleep: wakes what this round's contacts
-    /// (`touching`) and the joints join to a restless body, on `approach` (the velocities before
-    /// the forces), by clearing RUBBLE_BODY_ASLEEP in `masses`. Returns the bodies it woke.
-    virtual std::uint32_t wake(std::span<const BodyPair> touching,
-                               std::span<shared::BodyMass> masses,
-                               std::span<const shared::BodyVelocity> approach) = 0;
-    /// Once the step has run: each body's sleep on the step's velocities; a body put to sleep
-    /// has RUBBLE_BODY_ASLEEP set in `masses` and its velocities and momenta zeroed.
-    virtual HostSleepCounts update(std::span<const BodyPair> touching,
-                                   std::span<shared::BodyMass> masses,
-                                   std::span<shared::BodyVelocity> velocities,
-                                   std::span<shared::BodyMomentum> momenta, float dt) = 0;
-};
-
-/// The device's side of a HostSleep: the host's copy of the masses and flags, and the arrays
-/// it reads from the device.
-class HostIslands {
-  public:
-    explicit HostIslands(std::shared_ptr<HostSleep> sleep) : sleep_(std::move(sleep)) {}
-    /// The host's flags are the islands' from here on (at load and after each upload).
+    /// The per-body state and scratch; `radii` each body's bounding radius, m. Errors: Device.
+    Status create(StageQueue& q, const DeviceBodies& b, std::span<const float> radii);
+    /// The bodies asleep by the host's flags (at load and after each upload).
     void reset(const DeviceBodies& b);
-    /// A new step: the flags and approach velocities are read again in its first wake.
-    void beginStep() { stepRead_ = false; }
-    /// After a collision round (the status read after the summaries, `touching` its pairs with
-    /// rows), when a body is asleep: HostSleep::wake; the woken bodies' flags go to the device.
-    /// Returns the bodies it woke (the caller collides again). Errors: Device.
-    Result<std::uint32_t> wake(StageQueue& q, DeviceBodies& b, std::span<const BodyPair> touching);
-    /// Once the step has run: HostSleep::update over its pairs with rows, on the velocities
-    /// after the step (`readBack`'s, with b.flagsHost, else read here); the bodies that fell
-    /// asleep are stopped on the device and in `readBack`, the flags go to the device (when it
-    /// put any to sleep or woke any). Errors: Device.
-    Result<HostSleepCounts> update(StageQueue& q, DeviceBodies& b,
-                                   std::span<const BodyPair> touching, float dt,
-                                   const std::optional<Bodies>& readBack);
-    /// After a collision round, with a moving kinematic body: appends to `touching` this
-    /// round's pairs with points that join one to a sleeping body (they have no rows, so the
-    /// summaries leave them out); waits for them. Errors: Device.
-    Status addKinematicTouches(StageQueue& q, const DeviceBodies& b, const PairStore& pairs,
-                               std::vector<BodyPair>& touching);
-    /// Bodies asleep after the last update (or reset).
+    /// Stage wake, after a collision round's summaries and before its status read, when a body
+    /// is asleep: the sleeping bodies that the round's pairs with rows (with
+    /// `kinematicTouches`, also the pairs with points between a moving kinematic body and a
+    /// sleeping one) and the joints join to a restless body wake, with their groups; counted in
+    /// RUBBLE_STATUS_WOKEN. A round whose pairs overflowed wakes none. Errors: Device.
+    Status wake(StageQueue& q, DeviceBodies& b, const PairStore& pairs, const DeviceJoints& joints,
+                bool kinematicTouches);
+    /// Stage sleep, once the step has run: the islands on the step's velocities; an island slow
+    /// for long enough sleeps (velocities and momenta zeroed), the sleeping bodies of a restless
+    /// one wake. Counts go to RUBBLE_STATUS_ASLEEP, _WOKEN and _FELL_ASLEEP. Errors: Device.
+    Status update(StageQueue& q, DeviceBodies& b, const PairStore& pairs,
+                  const DeviceJoints& joints, float dt);
+    /// The step's status block once met, after an update: the bodies asleep after it. Returns
+    /// whether the update put any body to sleep or woke any.
+    bool met(const DeviceStatus& st);
+    /// Bodies asleep at the end of the last step (or as uploaded).
     std::uint32_t asleep() const { return asleep_; }
 
   private:
-    std::shared_ptr<HostSleep> sleep_;
-    std::vector<shared::BodyMass> masses_; ///< the device's masses, the islands' flags
+    Status prepare(StageQueue& q, const DeviceBodies& b);
+    bool prepared_ = false; ///< the state was taken from the flags (prepareIslands)
     std::uint32_t asleep_ = 0;
-    bool stepRead_ = false; ///< flags and approach read in this step
-    std::vector<cl_uint> flags_;
-    std::vector<shared::BodyVelocity> approach_, velocities_;
-    std::vector<shared::BodyMomentum> momenta_;
-    Buffer touchCount_, touches_; ///< listKinematicTouches' count and pairs
-    std::vector<shared::BodyPairRecord> touchesHost_;
+    std::uint32_t roundsWoken_ = 0; ///< bodies the step's collision rounds woke (status)
+    Buffer radii_;                  ///< per body: bounding radius, m
+    Buffer slowFor_;                ///< per body: how long it has been slow, s
+    Buffer group_;         ///< per body: the island it fell asleep with (RUBBLE_NO_ISLAND: none)
+    Buffer wasAsleep_;     ///< per body: asleep at the end of the last step
+    Buffer restless_;      ///< per body: restless, this pass's
+    Buffer marks_;         ///< per body: RUBBLE_ISLAND_WAKE_* of a collision round
+    Buffer labels_;        ///< per body: its link toward its island's root
+    Buffer groupFirst_;    ///< per group (a body index): its smallest member
+    Buffer roots_;         ///< per body: its island's root
+    Buffer island_;        ///< per root: RUBBLE_ISLAND_AWAKE and _RESTLESS
+    Buffer islandSlowFor_; ///< per root: the shortest slow time of its awake bodies, float bits
 };
 
 } // namespace rubble::gpu

@@ -59,6 +59,7 @@ DeviceStatus StageQueue::lastStatus() const {
     d.capacity = slots[RUBBLE_STATUS_CAPACITY];
     d.asleep = slots[RUBBLE_STATUS_ASLEEP];
     d.woken = slots[RUBBLE_STATUS_WOKEN];
+    d.fellAsleep = slots[RUBBLE_STATUS_FELL_ASLEEP];
     d.pairs = slots[RUBBLE_STATUS_PAIRS];
     d.gridEntries = slots[RUBBLE_STATUS_GRID_ENTRIES];
     d.largeBodies = slots[RUBBLE_STATUS_LARGE];

@@ -22,7 +22,8 @@ struct DeviceStatus {
     float solverResidual = 0;                   ///< N s
     std::uint32_t capacity = 0;
     std::uint32_t asleep = 0, woken = 0;
-    std::uint32_t pairs = 0; ///< SAT: body pairs the broad phase found (may exceed the room)
+    std::uint32_t fellAsleep = 0; ///< SAT islands: bodies put to sleep at the end of the step
+    std::uint32_t pairs = 0;      ///< SAT: body pairs the broad phase found (may exceed the room)
     std::uint32_t gridEntries = 0, largeBodies = 0; ///< SAT: the broad phase's grid
     /// SAT: last step's kept pair entries as markStillPairs saw them, and the still pairs
     /// carried into this step's set; both 0 when the carry did not run.

@@ -197,6 +197,38 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
     case KernelId::WakeJointGroups: // per jointed body: its index, group, flags and the group's
         // vote; a woken one's flags, slow time and restless word written (an upper bound)
         return n.jointBodies * 7 * kWord;
+    case KernelId::PrepareIslands: // per body: flags; slow time, group, asleep word written
+        return n.bodies * 4 * kWord;
+    case KernelId::MarkIslandWakeBodies: // per body: flags, mass, approach velocity, radius,
+        // asleep word, group, restless word written, its group's marks
+        return n.bodies * (sizeof(BodyMass) + sizeof(BodyVelocity) + 6 * kWord);
+    case KernelId::MarkIslandWakePairs: // per pair: its pair, summary and manifold count; both
+        // bodies' flags, masses, restless words, groups and marks
+        return n.pairs * (kPair + 2 * kWord + 2 * (sizeof(BodyMass) + 4 * kWord));
+    case KernelId::MarkIslandWakeJoints: // per joint: the joint; both bodies as for a pair
+        return n.joints * (sizeof(shared::PgsJoint) + 2 * (sizeof(BodyMass) + 4 * kWord));
+    case KernelId::WakeIslandBodies: // per body: mass, group, its own and its group's marks,
+        // flags read and written
+        return n.bodies * (sizeof(BodyMass) + 5 * kWord);
+    case KernelId::MeasureIslandBodies: // per body: flags, mass, velocity, radius, asleep word,
+        // group, slow time read and written, restless word, label, its group's first member, the
+        // root's words written
+        return n.bodies * (sizeof(BodyMass) + sizeof(BodyVelocity) + 10 * kWord);
+    case KernelId::HookIslandGroups: // per body: its group, the group's first member, its label
+        return n.bodies * 3 * kWord;
+    case KernelId::UniteIslandPairs: // per pair: its summary and pair; both bodies' flags,
+        // masses, velocities and labels (a root two links away: an upper bound for piles)
+        return n.pairs *
+               (kWord + kPair + 2 * (kWord + sizeof(BodyMass) + sizeof(BodyVelocity) + 2 * kWord));
+    case KernelId::UniteIslandJoints: // per joint: the joint; both bodies' masses and labels
+        return n.joints * (sizeof(shared::PgsJoint) + 2 * (sizeof(BodyMass) + 2 * kWord));
+    case KernelId::GatherIslands: // per body: flags, mass, slow time, restless word, labels to
+        // the root, the root written; the root's words
+        return n.bodies * (sizeof(BodyMass) + 8 * kWord);
+    case KernelId::SleepIslands: // per body: mass, root, the root's words, flags, slow time,
+        // group and asleep word written; velocity and momentum zeroed (an upper bound)
+        return n.bodies *
+               (sizeof(BodyMass) + 9 * kWord + sizeof(BodyVelocity) + sizeof(BodyMomentum));
     default:
         return 0;
     }

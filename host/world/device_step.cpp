@@ -10,7 +10,6 @@
 #include "host/core/math.h"
 #include "host/core/step_params.h"
 #include "host/dynamics/forces.h"
-#include "host/dynamics/islands.h"
 #include "host/dynamics/joints.h"
 #include "host/gpu/pipeline.h"
 #include "host/world/offload.h"
@@ -30,36 +29,9 @@ void deviceStagesAsStages(StepStats& stats) {
     stats.buildContactRowsMs = d.buildContactRows;
     stats.solveMs = d.solve;
     stats.integratePositionsMs = d.integratePositions;
-    // The device's sleep stage and, with SAT, the host's islands (Pipeline::endStep).
+    // The device's sleep stage (with SAT, its islands).
     stats.islandsMs += d.sleep;
 }
-
-// The device's sleep with SAT: the CPU's islands (host/dynamics/islands.h) over the pairs with
-// rows the pipeline reads each step and the joints, with the CPU's state between steps, so that
-// the device sleeps and wakes as the reference does.
-class IslandSleep final : public gpu::HostSleep {
-  public:
-    IslandSleep(std::vector<float> radii, std::span<const BodyPair> joined)
-        : radii_(std::move(radii)), joined_(joined.begin(), joined.end()) {}
-
-    std::uint32_t wake(std::span<const BodyPair> touching, std::span<shared::BodyMass> masses,
-                       std::span<const shared::BodyVelocity> approach) override {
-        return wakeIslands(touching, joined_, radii_, masses, approach, state_);
-    }
-    gpu::HostSleepCounts update(std::span<const BodyPair> touching,
-                                std::span<shared::BodyMass> masses,
-                                std::span<shared::BodyVelocity> velocities,
-                                std::span<shared::BodyMomentum> momenta, float dt) override {
-        const SleepReport r =
-            updateSleep(touching, joined_, radii_, masses, velocities, momenta, dt, state_);
-        return {r.asleepBodies, r.fellAsleep, r.woken};
-    }
-
-  private:
-    std::vector<float> radii_;     ///< each body's bounding radius, m
-    std::vector<BodyPair> joined_; ///< the joints' body pairs
-    SleepState state_;
-};
 
 } // namespace
 
@@ -82,13 +54,8 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
                 s.deviceJoints.push_back(sharedJoint(j));
         }
         in.joints = s.deviceJoints;
-        // Islands on the host, as the CPU sleeps, unless each body is to sleep by itself.
-        if (!s.run.bodySleep) {
-            std::vector<float> radii(s.bodies.count());
-            for (std::size_t i = 0; i < radii.size(); ++i)
-                radii[i] = s.shapes[s.bodies.shapeOf[i]].boundingRadius;
-            in.hostSleep = std::make_shared<IslandSleep>(std::move(radii), s.joined);
-        }
+        // Islands, as the CPU sleeps, unless each body is to sleep by itself.
+        in.islands = !s.run.bodySleep;
     } else {
         in.particlePgs = s.options.solverType() == SolverType::Pgs;
         particles = buildParticleSet(s.shapes, s.materials, s.bodies.view(),

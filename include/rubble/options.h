@@ -114,7 +114,7 @@ struct RunOptions {
     /// that many blocks.
     int pgsBlocks = -1;
     /// SAT on the device: each body sleeps by itself on the device (its slow time and its
-    /// neighbours', as the particle paths sleep) instead of by islands on the host, the CPU's.
+    /// neighbours', as the particle paths sleep) instead of by the CPU's islands.
     bool bodySleep = false;
     /// Options added to every OpenCL program build (`-cl-opt-disable` for Oclgrind).
     std::string buildOptions;

@@ -121,7 +121,7 @@ TEST_F(DeviceCases, SatSymplecticSpinTurnsByOmegaTimesT) {
 }
 
 // Waking before the solve with SAT: the sleeping bodies a pair joins to a restless one wake
-// before the rows (with islands on the host, their whole island: wakeIslandsOnHost) and the
+// before the rows (with islands, their whole island: DeviceIslands::wake) and the
 // collision runs again, so that their mass takes part, to the reference's bounds.
 TEST_F(DeviceCases, SatSleepingRowTakesTheHitWithItsMomentum) {
     World w = deviceWorld(test::sleepingRowScene(test::kDeviceSatSimulation));
@@ -134,7 +134,7 @@ TEST_F(DeviceCases, SatBodySleepSleepingRowTakesTheHitWithItsMomentum) {
     test::expectSleepingRowTakesTheHit(w, 1e-3);
 }
 // With the boxes resting against each other the hit reaches through all five before the solve,
-// as the CPU wakes the island (islands on the host: the island they fell asleep as; each body by
+// as the CPU wakes the island (islands: the island they fell asleep as; each body by
 // itself: wakeStillPairs over last step's entries, the still pairs carried while they sleep):
 // woken one contact deep, the second box would meet the first as a wall and the 2 kg m/s be
 // gone.
@@ -165,7 +165,7 @@ TEST_F(DeviceCases, SatTouchingRowWithAJointTakesTheHitWithItsMomentum) {
 // towards it alone, a step finds one pair (striker, floor) and carries the row's nine still
 // pairs (five on the floor, four between boxes) after it, so the next step's kernels read ten
 // entries. In the hit, each launch of wakeStillPairs reads last step's entries (bodies sleeping
-// each by itself: with islands on the host the hit wakes the row's island without it).
+// each by itself: with islands the hit wakes the row's island without it).
 TEST_F(DeviceCases, SatStillPairKernelsCountTheEntriesTheyRead) {
     World w = bodySleepWorld(test::sleepingRowScene(test::kDeviceSatSimulation, 0.0));
     for (int i = 0; i < 41; ++i) ASSERT_TRUE(w.step().ok());
@@ -205,7 +205,7 @@ TEST_F(DeviceCases, SatStillPairKernelsCountTheEntriesTheyRead) {
 // sets each against the copy bandwidth: the jointed touching row runs the joints' kernels (rows,
 // the projection of a group as one, the joint groups' sleep and wake), the still pairs' carry
 // and the wake through them. Bodies sleeping each by itself, which runs every kernel of the SAT
-// path (islands on the host run a subset).
+// path but the islands' (IslandsTwin.IslandKernelsCountTheirBytes counts those).
 TEST_F(DeviceCases, SatEveryKernelCountsItsBytes) {
     World w = bodySleepWorld(test::jointedRowScene(test::kDeviceSatSimulation));
     for (int i = 0; i < 120; ++i) ASSERT_TRUE(w.step().ok());
@@ -223,7 +223,7 @@ TEST_F(DeviceCases, SatEveryKernelCountsItsBytes) {
 
 // A pebble onto a sleeping stack of ten: the hit wakes the whole stack before the solve and its
 // contacts start from the impulses they held when they fell asleep (carryStillPairs), so the
-// stack gives as the CPU's island does, with islands on the host and with each body sleeping by
+// stack gives as the CPU's island does, with islands and with each body sleeping by
 // itself. Woken one contact deep the stack would stand as a wall (no sag, the pebble stopped
 // dead); woken whole with cold contacts it would sag further.
 TEST_F(DeviceCases, SatPebbleOnASleepingStackMovesItAsTheCpuDoes) {

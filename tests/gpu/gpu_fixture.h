@@ -62,7 +62,7 @@ class GpuTest : public ::testing::Test {
         return worldOf(scene, run);
     }
     /// SAT with each body sleeping by itself on the device (RunOptions::bodySleep) instead of
-    /// by islands on the host: the kernels of kernels/sleep.cl on the SAT path.
+    /// by islands: the body-sleep kernels of kernels/sleep.cl on the SAT path.
     World bodySleepWorld(const std::string& json) {
         RunOptions run;
         run.bodySleep = true;

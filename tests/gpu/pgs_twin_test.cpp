@@ -508,7 +508,7 @@ TEST_F(PgsTwin, PyramidAndStackStandAndSleepOnTheDevice) {
 
 // A world below 2 x kPgsBlockBodies bodies runs as one block on a CPU device, whose sweeps take
 // every row in the CPU's order (normal, friction and push rows and the warm start by point),
-// and sleeps by the CPU's islands on the host: pyramid_20, 210 crates and 1,600 contact points,
+// and sleeps by the CPU's islands: pyramid_20, 210 crates and 1,600 contact points,
 // steps the CPU's bits on the device, every body at every step, through the crates falling
 // asleep (from step 30) until the whole pile sleeps, and on. Each body sleeping by itself on
 // the device, or the friction rows and the warm start taken element by element (as eight blocks

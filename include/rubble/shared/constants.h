@@ -57,7 +57,7 @@
 #define RUBBLE_STATUS_LAYERS 12u      // PGS: moving bodies 10 times apart in mass touch (layers)
 #define RUBBLE_STATUS_KEPT 13u        // SAT: last step's kept pair entries (markStillPairs)
 #define RUBBLE_STATUS_CARRIED 14u     // SAT: still pairs carried into the next step's set
-#define RUBBLE_STATUS_SPARE5 15u      // keep the block a multiple of 16 bytes
+#define RUBBLE_STATUS_FELL_ASLEEP 15u // SAT islands: bodies put to sleep at the end of the step
 #define RUBBLE_STATUS_COUNT 16u
 
 // Stages over contacts run a fixed number of work-items that stride through however many

@@ -90,4 +90,61 @@ RUBBLE_FN SleepRecord sleepItem(SleepRecord s, uint restless, int slow, float dt
     return r;
 }
 
+// Islands (SAT on the device, kernels/islands.cl; the CPU's are host/dynamics/islands.cpp, whose
+// kSleepSpeed and kTimeToSleep these are): a dynamic body is slow while its fastest point moves
+// slower than RUBBLE_ISLAND_SLEEP_SPEED, and an island whose awake bodies have all been slow for
+// RUBBLE_ISLAND_SLEEP_TIME sleeps as one.
+#define RUBBLE_ISLAND_SLEEP_SPEED 0.05f // m/s
+#define RUBBLE_ISLAND_SLEEP_TIME 0.5f   // s
+// A body's island group: none (awake, or asleep alone); else the smallest index of the island it
+// fell asleep with.
+#define RUBBLE_NO_ISLAND 0xffffffffu
+// A body's wake marks in a collision round (one word per body): bit 0 wakes the body itself, bit
+// 1 the group whose index the word has.
+#define RUBBLE_ISLAND_WAKE_BODY 1u
+#define RUBBLE_ISLAND_WAKE_GROUP 2u
+// An island root's word at the end of the step: an awake body is in it (bit 0), a restless one
+// (bit 1).
+#define RUBBLE_ISLAND_AWAKE 1u
+#define RUBBLE_ISLAND_RESTLESS 2u
+
+// The speed of the body's fastest point: its centre's speed plus the turn at `radius` (its
+// bounding radius), m/s. The float arithmetic of the CPU's fastestPoint.
+RUBBLE_FN float fastestPointItem(BodyVelocity v, float radius) {
+    return length3(v.linear) + radius * length3(v.angular);
+}
+
+// A kinematic body that moves at all: it never sleeps, and wakes and keeps awake what it touches.
+RUBBLE_FN int movingKinematicItem(uint flags, BodyVelocity v) {
+    return (flags & RUBBLE_BODY_KINEMATIC) && fastestPointItem(v, 1.0f) > 0.0f;
+}
+
+// Restless before the solve (the CPU's wakeIslands): a moving kinematic body, or a dynamic awake
+// one woken from outside since the last step (`wasAsleep`) or not slow on `approach`, the
+// velocities before this step's forces. Such a body wakes the sleeping ones it touches.
+RUBBLE_FN int restlessBeforeSolveItem(uint flags, int dynamic, uint wasAsleep,
+                                      BodyVelocity approach, float radius) {
+    if (movingKinematicItem(flags, approach)) return 1;
+    if (!dynamic || (flags & RUBBLE_BODY_ASLEEP)) return 0;
+    return wasAsleep != 0u || fastestPointItem(approach, radius) >= RUBBLE_ISLAND_SLEEP_SPEED;
+}
+
+// 8 bytes, not stored: a dynamic awake body's slow time after the step and whether it is
+// restless (not slow, or woken from outside since the last step: its slow time starts again).
+typedef struct IslandBody {
+    float slowFor;
+    uint restless;
+} IslandBody;
+
+// The CPU's updateSleep for one dynamic awake body, on its velocity after the step.
+RUBBLE_FN IslandBody islandBodyItem(float slowFor, uint wasAsleep, BodyVelocity v, float radius,
+                                    float dt) {
+    const int slow = fastestPointItem(v, radius) < RUBBLE_ISLAND_SLEEP_SPEED;
+    const float from = wasAsleep != 0u ? 0.0f : slowFor;
+    IslandBody r;
+    r.slowFor = slow ? from + dt : 0.0f;
+    r.restless = (!slow || wasAsleep != 0u) ? 1u : 0u;
+    return r;
+}
+
 RUBBLE_SHARED_END
