@@ -47,9 +47,11 @@ void finishTask(void* userTask, void* userContext) {
 }
 
 // A Box3D hull for one rubble shape (box, convex, mesh: rubble's hull, centre of mass at the
-// origin); null for spheres and planes, which are made per body.
+// origin); null for spheres and planes, which are made per body. A mesh that static bodies use
+// (a static triangle mesh or a height field, rubble's level mesh) is also a Box3D triangle mesh.
 struct Box3dShape {
     b3HullData* hull = nullptr; ///< owned (b3DestroyHull), unless it is `box`'s
+    b3MeshData* mesh = nullptr; ///< owned (b3DestroyMesh): the level mesh's triangles
     b3BoxHull box{};
     bool isBox = false;
     bool reduced = false; ///< the hull has more vertices than Box3D takes: Box3D reduced it
@@ -78,23 +80,35 @@ class Box3dWorld final : public PeerWorld {
             (d.isStatic ? c.staticBodyCount : c.dynamicBodyCount) += 1;
             (d.isStatic ? c.staticShapeCount : c.dynamicShapeCount) += 1;
         }
+        // The shapes that static bodies use: their meshes collide by their triangles.
+        std::vector<std::uint8_t> staticUse(shapes.size(), 0);
+        for (const BodyDesc& d : scene.bodies)
+            if (d.isStatic) staticUse[d.shape] = 1;
         world_ = b3CreateWorld(&def);
         dt_ = scene.simulation.dt;
-        for (const Shape& s : shapes) shapes_.push_back(makeShape(s));
+        for (std::size_t i = 0; i < shapes.size(); ++i)
+            shapes_.push_back(makeShape(shapes[i], staticUse[i] != 0));
         const float planeHalfWidth = planeWidth(scene, shapes);
         for (const BodyDesc& d : scene.bodies) addBody(scene, shapes, d, planeHalfWidth);
         for (const JointDesc& j : scene.joints) addJoint(j);
     }
     ~Box3dWorld() override {
         b3DestroyWorld(world_);
-        for (Box3dShape& s : shapes_)
+        for (Box3dShape& s : shapes_) {
             if (s.hull) b3DestroyHull(s.hull);
+            if (s.mesh) b3DestroyMesh(s.mesh);
+        }
     }
 
     bool valid() const { return bad_.empty(); }
     const std::string& problem() const { return bad_; }
 
     void step() override { b3World_Step(world_, dt_, kSubsteps); }
+
+    bool applyImpulse(std::size_t body, glm::vec3 impulse) override {
+        b3Body_ApplyLinearImpulseToCenter(bodies_[body], b3(impulse), true);
+        return true;
+    }
 
     void read(std::vector<TrajectoryRow>& rows) const override {
         rows.resize(bodies_.size());
@@ -145,8 +159,9 @@ class Box3dWorld final : public PeerWorld {
     }
 
   private:
-    Box3dShape makeShape(const Shape& s) {
+    Box3dShape makeShape(const Shape& s, bool usedStatic) {
         Box3dShape b;
+        if (usedStatic && s.level) b.mesh = makeMesh(s);
         switch (s.type) {
         case ShapeType::Box:
             b.box = b3MakeBoxHull(s.halfExtents.x, s.halfExtents.y, s.halfExtents.z);
@@ -154,6 +169,8 @@ class Box3dWorld final : public PeerWorld {
             break;
         case ShapeType::Convex:
         case ShapeType::Mesh: {
+            // A level mesh that encloses no volume has no hull; static bodies use its triangles.
+            if (s.hull.vertices.empty()) break;
             std::vector<b3Vec3> points;
             for (const glm::vec3& v : s.hull.vertices) points.push_back(b3(v));
             const int n = int(points.size());
@@ -174,6 +191,33 @@ class Box3dWorld final : public PeerWorld {
         return b;
     }
 
+    // A Box3D triangle mesh of a level mesh's triangles (rubble's winding, vertices welded, edges
+    // shared so that Box3D's own internal-edge handling applies).
+    b3MeshData* makeMesh(const Shape& s) {
+        std::vector<b3Vec3> vertices;
+        std::vector<std::int32_t> indices;
+        std::vector<std::uint8_t> materials;
+        for (const LevelTriangle& t : s.level->triangles) {
+            for (const glm::vec3& v : t.v) {
+                indices.push_back(std::int32_t(vertices.size()));
+                vertices.push_back(b3(v));
+            }
+            materials.push_back(0);
+        }
+        b3MeshDef def{};
+        def.vertices = vertices.data();
+        def.indices = indices.data();
+        def.materialIndices = materials.data();
+        def.vertexCount = int(vertices.size());
+        def.triangleCount = int(materials.size());
+        def.weldVertices = true;
+        def.weldTolerance = 1e-5f;
+        def.identifyEdges = true;
+        b3MeshData* mesh = b3CreateMesh(&def, nullptr, 0);
+        if (!mesh && bad_.empty()) bad_ = "shapes." + s.name + ": Box3D cannot make its mesh";
+        return mesh;
+    }
+
     // Half the width of a plane's box: past every body of the scene with room to spare.
     static float planeWidth(const Scene& scene, const std::vector<Shape>& shapes) {
         float reach = 0.0f;
@@ -191,7 +235,10 @@ class Box3dWorld final : public PeerWorld {
         const Shape& shape = shapes[d.shape];
         const MaterialDesc& material = scene.materials[d.material];
         b3BodyDef body = b3DefaultBodyDef();
-        body.type = d.isStatic ? b3_staticBody : b3_dynamicBody;
+        body.type = d.isStatic      ? b3_staticBody
+                    : d.isKinematic ? b3_kinematicBody
+                                    : b3_dynamicBody;
+        const bool massive = !d.isStatic && !d.isKinematic;
         body.position = b3(d.position);
         body.rotation = b3(d.orientation);
         body.linearVelocity = b3(d.linearVelocity);
@@ -211,8 +258,8 @@ class Box3dWorld final : public PeerWorld {
         b3ShapeDef def = b3DefaultShapeDef();
         def.baseMaterial.friction = material.friction;
         def.baseMaterial.restitution = material.restitution;
-        const double mass = bodyMass(d, shape);
-        def.density = d.isStatic ? 0.0f : float(mass / shape.unitMass.volume);
+        const double mass = massive ? bodyMass(d, shape) : 0.0;
+        def.density = massive ? float(mass / shape.unitMass.volume) : 0.0f;
         def.updateBodyMass = false;
         if (shape.type == ShapeType::Sphere) {
             const b3Sphere sphere{b3Vec3{0.0f, 0.0f, 0.0f}, shape.radius};
@@ -224,16 +271,18 @@ class Box3dWorld final : public PeerWorld {
             b3CreateCapsuleShape(id, &def, &capsule);
         } else if (shape.type == ShapeType::Plane) {
             b3CreateHullShape(id, &def, &planeBox.base);
+        } else if (d.isStatic && shapes_[d.shape].mesh) {
+            b3CreateMeshShape(id, &def, shapes_[d.shape].mesh, b3Vec3{1.0f, 1.0f, 1.0f});
         } else if (const b3HullData* hull = shapes_[d.shape].data()) {
             b3CreateHullShape(id, &def, hull);
         }
-        if (!d.isStatic) {
+        if (massive) {
             // rubble's mass properties: the centre of mass at the body's origin.
             const glm::dmat3 inertia = shape.unitMass.inertia * (mass / shape.unitMass.volume);
             b3Body_SetMassData(id, b3MassData{float(mass), b3Vec3{0.0f, 0.0f, 0.0f}, b3(inertia)});
         }
         bodies_.push_back(id);
-        dynamic_.push_back(!d.isStatic);
+        dynamic_.push_back(!d.isStatic); // kinematic bodies move: read like dynamic ones
         staticRows_.push_back(TrajectoryRow{d.name, d.position, d.orientation, glm::vec3(0.0f),
                                             glm::vec3(0.0f)});
         names_.push_back(d.name);

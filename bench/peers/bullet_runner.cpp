@@ -22,12 +22,22 @@ btQuaternion bt(glm::quat q) { return btQuaternion(q.x, q.y, q.z, q.w); }
 struct BulletShape {
     std::unique_ptr<btCollisionShape> shape;
     std::unique_ptr<btCollisionShape> child; // a hull inside a compound, when rotated
+    // A mesh that static bodies use (a static triangle mesh or a height field): its triangles in
+    // the body frame, as rubble's level mesh holds them.
+    std::unique_ptr<btTriangleMesh> triangles;
+    std::unique_ptr<btCollisionShape> level;
     glm::quat toBody{1.0f, 0.0f, 0.0f, 0.0f}; // shape frame -> Bullet body frame
     glm::dvec3 moments{0.0};                  // principal moments at unit density
 };
 
-BulletShape makeShape(const Shape& s) {
+BulletShape makeShape(const Shape& s, bool usedStatic) {
     BulletShape b;
+    if (usedStatic && s.level) {
+        b.triangles = std::make_unique<btTriangleMesh>();
+        for (const LevelTriangle& t : s.level->triangles)
+            b.triangles->addTriangle(bt(t.v[0]), bt(t.v[1]), bt(t.v[2]));
+        b.level = std::make_unique<btBvhTriangleMeshShape>(b.triangles.get(), true);
+    }
     switch (s.type) {
     case ShapeType::Box:
         b.shape = std::make_unique<btBoxShape>(bt(s.halfExtents));
@@ -43,6 +53,8 @@ BulletShape makeShape(const Shape& s) {
         return b;
     case ShapeType::Convex:
     case ShapeType::Mesh: {
+        // A level mesh that encloses no volume has no hull; static bodies use its triangles.
+        if (s.hull.vertices.empty()) return b;
         auto hull = std::make_unique<btConvexHullShape>();
         for (const glm::vec3& v : s.hull.vertices) hull->addPoint(bt(v), false);
         hull->recalcLocalAabb();
@@ -69,10 +81,18 @@ class BulletWorld final : public PeerWorld {
         world_.setGravity(bt(scene.simulation.gravity));
         world_.getSolverInfo().m_numIterations = scene.simulation.solver.iterations;
         dt_ = scene.simulation.dt;
-        for (const Shape& s : shapes) shapes_.push_back(makeShape(s));
+        std::vector<std::uint8_t> staticUse(shapes.size(), 0);
+        for (const BodyDesc& d : scene.bodies)
+            if (d.isStatic) staticUse[d.shape] = 1;
+        for (std::size_t i = 0; i < shapes.size(); ++i)
+            shapes_.push_back(makeShape(shapes[i], staticUse[i] != 0));
         for (const BodyDesc& d : scene.bodies) {
             const Shape& shape = shapes[d.shape];
             BulletShape& bs = shapes_[d.shape];
+            // A static mesh collides by its triangles, in the body frame.
+            const bool level = d.isStatic && bs.level;
+            btCollisionShape* collides = level ? bs.level.get() : bs.shape.get();
+            const glm::quat toBody = level ? glm::quat(1.0f, 0.0f, 0.0f, 0.0f) : bs.toBody;
             const double mass = bodyMass(d, shape);
             btVector3 inertia(0, 0, 0);
             if (mass > 0.0) {
@@ -80,11 +100,11 @@ class BulletWorld final : public PeerWorld {
                 inertia = btVector3(m.x, m.y, m.z);
             }
             // Bullet's body frame is the principal frame: q_bullet = q_shape * toBody^-1.
-            const glm::quat q = d.orientation * glm::conjugate(bs.toBody);
+            const glm::quat q = d.orientation * glm::conjugate(toBody);
             btTransform start(bt(q), bt(d.position));
             motion_.push_back(std::make_unique<btDefaultMotionState>(start));
             btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), motion_.back().get(),
-                                                          bs.shape.get(), inertia);
+                                                          collides, inertia);
             // Bullet multiplies the two bodies' coefficients; rubble takes sqrt(mu_a mu_b).
             const MaterialDesc& mat = scene.materials[d.material];
             info.m_friction = std::sqrt(mat.friction);
@@ -93,7 +113,7 @@ class BulletWorld final : public PeerWorld {
             body->setLinearVelocity(bt(d.linearVelocity));
             body->setAngularVelocity(bt(d.angularVelocity));
             world_.addRigidBody(body.get());
-            toShape_.push_back(bs.toBody);
+            toShape_.push_back(toBody);
             bodies_.push_back(std::move(body));
             names_.push_back(d.name);
         }
@@ -105,6 +125,13 @@ class BulletWorld final : public PeerWorld {
     }
 
     void step() override { world_.stepSimulation(btScalar(dt_), 0, btScalar(dt_)); }
+
+    bool applyImpulse(std::size_t body, glm::vec3 impulse) override {
+        btRigidBody& b = *bodies_[body];
+        b.activate(true);
+        b.applyCentralImpulse(btVector3(impulse.x, impulse.y, impulse.z));
+        return true;
+    }
 
     void read(std::vector<TrajectoryRow>& rows) const override {
         rows.resize(bodies_.size());

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "host/io/metrics.h"
+#include "rubble/shared/events.h"
 
 namespace rubble::peers {
 
@@ -41,9 +42,17 @@ int runPeer(int argc, char** argv, const std::string& engine, const std::string&
     Result<Scene> scene = loadScene(scenePath);
     if (!scene) return fail(scene.error());
     if (steps) scene->simulation.steps = *steps;
+    // As the world builds them: a mesh on a static body also gets its triangles (a peer that
+    // has triangle meshes collides with those), on a moving one its hull.
+    std::vector<ShapeUse> uses(scene->shapes.size(), ShapeUse{false, false});
+    for (const BodyDesc& b : scene->bodies) {
+        uses[b.shape].level = uses[b.shape].level || b.isStatic;
+        uses[b.shape].moving = uses[b.shape].moving || !b.isStatic;
+    }
     std::vector<Shape> shapes;
-    for (const ShapeDesc& d : scene->shapes) {
-        Result<Shape> s = buildShape(d);
+    for (std::size_t i = 0; i < scene->shapes.size(); ++i) {
+        const ShapeDesc& d = scene->shapes[i];
+        Result<Shape> s = buildShape(d, uses[i]);
         if (!s) return fail(s.error());
         shapes.push_back(std::move(*s));
     }
@@ -79,7 +88,29 @@ int runPeer(int argc, char** argv, const std::string& engine, const std::string&
     if (driftFrom == 0) w.read(before);
     std::vector<double> stepMs;
     stepMs.reserve(std::size_t(scene->simulation.steps));
+    // The scene's explosions, as rubble's applyForces: at the start of the first step whose time
+    // reaches theirs, each dynamic body within reach gets its impulse (rubble/shared/events.h).
+    std::vector<std::uint8_t> fired(scene->events.size(), 0);
+    std::vector<TrajectoryRow> at;
+    bool explosionsApplied = true;
     for (int i = 1; i <= scene->simulation.steps; ++i) {
+        const double time = (i - 1) * dt;
+        for (std::size_t e = 0; e < scene->events.size(); ++e) {
+            const EventDesc& x = scene->events[e];
+            if (fired[e] || !(time + 1e-9 >= double(x.time))) continue;
+            fired[e] = 1;
+            w.read(at);
+            const shared::float4 centre{x.centre.x, x.centre.y, x.centre.z, 0.0f};
+            for (std::size_t b = 0; b < scene->bodies.size(); ++b) {
+                const BodyDesc& d = scene->bodies[b];
+                if (d.isStatic || d.isKinematic) continue;
+                const glm::vec3 p = at[b].position;
+                const shared::float4 j = shared::explosionImpulseItem(
+                    shared::float4{p.x, p.y, p.z, 0.0f}, centre, x.impulse, x.radius);
+                if (j.w == 0.0f) continue;
+                explosionsApplied = w.applyImpulse(b, glm::vec3(j.x, j.y, j.z)) && explosionsApplied;
+            }
+        }
         const auto start = std::chrono::steady_clock::now();
         w.step();
         stepMs.push_back(
@@ -107,7 +138,10 @@ int runPeer(int argc, char** argv, const std::string& engine, const std::string&
         j["engine"] = engine;
         j["engine_version"] = version;
         if (const std::string device = w.device(); !device.empty()) j["device"] = device;
-        j["caveats"] = w.caveats();
+        std::vector<std::string> caveats = w.caveats();
+        if (!explosionsApplied)
+            caveats.push_back("the scene's explosions are not applied (the runner has no impulses)");
+        j["caveats"] = caveats;
         if (Status s = writeFileAtomically(metrics, j.dump(2) + "\n"); !s) return fail(s.error());
     }
     std::printf("%s on %s: %zu steps, %zu bodies, %.3f ms/step (median)\n", engine.c_str(),

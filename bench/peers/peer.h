@@ -32,6 +32,13 @@ class PeerWorld {
     virtual std::optional<std::size_t> asleep() const { return std::nullopt; }
     /// What stepped it, for the metrics file's `device` (`box3d, 2 workers`); empty: the engine.
     virtual std::string device() const { return {}; }
+    /// Adds a linear impulse (N s, world) at a dynamic body's centre of mass and wakes it, for the
+    /// scene's explosions; false when the runner does not.
+    virtual bool applyImpulse(std::size_t body, glm::vec3 impulse) {
+        (void)body;
+        (void)impulse;
+        return false;
+    }
 };
 
 /// Builds a peer world; shapes are rubble's built shapes (centre of mass at the origin).
