@@ -10,7 +10,7 @@
 #include "host/core/limits.h"
 #include "host/core/math.h"
 #include "rubble/shared/broad_phase.h"
-#include "rubble/shared/narrow_phase.h"
+#include "rubble/shared/contact_recycling.h"
 
 namespace rubble {
 namespace {
@@ -125,9 +125,10 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
     std::size_t cached = 0;
     for (const BodyPair& pair : out.pairs) {
         while (cached < c.features.size() && c.features[cached].pair < pair) ++cached;
-        shared::PairCache cache = cached < c.features.size() && c.features[cached].pair == pair
-                                      ? c.features[cached].cache
-                                      : shared::emptyPairCacheItem();
+        const bool known = cached < c.features.size() && c.features[cached].pair == pair;
+        shared::PairCache cache = known ? c.features[cached].cache : shared::emptyPairCacheItem();
+        shared::RecycledManifold recycled =
+            known ? c.features[cached].recycled : shared::emptyRecycledManifoldItem();
         const float margin =
             params.continuous
                 ? shared::pairMarginItem(bodies.velocities[pair.a], bodies.velocities[pair.b],
@@ -151,14 +152,17 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
                     m.normal = shared::negate4(m.normal);
         } else {
             // Capsules collide by the CPU's own closest features; the rest as the device does.
-            c.levelManifolds.push_back(
-                shapeA.kind == RUBBLE_SHAPE_CAPSULE || shapeB.kind == RUBBLE_SHAPE_CAPSULE
-                    ? *collideCapsulePair(fullA, c.transforms[pair.a], fullB, c.transforms[pair.b],
-                                          margin)
-                    : shared::collideShapesClippingInItem(arrays, shapeA, c.transforms[pair.a],
-                                                          shapeB, c.transforms[pair.b], &cache,
-                                                          margin, buffers));
-            if (cache.reusable) c.nextFeatures.push_back({pair, cache});
+            const shared::RigidTransform& ta = c.transforms[pair.a];
+            const shared::RigidTransform& tb = c.transforms[pair.b];
+            if (shapeA.kind == RUBBLE_SHAPE_CAPSULE || shapeB.kind == RUBBLE_SHAPE_CAPSULE)
+                c.levelManifolds.push_back(*collideCapsulePair(fullA, ta, fullB, tb, margin));
+            else if (params.recycleContacts)
+                c.levelManifolds.push_back(shared::collideShapesRecyclingInItem(
+                    arrays, shapeA, ta, shapeB, tb, &cache, &recycled, margin, buffers));
+            else
+                c.levelManifolds.push_back(shared::collideShapesClippingInItem(
+                    arrays, shapeA, ta, shapeB, tb, &cache, margin, buffers));
+            if (cache.reusable) c.nextFeatures.push_back({pair, cache, recycled});
         }
         for (const shared::ContactManifold& found : c.levelManifolds) {
             if (found.count == 0) continue;

@@ -11,14 +11,15 @@
 #include "host/collision/collision_stage.h"
 #include "host/collision/hull_data.h"
 #include "host/collision/level_collision.h"
-#include "rubble/shared/hull_contact.h"
+#include "rubble/shared/contact_recycling.h"
 
 namespace rubble {
 
-/// A hull pair's axis or contact feature, kept for the next step.
+/// A hull pair's axis or contact feature, and its manifold for recycling, kept for the next step.
 struct CachedFeature {
     BodyPair pair;
     shared::PairCache cache;
+    shared::RecycledManifold recycled; ///< empty unless StepParams::recycleContacts
 };
 
 /// What the SAT stages keep between steps (frame coherence), and their reused arrays.
@@ -59,7 +60,8 @@ class SatCollision final : public CollisionStage {
     /// bodies can come this step (relative translation plus turning): contacts up to that gap
     /// come out with negative depth, and the solver lets them close only that far. A static body
     /// whose shape has a LevelMesh collides by its triangles (level_collision.h), one manifold
-    /// per group of contacts sharing a normal.
+    /// per group of contacts sharing a normal. With StepParams::recycleContacts a hull pair that
+    /// moved little against itself keeps last step's manifold (rubble/shared/contact_recycling.h).
     Status narrowPhase(const CollisionScene& scene, BodiesView bodies,
                        const StepParams& params, StepContacts& out) override;
     /// The manifolds' points (manifoldsToContacts).
