@@ -11,6 +11,7 @@
 
 #include "host/collision/sat_collision.h"
 #include "host/core/math.h"
+#include "rubble/world.h"
 #include "support/stage_input.h"
 
 namespace rubble {
@@ -157,6 +158,25 @@ TEST(ContactRecycling, PointsBeyondTheMarginAreLeftOut) {
     recycling.place(glm::vec3(0.0f, 0.0009f, 0.0f), 0.0f, glm::vec3(0, 1, 0));
     recycling.step();
     EXPECT_TRUE(recycling.c.manifolds.empty());
+}
+
+// The device's SAT collides every pair every step: asking it to recycle is refused, naming the
+// option.
+TEST(ContactRecycling, OnlyTheCpuSatPathTakesIt) {
+    for (const char* simulation :
+         {R"("backend": "opencl", "collision": {"method": "sat", "recycle_contacts": true})",
+          R"("collision": {"method": "particles", "recycle_contacts": true})"}) {
+        const std::string text = R"({"format": "rubble-scene", "version": 1, "name": "t",
+          "simulation": {)" + std::string(simulation) + R"(},
+          "shapes": {"crate": {"type": "box", "half_extents": [0.3, 0.3, 0.3]}},
+          "bodies": [{"name": "crate", "shape": "crate", "mass": 1}]})";
+        Result<Scene> scene = parseScene(text, "inline.json", ".");
+        ASSERT_TRUE(scene.ok()) << scene.error().describe();
+        Result<World> world = World::create(*scene);
+        ASSERT_FALSE(world.ok()) << simulation;
+        EXPECT_EQ(world.error().kind, ErrorKind::NotSupported);
+        EXPECT_EQ(world.error().where, "inline.json: simulation.collision.recycle_contacts");
+    }
 }
 
 } // namespace
