@@ -118,6 +118,10 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
     const shared::ClipBuffers buffers = c.clip.buffers();
     out.manifolds.clear();
     c.nextFeatures.clear();
+    c.nextRecycled.clear();
+    // Kept manifolds only from a step that kept them for every feature.
+    const bool recycle = params.recycleContacts;
+    const bool haveRecycled = recycle && c.recycled.size() == c.features.size();
     std::size_t contacts = 0;
     const std::size_t budget = contactBudget(bodies.count());
     float deepest = 0.0f;
@@ -127,8 +131,6 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
         while (cached < c.features.size() && c.features[cached].pair < pair) ++cached;
         const bool known = cached < c.features.size() && c.features[cached].pair == pair;
         shared::PairCache cache = known ? c.features[cached].cache : shared::emptyPairCacheItem();
-        shared::RecycledManifold recycled =
-            known ? c.features[cached].recycled : shared::emptyRecycledManifoldItem();
         const float margin =
             params.continuous
                 ? shared::pairMarginItem(bodies.velocities[pair.a], bodies.velocities[pair.b],
@@ -154,15 +156,20 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
             // Capsules collide by the CPU's own closest features; the rest as the device does.
             const shared::RigidTransform& ta = c.transforms[pair.a];
             const shared::RigidTransform& tb = c.transforms[pair.b];
-            if (shapeA.kind == RUBBLE_SHAPE_CAPSULE || shapeB.kind == RUBBLE_SHAPE_CAPSULE)
+            if (shapeA.kind == RUBBLE_SHAPE_CAPSULE || shapeB.kind == RUBBLE_SHAPE_CAPSULE) {
                 c.levelManifolds.push_back(*collideCapsulePair(fullA, ta, fullB, tb, margin));
-            else if (params.recycleContacts)
+            } else if (recycle) {
+                shared::RecycledManifold kept = known && haveRecycled
+                                                    ? c.recycled[cached]
+                                                    : shared::emptyRecycledManifoldItem();
                 c.levelManifolds.push_back(shared::collideShapesRecyclingInItem(
-                    arrays, shapeA, ta, shapeB, tb, &cache, &recycled, margin, buffers));
-            else
+                    arrays, shapeA, ta, shapeB, tb, &cache, &kept, margin, buffers));
+                if (cache.reusable) c.nextRecycled.push_back(kept);
+            } else {
                 c.levelManifolds.push_back(shared::collideShapesClippingInItem(
                     arrays, shapeA, ta, shapeB, tb, &cache, margin, buffers));
-            if (cache.reusable) c.nextFeatures.push_back({pair, cache, recycled});
+            }
+            if (cache.reusable) c.nextFeatures.push_back({pair, cache});
         }
         for (const shared::ContactManifold& found : c.levelManifolds) {
             if (found.count == 0) continue;
@@ -189,6 +196,7 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
         }
     }
     std::swap(c.features, c.nextFeatures);
+    std::swap(c.recycled, c.nextRecycled);
     out.contactCount = std::uint32_t(contacts);
     out.largestPenetration = deepest;
     if (form_ == ContactForm::Points) manifoldsToContacts(out.manifolds, out.points);
@@ -204,6 +212,8 @@ Status SatCollision::rebuild(const CollisionScene& scene, BodiesView, float) {
     flattenScene(scene, cache_);
     cache_.features.clear();
     cache_.nextFeatures.clear();
+    cache_.recycled.clear();
+    cache_.nextRecycled.clear();
     return {};
 }
 

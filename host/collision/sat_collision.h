@@ -15,11 +15,10 @@
 
 namespace rubble {
 
-/// A hull pair's axis or contact feature, and its manifold for recycling, kept for the next step.
+/// A hull pair's axis or contact feature, kept for the next step.
 struct CachedFeature {
     BodyPair pair;
     shared::PairCache cache;
-    shared::RecycledManifold recycled; ///< empty unless StepParams::recycleContacts
 };
 
 /// What the SAT stages keep between steps (frame coherence), and their reused arrays.
@@ -27,6 +26,10 @@ struct CollisionCache {
     /// Last step's features, sorted by pair: the next narrow phase tests them first.
     std::vector<CachedFeature> features;
     std::vector<CachedFeature> nextFeatures; ///< being filled; swapped with features
+    /// With StepParams::recycleContacts, each feature's manifold for recycling (same index as
+    /// features); empty without.
+    std::vector<shared::RecycledManifold> recycled;
+    std::vector<shared::RecycledManifold> nextRecycled; ///< being filled; swapped with recycled
     std::vector<shared::RigidTransform> transforms; ///< per body, this step's broad phase
     std::vector<Aabb> boxes;                 ///< per body, this step, grown by margin and reach
     std::vector<float> spin; ///< per body: how far its turning can move any of its points, m

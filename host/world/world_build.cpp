@@ -112,9 +112,11 @@ Status checkRecycling(const Scene& scene) {
     const SimulationOptions& sim = scene.simulation;
     if (!sim.collision.recycleContacts) return {};
     if (sim.backend == Backend::OpenCl || sim.collisionMethod() == CollisionMethod::Particles)
-        return makeError(ErrorKind::NotSupported, scene.file + ": simulation.collision.recycle_contacts",
+        return makeError(ErrorKind::NotSupported,
+                         scene.file + ": simulation.collision.recycle_contacts",
                          "contact recycling runs on the cpu backend with sat collision only (the "
-                         "device's sat collides every pair every step; particles have no manifolds)");
+                         "device's sat collides every pair every step; particles have no "
+                         "manifolds)");
     return {};
 }
 

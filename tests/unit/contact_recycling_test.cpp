@@ -51,7 +51,7 @@ struct Sat {
         EXPECT_EQ(c.manifolds.size(), 1u);
         return c.manifolds.at(0);
     }
-    std::uint32_t age() const { return stage.cache().features.at(0).recycled.age; }
+    std::uint32_t age() const { return stage.cache().recycled.at(0).age; }
     test::StageInput in;
     SatCollision stage{ContactForm::Manifolds};
     StepContacts c;
@@ -167,7 +167,8 @@ TEST(ContactRecycling, OnlyTheCpuSatPathTakesIt) {
          {R"("backend": "opencl", "collision": {"method": "sat", "recycle_contacts": true})",
           R"("collision": {"method": "particles", "recycle_contacts": true})"}) {
         const std::string text = R"({"format": "rubble-scene", "version": 1, "name": "t",
-          "simulation": {)" + std::string(simulation) + R"(},
+          "simulation": {)" + std::string(simulation) +
+                                 R"(},
           "shapes": {"crate": {"type": "box", "half_extents": [0.3, 0.3, 0.3]}},
           "bodies": [{"name": "crate", "shape": "crate", "mass": 1}]})";
         Result<Scene> scene = parseScene(text, "inline.json", ".");

@@ -84,8 +84,8 @@ RUBBLE_FN float recycleDriftItem(RigidTransform made, RigidTransform bInA, float
 }
 
 // Whether the pair's kept manifold may stand for a new one this step.
-RUBBLE_FN int recyclableItem(RecycledManifold r, RigidTransform bInA, float radiusA,
-                             float radiusB, float margin) {
+RUBBLE_FN int recyclableItem(RecycledManifold r, RigidTransform bInA, float radiusA, float radiusB,
+                             float margin) {
     return r.count > 0u && r.age < RUBBLE_RECYCLE_MAX_AGE &&
            margin <= RUBBLE_CONTACT_MARGIN + RUBBLE_RECYCLE_DISTANCE &&
            recycleDriftItem(r.made, bInA, radiusA, radiusB) <= RUBBLE_RECYCLE_DISTANCE;
