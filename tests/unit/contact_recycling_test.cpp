@@ -160,6 +160,38 @@ TEST(ContactRecycling, PointsBeyondTheMarginAreLeftOut) {
     EXPECT_TRUE(recycling.c.manifolds.empty());
 }
 
+TEST(ContactRecycling, ASeparatedPairStaysSeparatedWhileItMovesLessThanItsGap) {
+    // The crate turned 45 degrees about y beside the table's vertical edge at (0.5, 0.5): its
+    // face 0.22 sqrt 2 - 0.3 = 11.1 mm from the edge, its box overlapping the table's.
+    const float d = 0.22f;
+    const float gap = d * std::sqrt(2.0f) - 0.3f;
+    Sat recycling(R"({"format": "rubble-scene", "version": 1, "name": "t",
+      "simulation": {"collision": {"recycle_contacts": true}},
+      "shapes": {"table": {"type": "box", "half_extents": [0.5, 0.5, 0.5]},
+                 "crate": {"type": "box", "half_extents": [0.3, 0.3, 0.3]}},
+      "bodies": [{"name": "table", "shape": "table", "static": true, "position": [0, 0, 0]},
+                 {"name": "crate", "shape": "crate", "mass": 1, "position": [0.72, 0, 0.72],
+                  "orientation": [0.9238795, 0, 0.3826834, 0]}]})");
+    recycling.step();
+    ASSERT_EQ(recycling.c.pairs.size(), 1u);
+    EXPECT_TRUE(recycling.c.manifolds.empty());
+    EXPECT_NEAR(recycling.stage.cache().recycled.at(0).gap, gap, 1e-5f);
+    const float made = recycling.stage.cache().recycled.at(0).made.translation.x;
+    const glm::vec3 towards = glm::normalize(glm::vec3(-1.0f, 0.0f, -1.0f));
+    const float angle = glm::radians(45.0f);
+    // 5 mm closer: 6.1 mm apart, more than the margin; the pair is not tested again.
+    recycling.place(0.005f * towards, angle, glm::vec3(0, 1, 0));
+    recycling.step();
+    EXPECT_TRUE(recycling.c.manifolds.empty());
+    EXPECT_EQ(recycling.stage.cache().recycled.at(0).made.translation.x, made);
+    // 8 mm closer, 3.1 mm apart: tested again, speculative points at that gap.
+    recycling.place(0.008f * towards, angle, glm::vec3(0, 1, 0));
+    recycling.step();
+    ASSERT_GE(recycling.only().count, 1u);
+    for (std::uint32_t i = 0; i < recycling.only().count; ++i)
+        EXPECT_NEAR(recycling.only().points[i].depth, -(gap - 0.008f), 2e-5f);
+}
+
 // The device's SAT collides every pair every step: asking it to recycle is refused, naming the
 // option.
 TEST(ContactRecycling, OnlyTheCpuSatPathTakesIt) {

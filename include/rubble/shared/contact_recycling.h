@@ -1,7 +1,8 @@
 // include/rubble/shared/contact_recycling.h: contact recycling in stage narrowPhase (both
 // pipelines): a hull pair keeps its last manifold in the frames of its two bodies and, while the
 // bodies have moved little against each other since it was made, rebuilds it under the current
-// transforms instead of running SAT and clipping (Box2D v3.2's contact recycling).
+// transforms instead of running SAT and clipping (Box2D v3.2's contact recycling); a separated
+// pair stays separated while the bodies have moved against each other by less than its gap.
 #pragma once
 
 #include "rubble/shared/narrow_phase.h"
@@ -27,7 +28,7 @@ typedef struct RecycledManifold {
     uint count;          // points, 0 to 4; 0: nothing to recycle
     uint normalInB;      // 1 when the reference face is b's (feature kind RUBBLE_KIND_FACE_B)
     uint age;            // steps recycled since the manifold was made
-    uint pad0;
+    float gap;           // separated (count 0): the separation along the separating axis, m
 } RecycledManifold;
 RUBBLE_STATIC_ASSERT_SIZE(RecycledManifold, 240);
 
@@ -46,15 +47,18 @@ RUBBLE_FN RecycledManifold emptyRecycledManifoldItem(void) {
     r.count = 0u;
     r.normalInB = 0u;
     r.age = 0u;
-    r.pad0 = 0u;
+    r.gap = 0.0f;
     return r;
 }
 
 // A hull pair's manifold in a's frame (normal from a to b) at b's pose bInA, kept in the bodies'
-// frames: each point's two surface points, at depth / 2 on either side of it along the normal.
-RUBBLE_FN RecycledManifold recycleManifoldItem(ContactManifold inA, RigidTransform bInA) {
+// frames: each point's two surface points, at depth / 2 on either side of it along the normal;
+// or, for a separated pair, its separation.
+RUBBLE_FN RecycledManifold recycleManifoldItem(HullContact hc, RigidTransform bInA) {
+    const ContactManifold inA = hc.contacts;
     RecycledManifold r = emptyRecycledManifoldItem();
     r.made = bInA;
+    r.gap = hc.separated ? hc.separation : 0.0f;
     r.count = inA.count;
     r.normalInB = inA.count > 0u && (inA.features[0] >> 30) == RUBBLE_KIND_FACE_B;
     r.normal = r.normalInB ? transformRotateInverse(bInA, inA.normal) : inA.normal;
@@ -83,10 +87,14 @@ RUBBLE_FN float recycleDriftItem(RigidTransform made, RigidTransform bInA, float
     return fmin(inA, inB);
 }
 
-// Whether the pair's kept manifold may stand for a new one this step.
+// Whether the pair's kept manifold may stand for a new one this step. A separated pair stays
+// separated by more than the margin while the drift is below its gap less the margin: no point
+// of b came closer to a along the separating axis by more than the drift.
 RUBBLE_FN int recyclableItem(RecycledManifold r, RigidTransform bInA, float radiusA, float radiusB,
                              float margin) {
-    return r.count > 0u && r.age < RUBBLE_RECYCLE_MAX_AGE &&
+    if (r.count == 0u)
+        return r.gap > margin && recycleDriftItem(r.made, bInA, radiusA, radiusB) < r.gap - margin;
+    return r.age < RUBBLE_RECYCLE_MAX_AGE &&
            margin <= RUBBLE_CONTACT_MARGIN + RUBBLE_RECYCLE_DISTANCE &&
            recycleDriftItem(r.made, bInA, radiusA, radiusB) <= RUBBLE_RECYCLE_DISTANCE;
 }
@@ -114,10 +122,10 @@ RUBBLE_FN ContactManifold rebuildRecycledItem(RecycledManifold r, RigidTransform
     return m;
 }
 
-// collideShapesClippingInItem with recycling: a hull pair whose kept manifold is recyclable (and
-// still has a point within the margin) gets it rebuilt; otherwise the pair is collided with its
-// cache and its manifold kept for the next steps. Other pairs (spheres, planes, capsules) are
-// collided as without recycling and leave `recycled` alone.
+// collideShapesClippingInItem with recycling: a hull pair whose kept manifold is recyclable gets
+// it rebuilt (when a point is still within the margin) or no contact (when it was separated);
+// otherwise the pair is collided with its cache and its manifold kept for the next steps. Other
+// pairs (spheres, planes, capsules) are collided as without recycling and leave `recycled` alone.
 RUBBLE_FN ContactManifold collideShapesRecyclingInItem(HullArrays arrays, HullShape a,
                                                        RigidTransform ta, HullShape b,
                                                        RigidTransform tb, PairCache* cache,
@@ -127,6 +135,7 @@ RUBBLE_FN ContactManifold collideShapesRecyclingInItem(HullArrays arrays, HullSh
         return collideShapesClippingInItem(arrays, a, ta, b, tb, cache, margin, buffers);
     const RigidTransform bInA = transformRelative(ta, tb);
     if (recyclableItem(*recycled, bInA, a.boundingRadius, b.boundingRadius, margin)) {
+        if (recycled->count == 0u) return emptyContactsItem();
         const ContactManifold m = rebuildRecycledItem(*recycled, bInA, margin);
         if (m.count > 0u) {
             recycled->age += 1u;
@@ -135,7 +144,7 @@ RUBBLE_FN ContactManifold collideShapesRecyclingInItem(HullArrays arrays, HullSh
     }
     const HullContact hc = collideHullsCachedItem(hullOfItem(arrays, a), hullOfItem(arrays, b),
                                                   bInA, cache, margin, buffers);
-    *recycled = recycleManifoldItem(hc.contacts, bInA);
+    *recycled = recycleManifoldItem(hc, bInA);
     return contactsToWorldItem(hc.contacts, ta, 0);
 }
 
