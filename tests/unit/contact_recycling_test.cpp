@@ -77,9 +77,10 @@ TEST(ContactRecycling, SmallMotionGivesTheFreshManifold) {
     recycling.step();
     ASSERT_EQ(recycling.only().count, 4u);
     EXPECT_EQ(recycling.age(), 0u);
-    // Within the limit: 0.3 mm down and sideways, turned 1 mrad (0.5 mm at the crate's corners).
-    const glm::vec3 d(0.0002f, -0.0003f, 0.0001f);
-    const float angle = 0.001f;
+    // Within the 0.25 mm limit: 0.12 mm down and sideways, turned 0.2 mrad (0.1 mm at the
+    // crate's corners).
+    const glm::vec3 d(0.00005f, -0.0001f, 0.00003f);
+    const float angle = 0.0002f;
     const glm::vec3 axis(0.3f, 0.2f, 1.0f);
     recycling.place(d, angle, axis);
     recycling.step();
@@ -99,10 +100,10 @@ TEST(ContactRecycling, SmallMotionGivesTheFreshManifold) {
         EXPECT_NEAR(glm::length(p->position - f.points[i].position), 0.0f, 2e-6f) << "point " << i;
         EXPECT_NEAR(glm::length(p->normal - f.points[i].normal), 0.0f, 1e-6f);
     }
-    // The depths moved with the crate: 1 mm deep at the start, 1.3 mm give or take the tilt.
+    // The depths moved with the crate: 1 mm deep at the start, 1.1 mm give or take the tilt.
     for (std::uint32_t i = 0; i < r.count; ++i) {
-        EXPECT_GT(r.points[i].depth, 0.0008f);
-        EXPECT_LT(r.points[i].depth, 0.0018f);
+        EXPECT_GT(r.points[i].depth, 0.001f);
+        EXPECT_LT(r.points[i].depth, 0.0012f);
     }
 }
 
@@ -113,7 +114,7 @@ TEST(ContactRecycling, MotionBeyondTheLimitIsRecomputed) {
     plain.step();
     const std::vector<std::uint32_t> before = featureIds(recycling.only());
     ASSERT_EQ(before, featureIds(plain.only()));
-    // 3 mm along x (past the 1 mm limit): two corners leave the table, whose edge clips instead.
+    // 3 mm along x (past the 0.25 mm limit): two corners leave the table, whose edge clips instead.
     for (Sat* s : {&recycling, &plain}) {
         s->place(glm::vec3(0.003f, 0.0f, 0.0f), 0.0f, glm::vec3(0, 1, 0));
         s->step();
@@ -143,19 +144,19 @@ TEST(ContactRecycling, ARestingPairIsRefreshedEveryFewSteps) {
 }
 
 TEST(ContactRecycling, PointsBeyondTheMarginAreLeftOut) {
-    // The crate 3.5 mm above the table: four speculative points, 0.5 mm inside the 4 mm margin.
-    Sat recycling(tableScene(true, 0.1f, 0.8035f));
+    // The crate 3.8 mm above the table: four speculative points, 0.2 mm inside the 4 mm margin.
+    Sat recycling(tableScene(true, 0.1f, 0.8038f));
     recycling.step();
     ASSERT_EQ(recycling.only().count, 4u);
-    // 0.4 mm up: recycled, each point's gap 3.9 mm.
-    recycling.place(glm::vec3(0.0f, 0.0004f, 0.0f), 0.0f, glm::vec3(0, 1, 0));
+    // 0.1 mm up: recycled, each point's gap 3.9 mm.
+    recycling.place(glm::vec3(0.0f, 0.0001f, 0.0f), 0.0f, glm::vec3(0, 1, 0));
     recycling.step();
     EXPECT_EQ(recycling.age(), 1u);
     ASSERT_EQ(recycling.only().count, 4u);
     for (std::uint32_t i = 0; i < 4; ++i)
         EXPECT_NEAR(recycling.only().points[i].depth, -0.0039f, 1e-6f);
-    // 0.9 mm up, within the limit but 4.4 mm apart: no point is left, the full test finds none.
-    recycling.place(glm::vec3(0.0f, 0.0009f, 0.0f), 0.0f, glm::vec3(0, 1, 0));
+    // 0.24 mm up, within the limit but 4.04 mm apart: no point is left, the full test finds none.
+    recycling.place(glm::vec3(0.0f, 0.00024f, 0.0f), 0.0f, glm::vec3(0, 1, 0));
     recycling.step();
     EXPECT_TRUE(recycling.c.manifolds.empty());
 }

@@ -11,11 +11,12 @@ RUBBLE_SHARED_BEGIN
 
 // A manifold is recycled while no point of either body can have moved by more than this against
 // the other since it was made (m), while the pair's margin is widened by no more than this for
-// the bodies' motion in the step, and for at most RUBBLE_RECYCLE_MAX_AGE steps in a row. With
-// both at 1 mm, a point that was beyond the 4 mm contact margin when the manifold was made stays
-// at least 2 mm clear through the step, so no contact is missed.
-#define RUBBLE_RECYCLE_DISTANCE 1e-3f
-#define RUBBLE_RECYCLE_MAX_AGE 8u
+// the bodies' motion in the step, and for at most RUBBLE_RECYCLE_MAX_AGE steps in a row. A point
+// that was beyond the 4 mm contact margin when the manifold was made stays at least 3.5 mm clear
+// through the step, so no contact is missed; with 1 mm and 8 steps the crates of a collapsing
+// pile sink 1-3 mm deeper (docs/collision.md, "Contact recycling").
+#define RUBBLE_RECYCLE_DISTANCE 2.5e-4f
+#define RUBBLE_RECYCLE_MAX_AGE 4u
 
 // 240 bytes: a hull pair's manifold in the frames of its bodies, one per pair beside its
 // PairCache (SatCollision's CollisionCache::features).
