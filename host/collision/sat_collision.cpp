@@ -10,7 +10,7 @@
 #include "host/core/limits.h"
 #include "host/core/math.h"
 #include "rubble/shared/broad_phase.h"
-#include "rubble/shared/narrow_phase.h"
+#include "rubble/shared/contact_recycling.h"
 
 namespace rubble {
 namespace {
@@ -103,6 +103,10 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
     const shared::ClipBuffers buffers = c.clip.buffers();
     out.manifolds.clear();
     c.nextFeatures.clear();
+    c.nextRecycled.clear();
+    // Kept manifolds only from a step that kept them for every feature.
+    const bool recycle = params.recycleContacts;
+    const bool haveRecycled = recycle && c.recycled.size() == c.features.size();
     std::size_t contacts = 0;
     const std::size_t budget = contactBudget(bodies.count());
     float deepest = 0.0f;
@@ -110,9 +114,8 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
     std::size_t cached = 0;
     for (const BodyPair& pair : out.pairs) {
         while (cached < c.features.size() && c.features[cached].pair < pair) ++cached;
-        shared::PairCache cache = cached < c.features.size() && c.features[cached].pair == pair
-                                      ? c.features[cached].cache
-                                      : shared::emptyPairCacheItem();
+        const bool known = cached < c.features.size() && c.features[cached].pair == pair;
+        shared::PairCache cache = known ? c.features[cached].cache : shared::emptyPairCacheItem();
         const float margin =
             params.continuous
                 ? shared::pairMarginItem(bodies.velocities[pair.a], bodies.velocities[pair.b],
@@ -136,13 +139,21 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
                     m.normal = shared::negate4(m.normal);
         } else {
             // Capsules collide by the CPU's own closest features; the rest as the device does.
-            c.levelManifolds.push_back(
-                shapeA.kind == RUBBLE_SHAPE_CAPSULE || shapeB.kind == RUBBLE_SHAPE_CAPSULE
-                    ? *collideCapsulePair(fullA, c.transforms[pair.a], fullB, c.transforms[pair.b],
-                                          margin)
-                    : shared::collideShapesClippingInItem(arrays, shapeA, c.transforms[pair.a],
-                                                          shapeB, c.transforms[pair.b], &cache,
-                                                          margin, buffers));
+            const shared::RigidTransform& ta = c.transforms[pair.a];
+            const shared::RigidTransform& tb = c.transforms[pair.b];
+            if (shapeA.kind == RUBBLE_SHAPE_CAPSULE || shapeB.kind == RUBBLE_SHAPE_CAPSULE) {
+                c.levelManifolds.push_back(*collideCapsulePair(fullA, ta, fullB, tb, margin));
+            } else if (recycle) {
+                shared::RecycledManifold kept = known && haveRecycled
+                                                    ? c.recycled[cached]
+                                                    : shared::emptyRecycledManifoldItem();
+                c.levelManifolds.push_back(shared::collideShapesRecyclingInItem(
+                    arrays, shapeA, ta, shapeB, tb, &cache, &kept, margin, buffers));
+                if (cache.reusable) c.nextRecycled.push_back(kept);
+            } else {
+                c.levelManifolds.push_back(shared::collideShapesClippingInItem(
+                    arrays, shapeA, ta, shapeB, tb, &cache, margin, buffers));
+            }
             if (cache.reusable) c.nextFeatures.push_back({pair, cache});
         }
         for (const shared::ContactManifold& found : c.levelManifolds) {
@@ -170,6 +181,7 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
         }
     }
     std::swap(c.features, c.nextFeatures);
+    std::swap(c.recycled, c.nextRecycled);
     out.contactCount = std::uint32_t(contacts);
     out.largestPenetration = deepest;
     if (form_ == ContactForm::Points) manifoldsToContacts(out.manifolds, out.points);
@@ -185,6 +197,8 @@ Status SatCollision::rebuild(const CollisionScene& scene, BodiesView, float) {
     flattenScene(scene, cache_);
     cache_.features.clear();
     cache_.nextFeatures.clear();
+    cache_.recycled.clear();
+    cache_.nextRecycled.clear();
     return {};
 }
 

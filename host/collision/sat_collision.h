@@ -11,7 +11,7 @@
 #include "host/collision/collision_stage.h"
 #include "host/collision/hull_data.h"
 #include "host/collision/level_collision.h"
-#include "rubble/shared/hull_contact.h"
+#include "rubble/shared/contact_recycling.h"
 
 namespace rubble {
 
@@ -26,6 +26,10 @@ struct CollisionCache {
     /// Last step's features, sorted by pair: the next narrow phase tests them first.
     std::vector<CachedFeature> features;
     std::vector<CachedFeature> nextFeatures; ///< being filled; swapped with features
+    /// With StepParams::recycleContacts, each feature's manifold for recycling (same index as
+    /// features); empty without.
+    std::vector<shared::RecycledManifold> recycled;
+    std::vector<shared::RecycledManifold> nextRecycled; ///< being filled; swapped with recycled
     std::vector<shared::RigidTransform> transforms; ///< per body, this step's broad phase
     std::vector<Aabb> boxes;                 ///< per body, this step, grown by margin and reach
     std::vector<float> spin; ///< per body: how far its turning can move any of its points, m
@@ -59,7 +63,8 @@ class SatCollision final : public CollisionStage {
     /// bodies can come this step (relative translation plus turning): contacts up to that gap
     /// come out with negative depth, and the solver lets them close only that far. A static body
     /// whose shape has a LevelMesh collides by its triangles (level_collision.h), one manifold
-    /// per group of contacts sharing a normal.
+    /// per group of contacts sharing a normal. With StepParams::recycleContacts a hull pair that
+    /// moved little against itself keeps last step's manifold (rubble/shared/contact_recycling.h).
     Status narrowPhase(const CollisionScene& scene, BodiesView bodies,
                        const StepParams& params, StepContacts& out) override;
     /// The manifolds' points (manifoldsToContacts).

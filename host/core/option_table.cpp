@@ -158,6 +158,13 @@ const std::vector<Option>& table() {
              .range = {.min = kMinLength, .max = kMaxLength},
              .unit = "m",
              .help = "Voxel size of the particle shapes"}),
+        simulationOption<&S::collision, &CollisionOptions::recycleContacts>(
+            {.key = "collision.recycle_contacts",
+             .name = "recycle-contacts",
+             .uses = kEverywhere,
+             .help = "SAT on the cpu backend: hull pairs that moved less than 0.25 mm "
+                     "against each other keep their manifold, its depths recomputed "
+                     "(docs/collision.md)"}),
         simulationOption<&S::solver, &SolverOptions::type>({.key = "solver.type",
                                                             .name = "solver",
                                                             .uses = kEverywhere,

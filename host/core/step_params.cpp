@@ -19,6 +19,7 @@ StepParams makeStepParams(const SimulationOptions& o, std::int64_t stepsTaken) {
     p.collision = o.collisionMethod();
     p.particleSpacing = o.collision.particleSpacing;
     p.continuous = o.continuous;
+    p.recycleContacts = o.collision.recycleContacts;
     p.solver = o.solver;
     p.rows = solverParams(o);
     p.jacobiRelaxation = jacobiRelaxation(o.solver);

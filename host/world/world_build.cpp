@@ -107,6 +107,19 @@ Status checkContinuous(const Scene& scene) {
     return {};
 }
 
+// Contact recycling is the CPU's SAT path's: the device's SAT collides every pair every step.
+Status checkRecycling(const Scene& scene) {
+    const SimulationOptions& sim = scene.simulation;
+    if (!sim.collision.recycleContacts) return {};
+    if (sim.backend == Backend::OpenCl || sim.collisionMethod() == CollisionMethod::Particles)
+        return makeError(ErrorKind::NotSupported,
+                         scene.file + ": simulation.collision.recycle_contacts",
+                         "contact recycling runs on the cpu backend with sat collision only (the "
+                         "device's sat collides every pair every step; particles have no "
+                         "manifolds)");
+    return {};
+}
+
 // Refuses options and scene parts that the pipeline cannot run, naming the field.
 Status checkSupported(const Scene& scene) {
     RUBBLE_TRY(checkBackendCombination(scene));
@@ -114,6 +127,7 @@ Status checkSupported(const Scene& scene) {
     RUBBLE_TRY(checkCapsules(scene));
     RUBBLE_TRY(checkLevelMeshes(scene));
     RUBBLE_TRY(checkContinuous(scene));
+    RUBBLE_TRY(checkRecycling(scene));
     RUBBLE_TRY(checkLemkeFrictionless(scene));
     return {};
 }

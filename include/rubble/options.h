@@ -73,6 +73,10 @@ struct CollisionOptions {
     /// (SimulationOptions::collisionMethod; a world holds the one in effect).
     std::optional<CollisionMethod> method;
     float particleSpacing = 0.1f; ///< voxel size of the particle representation, m
+    /// Contact recycling (SAT on the CPU): a hull pair that has moved less than
+    /// RUBBLE_RECYCLE_DISTANCE (0.25 mm) against itself since its manifold was made keeps that manifold,
+    /// its separations recomputed, instead of running SAT and clipping (docs/collision.md).
+    bool recycleContacts = false;
 };
 
 /// The `simulation` block of a scene, after command-line overrides.

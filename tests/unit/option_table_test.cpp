@@ -22,6 +22,7 @@ SimulationOptions otherSimulation() {
     s.backend = Backend::OpenCl;
     s.collision.method = CollisionMethod::Particles;
     s.collision.particleSpacing = 0.3f;
+    s.collision.recycleContacts = !SimulationOptions{}.collision.recycleContacts;
     s.solver.type = SolverType::Lemke;
     s.solver.iterations = 3;
     s.solver.baumgarte = 0.5f;

@@ -26,6 +26,7 @@ RUBBLE_SHARED_BEGIN
 // The contacts of two hulls, or the axis that separates them.
 typedef struct HullContact {
     int separated;
+    float separation;         // along the separating axis when separated, m
     ContactManifold contacts; // in A's frame, normal from A to B
     SatHint feature;          // the separating axis, or the feature the contacts came from
 } HullContact;
@@ -199,11 +200,13 @@ RUBBLE_FN HullContact collideHullsItem(Hull a, Hull b, RigidTransform bInA, floa
                                        SatHint hint, ClipBuffers buffers) {
     HullContact r;
     r.separated = 0;
+    r.separation = 0.0f;
     r.contacts = emptyContactsItem();
     r.feature = makeSatHint(RUBBLE_SAT_NONE, 0u, 0u, 0u);
     const SatResult sat = runSatItem(a, b, bInA, margin, hint);
     if (sat.separated) {
         r.separated = 1;
+        r.separation = sat.separation;
         r.feature = makeSatHint(sat.feature, sat.indexA, sat.indexB, sat.vertex);
         return r;
     }
@@ -240,12 +243,14 @@ RUBBLE_FN HullContact collideHullsFromFeatureItem(Hull a, Hull b, RigidTransform
                                                   ClipBuffers buffers) {
     HullContact r;
     r.separated = 0;
+    r.separation = 0.0f;
     r.contacts = emptyContactsItem();
     r.feature = feature;
     if (feature.feature == RUBBLE_SAT_FACE_A && feature.indexA < a.faceCount) {
         const FaceQuery q = queryFaceItem(a, feature.indexA, b, bInA, feature.vertex);
         r.feature.vertex = q.vertex;
         r.separated = q.separation > margin;
+        r.separation = q.separation;
         if (!r.separated)
             r.contacts = clipFaceContactItem(a, q, b, bInA, margin, RUBBLE_KIND_FACE_A, buffers);
         return r;
@@ -255,6 +260,7 @@ RUBBLE_FN HullContact collideHullsFromFeatureItem(Hull a, Hull b, RigidTransform
             queryFaceItem(b, feature.indexB, a, transformInverse(bInA), feature.vertex);
         r.feature.vertex = q.vertex;
         r.separated = q.separation > margin;
+        r.separation = q.separation;
         if (!r.separated) r.contacts = clipFaceContactOfBItem(a, b, bInA, q, margin, buffers);
         return r;
     }
@@ -270,6 +276,7 @@ RUBBLE_FN HullContact collideHullsFromFeatureItem(Hull a, Hull b, RigidTransform
             q.edgeB = feature.indexB;
             q.axis = axis.axis;
             r.separated = q.separation > margin;
+            r.separation = q.separation;
             if (!r.separated) r.contacts = edgeContactItem(a, b, bInA, q);
             return r;
         }
