@@ -159,29 +159,28 @@ Status stepDevice(WorldState& s, StepStats& stats) {
         in.obstacles = o->states;
         in.gatherObstacleImpulses = o->coupling == Coupling::TwoWay;
     }
+    // A kinematic body's record for the device: its velocity in the host's copy, and whether it
+    // moves (then it wakes what it touches).
+    auto kinematicState = [&s](std::uint32_t body) {
+        shared::ObstacleState k{};
+        k.velocity = s.bodies.velocities[body];
+        k.body = body;
+        k.flags = RUBBLE_BODY_KINEMATIC |
+                  (shared::movesAtAllItem(k.velocity) ? RUBBLE_BODY_WAKING : 0u);
+        return k;
+    };
     // Kinematic bodies given a target this step (World::setKinematicTarget) end on it.
     s.deviceTargets.clear();
     for (const auto& [body, pose] : s.kinematicTargets) {
-        shared::ObstacleState t{};
-        t.pose = pose;
-        t.velocity = s.bodies.velocities[body];
-        t.body = body;
-        t.flags = RUBBLE_BODY_KINEMATIC |
-                  (shared::movesAtAllItem(t.velocity) ? RUBBLE_BODY_WAKING : 0u);
-        s.deviceTargets.push_back(t);
+        s.deviceTargets.push_back(kinematicState(body));
+        s.deviceTargets.back().pose = pose;
     }
     s.kinematicTargets.clear();
     in.kinematicTargets = s.deviceTargets;
     // Kinematic bodies given a velocity since the last step move by it from this step's start.
     s.deviceVelocities.clear();
-    for (const std::uint32_t body : s.kinematicVelocitySet) {
-        shared::ObstacleState v{};
-        v.velocity = s.bodies.velocities[body];
-        v.body = body;
-        v.flags = RUBBLE_BODY_KINEMATIC |
-                  (shared::movesAtAllItem(v.velocity) ? RUBBLE_BODY_WAKING : 0u);
-        s.deviceVelocities.push_back(v);
-    }
+    for (const std::uint32_t body : s.kinematicVelocitySet)
+        s.deviceVelocities.push_back(kinematicState(body));
     s.kinematicVelocitySet.clear();
     in.kinematicVelocities = s.deviceVelocities;
     // Without a CPU world the step ends by reading the bodies back, which the blow-up watch
