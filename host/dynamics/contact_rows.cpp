@@ -55,12 +55,12 @@ void takeImpulse(ContactRows& rows, std::size_t row, const ContactImpulse& from)
     f.impulse[1] = glm::dot(from.friction, fromLanes(f.tangent[1]));
 }
 
-// Hands last step's impulses to one manifold's new points (rows [first, first + count)): the
-// same feature first, then the nearest unmatched old point within kWarmStartMatchDistance.
-// `last` starts at the pair's run.
-void warmStart(ContactRows& rows, std::size_t first, std::size_t count,
+// Hands last step's impulses to one manifold's new points (point k's rows at at[k]): the same
+// feature first, then the nearest unmatched old point within kWarmStartMatchDistance. `last`
+// starts at the pair's run.
+void warmStart(ContactRows& rows, const std::size_t* at, std::size_t count,
                std::span<const ContactImpulse> last) {
-    const ContactKey& key = rows.keys[first];
+    const ContactKey& key = rows.keys[at[0]];
     // A manifold has at most 4 points; more old points than 8 would be a different narrow phase.
     constexpr std::size_t kMaxOld = 8;
     std::size_t old = 0;
@@ -69,13 +69,10 @@ void warmStart(ContactRows& rows, std::size_t first, std::size_t count,
     if (old == 0) return;
     bool taken[kMaxOld] = {};
     bool matched[4] = {};
-    auto take = [&](std::size_t k, const ContactImpulse& from) {
-        takeImpulse(rows, first + k, from);
-    };
     for (std::size_t k = 0; k < count; ++k)
         for (std::size_t o = 0; o < old; ++o)
-            if (!taken[o] && last[o].feature == rows.keys[first + k].feature) {
-                take(k, last[o]);
+            if (!taken[o] && last[o].feature == rows.keys[at[k]].feature) {
+                takeImpulse(rows, at[k], last[o]);
                 taken[o] = matched[k] = true;
                 break;
             }
@@ -85,14 +82,14 @@ void warmStart(ContactRows& rows, std::size_t first, std::size_t count,
         std::size_t pick = old;
         for (std::size_t o = 0; o < old; ++o) {
             if (taken[o]) continue;
-            const glm::vec3 d = last[o].pointInA - rows.keys[first + k].pointInA;
+            const glm::vec3 d = last[o].pointInA - rows.keys[at[k]].pointInA;
             if (glm::dot(d, d) < best) {
                 best = glm::dot(d, d);
                 pick = o;
             }
         }
         if (pick == old) continue;
-        take(k, last[pick]);
+        takeImpulse(rows, at[k], last[pick]);
         taken[pick] = true;
     }
 }
@@ -137,15 +134,31 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                       ContactRows& rows) {
     rows.clear();
     const float dt = settings.dt;
+    auto makesRows = [&](const Manifold& m) {
+        return m.count > 0 && (bodies.moves(m.a) || bodies.moves(m.b)) &&
+               !isJoinedPair(joined, m.a, m.b);
+    };
+    // Each row is built at its place in point-major order (every manifold's first point, then
+    // every second point, and so on, manifold order kept within each): start[k] is where the
+    // next manifold's point k goes.
+    std::size_t start[5] = {0, 0, 0, 0, 0};
+    for (const Manifold& m : manifolds) {
+        if (!makesRows(m)) continue;
+        RUBBLE_ASSERT(m.count <= m.points.size());
+        for (std::uint32_t k = 0; k < m.count; ++k) ++start[k + 1];
+    }
+    for (int k = 0; k < 4; ++k) start[k + 1] += start[k];
+    rows.normals.resize(start[4]);
+    rows.frictions.resize(start[4]);
+    rows.keys.resize(start[4]);
+    rows.built.resize(start[4]);
+    std::uint32_t inManifoldOrder = 0;
     // Particle contacts: the old run of the pair the last manifold was in, and where in it the
     // next contact's search starts.
     std::span<const ContactImpulse> particleRun;
     std::size_t particleCursor = 0;
     for (const Manifold& m : manifolds) {
-        if (m.count == 0) continue;
-        if (!bodies.moves(m.a) && !bodies.moves(m.b)) continue;
-        if (isJoinedPair(joined, m.a, m.b)) continue;
-        RUBBLE_ASSERT(m.count <= m.points.size());
+        if (!makesRows(m)) continue;
         const MaterialDesc& matA = materials[materialOf[m.a]];
         const MaterialDesc& matB = materials[materialOf[m.b]];
         const float friction = std::sqrt(matA.friction * matB.friction);
@@ -157,7 +170,6 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
         const glm::mat3& ia = bodies.inverseInertia[m.a];
         const glm::mat3& ib = bodies.inverseInertia[m.b];
         const glm::vec3 n = m.normal;
-        const std::size_t first = rows.size();
 
         const shared::float4 normal = toFloat4(n);
         const shared::float4 positionA = poses[m.a].position, positionB = poses[m.b].position;
@@ -166,7 +178,10 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
         const shared::Mat3 inertiaA = toShared(ia), inertiaB = toShared(ib);
         const shared::float4 fixedTangent = shared::perpendicularItem(normal);
 
+        std::size_t at[4] = {0, 0, 0, 0};
         for (std::uint32_t k = 0; k < m.count; ++k) {
+            at[k] = start[k]++;
+            rows.built[at[k]] = inManifoldOrder++;
             const ContactPoint& p = m.points[k];
             const glm::vec3 ra = p.position - xa;
             // The rows themselves come from the code the device runs (rubble/shared/pgs_row.h).
@@ -176,7 +191,7 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                 restitution, settings.baumgarte, settings.slop, dt, fixedTangent);
 
             const shared::PgsNormalRow& rn = row.normal;
-            NormalRow nr;
+            NormalRow& nr = rows.normals[at[k]];
             nr.a = m.a;
             nr.b = m.b;
             nr.normal = toLanes(rn.normal);
@@ -191,10 +206,9 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
             nr.pushSpeed = rn.speeds.y;
             nr.bounceSpeed = rn.mass.y;
             nr.bounceLift = rn.mass.z;
-            rows.normals.push_back(nr);
 
             const shared::PgsFrictionRows& rf = row.friction;
-            FrictionRows fr;
+            FrictionRows& fr = rows.frictions[at[k]];
             fr.a = m.a;
             fr.b = m.b;
             fr.inverseMassA = ima;
@@ -208,21 +222,17 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                 fr.turnB[d] = toLanes(rf.turnB[d]);
                 fr.mass[d] = d == 0 ? rf.mass.x : rf.mass.y;
             }
-            rows.frictions.push_back(fr);
             // A body that does not move but turns (a kinematic one) carries the contact point
             // round with it: its arm enters J v, while no impulse turns it (its turn stays 0).
-            turningWall(rows.normals.back(), rows.frictions.back(), 0, bodyA, ra, ima);
-            turningWall(rows.normals.back(), rows.frictions.back(), 1, bodyB,
-                        p.position - toVec3(positionB), imb);
+            turningWall(nr, fr, 0, bodyA, ra, ima);
+            turningWall(nr, fr, 1, bodyB, p.position - toVec3(positionB), imb);
 
-            ContactKey key;
+            ContactKey& key = rows.keys[at[k]];
             key.a = m.a;
             key.b = m.b;
             key.feature = p.feature;
             key.pointInA = toVec3(shared::quatRotateInverse(poses[m.a].orientation, toFloat4(ra)));
-            rows.keys.push_back(key);
         }
-        for (std::uint32_t k = 0; k < m.count; ++k) rows.slot.push_back(k);
         if (settings.warmStart && settings.particleContacts) {
             // Last step's impulses of this pair: a run, found once for the pair's contacts.
             if (particleRun.empty() || particleRun.front().a != m.a ||
@@ -234,38 +244,15 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                 particleCursor = 0;
             }
             for (std::uint32_t k = 0; k < m.count && !particleRun.empty(); ++k)
-                warmStartParticle(rows, first + k, particleRun, particleCursor);
+                warmStartParticle(rows, at[k], particleRun, particleCursor);
         } else if (settings.warmStart) {
             // Last step's impulses of this pair: a sorted run.
             const auto run = std::lower_bound(
                 last.begin(), last.end(), 0u,
                 [&](const ContactImpulse& x, std::uint32_t) { return keyLess(x, m.a, m.b, 0u); });
-            warmStart(rows, first, m.count, last.subspan(std::size_t(run - last.begin())));
+            warmStart(rows, at, m.count, last.subspan(std::size_t(run - last.begin())));
         }
     }
-    interleaveContactRows(rows);
-}
-
-void interleaveContactRows(ContactRows& rows) {
-    // Stable counting sort by slot: manifold order is kept within each slot.
-    std::size_t start[5] = {0, 0, 0, 0, 0};
-    for (const std::uint8_t k : rows.slot) ++start[k + 1];
-    for (int k = 0; k < 4; ++k) start[k + 1] += start[k];
-    rows.scratchNormals.resize(rows.size());
-    rows.scratchFrictions.resize(rows.size());
-    rows.scratchKeys.resize(rows.size());
-    rows.built.resize(rows.size());
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        const std::size_t to = start[rows.slot[i]]++;
-        rows.built[to] = std::uint32_t(i);
-        rows.scratchNormals[to] = rows.normals[i];
-        rows.scratchFrictions[to] = rows.frictions[i];
-        rows.scratchKeys[to] = rows.keys[i];
-    }
-    std::swap(rows.normals, rows.scratchNormals);
-    std::swap(rows.frictions, rows.scratchFrictions);
-    std::swap(rows.keys, rows.scratchKeys);
-    rows.slot.clear();
 }
 
 void storeContactImpulses(const ContactRows& rows, std::span<const ContactImpulse> previous,

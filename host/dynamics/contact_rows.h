@@ -54,7 +54,11 @@ struct ContactKey {
     glm::vec3 pointInA{0.0f}; ///< the contact point in a's frame, m
 };
 
-/// This step's contact rows; the three arrays run in parallel, one entry per contact point.
+/// This step's contact rows; the three arrays run in parallel, one entry per contact point,
+/// point-major: every manifold's first point, then every second point, and so on, manifold order
+/// kept within each. Consecutive rows then mostly touch different bodies, so that the sweep's
+/// updates overlap instead of waiting on each other, and no corner of a face contact is always
+/// solved first.
 struct ContactRows {
     std::vector<NormalRow> normals;
     std::vector<FrictionRows> frictions;
@@ -67,11 +71,6 @@ struct ContactRows {
     // The layer pass: each body's layer above the bodies that do not move, its rows in order.
     std::vector<std::uint32_t> layer, layerRows;
     std::vector<std::uint8_t> loaded;
-    // While building: each row's point index in its manifold; and reordering buffers.
-    std::vector<std::uint8_t> slot;
-    std::vector<NormalRow> scratchNormals;
-    std::vector<FrictionRows> scratchFrictions;
-    std::vector<ContactKey> scratchKeys;
 
     std::size_t size() const { return normals.size(); }
     void clear() {
@@ -79,15 +78,8 @@ struct ContactRows {
         frictions.clear();
         keys.clear();
         built.clear();
-        slot.clear();
     }
 };
-
-/// Reorders the rows point-major: every manifold's first point, then every second point, and so
-/// on, manifold order kept. Consecutive rows then mostly touch different bodies, so that the
-/// sweep's updates overlap instead of waiting on each other, and no corner of a face contact is
-/// always solved first. reads: rows.slot   writes: rows
-void interleaveContactRows(ContactRows& rows);
 
 /// A contact point's impulses at the end of a step, for warm-starting the next one.
 struct ContactImpulse {
@@ -140,7 +132,8 @@ bool isJoinedPair(std::span<const BodyPair> joined, std::uint32_t a, std::uint32
 /// The first tangent follows the sliding direction when there is one. Friction is
 /// sqrt(mu_a mu_b), restitution max(e_a, e_b). Warm start: last step's impulses of the same
 /// (pair, feature), else of the nearest unmatched point (see kWarmStartMatchDistance), the
-/// friction impulse projected on the new tangents.
+/// friction impulse projected on the new tangents. Each row is built at its point-major place
+/// (ContactRows), so the rows need no reordering afterwards.
 /// reads: manifolds, poses, bodies (velocities and inverse masses), velocities before the forces,
 /// materials, last impulses (sorted by pair)   writes: rows
 void buildContactRows(std::span<const Manifold> manifolds, std::span<const shared::BodyPose> poses,
