@@ -75,7 +75,8 @@ TEST(SoftStep, BounceRisesToRestitutionSquaredHeight) {
 }
 
 // A ball with restitution 1 leaves the floor in the step of contact at the speed it arrived
-// with (restitution from the normal speed before the step, after the substeps).
+// with (restitution from the normal speed before the step, after the substeps): the step that
+// turns it ends with the ball on the floor, neither short of it nor in it.
 TEST(SoftStep, ElasticBallLeavesAtItsArrivalSpeed) {
     World world = test::worldFromText(test::dropScene(1.0f, kSoft));
     float arrival = 0.0f;
@@ -88,6 +89,8 @@ TEST(SoftStep, ElasticBallLeavesAtItsArrivalSpeed) {
         }
         ASSERT_GT(arrival, 10.0f) << "it fell about 6 m before the bounce";
         EXPECT_NEAR(vy, arrival, 1e-4f * arrival) << "m/s up after " << arrival << " m/s down";
+        const float bottom = world.body(1).position.y - 0.5f;
+        EXPECT_NEAR(bottom, 0.0f, 1e-3f) << "m above the floor in the step that turns it";
         return;
     }
     FAIL() << "no bounce in 2 s";
