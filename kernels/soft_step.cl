@@ -295,15 +295,23 @@ __kernel void integrateSoft(const uint count, __global const JacobiBody* bodies,
 }
 
 // Restitution of one element, or of one of its points (`slot`), after the substeps
-// (applyRestitution); then its points' impulses are kept for the next step's warm start.
+// (applyRestitution); then its points' impulses are kept for the next step's warm start, none
+// for a landing (solveSoftStep).
 static void bounceSoftElement(const PgsElement e, __global const PgsNormalRow* normalRows,
                               __global const PgsFrictionRows* frictionRows,
                               __global float4* impulses, __global const SoftContact* contacts,
                               __global BodyVelocity* velocities, const float threshold,
                               __global PgsImpulse* kept, const uint slot) {
-    const uint from = slotFrom(slot), to = slotEnd(e.rows & RUBBLE_PGS_POINTS, slot);
+    const uint points = e.rows & RUBBLE_PGS_POINTS;
+    const uint from = slotFrom(slot), to = slotEnd(points, slot);
     if ((e.id & RUBBLE_PGS_JOINT_ELEMENT) || from >= to) return;
     BodyVelocityPair v = loadPair(e.a, e.b, velocities);
+    // A landing's impulses stopped a hit, not a load: the next step starts its points cold.
+    int landing = 0;
+    for (uint k = 0; k < points; ++k) {
+        const SoftContact c = contacts[e.normal[k]];
+        landing |= c.anchorA.w > 0.0f && c.anchorB.w < -threshold;
+    }
     for (uint k = from; k < to; ++k) {
         const uint at = e.normal[k];
         float4 l = impulses[at];
@@ -311,6 +319,7 @@ static void bounceSoftElement(const PgsElement e, __global const PgsNormalRow* n
             softRestitutionItem(normalRows[at], contacts[at], v, l.x, l.w, threshold);
         v = u.v;
         l.x = u.accumulated;
+        if (landing) l.x = l.y = l.z = 0.0f;
         impulses[at] = l;
         const PgsFrictionRows f = frictionRows[at];
         kept[4u * e.id + k].normal = l.x;

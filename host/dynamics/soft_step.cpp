@@ -420,6 +420,16 @@ void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points,
         }
     }
     applyRestitution(rows, points, bodies, s.restitutionThreshold);
+    // A landing's impulses stopped a hit, not a load: the next step starts its points cold, so
+    // that its warm start does not throw the body back up and leave the point rows to take the
+    // excess off unevenly.
+    for (const SoftManifold& m : pointManifolds) {
+        if (!isLanding(points, m, s.restitutionThreshold)) continue;
+        for (std::uint32_t k = 0; k < m.count; ++k) {
+            rows.normals[m.rows[k]].impulse = 0.0f;
+            rows.frictions[m.rows[k]].impulse[0] = rows.frictions[m.rows[k]].impulse[1] = 0.0f;
+        }
+    }
 }
 
 } // namespace rubble

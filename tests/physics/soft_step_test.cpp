@@ -97,10 +97,11 @@ TEST(SoftStep, ElasticBallLeavesAtItsArrivalSpeed) {
 }
 
 // A 1 kg unit box, faces level, whose bottom starts `height` m above the floor (friction 0.6,
-// restitution 0, 60 Hz, no sleep).
-std::string boxDropScene(double height) {
+// restitution 0, 60 Hz, no sleep), under `gravity` m/s^2.
+std::string boxDropScene(double height, double gravity) {
     return R"({"format": "rubble-scene", "version": 1,
-      "simulation": {"dt": 0.016666667, "sleep": false, "solver": {"type": "soft-step"}},
+      "simulation": {"dt": 0.016666667, "sleep": false, "gravity": [0, )" +
+           std::to_string(-gravity) + R"(, 0], "solver": {"type": "soft-step"}},
       "materials": {"default": {"friction": 0.6, "restitution": 0.0}},
       "shapes": {"ground": {"type": "plane"},
                  "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
@@ -111,21 +112,25 @@ std::string boxDropScene(double height) {
 
 // A box that lands flat on its speculative contact stays without spin: all four corners of its
 // face stop it together, though one pass over the points alone would give the first corner the
-// most and turn the box (0.4-0.8 rad/s).
+// most and turn the box (0.3-0.9 rad/s). At 10 m/s^2 the 2 m drop closes its gap in the last
+// substep of the landing step, whose impulse the next step must not warm-start.
 TEST(SoftStep, BoxLandingFlatDoesNotSpin) {
-    for (const double height : {2.0, 4.0, 10.0}) {
-        World world = test::worldFromText(boxDropScene(height));
-        const std::uint32_t box = *world.findBody("box");
-        bool landed = false;
-        float spin = 0.0f;
-        for (int i = 0; i < 180; ++i) {
-            ASSERT_TRUE(test::stepWorld(world, 1));
-            const BodyState b = world.body(box);
-            landed = landed || b.position.y < 0.55f;
-            if (landed) spin = std::max(spin, glm::length(b.angularVelocity));
+    for (const double gravity : {9.81, 10.0}) {
+        for (const double height : {2.0, 4.0, 10.0}) {
+            World world = test::worldFromText(boxDropScene(height, gravity));
+            const std::uint32_t box = *world.findBody("box");
+            bool landed = false;
+            float spin = 0.0f;
+            for (int i = 0; i < 180; ++i) {
+                ASSERT_TRUE(test::stepWorld(world, 1));
+                const BodyState b = world.body(box);
+                landed = landed || b.position.y < 0.55f;
+                if (landed) spin = std::max(spin, glm::length(b.angularVelocity));
+            }
+            ASSERT_TRUE(landed) << height << " m";
+            EXPECT_LT(spin, 0.01f)
+                << "rad/s after landing from " << height << " m at " << gravity << " m/s^2";
         }
-        ASSERT_TRUE(landed) << height << " m";
-        EXPECT_LT(spin, 0.01f) << "rad/s after landing from " << height << " m";
     }
 }
 
