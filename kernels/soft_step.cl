@@ -159,7 +159,7 @@ static float solveSoftElement(const PgsElement e, __global const PgsNormalRow* n
         const PgsNormalRow r = normalRows[at];
         const float separation = softSeparationItem(contacts[at], r.normal, movedA, pa.orientation,
                                                     movedB, pb.orientation);
-        const PgsUpdate n = solveSoftNormalItem(r, v, separation, l.x, p);
+        const PgsUpdate n = solveSoftNormalItem(r, v, softPointItem(r, separation, p), l.x);
         v = n.v;
         l.x = n.accumulated;
         l.w = l.w < l.x ? l.x : l.w; // std::max(largest, total)
@@ -175,9 +175,70 @@ static float solveSoftElement(const PgsElement e, __global const PgsNormalRow* n
     return residual;
 }
 
-// A biased (useBias 1) or relax (0) pass, one launch: a color's elements whole, a block's by
-// point in the CPU's order. The last pass of the step puts its largest change in the status
-// block.
+// A landing's normal rows together, along the direction that adds the same impulse to every
+// point (solveManifoldNormals): the exact minimum along it of what the point updates minimise,
+// kept where no point's impulse goes below 0. A pair lands when one of its points was a gap at
+// the step's start and approached faster than `threshold` (m/s) (isLanding). Returns the
+// |change| per point, N s.
+static float solveSoftManifold(const PgsElement e, __global const PgsNormalRow* normalRows,
+                               __global float4* impulses, __global const SoftContact* contacts,
+                               __global const BodyPose* softPoses, __global const float4* moved,
+                               __global BodyVelocity* velocities, const SoftPass p,
+                               const float threshold) {
+    const uint points = e.rows & RUBBLE_PGS_POINTS;
+    if ((e.id & RUBBLE_PGS_JOINT_ELEMENT) || points < 2u) return 0.0f;
+    int landing = 0;
+    for (uint k = 0; k < points; ++k) {
+        const SoftContact c = contacts[e.normal[k]];
+        landing |= c.anchorA.w > 0.0f && c.anchorB.w < -threshold;
+    }
+    if (!landing) return 0.0f;
+    BodyVelocityPair v = loadPair(e.a, e.b, velocities);
+    const BodyPose pa = softPoses[e.a], pb = softPoses[e.b];
+    const float4 movedA = moved[e.a], movedB = moved[e.b];
+    const PgsNormalRow first = normalRows[e.normal[0]];
+    float slope = 0.0f, diagonal = 0.0f, lowest = impulses[e.normal[0]].x;
+    float4 crossA = vec4(0.0f, 0.0f, 0.0f), turnA = crossA, crossB = crossA, turnB = crossA;
+    for (uint k = 0; k < points; ++k) {
+        const uint at = e.normal[k];
+        const PgsNormalRow r = normalRows[at];
+        const float impulse = impulses[at].x;
+        const float separation = softSeparationItem(contacts[at], r.normal, movedA, pa.orientation,
+                                                    movedB, pb.orientation);
+        const float4 term = softManifoldTermItem(r, v, softPointItem(r, separation, p), impulse);
+        slope += term.x;
+        diagonal += term.y;
+        lowest = impulse < lowest ? impulse : lowest; // std::min(lowest, impulse)
+        crossA = add4(crossA, r.crossA);
+        turnA = add4(turnA, r.turnA);
+        crossB = add4(crossB, r.crossB);
+        turnB = add4(turnB, r.turnB);
+    }
+    const float n = (float)points;
+    const float curvature = n * n * (first.speeds.z + first.speeds.w) + dot3(crossA, turnA) +
+                            dot3(crossB, turnB) + diagonal;
+    if (!(curvature > 0.0f)) return 0.0f;
+    const float step = -slope / curvature;
+    const float change = step < -lowest ? -lowest : step; // std::max(step, -lowest)
+    for (uint k = 0; k < points; ++k) {
+        float4 l = impulses[e.normal[k]];
+        l.x = l.x + change;
+        l.w = l.w < l.x ? l.x : l.w; // std::max(largest, total)
+        impulses[e.normal[k]] = l;
+    }
+    const float total = n * change;
+    v.a.linear = sub4(v.a.linear, scale4(first.normal, first.speeds.z * total));
+    v.a.angular = sub4(v.a.angular, scale4(turnA, change));
+    v.b.linear = add4(v.b.linear, scale4(first.normal, first.speeds.w * total));
+    v.b.angular = add4(v.b.angular, scale4(turnB, change));
+    storePair(v, e.a, e.b, e.rows, velocities);
+    return fabs(change);
+}
+
+// A biased (useBias 1) or relax (0) pass, one launch: the landing pairs' normal rows together,
+// then a color's elements whole, a block's by point in the CPU's order. settings: x 1/h (1/s),
+// y the largest push-out speed, z the restitution threshold (m/s). The last pass of the step
+// puts its largest change in the status block.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 solveSoft(const uint first, const uint count, const uint mode, __global const PgsElement* elements,
           __global const uint* blockStarts, __global const PgsNormalRow* normalRows,
@@ -199,6 +260,11 @@ solveSoft(const uint first, const uint count, const uint mode, __global const Pg
     groupClear(largest, 1u);
     float residual = 0.0f;
     const uint end = elementsEnd(count, mode, blockStarts);
+    // Every landing's normal rows together first, then the joints and points, as the CPU.
+    for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
+        residual =
+            fmax(residual, solveSoftManifold(elements[first + i], normalRows, impulses, contacts,
+                                             softPoses, moved, velocities, p, settings.z));
     const uint passes = slotPasses(mode, blockStarts);
     for (uint pass = 0u; pass < passes; ++pass)
         for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
@@ -229,15 +295,23 @@ __kernel void integrateSoft(const uint count, __global const JacobiBody* bodies,
 }
 
 // Restitution of one element, or of one of its points (`slot`), after the substeps
-// (applyRestitution); then its points' impulses are kept for the next step's warm start.
+// (applyRestitution); then its points' impulses are kept for the next step's warm start, none
+// for a landing (solveSoftStep).
 static void bounceSoftElement(const PgsElement e, __global const PgsNormalRow* normalRows,
                               __global const PgsFrictionRows* frictionRows,
                               __global float4* impulses, __global const SoftContact* contacts,
                               __global BodyVelocity* velocities, const float threshold,
                               __global PgsImpulse* kept, const uint slot) {
-    const uint from = slotFrom(slot), to = slotEnd(e.rows & RUBBLE_PGS_POINTS, slot);
+    const uint points = e.rows & RUBBLE_PGS_POINTS;
+    const uint from = slotFrom(slot), to = slotEnd(points, slot);
     if ((e.id & RUBBLE_PGS_JOINT_ELEMENT) || from >= to) return;
     BodyVelocityPair v = loadPair(e.a, e.b, velocities);
+    // A landing's impulses stopped a hit, not a load: the next step starts its points cold.
+    int landing = 0;
+    for (uint k = 0; k < points; ++k) {
+        const SoftContact c = contacts[e.normal[k]];
+        landing |= c.anchorA.w > 0.0f && c.anchorB.w < -threshold;
+    }
     for (uint k = from; k < to; ++k) {
         const uint at = e.normal[k];
         float4 l = impulses[at];
@@ -245,6 +319,7 @@ static void bounceSoftElement(const PgsElement e, __global const PgsNormalRow* n
             softRestitutionItem(normalRows[at], contacts[at], v, l.x, l.w, threshold);
         v = u.v;
         l.x = u.accumulated;
+        if (landing) l.x = l.y = l.z = 0.0f;
         impulses[at] = l;
         const PgsFrictionRows f = frictionRows[at];
         kept[4u * e.id + k].normal = l.x;

@@ -21,8 +21,109 @@ Lanes rotateLanes(shared::float4 q, glm::vec3 v) {
     return toLanes(toVec3(shared::quatRotate(q, toFloat4(v))));
 }
 
-// One pass over the contacts: each point's normal row (soft with bias, rigid without; a gap is
-// closed within the substep and no further), then its two friction rows within
+// A normal row's settings in a pass: the bias speed (m/s), the mass and impulse scales.
+struct PointSoftness {
+    float bias = 0.0f, massScale = 1.0f, impulseScale = 0.0f;
+};
+
+// A point's separation now: the start's, moved by the bodies' motion within the step.
+float separationNow(const NormalRow& r, const SoftContactPoint& p, const SoftPoses& poses) {
+    const Lanes pointA = poses.moved[r.a] + rotateLanes(poses.pose[r.a].orientation, p.anchorA);
+    const Lanes pointB = poses.moved[r.b] + rotateLanes(poses.pose[r.b].orientation, p.anchorB);
+    return p.separation + sum3(r.normal * ((pointB - p.offsetB) - (pointA - p.offsetA)));
+}
+
+// A gap (separation > 0) is closed within the substep and no further, rigidly; an overlap is
+// pushed out by the point's spring (biased pass) or held rigidly (relax pass).
+PointSoftness pointSoftness(const SoftContactPoint& p, float separation, float inverseH,
+                            const SoftStepSettings& s, bool useBias) {
+    PointSoftness k;
+    if (separation > 0.0f) {
+        k.bias = separation * inverseH;
+    } else if (useBias) {
+        k.bias = std::max(p.soft.biasRate * separation, -s.maxPushSpeed);
+        k.massScale = p.soft.massScale;
+        k.impulseScale = p.soft.impulseScale;
+    }
+    return k;
+}
+
+// Whether a manifold is a landing: one of its points was a gap at the step's start (a
+// speculative point) and approached faster than the restitution threshold (the speed at which
+// Box2D v3's restitution tells a hit from a touch).
+bool isLanding(std::span<const SoftContactPoint> points, const SoftManifold& m, float threshold) {
+    for (std::uint32_t k = 0; k < m.count; ++k) {
+        const SoftContactPoint& p = points[m.rows[k]];
+        if (p.separation > 0.0f && p.relativeVelocity < -threshold) return true;
+    }
+    return false;
+}
+
+// One update of a landing's normal rows together, along the direction that adds the same
+// impulse to every point (a push at the points' centroid): the exact minimum along it of the
+// quadratic that the point updates minimise one row at a time (each point's spring a diagonal
+// term impulseScale / (massScale m_eff)), kept where no point's impulse goes below 0. One
+// Gauss-Seidel pass over a face's points alone gives the first point more than its share of the
+// hit and turns the body, and the next substep's warm start applies that share again; this
+// update stops all of them at once, so that a face that lands flat stays flat. Contacts that
+// were touching at the step's start are left to the point updates, which their warm start
+// carries. Returns the |applied change| per point, N s.
+float solveManifoldNormals(ContactRows& rows, std::span<SoftContactPoint> points,
+                           const SoftManifold& m, SolverBodies& bodies, const SoftPoses& poses,
+                           const SoftStepSettings& s, bool useBias) {
+    if (m.count < 2 || !isLanding(points, m, s.restitutionThreshold)) return 0.0f;
+    const float inverseH = 1.0f / s.h;
+    const NormalRow& first = rows.normals[m.rows[0]];
+    SolverVelocity& a = bodies.velocity[first.a];
+    SolverVelocity& b = bodies.velocity[first.b];
+    float slope = 0.0f, diagonal = 0.0f, lowest = first.impulse;
+    Lanes crossA{}, turnA{}, crossB{}, turnB{};
+    for (std::uint32_t k = 0; k < m.count; ++k) {
+        const NormalRow& r = rows.normals[m.rows[k]];
+        const SoftContactPoint& p = points[m.rows[k]];
+        const PointSoftness soft =
+            pointSoftness(p, separationNow(r, p, poses), inverseH, s, useBias);
+        const float spring = soft.impulseScale / (soft.massScale * r.mass);
+        slope += rowSpeed(a, b, r.normal, r.crossA, r.crossB) + soft.bias + spring * r.impulse;
+        diagonal += spring;
+        lowest = std::min(lowest, r.impulse);
+        crossA += r.crossA;
+        turnA += r.turnA;
+        crossB += r.crossB;
+        turnB += r.turnB;
+    }
+    const float n = float(m.count);
+    const float curvature = n * n * (first.inverseMassA + first.inverseMassB) +
+                            sum3(crossA * turnA) + sum3(crossB * turnB) + diagonal;
+    if (!(curvature > 0.0f)) return 0.0f;
+    const float change = std::max(-slope / curvature, -lowest);
+    for (std::uint32_t k = 0; k < m.count; ++k) {
+        NormalRow& r = rows.normals[m.rows[k]];
+        r.impulse += change;
+        points[m.rows[k]].maxNormalImpulse =
+            std::max(points[m.rows[k]].maxNormalImpulse, r.impulse);
+    }
+    a.linear -= first.normal * (first.inverseMassA * (n * change));
+    a.angular -= turnA * change;
+    b.linear += first.normal * (first.inverseMassB * (n * change));
+    b.angular += turnB * change;
+    return std::abs(change);
+}
+
+// Every landing's normal rows together (solveManifoldNormals), in manifold order. Returns the
+// largest |applied change| per point, N s.
+float solveManifolds(ContactRows& rows, std::span<SoftContactPoint> points,
+                     std::span<const SoftManifold> pointManifolds, SolverBodies& bodies,
+                     const SoftPoses& poses, const SoftStepSettings& s, bool useBias) {
+    float residual = 0.0f;
+    for (const SoftManifold& m : pointManifolds)
+        residual =
+            std::max(residual, solveManifoldNormals(rows, points, m, bodies, poses, s, useBias));
+    return residual;
+}
+
+// One pass over the contact points: each point's normal row (soft with bias, rigid without; a
+// gap is closed within the substep and no further), then its two friction rows within
 // |lambda_t| <= mu lambda_n. Returns the largest |applied change|, N s.
 float solveContacts(ContactRows& rows, std::span<SoftContactPoint> points, SolverBodies& bodies,
                     const SoftPoses& poses, const SoftStepSettings& s, bool useBias) {
@@ -33,22 +134,11 @@ float solveContacts(ContactRows& rows, std::span<SoftContactPoint> points, Solve
         SoftContactPoint& p = points[i];
         SolverVelocity& a = bodies.velocity[r.a];
         SolverVelocity& b = bodies.velocity[r.b];
-        // The separation now: the start's, moved by the bodies' motion within the step.
-        const Lanes pointA = poses.moved[r.a] + rotateLanes(poses.pose[r.a].orientation, p.anchorA);
-        const Lanes pointB = poses.moved[r.b] + rotateLanes(poses.pose[r.b].orientation, p.anchorB);
-        const float separation =
-            p.separation + sum3(r.normal * ((pointB - p.offsetB) - (pointA - p.offsetA)));
-        float bias = 0.0f, massScale = 1.0f, impulseScale = 0.0f;
-        if (separation > 0.0f) {
-            bias = separation * inverseH; // speculative: close the gap within the substep
-        } else if (useBias) {
-            const Softness& soft = p.soft;
-            bias = std::max(soft.biasRate * separation, -s.maxPushSpeed);
-            massScale = soft.massScale;
-            impulseScale = soft.impulseScale;
-        }
+        const PointSoftness soft =
+            pointSoftness(p, separationNow(r, p, poses), inverseH, s, useBias);
         const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
-        const float change = -r.mass * massScale * (speed + bias) - impulseScale * r.impulse;
+        const float change =
+            -r.mass * soft.massScale * (speed + soft.bias) - soft.impulseScale * r.impulse;
         const float total = std::max(r.impulse + change, 0.0f);
         const float applied = total - r.impulse;
         r.impulse = total;
@@ -225,10 +315,12 @@ void prepareSoftContacts(std::span<const Manifold> manifolds, const ContactRows&
                          std::span<const shared::BodyVelocity> approach,
                          std::span<const MaterialDesc> materials,
                          std::span<const std::uint32_t> materialOf,
-                         std::span<const BodyPair> joined, std::vector<SoftContactPoint>& points) {
+                         std::span<const BodyPair> joined, std::vector<SoftContactPoint>& points,
+                         std::vector<SoftManifold>& pointManifolds) {
     // The points in the order buildContactRows read them (before its interleaving).
     std::vector<SoftContactPoint> inOrder;
     inOrder.reserve(rows.size());
+    pointManifolds.clear();
     for (const Manifold& m : manifolds) {
         if (m.count == 0) continue;
         if (!bodies.moves(m.a) && !bodies.moves(m.b)) continue;
@@ -240,6 +332,11 @@ void prepareSoftContacts(std::span<const Manifold> manifolds, const ContactRows&
         const glm::vec3 xa = toVec3(pa.position), xb = toVec3(pb.position);
         const shared::BodyVelocity& va = approach[m.a];
         const shared::BodyVelocity& vb = approach[m.b];
+        SoftManifold group;
+        group.count = m.count;
+        for (std::uint32_t k = 0; k < m.count; ++k)
+            group.rows[k] = std::uint32_t(inOrder.size() + k);
+        pointManifolds.push_back(group);
         for (std::uint32_t k = 0; k < m.count; ++k) {
             const ContactPoint& c = m.points[k];
             SoftContactPoint p;
@@ -257,11 +354,19 @@ void prepareSoftContacts(std::span<const Manifold> manifolds, const ContactRows&
         }
     }
     points.resize(rows.size());
-    for (std::size_t i = 0; i < rows.size(); ++i)
-        points[i] = inOrder[rows.built.empty() ? i : rows.built[i]];
+    std::vector<std::uint32_t> rowOf(rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const std::uint32_t at = rows.built.empty() ? std::uint32_t(i) : rows.built[i];
+        points[i] = inOrder[at];
+        rowOf[at] = std::uint32_t(i);
+    }
+    // The manifolds' points by their rows' indices.
+    for (SoftManifold& group : pointManifolds)
+        for (std::uint32_t k = 0; k < group.count; ++k) group.rows[k] = rowOf[group.rows[k]];
 }
 
-void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points, std::span<Joint> joints,
+void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points,
+                   std::span<const SoftManifold> pointManifolds, std::span<Joint> joints,
                    SolverBodies& bodies, std::span<const shared::BodyVelocity> start,
                    std::span<const shared::BodyVelocity> afterForces, const SoftStepSettings& s,
                    SoftPoses& poses, std::vector<float>& residuals) {
@@ -302,17 +407,29 @@ void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points, std::s
         }
         warmStartJoints(joints, poses, bodies);
         warmStartContacts(rows, bodies);
-        float residual = solveJoints(joints, bodies, poses, jointSoftness, true);
+        float residual = solveManifolds(rows, points, pointManifolds, bodies, poses, s, true);
+        residual = std::max(residual, solveJoints(joints, bodies, poses, jointSoftness, true));
         residual = std::max(residual, solveContacts(rows, points, bodies, poses, s, true));
         residuals.push_back(residual);
         movePoses(bodies, s.h, poses);
         for (int k = 0; k < s.relaxIterations; ++k) {
-            float relaxed = solveJoints(joints, bodies, poses, jointSoftness, false);
+            float relaxed = solveManifolds(rows, points, pointManifolds, bodies, poses, s, false);
+            relaxed = std::max(relaxed, solveJoints(joints, bodies, poses, jointSoftness, false));
             relaxed = std::max(relaxed, solveContacts(rows, points, bodies, poses, s, false));
             residuals.push_back(relaxed);
         }
     }
     applyRestitution(rows, points, bodies, s.restitutionThreshold);
+    // A landing's impulses stopped a hit, not a load: the next step starts its points cold, so
+    // that its warm start does not throw the body back up and leave the point rows to take the
+    // excess off unevenly.
+    for (const SoftManifold& m : pointManifolds) {
+        if (!isLanding(points, m, s.restitutionThreshold)) continue;
+        for (std::uint32_t k = 0; k < m.count; ++k) {
+            rows.normals[m.rows[k]].impulse = 0.0f;
+            rows.frictions[m.rows[k]].impulse[0] = rows.frictions[m.rows[k]].impulse[1] = 0.0f;
+        }
+    }
 }
 
 } // namespace rubble

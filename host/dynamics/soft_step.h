@@ -3,6 +3,7 @@
 // "Solver2D", 2024; the Box2D v3 solver). The device version is host/gpu/soft_step.h.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -43,6 +44,12 @@ struct SoftContactPoint {
     Softness soft;                 ///< this point's spring (softnessFor)
 };
 
+/// A manifold's points: their rows' indices (ContactRows order), in the manifold's order.
+struct SoftManifold {
+    std::array<std::uint32_t, 4> rows{};
+    std::uint32_t count = 0;
+};
+
 /// The soft step's settings of one step, from SolverOptions and dt.
 struct SoftStepSettings {
     int substeps = 4;
@@ -78,26 +85,31 @@ struct SoftPoses {
 
 /// The extra data of the soft contact points: offsets, separations and approach speeds, from the
 /// rows buildContactRows made from these manifolds (rows.built maps each row to its point in
-/// manifold order; manifolds skipped by buildContactRows are skipped alike).
+/// manifold order; manifolds skipped by buildContactRows are skipped alike), and each
+/// manifold's rows (pointManifolds, manifold order).
 /// reads: manifolds, rows, poses, approach velocities, materials   writes: points
 void prepareSoftContacts(std::span<const Manifold> manifolds, const ContactRows& rows,
                          std::span<const shared::BodyPose> poses, const SolverBodies& bodies,
                          std::span<const shared::BodyVelocity> approach,
                          std::span<const MaterialDesc> materials,
                          std::span<const std::uint32_t> materialOf,
-                         std::span<const BodyPair> joined, std::vector<SoftContactPoint>& points);
+                         std::span<const BodyPair> joined, std::vector<SoftContactPoint>& points,
+                         std::vector<SoftManifold>& pointManifolds);
 
 /// Stage solveSoftStep. The bodies' velocities start from `start` (before the step's forces);
 /// each of the substeps adds 1/substeps of the forces' velocity change (`afterForces - start`),
-/// warm-starts the joints and contacts with their accumulated impulses, solves joints then
-/// contacts once with bias (soft constraints; a contact's separation is updated from the
-/// bodies' motion within the step, so no new collision is needed), moves the bodies by h, and
-/// runs the relax passes (no bias, rigid). Then restitution (rows that bounced: target speed
-/// -e v_before, as Box2D v3's b2ApplyRestitution). The accumulated impulses are per substep.
+/// warm-starts the joints and contacts with their accumulated impulses, solves the normal rows
+/// of each landing manifold together (pointManifolds; a speculative point approaching faster
+/// than the restitution threshold), then the joints, then the contacts once with bias (soft
+/// constraints; a contact's separation is updated from the bodies' motion within the step, so
+/// no new collision is needed), moves the bodies by h, and runs the relax passes (the same
+/// without bias, rigid). Then restitution (rows that bounced: target speed -e v_before, as
+/// Box2D v3's b2ApplyRestitution). The accumulated impulses are per substep.
 /// residuals[k] is the largest |impulse change| of the k-th pass (biased or relax).
-/// reads: rows, points, joints, start and afterForces velocities
+/// reads: rows, points, pointManifolds, joints, start and afterForces velocities
 /// writes: bodies' velocities, poses (the poses at the step's end), impulses, residuals
-void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points, std::span<Joint> joints,
+void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points,
+                   std::span<const SoftManifold> pointManifolds, std::span<Joint> joints,
                    SolverBodies& bodies, std::span<const shared::BodyVelocity> start,
                    std::span<const shared::BodyVelocity> afterForces,
                    const SoftStepSettings& settings, SoftPoses& poses,

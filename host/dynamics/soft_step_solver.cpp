@@ -30,7 +30,8 @@ void SoftStepSolver::buildRows(const SolverScene& scene, BodiesView bodies,
     buildContactRows(contacts.manifolds, bodies.poses, c.bodies, approach, scene.materials,
                      bodies.materialOf, scene.joined, c.impulses, settings, c.contacts);
     prepareSoftContacts(contacts.manifolds, c.contacts, bodies.poses, c.bodies, approach,
-                        scene.materials, bodies.materialOf, scene.joined, c.points);
+                        scene.materials, bodies.materialOf, scene.joined, c.points,
+                        c.pointManifolds);
     // prepareJoints keeps the impulses (or zeroes them without warm start) and marks the joints
     // that move; the soft step computes its own arms and masses at each substep's poses.
     prepareJoints(c.joints, bodies.poses, c.bodies, o.warmStart, params.dt);
@@ -44,8 +45,8 @@ Status SoftStepSolver::solve(const SolverScene&, Bodies bodies,
                              const StepParams& params) {
     SoftStepCache& c = cache_;
     const SoftStepSettings settings = makeSoftStepSettings(params.solver, params.dt);
-    solveSoftStep(c.contacts, c.points, c.joints, c.bodies, c.start, before, settings, c.poses,
-                  c.residuals);
+    solveSoftStep(c.contacts, c.points, c.pointManifolds, c.joints, c.bodies, c.start, before,
+                  settings, c.poses, c.residuals);
     scatterSolverVelocities(c.bodies, bodies.velocities);
     storeContactImpulses(c.contacts, c.impulses, c.bodies, c.nextImpulses, c.impulseScratch);
     std::swap(c.impulses, c.nextImpulses);

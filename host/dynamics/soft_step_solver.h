@@ -23,9 +23,10 @@ struct SoftStepCache {
     std::vector<ContactImpulse> nextImpulses, impulseScratch;
     SolverBodies bodies;
     ContactRows contacts;
-    std::vector<SoftContactPoint> points;    ///< in the rows' order
-    std::vector<shared::BodyVelocity> start; ///< velocities before the step's forces
-    SoftPoses poses;                         ///< the bodies' poses through the substeps
+    std::vector<SoftContactPoint> points;     ///< in the rows' order
+    std::vector<SoftManifold> pointManifolds; ///< each manifold's points, manifold order
+    std::vector<shared::BodyVelocity> start;  ///< velocities before the step's forces
+    SoftPoses poses;                          ///< the bodies' poses through the substeps
     std::vector<float> residuals;
     SolverIslands islands; ///< islands and sleep timers
 };

@@ -86,7 +86,8 @@ Status SoftStepSolve::solve(StageQueue& q, DeviceBodies& b, const PgsSolve& pgs,
         d.arg(l.first).arg(l.count).arg(l.mode).arg(rows.elements).arg(rows.blockStarts);
         return d;
     };
-    const shared::float4 settings = shared::make4(s.inverseH, s.maxPushSpeed, 0.0f, 0.0f);
+    const shared::float4 settings =
+        shared::make4(s.inverseH, s.maxPushSpeed, s.restitutionThreshold, 0.0f);
     const std::uint32_t passes = 1 + s.relaxIterations;
     auto pass = [&](cl_uint useBias, cl_uint lastPass) -> Status {
         for (const PgsLaunch& l : launches)

@@ -80,11 +80,10 @@ typedef struct SoftPass {
     int useBias, pad0;
 } SoftPass;
 
-// One soft update of a normal row (solveContacts): a gap (separation > 0) is closed within the
-// substep and no further; an overlap is pushed out by the spring (biased pass) or held rigidly
-// (relax pass). The accumulated impulse stays >= 0.
-RUBBLE_FN PgsUpdate solveSoftNormalItem(PgsNormalRow r, BodyVelocityPair v, float separation,
-                                        float accumulated, SoftPass p) {
+// A normal row's settings in a pass (pointSoftness): x the bias speed (m/s), y the mass scale,
+// z the impulse scale. A gap (separation > 0) is closed within the substep and no further,
+// rigidly; an overlap is pushed out by the spring (biased pass) or held rigidly (relax pass).
+RUBBLE_FN float4 softPointItem(PgsNormalRow r, float separation, SoftPass p) {
     float bias = 0.0f, massScale = 1.0f, impulseScale = 0.0f;
     if (separation > 0.0f) {
         bias = separation * p.inverseH;
@@ -96,11 +95,28 @@ RUBBLE_FN PgsUpdate solveSoftNormalItem(PgsNormalRow r, BodyVelocityPair v, floa
         massScale = soft.y;
         impulseScale = soft.z;
     }
+    return make4(bias, massScale, impulseScale, 0.0f);
+}
+
+// One soft update of a normal row (solveContacts) at the point's settings `k` (softPointItem).
+// The accumulated impulse stays >= 0.
+RUBBLE_FN PgsUpdate solveSoftNormalItem(PgsNormalRow r, BodyVelocityPair v, float4 k,
+                                        float accumulated) {
     const float speed = pgsRowSpeedItem(v.a, v.b, r.normal, r.crossA, r.crossB);
-    const float change = -r.mass.x * massScale * (speed + bias) - impulseScale * accumulated;
+    const float change = -r.mass.x * k.y * (speed + k.x) - k.z * accumulated;
     const float sum = accumulated + change;
     const float total = sum < 0.0f ? 0.0f : sum; // std::max(sum, 0)
     return pgsNormalUpdateItem(r, v, accumulated, total);
+}
+
+// What a manifold's point adds to its joint update (solveManifoldNormals): x its row's speed
+// plus bias plus spring times impulse (the slope along the shared direction), y its spring
+// impulseScale / (massScale m_eff) (its diagonal term), for the settings `k` (softPointItem).
+RUBBLE_FN float4 softManifoldTermItem(PgsNormalRow r, BodyVelocityPair v, float4 k,
+                                      float accumulated) {
+    const float spring = k.z / (k.y * r.mass.x);
+    const float speed = pgsRowSpeedItem(v.a, v.b, r.normal, r.crossA, r.crossB);
+    return make4(speed + k.x + spring * accumulated, spring, 0.0f, 0.0f);
 }
 
 // A point's two friction rows one after the other (solveContacts), each within |lambda_t| <=
