@@ -1,0 +1,266 @@
+// include/rubble/shared/level_contact.h: a body against a static level mesh in stage narrowPhase,
+// both pipelines: the contacts of the triangles under the body's box (triangle_contact.h)
+// grouped by normal and each group reduced to at most four points. The CPU
+// (host/collision/level_collision.cpp) queries its hierarchy itself and keeps every group as a
+// manifold; the device (kernels/sat.cl) walks the flattened hierarchy here and keeps the group
+// with the deepest point, the one manifold its pair slot holds.
+#pragma once
+
+#include "rubble/shared/triangle_contact.h"
+
+RUBBLE_SHARED_BEGIN
+
+// Contacts whose normals have a cosine above this (about 5.7 degrees apart) share a manifold: the
+// facets of a curved surface under one body give it one or two manifolds, not one each.
+#define RUBBLE_SAME_NORMAL_COSINE 0.995f
+// Points closer than this (m) are one when a group is reduced.
+#define RUBBLE_LEVEL_SAME_POINT 1e-5f
+// On the device, a pair collides with at most this many triangles under its box (the lowest
+// indices) and keeps at most this many contacts of them, in private memory.
+#define RUBBLE_LEVEL_MAX_TRIANGLES 32u
+#define RUBBLE_LEVEL_MAX_CONTACTS 64u
+// The deepest a level mesh's hierarchy goes on the device (host/geometry/triangle_bvh.h's
+// kBvhMaxDepth); the walk's stack holds two entries per level.
+#define RUBBLE_LEVEL_MAX_DEPTH 64u
+// HullShape.level of a shape that is no level mesh.
+#define RUBBLE_NO_LEVEL 0xFFFFFFFFu
+
+// 48 bytes: one node of a level mesh's hierarchy (host/geometry/triangle_bvh.h's BvhNode),
+// indices relative to its level's first node and triangle. A leaf holds `count` triangles from
+// `first`; an inner node (count 0) has its children at `first` and `second`.
+typedef struct LevelNode {
+    float4 boxMin, boxMax; // mesh frame, m (w = 0)
+    uint first, count, second, pad0;
+} LevelNode;
+RUBBLE_STATIC_ASSERT_SIZE(LevelNode, 48);
+
+// 16 bytes: where one level mesh's nodes and triangles start (triangles in its hierarchy's leaf
+// order, each naming its own index).
+typedef struct LevelShape {
+    uint nodeStart, nodeCount, triangleStart, triangleCount;
+} LevelShape;
+RUBBLE_STATIC_ASSERT_SIZE(LevelShape, 16);
+
+// The concatenated level meshes (device buffers).
+typedef struct LevelArrays {
+    RUBBLE_GLOBAL const LevelShape* levels;
+    RUBBLE_GLOBAL const LevelNode* nodes;
+    RUBBLE_GLOBAL const MeshTriangle* triangles;
+} LevelArrays;
+
+// Lists in `group` the contacts from `leader` on not yet taken (taken 0) whose normals are within
+// RUBBLE_SAME_NORMAL_COSINE of the leader's, and takes them with `mark` (not 0); returns how many.
+RUBBLE_FN uint gatherLevelGroupItem(const TriangleContact* contacts, uint n, uint leader, uint mark,
+                                    uint* taken, uint* group) {
+    uint count = 0;
+    for (uint j = leader; j < n; ++j)
+        if (!taken[j] &&
+            dot3(contacts[j].normal, contacts[leader].normal) >= RUBBLE_SAME_NORMAL_COSINE) {
+            taken[j] = mark;
+            group[count++] = j;
+        }
+    return count;
+}
+
+RUBBLE_FN float levelTriangleAreaItem(float4 a, float4 b, float4 c) {
+    return 0.5f * length3(cross3(sub4(b, a), sub4(c, a)));
+}
+
+// Up to four of the group's points (indices into `contacts`, into kept), spanning the largest
+// area: the deepest, the furthest from it, the furthest from their line, and the one that adds
+// most area; returns how many. Points within RUBBLE_LEVEL_SAME_POINT of a kept one are left out.
+RUBBLE_FN uint reduceLevelGroupItem(const TriangleContact* contacts, const uint* group, uint n,
+                                    uint* kept) {
+    if (n == 0u) return 0u;
+    uint first = group[0];
+    for (uint i = 0; i < n; ++i)
+        if (contacts[group[i]].depth > contacts[first].depth) first = group[i];
+    kept[0] = first;
+    const float4 p0 = contacts[first].position;
+    // The furthest from the deepest.
+    uint second = first;
+    float far = RUBBLE_LEVEL_SAME_POINT;
+    for (uint i = 0; i < n; ++i) {
+        const float d = length3(sub4(contacts[group[i]].position, p0));
+        if (d > far) {
+            far = d;
+            second = group[i];
+        }
+    }
+    if (second == first) return 1u;
+    kept[1] = second;
+    const float4 p1 = contacts[second].position;
+    // The furthest from their line.
+    uint third = first;
+    float area = RUBBLE_LEVEL_SAME_POINT * RUBBLE_LEVEL_SAME_POINT;
+    for (uint i = 0; i < n; ++i) {
+        const float a = levelTriangleAreaItem(p0, p1, contacts[group[i]].position);
+        if (a > area) {
+            area = a;
+            third = group[i];
+        }
+    }
+    if (third == first) return 2u;
+    kept[2] = third;
+    const float4 p2 = contacts[third].position;
+    // The one outside the triangle that adds most area.
+    const float base = levelTriangleAreaItem(p0, p1, p2);
+    uint fourth = first;
+    float added = RUBBLE_LEVEL_SAME_POINT * RUBBLE_LEVEL_SAME_POINT;
+    for (uint i = 0; i < n; ++i) {
+        const float4 p = contacts[group[i]].position;
+        const float a = levelTriangleAreaItem(p0, p1, p) + levelTriangleAreaItem(p1, p2, p) +
+                        levelTriangleAreaItem(p2, p0, p) - base;
+        if (a > added) {
+            added = a;
+            fourth = group[i];
+        }
+    }
+    if (fourth == first) return 3u;
+    kept[3] = fourth;
+    return 4u;
+}
+
+// Whether the closed boxes overlap (host/geometry/triangle_bvh.h's boxesOverlap).
+RUBBLE_FN int levelBoxesOverlapItem(float4 aMin, float4 aMax, float4 bMin, float4 bMax) {
+    return aMin.x <= bMax.x && bMin.x <= aMax.x && aMin.y <= bMax.y && bMin.y <= aMax.y &&
+           aMin.z <= bMax.z && bMin.z <= aMax.z;
+}
+
+// The level mesh `level` at `levelAt` against `other` (a hull, sphere or capsule) at `otherAt`,
+// whose world box is (boxMin, boxMax): the group of contacts with the deepest point as one
+// manifold in the world frame, normal from the level to the other body (a and b left for the
+// caller). Triangles past RUBBLE_LEVEL_MAX_TRIANGLES (the highest indices) and contacts past
+// RUBBLE_LEVEL_MAX_CONTACTS are left out.
+RUBBLE_FN ContactManifold collideLevelItem(HullArrays arrays, LevelArrays levels, uint level,
+                                           RigidTransform levelAt, HullShape other,
+                                           RigidTransform otherAt, float4 boxMin, float4 boxMax,
+                                           float margin) {
+    ContactManifold m = emptyContactsItem();
+    const LevelShape shape = levels.levels[level];
+    RUBBLE_GLOBAL const LevelNode* nodes = levels.nodes + shape.nodeStart;
+    RUBBLE_GLOBAL const MeshTriangle* triangles = levels.triangles + shape.triangleStart;
+    if (shape.nodeCount == 0u) return m;
+    // The other body's world box, as a box in the level's frame.
+    float4 queryMin =
+        vec4(-RUBBLE_TRIANGLE_LOWEST, -RUBBLE_TRIANGLE_LOWEST, -RUBBLE_TRIANGLE_LOWEST);
+    float4 queryMax = vec4(RUBBLE_TRIANGLE_LOWEST, RUBBLE_TRIANGLE_LOWEST, RUBBLE_TRIANGLE_LOWEST);
+    for (uint corner = 0; corner < 8u; ++corner) {
+        const float4 p =
+            vec4((corner & 1u) ? boxMax.x : boxMin.x, (corner & 2u) ? boxMax.y : boxMin.y,
+                 (corner & 4u) ? boxMax.z : boxMin.z);
+        const float4 local = transformApplyInverse(levelAt, p);
+        queryMin =
+            vec4(fmin(queryMin.x, local.x), fmin(queryMin.y, local.y), fmin(queryMin.z, local.z));
+        queryMax =
+            vec4(fmax(queryMax.x, local.x), fmax(queryMax.y, local.y), fmax(queryMax.z, local.z));
+    }
+    // The triangles under the box by their index, ascending as the CPU's query gives them: the
+    // hierarchy's slots (into `triangles`) kept sorted by the triangles' indices.
+    uint found[RUBBLE_LEVEL_MAX_TRIANGLES], foundIndex[RUBBLE_LEVEL_MAX_TRIANGLES];
+    uint foundCount = 0;
+    uint stack[2u * RUBBLE_LEVEL_MAX_DEPTH];
+    uint top = 0;
+    stack[top++] = 0u;
+    while (top > 0u) {
+        const LevelNode node = nodes[stack[--top]];
+        if (!levelBoxesOverlapItem(node.boxMin, node.boxMax, queryMin, queryMax)) continue;
+        if (node.count == 0u) {
+            if (top + 2u > 2u * RUBBLE_LEVEL_MAX_DEPTH) continue;
+            stack[top++] = node.second;
+            stack[top++] = node.first;
+            continue;
+        }
+        for (uint k = node.first; k < node.first + node.count; ++k) {
+            const MeshTriangle t = triangles[k];
+            const float4 lo = vec4(fmin(t.v[0].x, fmin(t.v[1].x, t.v[2].x)),
+                                   fmin(t.v[0].y, fmin(t.v[1].y, t.v[2].y)),
+                                   fmin(t.v[0].z, fmin(t.v[1].z, t.v[2].z)));
+            const float4 hi = vec4(fmax(t.v[0].x, fmax(t.v[1].x, t.v[2].x)),
+                                   fmax(t.v[0].y, fmax(t.v[1].y, t.v[2].y)),
+                                   fmax(t.v[0].z, fmax(t.v[1].z, t.v[2].z)));
+            if (!levelBoxesOverlapItem(lo, hi, queryMin, queryMax)) continue;
+            // Insertion by index; when full, the highest index leaves.
+            uint at = foundCount;
+            while (at > 0u && foundIndex[at - 1u] > t.index) --at;
+            if (at >= RUBBLE_LEVEL_MAX_TRIANGLES) continue;
+            uint last = foundCount < RUBBLE_LEVEL_MAX_TRIANGLES ? foundCount
+                                                                : RUBBLE_LEVEL_MAX_TRIANGLES - 1u;
+            for (uint j = last; j > at; --j) {
+                found[j] = found[j - 1u];
+                foundIndex[j] = foundIndex[j - 1u];
+            }
+            found[at] = k;
+            foundIndex[at] = t.index;
+            if (foundCount < RUBBLE_LEVEL_MAX_TRIANGLES) ++foundCount;
+        }
+    }
+    if (foundCount == 0u) return m;
+
+    // The other shape in the level's frame, and each triangle's contacts with it.
+    const RigidTransform place = transformRelative(levelAt, otherAt);
+    TriangleContact contacts[RUBBLE_LEVEL_MAX_CONTACTS];
+    ContactBuffer out;
+    out.items = contacts;
+    out.count = 0u;
+    out.capacity = RUBBLE_LEVEL_MAX_CONTACTS;
+    if (other.kind == RUBBLE_SHAPE_SPHERE) {
+        for (uint i = 0; i < foundCount; ++i)
+            collideTriangleSphereItem(triangles[found[i]], place.translation, other.radius, margin,
+                                      &out);
+    } else if (other.kind == RUBBLE_SHAPE_CAPSULE) {
+        const float4 axis = vec4(place.rotation.r0.y, place.rotation.r1.y, place.rotation.r2.y);
+        CapsuleSegment s;
+        s.p0 = sub4(place.translation, scale4(axis, other.halfHeight));
+        s.p1 = add4(place.translation, scale4(axis, other.halfHeight));
+        for (uint i = 0; i < foundCount; ++i)
+            collideTriangleCapsuleItem(triangles[found[i]], s, other.radius, margin, &out);
+    } else if (other.kind == RUBBLE_SHAPE_HULL) {
+        TaggedPoint polygon[RUBBLE_HULL_MAX_FACE_VERTICES + RUBBLE_TRIANGLE_EXTRA_CONTACTS + 1u];
+        TaggedPoint clipped[RUBBLE_HULL_MAX_FACE_VERTICES + RUBBLE_TRIANGLE_EXTRA_CONTACTS + 1u];
+        PlacedHull hull;
+        hull.hull = hullOfItem(arrays, other);
+        hull.place = place;
+        hull.toHull = mat3Transpose(place.rotation);
+        hull.centroid = transformApply(place, other.centroid);
+        hull.vertices = 0;
+        hull.faces = 0;
+        hull.edgeOrigins = 0;
+        hull.edgeDirections = 0;
+        hull.polygon = polygon;
+        hull.clipped = clipped;
+        for (uint i = 0; i < foundCount; ++i)
+            collideTriangleHullItem(triangles[found[i]], hull, margin, &out);
+    } else {
+        return m;
+    }
+
+    // Group by normal in the order the triangles came; keep the group with the deepest point.
+    uint taken[RUBBLE_LEVEL_MAX_CONTACTS], group[RUBBLE_LEVEL_MAX_CONTACTS];
+    for (uint i = 0; i < out.count; ++i) taken[i] = 0u;
+    uint bestLeader = 0u;
+    float bestDepth = RUBBLE_TRIANGLE_LOWEST;
+    for (uint i = 0; i < out.count; ++i) {
+        if (taken[i]) continue;
+        const uint n = gatherLevelGroupItem(contacts, out.count, i, i + 1u, taken, group);
+        for (uint j = 0; j < n; ++j)
+            if (contacts[group[j]].depth > bestDepth) {
+                bestDepth = contacts[group[j]].depth;
+                bestLeader = i;
+            }
+    }
+    if (out.count == 0u) return m;
+    uint n = 0;
+    for (uint i = bestLeader; i < out.count; ++i)
+        if (taken[i] == bestLeader + 1u) group[n++] = i;
+    uint kept[RUBBLE_MAX_CONTACT_POINTS];
+    const uint count = reduceLevelGroupItem(contacts, group, n, kept);
+    m.normal = transformRotate(levelAt, contacts[bestLeader].normal);
+    for (uint i = 0; i < count; ++i) {
+        const TriangleContact c = contacts[kept[i]];
+        addContactItem(&m, transformApply(levelAt, c.position), c.depth, c.feature);
+    }
+    return m;
+}
+
+RUBBLE_SHARED_END
