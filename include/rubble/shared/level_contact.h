@@ -2,8 +2,9 @@
 // both pipelines: the contacts of the triangles under the body's box (triangle_contact.h)
 // grouped by normal and each group reduced to at most four points. The CPU
 // (host/collision/level_collision.cpp) queries its hierarchy itself and keeps every group as a
-// manifold; the device (kernels/sat.cl) walks the flattened hierarchy here and keeps the group
-// with the deepest point, the one manifold its pair slot holds.
+// manifold; the device (kernels/sat.cl) walks the flattened hierarchy here and makes the one
+// manifold its pair slot holds: the normal of the group with the deepest point, and the points
+// of every group within RUBBLE_LEVEL_MERGE_COSINE of it.
 #pragma once
 
 #include "rubble/shared/triangle_contact.h"
@@ -15,6 +16,9 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_SAME_NORMAL_COSINE 0.995f
 // Points closer than this (m) are one when a group is reduced.
 #define RUBBLE_LEVEL_SAME_POINT 1e-5f
+// On the device, the contacts whose normals are within this cosine (about 26 degrees) of the
+// deepest group's share its manifold.
+#define RUBBLE_LEVEL_MERGE_COSINE 0.9f
 // On the device, a pair collides with at most this many triangles under its box (the lowest
 // indices) and keeps at most this many contacts of them, in private memory.
 #define RUBBLE_LEVEL_MAX_TRIANGLES 32u
@@ -128,10 +132,10 @@ RUBBLE_FN int levelBoxesOverlapItem(float4 aMin, float4 aMax, float4 bMin, float
 }
 
 // The level mesh `level` at `levelAt` against `other` (a hull, sphere or capsule) at `otherAt`,
-// whose world box is (boxMin, boxMax): the group of contacts with the deepest point as one
-// manifold in the world frame, normal from the level to the other body (a and b left for the
-// caller). Triangles past RUBBLE_LEVEL_MAX_TRIANGLES (the highest indices) and contacts past
-// RUBBLE_LEVEL_MAX_CONTACTS are left out.
+// whose world box is (boxMin, boxMax): one manifold in the world frame (the deepest group's
+// normal, the points of the groups near it reduced to four), normal from the level to the other
+// body (a and b left for the caller). Triangles past RUBBLE_LEVEL_MAX_TRIANGLES (the highest
+// indices) and contacts past RUBBLE_LEVEL_MAX_CONTACTS are left out.
 RUBBLE_FN ContactManifold collideLevelItem(HullArrays arrays, LevelArrays levels, uint level,
                                            RigidTransform levelAt, HullShape other,
                                            RigidTransform otherAt, float4 boxMin, float4 boxMax,
@@ -149,11 +153,11 @@ RUBBLE_FN ContactManifold collideLevelItem(HullArrays arrays, LevelArrays levels
         const float4 p =
             vec4((corner & 1u) ? boxMax.x : boxMin.x, (corner & 2u) ? boxMax.y : boxMin.y,
                  (corner & 4u) ? boxMax.z : boxMin.z);
-        const float4 local = transformApplyInverse(levelAt, p);
-        queryMin =
-            vec4(fmin(queryMin.x, local.x), fmin(queryMin.y, local.y), fmin(queryMin.z, local.z));
-        queryMax =
-            vec4(fmax(queryMax.x, local.x), fmax(queryMax.y, local.y), fmax(queryMax.z, local.z));
+        const float4 inLevel = transformApplyInverse(levelAt, p);
+        queryMin = vec4(fmin(queryMin.x, inLevel.x), fmin(queryMin.y, inLevel.y),
+                        fmin(queryMin.z, inLevel.z));
+        queryMax = vec4(fmax(queryMax.x, inLevel.x), fmax(queryMax.y, inLevel.y),
+                        fmax(queryMax.z, inLevel.z));
     }
     // The triangles under the box by their index, ascending as the CPU's query gives them: the
     // hierarchy's slots (into `triangles`) kept sorted by the triangles' indices.
@@ -235,7 +239,8 @@ RUBBLE_FN ContactManifold collideLevelItem(HullArrays arrays, LevelArrays levels
         return m;
     }
 
-    // Group by normal in the order the triangles came; keep the group with the deepest point.
+    // Group by normal in the order the triangles came; the group with the deepest point gives
+    // the normal.
     uint taken[RUBBLE_LEVEL_MAX_CONTACTS], group[RUBBLE_LEVEL_MAX_CONTACTS];
     for (uint i = 0; i < out.count; ++i) taken[i] = 0u;
     uint bestLeader = 0u;
@@ -250,12 +255,20 @@ RUBBLE_FN ContactManifold collideLevelItem(HullArrays arrays, LevelArrays levels
             }
     }
     if (out.count == 0u) return m;
+    // One manifold holds the contacts whose normals lie within RUBBLE_LEVEL_MERGE_COSINE of it,
+    // their depths taken along it: a body across the facets of a curved surface keeps its
+    // support on all of them, where the CPU has a manifold per group.
+    const float4 normal = contacts[bestLeader].normal;
     uint n = 0;
-    for (uint i = bestLeader; i < out.count; ++i)
-        if (taken[i] == bestLeader + 1u) group[n++] = i;
+    for (uint i = 0; i < out.count; ++i) {
+        const float along = dot3(contacts[i].normal, normal);
+        if (along < RUBBLE_LEVEL_MERGE_COSINE) continue;
+        if (taken[i] != bestLeader + 1u) contacts[i].depth *= along;
+        group[n++] = i;
+    }
     uint kept[RUBBLE_MAX_CONTACT_POINTS];
     const uint count = reduceLevelGroupItem(contacts, group, n, kept);
-    m.normal = transformRotate(levelAt, contacts[bestLeader].normal);
+    m.normal = transformRotate(levelAt, normal);
     for (uint i = 0; i < count; ++i) {
         const TriangleContact c = contacts[kept[i]];
         addContactItem(&m, transformApply(levelAt, c.position), c.depth, c.feature);
