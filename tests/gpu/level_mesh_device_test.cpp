@@ -143,6 +143,37 @@ TEST_F(DeviceLevelMesh, CrateRestsOnABumpNearWhereItRestsOnTheCpu) {
     EXPECT_LT(d.lastStep().largestPenetration, 0.01f);
 }
 
+// A ball rolling and a capsule dropped across the seams of a flat mesh (their contacts are
+// rubble/shared/triangle_contact.h's, as the hulls'): on the device as on the CPU at every step.
+TEST_F(DeviceLevelMesh, BallAndCapsuleOnAFlatMeshFollowTheCpu) {
+    const std::string scene = R"({"format": "rubble-scene", "version": 1,
+        "simulation": {"collision": {"method": "sat"}},
+        "shapes": {"floor": )" +
+                              meshShape(flatMeshFile(20, 0.5f)) +
+                              R"(,
+                   "ball": {"type": "sphere", "radius": 0.2},
+                   "pill": {"type": "capsule", "radius": 0.15, "half_height": 0.3}},
+        "bodies": [{"name": "floor", "shape": "floor", "static": true},
+                   {"name": "ball", "shape": "ball", "mass": 1, "position": [-2, 0.5, 0.1],
+                    "linear_velocity": [2, 0, 0.5]},
+                   {"name": "pill", "shape": "pill", "mass": 1, "position": [1.3, 0.6, 0.2],
+                    "orientation": [0.70710678, 0.1, 0, 0.70710678]}]})";
+    World d = device(scene), c = cpu(scene);
+    const std::uint32_t ball = *c.findBody("ball"), pill = *c.findBody("pill");
+    float worst = 0.0f;
+    for (int i = 0; i < 180; ++i) {
+        ASSERT_TRUE(test::stepWorld(d, 1));
+        ASSERT_TRUE(test::stepWorld(c, 1));
+        for (const std::uint32_t b : {ball, pill})
+            worst = std::max(worst, glm::length(d.body(b).position - c.body(b).position));
+    }
+    EXPECT_LT(worst, 2e-3f);
+    EXPECT_NEAR(d.body(ball).position.y, 0.2f, 0.005f);
+    EXPECT_GT(d.body(ball).position.x, -1.0f) << "the ball rolls over the seams";
+    EXPECT_NEAR(d.body(pill).position.y, 0.15f, 0.005f);
+    EXPECT_LT(d.lastStep().largestPenetration, 0.01f);
+}
+
 // A box sliding at 5 m/s over 100 x 100 quads of 0.5 m: no bump on the seams (vertical speed
 // under 1 mm/s) and the plane's friction deceleration within 1%.
 TEST_F(DeviceLevelMesh, BoxSlidesOverAFlatMeshWithoutBumps) {

@@ -23,6 +23,9 @@ RUBBLE_SHARED_BEGIN
 // indices) and keeps at most this many contacts of them, in private memory.
 #define RUBBLE_LEVEL_MAX_TRIANGLES 32u
 #define RUBBLE_LEVEL_MAX_CONTACTS 64u
+// On the device, hulls with at most this many vertices and faces (and twice as many edges) are
+// placed in the level's frame once per pair, in private memory.
+#define RUBBLE_LEVEL_PLACED_VERTICES 16u
 // The deepest a level mesh's hierarchy goes on the device (host/geometry/triangle_bvh.h's
 // kBvhMaxDepth); the walk's stack holds two entries per level.
 #define RUBBLE_LEVEL_MAX_DEPTH 64u
@@ -231,6 +234,27 @@ RUBBLE_FN ContactManifold collideLevelItem(HullArrays arrays, LevelArrays levels
         hull.faces = 0;
         hull.edgeOrigins = 0;
         hull.edgeDirections = 0;
+        // A small hull (a box, a rock) placed once in private memory, as the CPU places every
+        // hull; a larger one is placed point by point as the triangles read it.
+        float4 placedVertices[RUBBLE_LEVEL_PLACED_VERTICES];
+        float4 placedFaces[RUBBLE_LEVEL_PLACED_VERTICES];
+        float4 placedOrigins[2u * RUBBLE_LEVEL_PLACED_VERTICES];
+        float4 placedDirections[2u * RUBBLE_LEVEL_PLACED_VERTICES];
+        if (hull.hull.vertexCount <= RUBBLE_LEVEL_PLACED_VERTICES &&
+            hull.hull.faceCount <= RUBBLE_LEVEL_PLACED_VERTICES &&
+            hull.hull.edgeCount <= 2u * RUBBLE_LEVEL_PLACED_VERTICES) {
+            for (uint v = 0; v < hull.hull.vertexCount; ++v)
+                placedVertices[v] = placedVertexItem(hull, v);
+            hull.vertices = placedVertices;
+            for (uint f = 0; f < hull.hull.faceCount; ++f) placedFaces[f] = placedFaceItem(hull, f);
+            for (uint e = 0; e < hull.hull.edgeCount; ++e) {
+                placedOrigins[e] = placedEdgeOriginItem(hull, e);
+                placedDirections[e] = placedEdgeDirectionItem(hull, e);
+            }
+            hull.faces = placedFaces;
+            hull.edgeOrigins = placedOrigins;
+            hull.edgeDirections = placedDirections;
+        }
         hull.polygon = polygon;
         hull.clipped = clipped;
         for (uint i = 0; i < foundCount; ++i)
@@ -255,15 +279,17 @@ RUBBLE_FN ContactManifold collideLevelItem(HullArrays arrays, LevelArrays levels
             }
     }
     if (out.count == 0u) return m;
-    // One manifold holds the contacts whose normals lie within RUBBLE_LEVEL_MERGE_COSINE of it,
-    // their depths taken along it: a body across the facets of a curved surface keeps its
-    // support on all of them, where the CPU has a manifold per group.
+    // One manifold holds the contacts whose normals lie within RUBBLE_LEVEL_MERGE_COSINE of the
+    // deepest group's, which is its normal: a body across the facets of a curved surface keeps
+    // its support on all of them, where the CPU has a manifold per group. A point of another
+    // group, d deep along its own normal at cosine c to this one, is d / c deep along it (how
+    // far the body moves along this normal to clear it).
     const float4 normal = contacts[bestLeader].normal;
     uint n = 0;
     for (uint i = 0; i < out.count; ++i) {
         const float along = dot3(contacts[i].normal, normal);
         if (along < RUBBLE_LEVEL_MERGE_COSINE) continue;
-        if (taken[i] != bestLeader + 1u) contacts[i].depth *= along;
+        if (taken[i] != bestLeader + 1u) contacts[i].depth /= along;
         group[n++] = i;
     }
     uint kept[RUBBLE_MAX_CONTACT_POINTS];
