@@ -112,6 +112,26 @@ std::string fieldShape(float amp, float k, float cx) {
     return R"({"type": "heightfield", "spacing": [0.5, 0.5], "heights": )" + heights.str() + "}";
 }
 
+// A crate of 2 m tilted onto a mesh of 0.25 m cells: its box covers about 150 triangles, which
+// the device collides in batches of 32 (RUBBLE_LEVEL_MAX_TRIANGLES) in the CPU's order.
+TEST_F(DeviceLevelMesh, LargeCrateOnAFineMeshFollowsTheCpu) {
+    const std::string scene = R"({"format": "rubble-scene", "version": 1,
+        "simulation": {"collision": {"method": "sat"}},
+        "shapes": {"floor": )" +
+                              meshShape(flatMeshFile(40, 0.25f)) +
+                              R"(,
+                   "crate": {"type": "box", "half_extents": [1, 0.5, 1]}},
+        "bodies": [{"name": "floor", "shape": "floor", "static": true},
+                   {"name": "crate", "shape": "crate", "mass": 8, "position": [0.1, 1.2, 0.05],
+                    "orientation": [0.98, 0.1, 0.05, 0.15]}]})";
+    World d = device(scene), c = cpu(scene);
+    const float worst = stepTwins(d, c, "crate", 180, 2e-3f);
+    RecordProperty("worst_gap_m", std::to_string(worst));
+    const std::uint32_t crate = *d.findBody("crate");
+    EXPECT_NEAR(d.body(crate).position.y, 0.5f, 0.01f);
+    EXPECT_LT(d.lastStep().largestPenetration, 0.01f);
+}
+
 // A gentle mound (neighbouring facets within a degree of each other, so that the CPU's contacts
 // make one manifold as the device's do): the crate lands off its top, tips onto its slope and
 // rests, on the device as on the CPU at every step.

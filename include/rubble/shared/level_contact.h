@@ -16,11 +16,15 @@ RUBBLE_SHARED_BEGIN
 #define RUBBLE_SAME_NORMAL_COSINE 0.995f
 // Points closer than this (m) are one when a group is reduced.
 #define RUBBLE_LEVEL_SAME_POINT 1e-5f
+// Contacts one triangle gives at most on the device (a hull's largest face plus three).
+#define RUBBLE_LEVEL_TRIANGLE_CONTACTS                                                             \
+    (RUBBLE_HULL_MAX_FACE_VERTICES + RUBBLE_TRIANGLE_EXTRA_CONTACTS)
 // On the device, the contacts whose normals are within this cosine (about 26 degrees) of the
 // deepest group's share its manifold.
 #define RUBBLE_LEVEL_MERGE_COSINE 0.9f
-// On the device, a pair collides with at most this many triangles under its box (the lowest
-// indices) and keeps at most this many contacts of them, in private memory.
+// On the device, a pair collides with the triangles under its box in batches of at most this
+// many (one walk of the hierarchy each), and holds at most this many contacts of them at once,
+// in private memory.
 #define RUBBLE_LEVEL_MAX_TRIANGLES 32u
 #define RUBBLE_LEVEL_MAX_CONTACTS 64u
 // On the device, hulls with at most this many vertices and faces (and twice as many edges) are
@@ -134,11 +138,33 @@ RUBBLE_FN int levelBoxesOverlapItem(float4 aMin, float4 aMax, float4 bMin, float
            aMin.z <= bMax.z && bMin.z <= aMax.z;
 }
 
+// Makes room in a full contact buffer: each group of normals (as gatherLevelGroupItem forms
+// them) keeps its leader and the points reduceLevelGroupItem keeps of it, in their order. The
+// deepest point of each group, its leader's normal and the group's extent survive, so the
+// manifold made at the end is near the one all the points would give.
+RUBBLE_FN void compactLevelContactsItem(ContactBuffer* out, uint* taken, uint* group) {
+    const uint n = out->count;
+    for (uint i = 0; i < n; ++i) taken[i] = 0u;
+    // taken: 0 unseen, else 1 + the leader; keep marks go in bit 31.
+    for (uint i = 0; i < n; ++i) {
+        if (taken[i]) continue;
+        const uint members = gatherLevelGroupItem(out->items, n, i, i + 1u, taken, group);
+        uint kept[RUBBLE_MAX_CONTACT_POINTS];
+        const uint count = reduceLevelGroupItem(out->items, group, members, kept);
+        taken[i] |= 0x80000000u;
+        for (uint k = 0; k < count; ++k) taken[kept[k]] |= 0x80000000u;
+    }
+    uint w = 0;
+    for (uint i = 0; i < n; ++i)
+        if (taken[i] & 0x80000000u) out->items[w++] = out->items[i];
+    out->count = w;
+}
+
 // The level mesh `level` at `levelAt` against `other` (a hull, sphere or capsule) at `otherAt`,
 // whose world box is (boxMin, boxMax): one manifold in the world frame (the deepest group's
 // normal, the points of the groups near it reduced to four), normal from the level to the other
-// body (a and b left for the caller). Triangles past RUBBLE_LEVEL_MAX_TRIANGLES (the highest
-// indices) and contacts past RUBBLE_LEVEL_MAX_CONTACTS are left out.
+// body (a and b left for the caller). When RUBBLE_LEVEL_MAX_CONTACTS would not hold the next
+// triangle's contacts, the buffer is compacted (compactLevelContactsItem).
 RUBBLE_FN ContactManifold collideLevelItem(HullArrays arrays, LevelArrays levels, uint level,
                                            RigidTransform levelAt, HullShape other,
                                            RigidTransform otherAt, float4 boxMin, float4 boxMax,
@@ -162,110 +188,128 @@ RUBBLE_FN ContactManifold collideLevelItem(HullArrays arrays, LevelArrays levels
         queryMax = vec4(fmax(queryMax.x, inLevel.x), fmax(queryMax.y, inLevel.y),
                         fmax(queryMax.z, inLevel.z));
     }
-    // The triangles under the box by their index, ascending as the CPU's query gives them: the
-    // hierarchy's slots (into `triangles`) kept sorted by the triangles' indices.
-    uint found[RUBBLE_LEVEL_MAX_TRIANGLES], foundIndex[RUBBLE_LEVEL_MAX_TRIANGLES];
-    uint foundCount = 0;
-    uint stack[2u * RUBBLE_LEVEL_MAX_DEPTH];
-    uint top = 0;
-    stack[top++] = 0u;
-    while (top > 0u) {
-        const LevelNode node = nodes[stack[--top]];
-        if (!levelBoxesOverlapItem(node.boxMin, node.boxMax, queryMin, queryMax)) continue;
-        if (node.count == 0u) {
-            if (top + 2u > 2u * RUBBLE_LEVEL_MAX_DEPTH) continue;
-            stack[top++] = node.second;
-            stack[top++] = node.first;
-            continue;
-        }
-        for (uint k = node.first; k < node.first + node.count; ++k) {
-            const MeshTriangle t = triangles[k];
-            const float4 lo = vec4(fmin(t.v[0].x, fmin(t.v[1].x, t.v[2].x)),
-                                   fmin(t.v[0].y, fmin(t.v[1].y, t.v[2].y)),
-                                   fmin(t.v[0].z, fmin(t.v[1].z, t.v[2].z)));
-            const float4 hi = vec4(fmax(t.v[0].x, fmax(t.v[1].x, t.v[2].x)),
-                                   fmax(t.v[0].y, fmax(t.v[1].y, t.v[2].y)),
-                                   fmax(t.v[0].z, fmax(t.v[1].z, t.v[2].z)));
-            if (!levelBoxesOverlapItem(lo, hi, queryMin, queryMax)) continue;
-            // Insertion by index; when full, the highest index leaves.
-            uint at = foundCount;
-            while (at > 0u && foundIndex[at - 1u] > t.index) --at;
-            if (at >= RUBBLE_LEVEL_MAX_TRIANGLES) continue;
-            uint last = foundCount < RUBBLE_LEVEL_MAX_TRIANGLES ? foundCount
-                                                                : RUBBLE_LEVEL_MAX_TRIANGLES - 1u;
-            for (uint j = last; j > at; --j) {
-                found[j] = found[j - 1u];
-                foundIndex[j] = foundIndex[j - 1u];
-            }
-            found[at] = k;
-            foundIndex[at] = t.index;
-            if (foundCount < RUBBLE_LEVEL_MAX_TRIANGLES) ++foundCount;
-        }
-    }
-    if (foundCount == 0u) return m;
-
-    // The other shape in the level's frame, and each triangle's contacts with it.
+    // The other shape in the level's frame.
     const RigidTransform place = transformRelative(levelAt, otherAt);
+    if (other.kind != RUBBLE_SHAPE_SPHERE && other.kind != RUBBLE_SHAPE_CAPSULE &&
+        other.kind != RUBBLE_SHAPE_HULL)
+        return m;
+    const float4 axis = vec4(place.rotation.r0.y, place.rotation.r1.y, place.rotation.r2.y);
+    CapsuleSegment segment;
+    segment.p0 = sub4(place.translation, scale4(axis, other.halfHeight));
+    segment.p1 = add4(place.translation, scale4(axis, other.halfHeight));
+    TaggedPoint polygon[RUBBLE_HULL_MAX_FACE_VERTICES + RUBBLE_TRIANGLE_EXTRA_CONTACTS + 1u];
+    TaggedPoint clipped[RUBBLE_HULL_MAX_FACE_VERTICES + RUBBLE_TRIANGLE_EXTRA_CONTACTS + 1u];
+    PlacedHull hull;
+    hull.hull = hullOfItem(arrays, other);
+    hull.place = place;
+    hull.toHull = mat3Transpose(place.rotation);
+    hull.centroid = transformApply(place, other.centroid);
+    hull.vertices = 0;
+    hull.faces = 0;
+    hull.edgeOrigins = 0;
+    hull.edgeDirections = 0;
+    hull.polygon = polygon;
+    hull.clipped = clipped;
+    // A small hull (a box, a rock) placed once in private memory, as the CPU places every hull;
+    // a larger one is placed point by point as the triangles read it.
+    float4 placedVertices[RUBBLE_LEVEL_PLACED_VERTICES];
+    float4 placedFaces[RUBBLE_LEVEL_PLACED_VERTICES];
+    float4 placedOrigins[2u * RUBBLE_LEVEL_PLACED_VERTICES];
+    float4 placedDirections[2u * RUBBLE_LEVEL_PLACED_VERTICES];
+    if (other.kind == RUBBLE_SHAPE_HULL && hull.hull.vertexCount <= RUBBLE_LEVEL_PLACED_VERTICES &&
+        hull.hull.faceCount <= RUBBLE_LEVEL_PLACED_VERTICES &&
+        hull.hull.edgeCount <= 2u * RUBBLE_LEVEL_PLACED_VERTICES) {
+        for (uint v = 0; v < hull.hull.vertexCount; ++v)
+            placedVertices[v] = placedVertexItem(hull, v);
+        hull.vertices = placedVertices;
+        for (uint f = 0; f < hull.hull.faceCount; ++f) placedFaces[f] = placedFaceItem(hull, f);
+        for (uint e = 0; e < hull.hull.edgeCount; ++e) {
+            placedOrigins[e] = placedEdgeOriginItem(hull, e);
+            placedDirections[e] = placedEdgeDirectionItem(hull, e);
+        }
+        hull.faces = placedFaces;
+        hull.edgeOrigins = placedOrigins;
+        hull.edgeDirections = placedDirections;
+    }
+
+    // The triangles under the box in ascending index, as the CPU's query gives them, in batches
+    // of at most RUBBLE_LEVEL_MAX_TRIANGLES: each walk of the hierarchy keeps the lowest indices
+    // past the last batch's (the slots into `triangles` sorted by the triangles' indices).
     TriangleContact contacts[RUBBLE_LEVEL_MAX_CONTACTS];
     ContactBuffer out;
     out.items = contacts;
     out.count = 0u;
     out.capacity = RUBBLE_LEVEL_MAX_CONTACTS;
-    if (other.kind == RUBBLE_SHAPE_SPHERE) {
-        for (uint i = 0; i < foundCount; ++i)
-            collideTriangleSphereItem(triangles[found[i]], place.translation, other.radius, margin,
-                                      &out);
-    } else if (other.kind == RUBBLE_SHAPE_CAPSULE) {
-        const float4 axis = vec4(place.rotation.r0.y, place.rotation.r1.y, place.rotation.r2.y);
-        CapsuleSegment s;
-        s.p0 = sub4(place.translation, scale4(axis, other.halfHeight));
-        s.p1 = add4(place.translation, scale4(axis, other.halfHeight));
-        for (uint i = 0; i < foundCount; ++i)
-            collideTriangleCapsuleItem(triangles[found[i]], s, other.radius, margin, &out);
-    } else if (other.kind == RUBBLE_SHAPE_HULL) {
-        TaggedPoint polygon[RUBBLE_HULL_MAX_FACE_VERTICES + RUBBLE_TRIANGLE_EXTRA_CONTACTS + 1u];
-        TaggedPoint clipped[RUBBLE_HULL_MAX_FACE_VERTICES + RUBBLE_TRIANGLE_EXTRA_CONTACTS + 1u];
-        PlacedHull hull;
-        hull.hull = hullOfItem(arrays, other);
-        hull.place = place;
-        hull.toHull = mat3Transpose(place.rotation);
-        hull.centroid = transformApply(place, other.centroid);
-        hull.vertices = 0;
-        hull.faces = 0;
-        hull.edgeOrigins = 0;
-        hull.edgeDirections = 0;
-        // A small hull (a box, a rock) placed once in private memory, as the CPU places every
-        // hull; a larger one is placed point by point as the triangles read it.
-        float4 placedVertices[RUBBLE_LEVEL_PLACED_VERTICES];
-        float4 placedFaces[RUBBLE_LEVEL_PLACED_VERTICES];
-        float4 placedOrigins[2u * RUBBLE_LEVEL_PLACED_VERTICES];
-        float4 placedDirections[2u * RUBBLE_LEVEL_PLACED_VERTICES];
-        if (hull.hull.vertexCount <= RUBBLE_LEVEL_PLACED_VERTICES &&
-            hull.hull.faceCount <= RUBBLE_LEVEL_PLACED_VERTICES &&
-            hull.hull.edgeCount <= 2u * RUBBLE_LEVEL_PLACED_VERTICES) {
-            for (uint v = 0; v < hull.hull.vertexCount; ++v)
-                placedVertices[v] = placedVertexItem(hull, v);
-            hull.vertices = placedVertices;
-            for (uint f = 0; f < hull.hull.faceCount; ++f) placedFaces[f] = placedFaceItem(hull, f);
-            for (uint e = 0; e < hull.hull.edgeCount; ++e) {
-                placedOrigins[e] = placedEdgeOriginItem(hull, e);
-                placedDirections[e] = placedEdgeDirectionItem(hull, e);
+    uint taken[RUBBLE_LEVEL_MAX_CONTACTS], group[RUBBLE_LEVEL_MAX_CONTACTS];
+    uint found[RUBBLE_LEVEL_MAX_TRIANGLES], foundIndex[RUBBLE_LEVEL_MAX_TRIANGLES];
+    uint after = 0u;
+    int firstBatch = 1;
+    for (;;) {
+        uint foundCount = 0;
+        int more = 0;
+        uint stack[2u * RUBBLE_LEVEL_MAX_DEPTH];
+        uint top = 0;
+        stack[top++] = 0u;
+        while (top > 0u) {
+            const LevelNode node = nodes[stack[--top]];
+            if (!levelBoxesOverlapItem(node.boxMin, node.boxMax, queryMin, queryMax)) continue;
+            if (node.count == 0u) {
+                if (top + 2u > 2u * RUBBLE_LEVEL_MAX_DEPTH) continue;
+                stack[top++] = node.second;
+                stack[top++] = node.first;
+                continue;
             }
-            hull.faces = placedFaces;
-            hull.edgeOrigins = placedOrigins;
-            hull.edgeDirections = placedDirections;
+            for (uint k = node.first; k < node.first + node.count; ++k) {
+                const MeshTriangle t = triangles[k];
+                if (!firstBatch && t.index <= after) continue;
+                const float4 lo = vec4(fmin(t.v[0].x, fmin(t.v[1].x, t.v[2].x)),
+                                       fmin(t.v[0].y, fmin(t.v[1].y, t.v[2].y)),
+                                       fmin(t.v[0].z, fmin(t.v[1].z, t.v[2].z)));
+                const float4 hi = vec4(fmax(t.v[0].x, fmax(t.v[1].x, t.v[2].x)),
+                                       fmax(t.v[0].y, fmax(t.v[1].y, t.v[2].y)),
+                                       fmax(t.v[0].z, fmax(t.v[1].z, t.v[2].z)));
+                if (!levelBoxesOverlapItem(lo, hi, queryMin, queryMax)) continue;
+                // Insertion by index; when full, the highest index waits for the next batch.
+                uint at = foundCount;
+                while (at > 0u && foundIndex[at - 1u] > t.index) --at;
+                if (at >= RUBBLE_LEVEL_MAX_TRIANGLES) {
+                    more = 1;
+                    continue;
+                }
+                if (foundCount == RUBBLE_LEVEL_MAX_TRIANGLES) more = 1;
+                const uint last = foundCount < RUBBLE_LEVEL_MAX_TRIANGLES
+                                      ? foundCount
+                                      : RUBBLE_LEVEL_MAX_TRIANGLES - 1u;
+                for (uint j = last; j > at; --j) {
+                    found[j] = found[j - 1u];
+                    foundIndex[j] = foundIndex[j - 1u];
+                }
+                found[at] = k;
+                foundIndex[at] = t.index;
+                if (foundCount < RUBBLE_LEVEL_MAX_TRIANGLES) ++foundCount;
+            }
         }
-        hull.polygon = polygon;
-        hull.clipped = clipped;
-        for (uint i = 0; i < foundCount; ++i)
-            collideTriangleHullItem(triangles[found[i]], hull, margin, &out);
-    } else {
-        return m;
+        // Each triangle's contacts with the other shape, the buffer compacted when a triangle's
+        // might not fit.
+        for (uint i = 0; i < foundCount; ++i) {
+            if (out.count + RUBBLE_LEVEL_TRIANGLE_CONTACTS > out.capacity)
+                compactLevelContactsItem(&out, taken, group);
+            const MeshTriangle t = triangles[found[i]];
+            if (other.kind == RUBBLE_SHAPE_SPHERE)
+                collideTriangleSphereItem(t, place.translation, other.radius, margin, &out);
+            else if (other.kind == RUBBLE_SHAPE_CAPSULE)
+                collideTriangleCapsuleItem(t, segment, other.radius, margin, &out);
+            else
+                collideTriangleHullItem(t, hull, margin, &out);
+        }
+        if (!more || foundCount == 0u) break;
+        after = foundIndex[foundCount - 1u];
+        firstBatch = 0;
     }
+    if (out.count == 0u) return m;
 
     // Group by normal in the order the triangles came; the group with the deepest point gives
     // the normal.
-    uint taken[RUBBLE_LEVEL_MAX_CONTACTS], group[RUBBLE_LEVEL_MAX_CONTACTS];
     for (uint i = 0; i < out.count; ++i) taken[i] = 0u;
     uint bestLeader = 0u;
     float bestDepth = RUBBLE_TRIANGLE_LOWEST;
@@ -278,7 +322,6 @@ RUBBLE_FN ContactManifold collideLevelItem(HullArrays arrays, LevelArrays levels
                 bestLeader = i;
             }
     }
-    if (out.count == 0u) return m;
     // One manifold holds the contacts whose normals lie within RUBBLE_LEVEL_MERGE_COSINE of the
     // deepest group's, which is its normal: a body across the facets of a curved surface keeps
     // its support on all of them, where the CPU has a manifold per group. A point of another
