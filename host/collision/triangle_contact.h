@@ -15,7 +15,7 @@
 #include "host/collision/capsule_contact.h"
 #include "host/geometry/half_edge.h"
 #include "host/geometry/level_mesh.h"
-#include "rubble/shared/triangle_contact.h"
+#include "rubble/shared/triangle_hull_contact.h"
 
 namespace rubble {
 

@@ -7,7 +7,7 @@
 // of every group within RUBBLE_LEVEL_MERGE_COSINE of it.
 #pragma once
 
-#include "rubble/shared/triangle_contact.h"
+#include "rubble/shared/triangle_hull_contact.h"
 
 RUBBLE_SHARED_BEGIN
 
