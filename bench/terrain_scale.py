@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """The terrain scale target: debris_16k's pile dropped on a ~10^6-triangle terrain mesh and on
-its plane, on the CPU, side by side.
+its plane, on the CPU (or with --backend opencl on the device's SAT path), side by side.
 
   bench/terrain_scale.py              # build/rubble, 900 steps, 708 x 708 quads of 0.5 m
   bench/terrain_scale.py --quads 100 --size 50 --steps 120 --crates 8,4,8   # a quick look
+  bench/terrain_scale.py --backend opencl --out bench/results/<machine>/terrain_scale_opencl.csv
 
 Writes a folder of its own (--work, a new temporary one by default) holding the terrain (rolling
 hills, every height at or below the plane's y = 0, so that both piles start at the same heights)
@@ -164,10 +165,15 @@ def deepest_below(rows, prefix, half, surface):
     return worst, who, off // 8
 
 
-def run(rubble, scene, steps, folder, tag):
+# The run's arguments and CSV config name per --backend.
+BACKENDS = {"cpu": ([], "cpu-sat-pgs"),
+            "opencl": (["--backend", "opencl", "--collision", "sat"], "opencl-sat-pgs")}
+
+
+def run(rubble, scene, steps, folder, tag, backend):
     metrics, state = os.path.join(folder, tag + ".json"), os.path.join(folder, tag + ".csv")
     command = [rubble, "run", scene, "--steps", str(steps), "--every", str(steps),
-               "--metrics", metrics, "--out", state]
+               "--metrics", metrics, "--out", state] + BACKENDS[backend][0]
     print(" ".join(command), flush=True)
     done = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if done.returncode != 0:
@@ -189,6 +195,8 @@ def main():
     ap.add_argument("--steps", type=int, default=900)
     ap.add_argument("--crates", default="32,16,32", help="the grid of crates (debris_16k's)")
     ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--backend", choices=sorted(BACKENDS), default="cpu",
+                    help="cpu, or opencl (the device's SAT + PGS path)")
     ap.add_argument("--work", help="folder for the meshes, scenes and runs (default: a new one)")
     ap.add_argument("--out", help="CSV (default bench/results/<machine>/terrain_scale.csv)")
     args = ap.parse_args()
@@ -236,11 +244,11 @@ def main():
     results = []
     for k in range(args.repeat):
         for name, path in scenes.items():
-            m, rows = run(args.rubble, path, args.steps, folder, "%s_%d" % (name, k))
+            m, rows = run(args.rubble, path, args.steps, folder, "%s_%d" % (name, k), args.backend)
             worst, who, off = deepest_below(rows, grid["name_prefix"], half, floors[name])
             stages = m.get("stages_ms", {})
             results.append({
-                "scene": name, "config": "cpu-sat-pgs", "repeat": k,
+                "scene": name, "config": BACKENDS[args.backend][1], "repeat": k,
                 "floor_triangles": mesh_triangles if name != "pile_on_plane" else 0,
                 "surface_triangles": terrain.triangles() if name != "pile_on_plane" else 0,
                 "terrain_cell_m": round(terrain.cell, 5) if name != "pile_on_plane" else "",

@@ -5,7 +5,7 @@ box (scenes/bench/wall_volley_1k.json) and the same wall as a triangle mesh
 
   bench/wall_volley.py                     # writes the mesh scene, runs both on the CPU
   bench/wall_volley.py --write-only        # only (re)writes the mesh and its scene
-  bench/wall_volley.py --configs cpu,opencl-sat   # the device's SAT path too (box wall only)
+  bench/wall_volley.py --configs cpu,opencl-sat   # the device's SAT path too
 
 Each run writes every step (`rubble run --out`); a crate has passed when its centre is ever
 beyond the wall's near face (x > -0.025 m), and is through when it ends beyond its far face

@@ -4,6 +4,7 @@
 // SatCollision::narrowPhase (host/collision/sat_collision.cpp).
 #include "rubble/shared/broad_phase.h"
 #include "rubble/shared/group.h"
+#include "rubble/shared/level_contact.h"
 #include "rubble/shared/narrow_phase.h"
 
 // Work-items stride through the pairs (their count is on the device). Each writes its pair's
@@ -22,7 +23,10 @@ collideShapes(const uint capacity, __global const uint* pairCount,
               __global const float4* vertices, __global const uint* vertexEdges,
               __global const uint* neighbourStart, __global const uint* neighbours,
               __global const HullHalfEdge* halfEdges, __global const float4* faces,
-              __global const uint* faceEdges, __global const HullEdge* edges, const float dt,
+              __global const uint* faceEdges, __global const HullEdge* edges,
+              __global const uint* levelOf, __global const LevelShape* levels,
+              __global const LevelNode* levelNodes, __global const MeshTriangle* levelTriangles,
+              __global const BodyBox* boxes, const float dt,
               __global PairCache* features, __global ContactManifold* manifolds,
               __global uint* previousOf, __global uint* status) {
     HullArrays arrays;
@@ -34,6 +38,10 @@ collideShapes(const uint capacity, __global const uint* pairCount,
     arrays.faces = faces;
     arrays.faceEdges = faceEdges;
     arrays.edges = edges;
+    LevelArrays levelArrays;
+    levelArrays.levels = levels;
+    levelArrays.nodes = levelNodes;
+    levelArrays.triangles = levelTriangles;
     // The group's contact points and deepest point (float bits, depths >= 0).
     __local uint group[2];
     groupClear(group, 2u);
@@ -74,9 +82,26 @@ collideShapes(const uint capacity, __global const uint* pairCount,
         }
         const float margin =
             pairMarginItem(velocities[pair.a], velocities[pair.b], spin[pair.a], spin[pair.b], dt);
-        ContactManifold m = collideShapesItem(
-            arrays, shapes[shapeOf[pair.a]], transformOfPose(poses[pair.a]),
-            shapes[shapeOf[pair.b]], transformOfPose(poses[pair.b]), &cache, margin);
+        // A static level mesh collides by its triangles: the group of contacts with the
+        // deepest point, normal from the level to the other body, turned to run from a to b.
+        const uint levelA = (flags[pair.a] & RUBBLE_BODY_STATIC) ? levelOf[shapeOf[pair.a]]
+                                                                : RUBBLE_NO_LEVEL;
+        const uint levelB = (flags[pair.b] & RUBBLE_BODY_STATIC) ? levelOf[shapeOf[pair.b]]
+                                                                : RUBBLE_NO_LEVEL;
+        ContactManifold m;
+        if (levelA != RUBBLE_NO_LEVEL || levelB != RUBBLE_NO_LEVEL) {
+            const uint mesh = levelA != RUBBLE_NO_LEVEL ? pair.a : pair.b;
+            const uint body = levelA != RUBBLE_NO_LEVEL ? pair.b : pair.a;
+            const BodyBox box = boxes[body];
+            m = collideLevelItem(arrays, levelArrays, levelA != RUBBLE_NO_LEVEL ? levelA : levelB,
+                                 transformOfPose(poses[mesh]), shapes[shapeOf[body]],
+                                 transformOfPose(poses[body]), box.min, box.max, margin);
+            if (levelA == RUBBLE_NO_LEVEL) m.normal = negate4(m.normal);
+        } else {
+            m = collideShapesItem(arrays, shapes[shapeOf[pair.a]], transformOfPose(poses[pair.a]),
+                                  shapes[shapeOf[pair.b]], transformOfPose(poses[pair.b]), &cache,
+                                  margin);
+        }
         m.a = pair.a;
         m.b = pair.b;
         features[p] = cache;

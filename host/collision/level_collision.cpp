@@ -1,62 +1,26 @@
 // host/collision/level_collision.cpp: a body against a static mesh's triangles (stage
-// narrowPhase, CPU); see level_collision.h.
+// narrowPhase, CPU) over rubble/shared/level_contact.h; see level_collision.h.
 #include "host/collision/level_collision.h"
 
-#include <cmath>
 #include <limits>
 
 #include "host/core/math.h"
 
 namespace rubble {
-namespace {
-
-// Points closer than this (m) are one.
-constexpr float kSamePoint = 1e-5f;
-
-float triangleArea(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-    return 0.5f * glm::length(glm::cross(b - a, c - a));
-}
-
-} // namespace
 
 void reduceContacts(const std::vector<TriangleContact>& contacts,
                     const std::vector<std::uint32_t>& group, std::vector<std::uint32_t>& kept) {
-    kept.clear();
-    if (group.empty()) return;
-    const auto at = [&](std::uint32_t k) { return contacts[k].position; };
-    std::uint32_t first = group[0];
-    for (std::uint32_t k : group)
-        if (contacts[k].depth > contacts[first].depth) first = k;
-    kept.push_back(first);
-    // The furthest from the deepest.
-    std::uint32_t second = first;
-    float far = kSamePoint;
-    for (std::uint32_t k : group) {
-        const float d = glm::length(at(k) - at(first));
-        if (d > far) far = d, second = k;
+    std::vector<shared::TriangleContact> items(contacts.size());
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+        items[i].position = toFloat4(contacts[i].position);
+        items[i].normal = toFloat4(contacts[i].normal);
+        items[i].depth = contacts[i].depth;
+        items[i].feature = contacts[i].feature;
     }
-    if (second == first) return;
-    kept.push_back(second);
-    // The furthest from their line.
-    std::uint32_t third = first;
-    float area = kSamePoint * kSamePoint;
-    for (std::uint32_t k : group) {
-        const float a = triangleArea(at(first), at(second), at(k));
-        if (a > area) area = a, third = k;
-    }
-    if (third == first) return;
-    kept.push_back(third);
-    // The one outside the triangle that adds most area.
-    const float base = triangleArea(at(first), at(second), at(third));
-    std::uint32_t fourth = first;
-    float added = kSamePoint * kSamePoint;
-    for (std::uint32_t k : group) {
-        const float a = triangleArea(at(first), at(second), at(k)) +
-                        triangleArea(at(second), at(third), at(k)) +
-                        triangleArea(at(third), at(first), at(k)) - base;
-        if (a > added) added = a, fourth = k;
-    }
-    if (fourth != first) kept.push_back(fourth);
+    std::uint32_t keep[RUBBLE_MAX_CONTACT_POINTS];
+    const std::uint32_t n =
+        shared::reduceLevelGroupItem(items.data(), group.data(), std::uint32_t(group.size()), keep);
+    kept.assign(keep, keep + n);
 }
 
 void collideLevel(const LevelMesh& level, const shared::RigidTransform& levelAt, const Shape& other,
@@ -80,55 +44,69 @@ void collideLevel(const LevelMesh& level, const shared::RigidTransform& levelAt,
     level.bvh.query(query, scratch.triangles);
     if (scratch.triangles.empty()) return;
 
-    // The other shape in the level's frame.
+    // The other shape in the level's frame; each triangle's contacts appended with room for as
+    // many as it can give.
     const glm::mat3 rotation = toLevel * toMat3(otherAt.rotation);
     const glm::vec3 translation = toLevel * (toVec3(otherAt.translation) - levelOrigin);
-    scratch.contacts.clear();
+    std::vector<shared::TriangleContact>& contacts = scratch.contacts;
+    contacts.clear();
+    const auto collide = [&](std::uint32_t room, auto&& one) {
+        for (std::uint32_t k : scratch.triangles) {
+            const auto count = std::uint32_t(contacts.size());
+            contacts.resize(count + room);
+            shared::ContactBuffer buffer{contacts.data(), count, count + room};
+            one(meshTriangleOf(level.triangles[k], k), &buffer);
+            contacts.resize(buffer.count);
+        }
+    };
     switch (other.type) {
-    case ShapeType::Sphere:
-        for (std::uint32_t k : scratch.triangles)
-            collideTriangleSphere(level.triangles[k], k, translation, other.radius, margin,
-                                  scratch.contacts);
+    case ShapeType::Sphere: {
+        const float4 centre = toFloat4(translation);
+        collide(1u, [&](const shared::MeshTriangle& t, shared::ContactBuffer* b) {
+            shared::collideTriangleSphereItem(t, centre, other.radius, margin, b);
+        });
         break;
+    }
     case ShapeType::Capsule: {
-        const Segment s{translation - rotation[1] * other.halfHeight,
-                        translation + rotation[1] * other.halfHeight};
-        for (std::uint32_t k : scratch.triangles)
-            collideTriangleCapsule(level.triangles[k], k, s, other.radius, margin,
-                                   scratch.contacts);
+        const shared::CapsuleSegment s{toFloat4(translation - rotation[1] * other.halfHeight),
+                                       toFloat4(translation + rotation[1] * other.halfHeight)};
+        collide(2u, [&](const shared::MeshTriangle& t, shared::ContactBuffer* b) {
+            shared::collideTriangleCapsuleItem(t, s, other.radius, margin, b);
+        });
         break;
     }
     case ShapeType::Box:
     case ShapeType::Convex:
-    case ShapeType::Mesh:
+    case ShapeType::Mesh: {
         if (other.halfEdge.empty()) return; // another level mesh
         placeHull(other.halfEdge, rotation, translation, scratch.hull);
-        for (std::uint32_t k : scratch.triangles)
-            collideTriangleHull(level.triangles[k], k, scratch.hull, margin, scratch.contacts);
+        const auto room = std::uint32_t(scratch.hull.polygon.size());
+        collide(room, [&](const shared::MeshTriangle& t, shared::ContactBuffer* b) {
+            shared::collideTriangleHullItem(t, scratch.hull.view, margin, b);
+        });
         break;
+    }
     case ShapeType::Plane:
         return;
     }
 
     // Group by normal, in the order the triangles came, and reduce each group.
-    std::vector<TriangleContact>& contacts = scratch.contacts;
-    std::vector<std::uint8_t>& taken = scratch.taken;
-    taken.assign(contacts.size(), 0);
-    for (std::size_t i = 0; i < contacts.size(); ++i) {
-        if (taken[i]) continue;
-        scratch.group.clear();
-        for (std::size_t j = i; j < contacts.size(); ++j)
-            if (!taken[j] &&
-                glm::dot(contacts[j].normal, contacts[i].normal) >= kSameNormalCosine) {
-                taken[j] = 1;
-                scratch.group.push_back(std::uint32_t(j));
-            }
-        reduceContacts(contacts, scratch.group, scratch.kept);
+    const auto n = std::uint32_t(contacts.size());
+    scratch.taken.assign(n, 0u);
+    scratch.group.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i) {
+        if (scratch.taken[i]) continue;
+        const std::uint32_t members = shared::gatherLevelGroupItem(
+            contacts.data(), n, i, 1u, scratch.taken.data(), scratch.group.data());
+        std::uint32_t kept[RUBBLE_MAX_CONTACT_POINTS];
+        const std::uint32_t count =
+            shared::reduceLevelGroupItem(contacts.data(), scratch.group.data(), members, kept);
         shared::ContactManifold m = shared::emptyContactsItem();
-        m.normal = toFloat4(levelRotation * contacts[i].normal);
-        for (std::uint32_t k : scratch.kept) {
-            const glm::vec3 p = levelRotation * contacts[k].position + levelOrigin;
-            shared::addContactItem(&m, toFloat4(p), contacts[k].depth, contacts[k].feature);
+        m.normal = toFloat4(levelRotation * toVec3(contacts[i].normal));
+        for (std::uint32_t k = 0; k < count; ++k) {
+            const glm::vec3 p = levelRotation * toVec3(contacts[kept[k]].position) + levelOrigin;
+            shared::addContactItem(&m, toFloat4(p), contacts[kept[k]].depth,
+                                   contacts[kept[k]].feature);
         }
         out.push_back(m);
     }

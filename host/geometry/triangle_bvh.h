@@ -40,6 +40,8 @@ class TriangleBvh {
     void query(const BvhBox& box, std::vector<std::uint32_t>& out) const;
 
     std::span<const BvhNode> nodes() const { return nodes_; }
+    /// The triangle indices leaf by leaf: a leaf's triangles are order()[first, first + count).
+    std::span<const std::uint32_t> order() const { return order_; }
     /// The box of every triangle, by triangle index.
     std::span<const BvhBox> triangleBoxes() const { return boxes_; }
 

@@ -32,6 +32,8 @@ class SatBroadPhase {
     Status findPairs(StageQueue& q, const DeviceBodies& b, PairStore& pairs, RadixSort& sort);
 
     const Buffer& spin() const { return spin_; }
+    /// Each body's box this step (BodyBox), as the narrow phase queries level meshes with it.
+    const Buffer& boxes() const { return boxes_; }
     std::uint32_t planeCount() const { return planeCount_; }
     /// Reads the bodies' boxes. Errors: Device.
     Result<std::vector<shared::BodyBox>> downloadBoxes(StageQueue& q, std::uint32_t bodies) const;

@@ -89,7 +89,8 @@ Status Pipeline::collideSat(const StepParams& params) {
         profile.setStage(DeviceStage::BroadPhase);
         RUBBLE_TRY(broadPhase_.run(q, bodies_, shapes_, pairs_, sort_, params.dt));
         profile.setStage(DeviceStage::NarrowPhase);
-        RUBBLE_TRY(collideShapes(q, bodies_, shapes_, broadPhase_.spin(), pairs_, params.dt));
+        RUBBLE_TRY(collideShapes(q, bodies_, shapes_, broadPhase_.spin(), broadPhase_.boxes(), pairs_,
+                                 params.dt));
         Result<DeviceStatus> st = wakeAndSummarize(params, round);
         RUBBLE_TRY(st);
         if (st->pairs > pairs_.current.capacity) {

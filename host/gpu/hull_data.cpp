@@ -4,7 +4,32 @@
 
 #include <string>
 
+#include "host/collision/triangle_contact.h"
+#include "host/core/math.h"
+
 namespace rubble::gpu {
+
+LevelData flattenLevels(std::span<const Shape> shapes) {
+    LevelData d;
+    d.levelOf.assign(shapes.size(), RUBBLE_NO_LEVEL);
+    for (std::size_t index = 0; index < shapes.size(); ++index) {
+        if (!shapes[index].level) continue;
+        const LevelMesh& level = *shapes[index].level;
+        d.levelOf[index] = std::uint32_t(d.levels.size());
+        const std::span<const BvhNode> nodes = level.bvh.nodes();
+        const std::span<const std::uint32_t> order = level.bvh.order();
+        d.levels.push_back(
+            shared::LevelShape{std::uint32_t(d.nodes.size()), std::uint32_t(nodes.size()),
+                               std::uint32_t(d.triangles.size()), std::uint32_t(order.size())});
+        for (const BvhNode& n : nodes)
+            d.nodes.push_back(shared::LevelNode{toFloat4(n.box.min), toFloat4(n.box.max), n.first,
+                                                n.count, n.second, 0u});
+        // Leaf order: a leaf's triangles are consecutive; each keeps its own index.
+        for (const std::uint32_t k : order)
+            d.triangles.push_back(meshTriangleOf(level.triangles[k], k));
+    }
+    return d;
+}
 
 Result<HullData> flattenShapes(std::span<const Shape> shapes) {
     for (std::size_t index = 0; index < shapes.size(); ++index) {

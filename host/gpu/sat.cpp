@@ -21,11 +21,17 @@ Status DeviceShapes::create(StageQueue& q, std::span<const Shape> worldShapes,
     RUBBLE_TRY(upload(c, faces, hulls->faces));
     RUBBLE_TRY(upload(c, faceEdges, hulls->faceEdges));
     RUBBLE_TRY(upload(c, edges, hulls->edges));
+    // Uploaded once: the levels are static.
+    const LevelData levelData = flattenLevels(worldShapes);
+    RUBBLE_TRY(upload(c, levelOf, levelData.levelOf));
+    RUBBLE_TRY(upload(c, levels, levelData.levels));
+    RUBBLE_TRY(upload(c, levelNodes, levelData.nodes));
+    RUBBLE_TRY(upload(c, levelTriangles, levelData.triangles));
     return upload(c, shapeOf, bodyShapes);
 }
 
 Status collideShapes(StageQueue& q, const DeviceBodies& b, const DeviceShapes& s,
-                     const Buffer& spin, PairStore& pairs, float dt) {
+                     const Buffer& spin, const Buffer& boxes, PairStore& pairs, float dt) {
     const Context& c = q.c();
     // The contact count and the largest depth are this stage's.
     for (const cl_uint slot : {RUBBLE_STATUS_CONTACTS, RUBBLE_STATUS_PENETRATION})
@@ -50,6 +56,11 @@ Status collideShapes(StageQueue& q, const DeviceBodies& b, const DeviceShapes& s
         .arg(s.faces)
         .arg(s.faceEdges)
         .arg(s.edges)
+        .arg(s.levelOf)
+        .arg(s.levels)
+        .arg(s.levelNodes)
+        .arg(s.levelTriangles)
+        .arg(boxes)
         .arg(step)
         .arg(pairs.current.features)
         .arg(pairs.manifolds)

@@ -73,23 +73,18 @@ Status checkCapsules(const Scene& scene) {
     return {};
 }
 
-// Static meshes and height fields collide by their triangles in the CPU's SAT narrow phase only:
-// the device has no triangle pairs, and particles would voxelise the level as a closed solid.
+// Static meshes and height fields collide by their triangles in the SAT narrow phase (both
+// pipelines); particles would voxelise the level as a closed solid.
 Status checkLevelMeshes(const Scene& scene) {
-    const bool device = scene.simulation.backend == Backend::OpenCl;
-    const bool particles = scene.simulation.collisionMethod() == CollisionMethod::Particles;
-    if (!device && !particles) return {};
+    if (scene.simulation.collisionMethod() != CollisionMethod::Particles) return {};
     for (const BodyDesc& b : scene.bodies) {
         const ShapeDesc& shape = scene.shapes[b.shape];
         if (!b.isStatic || shape.type != ShapeType::Mesh) continue;
         const std::string kind = shape.heightField ? "heightfield" : "static triangle mesh";
         return makeError(ErrorKind::NotSupported, b.where + ".shape",
                          "body \"" + b.name + "\" is a " + kind + " (shape \"" + shape.name +
-                             "\"): " +
-                             (device ? "the opencl backend does not collide with level "
-                                       "triangles yet; run it on the cpu backend (--backend cpu)"
-                                     : "particle collision does not collide with level "
-                                       "triangles; collide with sat (--collision sat)"));
+                             "\"): particle collision does not collide with level triangles; "
+                             "collide with sat (--collision sat)");
     }
     return {};
 }

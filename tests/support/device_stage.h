@@ -58,7 +58,7 @@ struct DeviceStage {
         }
     }
     Status narrowPhase(float dt) {
-        return gpu::collideShapes(q(), bodies, shapes, broad.spin(), pairs, dt);
+        return gpu::collideShapes(q(), bodies, shapes, broad.spin(), broad.boxes(), pairs, dt);
     }
     Status uploadPairs(std::span<const BodyPair> list) {
         return pairs.upload(q(), list, bodies.count);

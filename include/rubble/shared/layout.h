@@ -7,6 +7,7 @@
 #include "rubble/shared/contact_row.h"
 #include "rubble/shared/hull_contact.h"
 #include "rubble/shared/lcp.h"
+#include "rubble/shared/level_contact.h"
 #include "rubble/shared/obstacle.h"
 #include "rubble/shared/particle.h"
 #include "rubble/shared/pgs_row.h"
@@ -131,4 +132,9 @@
                                                                                                                 F(PgsImpulse,                   \
                                                                                                                   feature)                      \
                                                                                                                     F(PgsImpulse,               \
-                                                                                                                      pad1)
+                                                                                                                      pad1) \
+    X(MeshTriangle) F(MeshTriangle, v) F(MeshTriangle, normal) F(MeshTriangle, neighbourNormal)     \
+    F(MeshTriangle, edges) F(MeshTriangle, index) F(MeshTriangle, pad0) F(MeshTriangle, pad1)       \
+    X(LevelNode) F(LevelNode, boxMin) F(LevelNode, boxMax) F(LevelNode, first) F(LevelNode, count)  \
+    F(LevelNode, second) F(LevelNode, pad0) X(LevelShape) F(LevelShape, nodeStart)                   \
+    F(LevelShape, nodeCount) F(LevelShape, triangleStart) F(LevelShape, triangleCount)
