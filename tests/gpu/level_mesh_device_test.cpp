@@ -1,7 +1,7 @@
 // tests/gpu/level_mesh_device_test.cpp: static triangle meshes and height fields on the device's
 // SAT + PGS path against the CPU reference (tests/physics/level_mesh_test.cpp): a crate landing
 // and resting on a flat mesh and on a height field step by step, a box sliding over many
-// triangles without bumps, and fast crates stopped by a thin mesh wall.
+// triangles without bumps (the fast crates at a thin mesh wall: tunnelling_device_test.cpp).
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -10,6 +10,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "gpu_fixture.h"
+#include "support/level_cases.h"
 
 namespace rubble {
 namespace {
@@ -40,25 +41,11 @@ class DeviceLevelMesh : public test::GpuTest {
     }
 };
 
-// An OBJ of a flat grid of n x n quads of side `cell` at y = 0, centred on the origin, facing up.
-std::string flatGridObj(int n, float cell) {
-    std::ostringstream obj;
-    const float x0 = -0.5f * cell * float(n);
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i)
-            obj << "v " << x0 + cell * float(i) << " 0 " << x0 + cell * float(j) << "\n";
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 1, d = c + 1;
-            obj << "f " << a << " " << c << " " << b << "\nf " << b << " " << c << " " << d << "\n";
-        }
-    return obj.str();
-}
 
 std::string flatMeshFile(int n, float cell) {
     const std::string path =
         test::tempDir("level_mesh_device") + "/floor_" + std::to_string(n) + ".obj";
-    test::writeText(path, flatGridObj(n, cell));
+    test::writeText(path, test::flatGridObj(n, cell));
     return path;
 }
 
@@ -202,53 +189,7 @@ TEST_F(DeviceLevelMesh, BoxSlidesOverAFlatMeshWithoutBumps) {
     World plane =
         device(crateOn(R"({"type": "plane", "normal": [0, 1, 0], "offset": 0})", 0.3f, at));
     const std::uint32_t crate = *mesh.findBody("crate");
-    for (World* w : {&plane, &mesh}) {
-        ASSERT_TRUE(test::stepWorld(*w, 60)); // settle
-        ASSERT_TRUE(w->setVelocity(crate, glm::vec3(5.0f, 0.0f, 0.0f), glm::vec3(0.0f)).ok());
-    }
-    const int steps = 45; // 0.75 s: still sliding
-    float worstVertical = 0.0f;
-    for (int i = 0; i < steps; ++i) {
-        ASSERT_TRUE(test::stepWorld(plane, 1));
-        ASSERT_TRUE(test::stepWorld(mesh, 1));
-        worstVertical = std::max(worstVertical, std::abs(mesh.body(crate).linearVelocity.y));
-    }
-    EXPECT_LT(worstVertical, 1e-3f) << "m/s: the box bumps on the seams";
-    const float t = float(steps) / 60.0f;
-    const float planeDecel = (5.0f - plane.body(crate).linearVelocity.x) / t;
-    const float meshDecel = (5.0f - mesh.body(crate).linearVelocity.x) / t;
-    EXPECT_NEAR(planeDecel, 0.3f * 9.81f, 0.01f * 0.3f * 9.81f);
-    EXPECT_NEAR(meshDecel, planeDecel, 0.01f * planeDecel);
-    EXPECT_LT(std::abs(mesh.body(crate).linearVelocity.z), 1e-3f);
-}
-
-// The 1,000-crate volley of scenes/bench/wall_volley_mesh_1k.json: crates of 0.2 m fired at
-// 200 m/s, tumbling, at a static wall 5 cm thick made of triangles (quads of at most 1 m, so
-// that crates hit it on seams and edges): none reaches the wall's plane.
-TEST_F(DeviceLevelMesh, CratesAt200MetresASecondStopAtAThinMeshWall) {
-    World w = deviceWorld(R"({"format": "rubble-scene", "version": 1,
-      "simulation": {"dt": 0.016666667, "collision": {"method": "sat"}},
-      "shapes": {"floor": {"type": "plane"},
-                 "wall": {"type": "mesh", "file": ")" RUBBLE_SOURCE_DIR
-                          R"(/scenes/meshes/wall_5cm.obj"},
-                 "crate": {"type": "box", "half_extents": [0.1, 0.1, 0.1]}},
-      "bodies": [{"name": "floor", "shape": "floor", "static": true},
-                 {"name": "wall", "shape": "wall", "static": true, "position": [0, 4, 0]}],
-      "generators": [{"type": "grid", "shape": "crate", "mass": 1, "count": [2, 20, 25],
-                      "origin": [-3, 0.5, -6], "spacing": [1, 0.3, 0.5],
-                      "rotation_jitter": 3.14, "seed": 1, "name_prefix": "c",
-                      "linear_velocity": [200, 0, 0], "angular_velocity": [3, 7, -5]}]})");
-    ASSERT_EQ(w.bodyCount(), 1002u);
-    float farthest = -1e9f;
-    for (int i = 0; i < 60; ++i) {
-        const Status stepped = w.step();
-        ASSERT_TRUE(stepped.ok()) << "step " << i << ": " << stepped.error().describe();
-        for (std::uint32_t b = 2; b < w.bodyCount(); ++b)
-            farthest = std::max(farthest, w.body(b).position.x);
-    }
-    // The wall's near face is at x = -0.025: every crate's centre stays in front of it.
-    EXPECT_LT(farthest, -0.025f) << "a crate went into or through the mesh wall";
-    EXPECT_GT(farthest, -0.2f);
+    test::expectSlidesAsOnAPlane(plane, mesh, crate);
 }
 
 } // namespace

@@ -7,25 +7,11 @@
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
+#include "support/level_cases.h"
 #include "support/test_util.h"
 
 namespace rubble {
 namespace {
-
-// An OBJ of a flat grid of n x n quads of side `cell` at y = 0, centred on the origin, facing up.
-std::string flatGridObj(int n, float cell) {
-    std::ostringstream obj;
-    const float x0 = -0.5f * cell * float(n);
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i)
-            obj << "v " << x0 + cell * float(i) << " 0 " << x0 + cell * float(j) << "\n";
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 1, d = c + 1;
-            obj << "f " << a << " " << c << " " << b << "\nf " << b << " " << c << " " << d << "\n";
-        }
-    return obj.str();
-}
 
 // One box on a floor: a plane, or the static mesh `obj` (a path) when given.
 World boxOnFloor(const std::string& obj, float friction) {
@@ -45,7 +31,7 @@ World boxOnFloor(const std::string& obj, float friction) {
 std::string meshFile(int n, float cell) {
     const std::string dir = test::tempDir("level_mesh");
     const std::string path = dir + "/floor.obj";
-    test::writeText(path, flatGridObj(n, cell));
+    test::writeText(path, test::flatGridObj(n, cell));
     return path;
 }
 
@@ -67,24 +53,7 @@ TEST(LevelMesh, BoxSlidesOverManyTrianglesAsOnAPlane) {
     World plane = boxOnFloor("", 0.3f);
     World mesh = boxOnFloor(meshFile(100, 0.5f), 0.3f);
     const std::uint32_t crate = *plane.findBody("crate");
-    for (World* w : {&plane, &mesh}) {
-        ASSERT_TRUE(test::stepWorld(*w, 60)); // settle
-        ASSERT_TRUE(w->setVelocity(crate, glm::vec3(5.0f, 0.0f, 0.0f), glm::vec3(0.0f)).ok());
-    }
-    const int steps = 45; // 0.75 s at 60 Hz: still sliding (it stops after about 1.7 s)
-    float worstVertical = 0.0f;
-    for (int i = 0; i < steps; ++i) {
-        ASSERT_TRUE(test::stepWorld(plane, 1));
-        ASSERT_TRUE(test::stepWorld(mesh, 1));
-        worstVertical = std::max(worstVertical, std::abs(mesh.body(crate).linearVelocity.y));
-    }
-    EXPECT_LT(worstVertical, 1e-3f) << "m/s: the box bumps on the seams";
-    const float t = float(steps) / 60.0f;
-    const float planeDecel = (5.0f - plane.body(crate).linearVelocity.x) / t;
-    const float meshDecel = (5.0f - mesh.body(crate).linearVelocity.x) / t;
-    EXPECT_NEAR(planeDecel, 0.3f * 9.81f, 0.01f * 0.3f * 9.81f);
-    EXPECT_NEAR(meshDecel, planeDecel, 0.01f * planeDecel);
-    EXPECT_LT(std::abs(mesh.body(crate).linearVelocity.z), 1e-3f);
+    test::expectSlidesAsOnAPlane(plane, mesh, crate);
     EXPECT_LT(glm::length(mesh.body(crate).angularVelocity), 1e-2f);
 }
 
