@@ -39,7 +39,7 @@ Status PgsSolve::planOnDevice(StageQueue& q, const PairStore& pairs, const Devic
     const cl_uint bodyCount = b.count;
     jointCount_ = jointCount;
     // Room from what the host knows without waiting: every joint and every pair the pair
-    // buffers hold, each pair at most four points (RUBBLE_MAX_MANIFOLD_POINTS).
+    // buffers hold, each pair at most four points (a ContactManifold holds four).
     elementRoom_ = jointCount + capacity;
     buildCount_ = capacity;
     rowRoom_ = 4 * capacity;

@@ -9,8 +9,9 @@
 // RUBBLE_PGS_COLOR_ROUNDS rounds, goes to the overflow set, which one work-item solves in
 // element order after the colors. A body's colors are one word's bits: at most 32.
 #define RUBBLE_PGS_COLORS 8u
-// Rounds of the device coloring: each uncolored element takes the lowest color free on its
-// moving bodies unless an element of lower priority chose the same color on one of them.
+// Rounds of the device coloring: each uncolored element takes the first color free on its
+// moving bodies from the one it prefers, unless an element of lower priority chose the same
+// color on one of them.
 #define RUBBLE_PGS_COLOR_ROUNDS 8u
 // Work-items of the counting sort by color, each a run of consecutive elements, in order.
 #define RUBBLE_PGS_COLOR_CHUNKS 256u
