@@ -43,13 +43,12 @@ bouncePgs(const uint first, const uint count, const uint mode,
     if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
     __local uint largest;
     groupClear(&largest, 1u);
-    const uint begin = elementsBegin(count, mode, blockStarts);
-    const uint end = elementsEnd(count, mode, blockStarts);
+    const ElementRange range = elementRange(first, count, mode, blockStarts);
     float residual = 0.0f;
     const uint passes = slotPasses(mode, blockStarts);
     for (uint pass = 0u; pass < passes; ++pass)
-        for (uint i = begin; i < end; ++i)
-            residual = fmax(residual, bounceElement(elements[first + i], normalRows, impulses,
+        for (uint i = range.begin; i < range.end; i += range.step)
+            residual = fmax(residual, bounceElement(elements[range.first + i], normalRows, impulses,
                                                     bounce, velocities, sweep,
                                                     passSlot(mode, pass)));
     if (residual > 0.0f) atomic_max(&largest, as_uint(residual));
@@ -67,9 +66,9 @@ bounceMomenta(const uint first, const uint count, const uint mode,
               __global const float4* impulses, __global const float* bounce,
               __global BodyMomentum* momenta, __global const BodyMass* masses,
               __global const BodyPose* poses, __global BodyVelocity* velocities) {
-    const uint end = elementsEnd(count, mode, blockStarts);
-    for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i) {
-        const PgsElement e = elements[first + i];
+    const ElementRange range = elementRange(first, count, mode, blockStarts);
+    for (uint i = range.begin; i < range.end; i += range.step) {
+        const PgsElement e = elements[range.first + i];
         if (e.id & RUBBLE_PGS_JOINT_ELEMENT) continue;
         int bounced = 0;
         for (uint k = 0; k < (e.rows & RUBBLE_PGS_POINTS); ++k) {

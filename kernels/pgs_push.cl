@@ -44,13 +44,12 @@ pushPgs(const uint first, const uint count, const uint mode,
     if (sweep > 0u && !(as_float(sweepResidual[sweep - 1u]) > RUBBLE_PUSH_TOLERANCE)) return;
     __local uint largest;
     groupClear(&largest, 1u);
-    const uint begin = elementsBegin(count, mode, blockStarts);
-    const uint end = elementsEnd(count, mode, blockStarts);
+    const ElementRange range = elementRange(first, count, mode, blockStarts);
     float residual = 0.0f;
     const uint passes = slotPasses(mode, blockStarts);
     for (uint pass = 0u; pass < passes; ++pass)
-        for (uint i = begin; i < end; ++i)
-            residual = fmax(residual, pushElement(elements[first + i], normalRows, impulses,
+        for (uint i = range.begin; i < range.end; i += range.step)
+            residual = fmax(residual, pushElement(elements[range.first + i], normalRows, impulses,
                                                   pushed, push, relaxation, passSlot(mode, pass)));
     if (residual > 0.0f) atomic_max(&largest, as_uint(residual));
     if (groupDone() && largest > 0u) atomic_max(&sweepResidual[sweep], largest);

@@ -5,6 +5,7 @@
 #include "rubble/shared/broad_phase.h"
 #include "rubble/shared/group.h"
 #include "rubble/shared/narrow_phase.h"
+#include "rubble/shared/pgs_coloring.h"
 #include "rubble/shared/pgs_joint.h"
 
 // One work-item per pair (striding), after the narrow phase: the pair's summary word for the
@@ -102,7 +103,8 @@ buildPgsRows(const uint count, __global const uint* order, __global const PgsEle
              __global PgsFrictionRows* frictionRows, __global float4* impulses,
              __global PgsImpulse* kept) {
     const uint i = get_global_id(0);
-    if (i >= count) return;
+    // A device plan's order runs over every pair, those without rows marked.
+    if (i >= count || order[i] == RUBBLE_PGS_NO_ELEMENT) return;
     const PgsElement e = elements[order[i]];
     const uint p = e.id, a = e.a, b = e.b;
     const uint points = e.rows & RUBBLE_PGS_POINTS;

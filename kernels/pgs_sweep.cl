@@ -52,11 +52,11 @@ warmStartPgs(const uint first, const uint count, const uint mode,
              __global const PgsFrictionRows* frictionRows, __global const float4* impulses,
              __global const PgsJoint* joints, __global const PgsJointRow* jointRows,
              __global const JacobiBody* bodies, __global BodyVelocity* velocities) {
-    const uint end = elementsEnd(count, mode, blockStarts);
+    const ElementRange range = elementRange(first, count, mode, blockStarts);
     const uint passes = slotPasses(mode, blockStarts);
     for (uint pass = 0u; pass < passes; ++pass)
-        for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
-            warmStartElement(elements[first + i], normalRows, frictionRows, impulses, joints,
+        for (uint i = range.begin; i < range.end; i += range.step)
+            warmStartElement(elements[range.first + i], normalRows, frictionRows, impulses, joints,
                              jointRows, bodies, velocities, passSlot(mode, pass));
 }
 
@@ -196,7 +196,7 @@ solvePgs(const uint first, const uint count, const uint mode,
          __global PgsImpulse* kept, __global uint* status, const uint pushSweep,
          __global const uint* pushed,
          __global BodyVelocity* push, __global uint* sweepResidual) {
-    const uint end = elementsEnd(count, mode, blockStarts);
+    const ElementRange range = elementRange(first, count, mode, blockStarts);
     const int pushes = pushSweep != RUBBLE_PGS_NO_PUSH &&
                        (pushSweep == 0u ||
                         as_float(sweepResidual[pushSweep - 1u]) > RUBBLE_PUSH_TOLERANCE);
@@ -204,11 +204,11 @@ solvePgs(const uint first, const uint count, const uint mode,
     __local uint largest[2];
     groupClear(largest, 2u);
     float residual = 0.0f, pushResidual = 0.0f;
-    const uint begin = elementsBegin(count, mode, blockStarts);
+    const uint begin = range.begin, end = range.end;
     if (mode != RUBBLE_PGS_BLOCKS) {
         // A color: each element's normal rows, then its friction rows, then its push rows.
-        for (uint i = begin; i < end; ++i) {
-            const PgsElement e = elements[first + i];
+        for (uint i = begin; i < end; i += range.step) {
+            const PgsElement e = elements[range.first + i];
             residual = fmax(residual, solveElement(e, normalRows, frictionRows, impulses, joints,
                                                    jointRows, bodies, velocities, relaxation,
                                                    lastSweep, kept, RUBBLE_PGS_NORMALS |
@@ -230,7 +230,7 @@ solvePgs(const uint first, const uint count, const uint mode,
         const uint passes = slotPasses(mode, blockStarts);
         for (uint pass = 0u; pass < passes; ++pass)
             for (uint i = begin; i < end; ++i) {
-                const PgsElement e = elements[first + i];
+                const PgsElement e = elements[range.first + i];
                 residual = fmax(residual, solveElement(e, normalRows, frictionRows, impulses,
                                                        joints, jointRows, bodies, velocities,
                                                        relaxation, lastSweep, kept,
@@ -243,7 +243,7 @@ solvePgs(const uint first, const uint count, const uint mode,
         for (uint pass = 0u; pass < passes; ++pass)
             for (uint i = begin; i < end; ++i)
                 residual = fmax(residual,
-                                solveElement(elements[first + i], normalRows, frictionRows,
+                                solveElement(elements[range.first + i], normalRows, frictionRows,
                                              impulses, joints, jointRows, bodies, velocities,
                                              relaxation, lastSweep, kept, RUBBLE_PGS_FRICTION,
                                              pass, 0u));

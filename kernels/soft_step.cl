@@ -15,7 +15,7 @@ prepareSoftContacts(const uint count, __global const uint* order,
                     __global const BodyPose* poses, __global const BodyVelocity* approach,
                     __global const float4* surfaces, __global SoftContact* contacts) {
     const uint i = get_global_id(0);
-    if (i >= count) return;
+    if (i >= count || order[i] == RUBBLE_PGS_NO_ELEMENT) return;
     const PgsElement e = elements[order[i]];
     const uint points = e.rows & RUBBLE_PGS_POINTS;
     const ContactManifold m = manifolds[e.id];
@@ -114,12 +114,13 @@ warmStartSoft(const uint first, const uint count, const uint mode,
               __global const float4* impulses, __global const PgsJoint* joints,
               __global const PgsJointRow* jointRows, __global const JacobiBody* bodies,
               __global const BodyPose* softPoses, __global BodyVelocity* velocities) {
-    const uint end = elementsEnd(count, mode, blockStarts);
+    const ElementRange range = elementRange(first, count, mode, blockStarts);
     const uint passes = slotPasses(mode, blockStarts);
     for (uint pass = 0u; pass < passes; ++pass)
-        for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
-            warmStartSoftElement(elements[first + i], normalRows, frictionRows, impulses, joints,
-                                 jointRows, bodies, softPoses, velocities, passSlot(mode, pass));
+        for (uint i = range.begin; i < range.end; i += range.step)
+            warmStartSoftElement(elements[range.first + i], normalRows, frictionRows, impulses,
+                                 joints, jointRows, bodies, softPoses, velocities,
+                                 passSlot(mode, pass));
 }
 
 // One pass over one element, or one of its points (`slot`): a joint's soft blocks at the
@@ -259,19 +260,19 @@ solveSoft(const uint first, const uint count, const uint mode, __global const Pg
     __local uint largest[1];
     groupClear(largest, 1u);
     float residual = 0.0f;
-    const uint end = elementsEnd(count, mode, blockStarts);
+    const ElementRange range = elementRange(first, count, mode, blockStarts);
     // Every landing's normal rows together first, then the joints and points, as the CPU.
-    for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
-        residual =
-            fmax(residual, solveSoftManifold(elements[first + i], normalRows, impulses, contacts,
-                                             softPoses, moved, velocities, p, settings.z));
+    for (uint i = range.begin; i < range.end; i += range.step)
+        residual = fmax(residual,
+                        solveSoftManifold(elements[range.first + i], normalRows, impulses, contacts,
+                                          softPoses, moved, velocities, p, settings.z));
     const uint passes = slotPasses(mode, blockStarts);
     for (uint pass = 0u; pass < passes; ++pass)
-        for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
+        for (uint i = range.begin; i < range.end; i += range.step)
             residual = fmax(
-                residual, solveSoftElement(elements[first + i], normalRows, frictionRows, impulses,
-                                           contacts, joints, jointRows, bodies, softPoses, moved,
-                                           velocities, p, jointSoft, passSlot(mode, pass)));
+                residual, solveSoftElement(elements[range.first + i], normalRows, frictionRows,
+                                           impulses, contacts, joints, jointRows, bodies, softPoses,
+                                           moved, velocities, p, jointSoft, passSlot(mode, pass)));
     if (lastPass && residual > 0.0f) atomic_max(&largest[0], as_uint(residual));
     if (!groupDone()) return;
     if (largest[0] > 0u) atomic_max(&status[RUBBLE_STATUS_RESIDUAL], largest[0]);
@@ -335,12 +336,12 @@ bounceSoft(const uint first, const uint count, const uint mode, __global const P
            __global const PgsFrictionRows* frictionRows, __global float4* impulses,
            __global const SoftContact* contacts, __global BodyVelocity* velocities,
            const float threshold, __global PgsImpulse* kept) {
-    const uint end = elementsEnd(count, mode, blockStarts);
+    const ElementRange range = elementRange(first, count, mode, blockStarts);
     const uint passes = slotPasses(mode, blockStarts);
     for (uint pass = 0u; pass < passes; ++pass)
-        for (uint i = elementsBegin(count, mode, blockStarts); i < end; ++i)
-            bounceSoftElement(elements[first + i], normalRows, frictionRows, impulses, contacts,
-                              velocities, threshold, kept, passSlot(mode, pass));
+        for (uint i = range.begin; i < range.end; i += range.step)
+            bounceSoftElement(elements[range.first + i], normalRows, frictionRows, impulses,
+                              contacts, velocities, threshold, kept, passSlot(mode, pass));
 }
 
 // One work-item per body, the step's end: the momenta take up the solve's velocity change at the

@@ -274,6 +274,11 @@ const std::vector<Option>& table() {
              .help = "Blocks of the device's PGS solve: -1 as the device suits (4 per compute "
                      "unit on a CPU device, one per 128 bodies if fewer; none on a GPU), 0 "
                      "every element colored"}),
+        runOption<&RunOptions::pgsColoring>(
+            {.name = "pgs-coloring",
+             .uses = kEverywhere,
+             .help = "Who colors the device's PGS solve without blocks: the device (fixed "
+                     "colors, no read back) or the host (by support, a read each step)"}),
         runOption<&RunOptions::bodySleep>(
             {.name = "body-sleep",
              .uses = kEverywhere,

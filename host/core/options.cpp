@@ -13,6 +13,7 @@ constexpr std::string_view kMethods[] = {"sat", "particles"};
 constexpr std::string_view kSolvers[] = {"pgs", "jacobi", "lcp-jacobi", "lemke",
                                          "soft-step"};
 constexpr std::string_view kCouplings[] = {"one-way", "two-way"};
+constexpr std::string_view kColorings[] = {"host", "device"};
 
 template <class E> std::string_view nameOf(E v) {
     const std::span<const std::string_view> names = spellings<E>();
@@ -34,12 +35,18 @@ template <> std::span<const std::string_view> spellings<Backend>() { return kBac
 template <> std::span<const std::string_view> spellings<CollisionMethod>() { return kMethods; }
 template <> std::span<const std::string_view> spellings<SolverType>() { return kSolvers; }
 template <> std::span<const std::string_view> spellings<Coupling>() { return kCouplings; }
+template <> std::span<const std::string_view> spellings<PgsColoring>() {
+    return kColorings;
+}
 
 std::string_view toString(Integrator v) { return nameOf(v); }
 std::string_view toString(Backend v) { return nameOf(v); }
 std::string_view toString(CollisionMethod v) { return nameOf(v); }
 std::string_view toString(SolverType v) { return nameOf(v); }
 std::string_view toString(Coupling v) { return nameOf(v); }
+std::string_view toString(PgsColoring v) {
+    return nameOf(v);
+}
 
 std::optional<Integrator> parseIntegrator(std::string_view s) { return valueOf<Integrator>(s); }
 std::optional<Backend> parseBackend(std::string_view s) { return valueOf<Backend>(s); }

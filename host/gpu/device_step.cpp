@@ -123,7 +123,7 @@ Status Pipeline::collideSat(const StepParams& params) {
         }
     }
     pairsFound_ = q.lastStatus().pairs;
-    RUBBLE_TRY(pgs_.plan(q, pairs_, joints_, bodies_.count));
+    RUBBLE_TRY(pgs_.plan(q, pairs_, joints_, bodies_, q.lastStatus()));
     return pgs_.buildRows(q, bodies_, pairs_, params);
 }
 
@@ -173,7 +173,7 @@ Status Pipeline::collideParticlePairs(const StepParams& params) {
         // and collide again.
         RUBBLE_TRY(particles_.grow(q, *st, params.step + 1, "the step's collision"));
     }
-    RUBBLE_TRY(pgs_.plan(q, pairs_, joints_, bodies_.count));
+    RUBBLE_TRY(pgs_.plan(q, pairs_, joints_, bodies_, q.lastStatus()));
     return pgs_.buildRows(q, bodies_, pairs_, params);
 }
 

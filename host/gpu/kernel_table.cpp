@@ -20,6 +20,9 @@ const std::vector<KernelSignature>& kernelSignatures() {
     // pairs (Pipeline::bindPairs) and the rows' settings (Pipeline::bindRowSettings).
     static const Names sweep = {"first", "count", "mode", "elements", "blockStarts"};
     static const Names pairs = {"capacity", "pairCount", "pairs"};
+    // A round of the device coloring's elements (host/gpu/pgs_device_plan.cpp).
+    static const Names colorRound = {"jointCount", "capacity", "pairCount", "pairs", "pairRows",
+                                     "joints",     "bodies",   "colorOf",   "level"};
     static const Names rowSettings = {
         "baumgarte",        "slop",          "dt",         "warmStart",
         "previousCapacity", "previousCount", "previousOf", "previousImpulseCount",
@@ -208,6 +211,23 @@ const std::vector<KernelSignature>& kernelSignatures() {
         {KernelId::BounceMomenta, "bounceMomenta",
          join(sweep, Names{"normalRows", "impulses", "bounce", "momenta", "masses", "poses",
                            "velocities"})},
+        {KernelId::BeginColoring,
+         "beginColoring",
+         {"jointCount", "capacity", "pairCount", "pairRows", "colorOf", "bodyCount", "bodies",
+          "bodyColors", "level"}},
+        {KernelId::RelaxLevels,
+         "relaxLevels",
+         {"jointCount", "capacity", "pairCount", "pairs", "pairRows", "lastLevel", "level"}},
+        {KernelId::ChooseColors, "chooseColors", join(colorRound, Names{"bodyColors", "claims"})},
+        {KernelId::TakeColors, "takeColors", join(colorRound, Names{"bodyColors", "claims"})},
+        {KernelId::CountColors,
+         "countColors",
+         {"jointCount", "capacity", "pairCount", "pairRows", "colorOf", "chunkCounts"}},
+        {KernelId::ScanColors, "scanColors", {"chunkCounts", "colorStarts"}},
+        {KernelId::PlaceColors,
+         "placeColors",
+         {"jointCount", "capacity", "pairCount", "pairs", "pairRows", "joints", "colorOf",
+          "chunkCounts", "elements", "buildOrder"}},
         {KernelId::MarkRestlessPairs, "markRestlessPairs",
          join(pairs, Names{"manifolds", "velocities", "flags", "restless"})},
         {KernelId::PrepareJoints,

@@ -42,9 +42,12 @@ void bindRowSettings(Dispatch& d, const PairStore& pairs, const StepParams& para
 
 } // namespace
 
-Status PgsSolve::create(StageQueue& q, std::uint32_t bodies, std::uint32_t blocks) {
+Status PgsSolve::create(StageQueue& q, std::uint32_t bodies, std::uint32_t blocks,
+                        bool deviceColoring) {
     const Context& c = q.c();
     blocks_ = blocks;
+    devicePlan_ = blocks == 0 && deviceColoring;
+    if (devicePlan_) RUBBLE_TRY(createDevicePlan(q, bodies));
     RUBBLE_TRY(pushed_.reserve(c.context(), bodies * sizeof(cl_uint)));
     return push_.reserve(c.context(), bodies * sizeof(shared::BodyVelocity));
 }
@@ -53,7 +56,8 @@ Status PgsSolve::create(StageQueue& q, std::uint32_t bodies, std::uint32_t block
 // the launch's first element, count and mode, the step's elements and the blocks' starts.
 Dispatch PgsSolve::launch(StageQueue& q, KernelId id, const PgsLaunch& l) const {
     Dispatch d(q.c(), id, &q.profile());
-    d.arg(l.first).arg(l.count).arg(l.mode).arg(elements_).arg(blockStarts_);
+    d.arg(l.first).arg(l.count).arg(l.mode).arg(elements_).arg(devicePlan_ ? colorStarts_
+                                                                           : blockStarts_);
     return d;
 }
 
@@ -104,8 +108,9 @@ Status PgsSolve::summarize(StageQueue& q, DeviceBodies& b, PairStore& pairs, Dev
 Status PgsSolve::buildRows(StageQueue& q, DeviceBodies& b, PairStore& pairs,
                            const StepParams& params) {
     const Context& c = q.c();
-    // The pairs with rows (the step's elements after the joints).
-    const cl_uint count = cl_uint(placeHost_.size() - jointCount_);
+    // The build order's entries: the pairs with rows (the step's elements after the joints), or
+    // every pair the device's plan has room for.
+    const cl_uint count = buildCount_;
     if (count == 0) return {};
     RUBBLE_TRY(Dispatch(c, KernelId::BuildPgsRows, &q.profile())
                    .arg(count)
@@ -190,7 +195,7 @@ Status PgsSolve::solve(StageQueue& q, DeviceBodies& b, PairStore& pairs, DeviceJ
     }
     if (pushes && !fused) {
         // The rows that bounce aim the pass at their lift, then the pass on its own.
-        const cl_uint count = cl_uint(elementsHost_.size());
+        const cl_uint count = elementRoom_;
         RUBBLE_TRY(Dispatch(c, KernelId::MarkBounces, &q.profile())
                        .arg(count)
                        .arg(elements_)
@@ -222,13 +227,13 @@ Status PgsSolve::solve(StageQueue& q, DeviceBodies& b, PairStore& pairs, DeviceJ
     // The layer pass, when the summaries found moving bodies that far apart in mass.
     if (!launches_.empty() && st.layers) {
         const std::size_t n = b.count;
-        const std::size_t rows = std::max<std::size_t>(1, rowCount_);
+        const std::size_t rows = std::max<std::size_t>(1, rowRoom_);
         RUBBLE_TRY(reserveGrowing(c, layer_, n * sizeof(cl_uint)));
         RUBBLE_TRY(reserveGrowing(c, loaded_, n * sizeof(cl_uint)));
         RUBBLE_TRY(reserveGrowing(c, layerHistogram_, (n + 1) * sizeof(cl_uint)));
         RUBBLE_TRY(reserveGrowing(c, layerRows_, rows * sizeof(cl_uint)));
         RUBBLE_TRY(reserveGrowing(c, layerSorted_, rows * sizeof(cl_uint)));
-        const cl_uint count = cl_uint(elementsHost_.size()), bodyCount = b.count;
+        const cl_uint count = elementRoom_, bodyCount = b.count;
         const cl_uint jointCount = joints.count, pushPass = pushes ? 1u : 0u;
         RUBBLE_TRY(Dispatch(c, KernelId::LayerPgs, &q.profile())
                        .arg(count)
@@ -267,7 +272,7 @@ Status PgsSolve::bounce(StageQueue& q, DeviceBodies& b, const StepParams& params
     const Context& c = q.c();
     const std::size_t group = c.workSizes().pairGroup;
     const std::size_t sweeps = std::size_t(std::max(params.solver.iterations, 0));
-    RUBBLE_TRY(reserveGrowing(c, bounce_, std::max<std::size_t>(1, rowCount_) * sizeof(float)));
+    RUBBLE_TRY(reserveGrowing(c, bounce_, std::max<std::size_t>(1, rowRoom_) * sizeof(float)));
     RUBBLE_TRY(reserveGrowing(c, bounceResidual_, sweeps * sizeof(cl_uint)));
     RUBBLE_TRY(fill(c, bounceResidual_, 0u, sweeps * sizeof(cl_uint), &q.profile()));
     // Per launch: each element's record and bodies' velocities read and written, each point's

@@ -20,23 +20,29 @@ namespace rubble::gpu {
 
 /// One launch of the device's sweeps over the elements [first, first + count) of the step's
 /// order, by `mode` (RUBBLE_PGS_*): a color's, one per work-item; the last colors together on
-/// one work-item (serial); or the blocks, one work-group each.
+/// one work-item (serial); or the blocks, one work-group each. A launch of the device's plan
+/// (RUBBLE_PGS_COLOR, RUBBLE_PGS_OVERFLOW) names its color in `first` and reads its range on the
+/// device; its count and points are last step's, for its size and the byte counts only.
 struct PgsLaunch {
     cl_uint first = 0, count = 0, mode = RUBBLE_PGS_PER_ITEM;
     std::uint32_t points = 0; ///< rows, for the byte counts
     std::uint32_t blocks = 0; ///< RUBBLE_PGS_BLOCKS: how many
+    std::uint32_t width = 0;  ///< RUBBLE_PGS_COLOR: work-items, striding over the color
     /// Work-items of the launch in groups of `group`.
     std::size_t items(std::size_t group) const {
         if (mode == RUBBLE_PGS_BLOCKS) return std::size_t(blocks) * group;
-        return mode == RUBBLE_PGS_SERIAL ? group : count;
+        if (mode == RUBBLE_PGS_COLOR) return width;
+        return mode == RUBBLE_PGS_SERIAL || mode == RUBBLE_PGS_OVERFLOW ? group : count;
     }
 };
 
 class PgsSolve {
   public:
     /// `blocks`: the bodies cut into that many ranges, solved in order on one work-item each
-    /// (0: colors only). Errors: Device.
-    Status create(StageQueue& q, std::uint32_t bodies, std::uint32_t blocks);
+    /// (0: colors only). `deviceColoring`: with no blocks, the device plans the colors
+    /// (kernels/coloring.cl) and the host reads nothing for the plan. Errors: Device, Limit.
+    Status create(StageQueue& q, std::uint32_t bodies, std::uint32_t blocks,
+                  bool deviceColoring = false);
 
     /// Stage buildContactRows, before the plan: each body's inverse mass and world inverse
     /// inertia, each pair's summary (and the impulses kept by pairs that get no rows), the
@@ -49,9 +55,21 @@ class PgsSolve {
     /// The pairs with rows of the summaries read last: the contacts the islands join.
     void touching(std::vector<BodyPair>& out) const;
     /// The step's elements (joints, then pairs with rows) into blocks and colors, their records
-    /// and the launches; uploads them (enqueued). Reads the summaries first. Errors: Device.
+    /// and the launches; uploads them (enqueued). Reads the summaries first, unless the device
+    /// plans (devicePlans()). `st`: the status read after the summaries. Errors: Device, Limit.
     Status plan(StageQueue& q, const PairStore& pairs, const DeviceJoints& joints,
-                std::uint32_t bodies);
+                const DeviceBodies& b, const DeviceStatus& st);
+    /// Whether the device plans the colors (no blocks, and the device coloring chosen).
+    bool devicePlans() const { return devicePlan_; }
+    /// The device's plan after the step (a finished queue): each color's first element, the
+    /// overflow set's and the end, then the same in rows (RUBBLE_PGS_COLOR_STARTS_WORDS words),
+    /// and each element's set by element index (the joints, then the pairs; pairs without rows
+    /// RUBBLE_PGS_NOT_ELEMENT). Errors: Device.
+    Result<std::vector<cl_uint>> downloadColorStarts(StageQueue& q) const;
+    Result<std::vector<cl_uint>> downloadColorOf(StageQueue& q, std::uint32_t elements) const;
+    /// The first `count` element records as the device holds them. Errors: Device.
+    Result<std::vector<shared::PgsElement>> downloadElements(StageQueue& q,
+                                                             std::uint32_t count) const;
     /// Stage buildContactRows, after the plan: the rows of every element's manifold points,
     /// warm-started.
     Status buildRows(StageQueue& q, DeviceBodies& b, PairStore& pairs, const StepParams& params);
@@ -76,9 +94,15 @@ class PgsSolve {
     std::span<const std::uint32_t> blockStarts() const { return blockStartsHost_; }
     std::span<const std::uint32_t> rowsBefore() const { return pointsHost_; }
     std::span<const PgsLaunch> launches() const { return launches_; }
+    /// Rows of the step (the device's plan: last step's, for the byte counts).
     std::uint32_t rowCount() const { return rowCount_; }
-    /// The pairs with rows among the step's elements (they follow the joints).
-    std::uint32_t pairElements() const { return std::uint32_t(placeHost_.size()) - jointCount_; }
+    /// Rows the row buffers hold room for: the step's, or with the device's plan four per pair
+    /// of the pairs' room.
+    std::uint32_t rowRoom() const { return rowRoom_; }
+    /// The entries of the build order: the pairs with rows among the step's elements (they
+    /// follow the joints), or with the device's plan the pairs' room, those without rows marked
+    /// RUBBLE_PGS_NO_ELEMENT.
+    std::uint32_t pairElements() const { return buildCount_; }
     /// The step's plan and rows as the device holds them, for a solver that goes through the
     /// same elements in the same launches (the soft step, host/gpu/soft_step.h).
     struct RowBuffers {
@@ -90,7 +114,8 @@ class PgsSolve {
         const Buffer& impulses; ///< per point: normal, two friction impulses and a spare, N s
     };
     RowBuffers rowBuffers() const {
-        return {elements_, buildOrder_, blockStarts_, normalRows_, frictionRows_, impulses_};
+        return {elements_,   buildOrder_,   devicePlan_ ? colorStarts_ : blockStarts_,
+                normalRows_, frictionRows_, impulses_};
     }
     /// The coloring of the elements between blocks (every element on a GPU).
     const Coloring& coloring() const { return coloring_; }
@@ -99,6 +124,9 @@ class PgsSolve {
     Result<std::vector<shared::PgsFrictionRows>> downloadFrictionRows(StageQueue& q) const;
 
   private:
+    Status createDevicePlan(StageQueue& q, std::uint32_t bodies);
+    Status planOnDevice(StageQueue& q, const PairStore& pairs, const DeviceJoints& joints,
+                        const DeviceBodies& b, const DeviceStatus& st);
     Dispatch launch(StageQueue& q, KernelId id, const PgsLaunch& l) const;
     Dispatch rowLaunch(StageQueue& q, KernelId id, const PgsLaunch& l, const DeviceJoints& joints,
                        const DeviceBodies& b) const;
@@ -123,6 +151,21 @@ class PgsSolve {
     bool bounces_ = false;         ///< this step: a row may bounce (the restitution pass runs)
     bool pushes_ = false;          ///< this step: the split position pass ran (applyPushes moves)
     std::uint32_t rowCount_ = 0;   ///< points with rows this step
+    std::uint32_t rowRoom_ = 0;    ///< rows the row buffers were sized for this step
+    std::uint32_t buildCount_ = 0; ///< entries of the build order this step
+    /// Elements the records may hold this step: the step's, or the device plan's bound (joints
+    /// and the pairs' room), whose records past the step's elements are zero when markBounces
+    /// or the layer pass will read them.
+    std::uint32_t elementRoom_ = 0;
+    // The device's plan (host/gpu/pgs_device_plan.cpp): each element's color word, each body's
+    // colors and claims, the counting sort's counts by (set, chunk), the color starts; last
+    // step's color starts, read without waiting, for the launches' sizes.
+    bool devicePlan_ = false;
+    Buffer colorOf_, bodyColors_, claims_, chunkCounts_, colorStarts_;
+    Buffer levels_[2];       ///< per body its support level, this step's and last step's
+    unsigned levelHalf_ = 0; ///< which of levels_ is this step's
+    std::vector<cl_uint> colorStartsHost_;
+    bool colorStartsKnown_ = false;
     std::uint32_t jointCount_ = 0; ///< joints among this step's elements (they come first)
     // The plan on the host (host/gpu/pgs_plan.cpp).
     Coloring coloring_;

@@ -30,8 +30,10 @@ void PgsSolve::touching(std::vector<BodyPair>& out) const {
 }
 
 Status PgsSolve::plan(StageQueue& q, const PairStore& pairs, const DeviceJoints& joints,
-                      std::uint32_t bodyCount) {
+                      const DeviceBodies& bodyBuffers, const DeviceStatus& st) {
+    if (devicePlan_) return planOnDevice(q, pairs, joints, bodyBuffers, st);
     const Context& c = q.c();
+    const std::uint32_t bodyCount = bodyBuffers.count;
     // The device idles from here until the coloring's upload.
     RUBBLE_TRY(readSummaries(q, pairs));
     const auto pairCount = std::uint32_t(pairsHost_.size());
@@ -126,7 +128,9 @@ Status PgsSolve::plan(StageQueue& q, const PairStore& pairs, const DeviceJoints&
         }
         pointsHost_[i + 1] = rows;
     }
-    rowCount_ = rows;
+    rowCount_ = rowRoom_ = rows;
+    elementRoom_ = std::uint32_t(all.size());
+    buildCount_ = std::uint32_t(all.size()) - joints.count;
     // A block's rows (normal, friction, impulses) within its range by point: every element's
     // first point, then every second point, ..., the order its passes read them in (solvePgs,
     // warmStartPgs), so that each pass reads them front to back as the CPU's sweep reads its

@@ -67,7 +67,7 @@ Status Pipeline::makeStages(const PipelineInput& in) {
                                          ? std::uint32_t(in.pgsBlocks)
                                          : defaultPgsBlocks(q.c().workSizes().pgsBlocks, n,
                                                             q.c().workSizes().pgsBlockBodies);
-        RUBBLE_TRY(pgs_.create(q, std::uint32_t(n), blocks));
+        RUBBLE_TRY(pgs_.create(q, std::uint32_t(n), blocks, in.pgsColoring == PgsColoring::Device));
         RUBBLE_TRY(joints_.create(q, in.joints, bodies, bodies_.kinematic));
         if (sat()) RUBBLE_TRY(softStep_.create(q, std::uint32_t(n)));
     }

@@ -53,7 +53,7 @@ Status SoftStepSolve::solve(StageQueue& q, DeviceBodies& b, const PgsSolve& pgs,
     const cl_uint pairElements = pgs.pairElements();
     if (pairElements > 0) {
         RUBBLE_TRY(reserveGrowing(
-            c, contacts_, std::max<std::size_t>(1, pgs.rowCount()) * sizeof(shared::SoftContact)));
+            c, contacts_, std::max<std::size_t>(1, pgs.rowRoom()) * sizeof(shared::SoftContact)));
         RUBBLE_TRY(Dispatch(c, KernelId::PrepareSoftContacts, &q.profile())
                        .arg(pairElements)
                        .arg(rows.buildOrder)

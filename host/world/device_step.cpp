@@ -66,6 +66,7 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
     if (s.offload) in.kinematic = s.offload->kinematic;
     in.deterministic = s.run.deterministic;
     in.pgsBlocks = s.run.pgsBlocks;
+    in.pgsColoring = s.run.pgsColoring;
     Result<gpu::PipelineHandle> p = gpu::Pipeline::create(std::move(context), in);
     RUBBLE_TRY(p);
     s.device = std::move(*p);

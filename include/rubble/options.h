@@ -47,6 +47,11 @@ enum class SolverType {
 /// Whether debris on the device pushes the bodies on the CPU.
 enum class Coupling { OneWay, TwoWay };
 
+/// Who colors the device's Gauss-Seidel elements when no blocks are used (docs/opencl.md,
+/// "Coloring by support" and "Coloring on the device"): the host each step (by support, a
+/// blocking read of the pairs), or the device (a fixed number of colors and launches).
+enum class PgsColoring { Host, Device };
+
 /// The `simulation.solver` block of a scene.
 struct SolverOptions {
     /// When the scene does not say: pgs, on either backend and with either collision method
@@ -117,6 +122,8 @@ struct RunOptions {
     /// suits (a CPU device four per compute unit, a GPU none), 0 every element colored, N > 0
     /// that many blocks.
     int pgsBlocks = -1;
+    /// Who colors the device's solve when it has no blocks (a GPU, or --pgs-blocks 0).
+    PgsColoring pgsColoring = PgsColoring::Host;
     /// SAT on the device: each body sleeps by itself on the device (its slow time and its
     /// neighbours', as the particle paths sleep) instead of by the CPU's islands.
     bool bodySleep = false;
@@ -136,6 +143,7 @@ std::string_view toString(Backend v);
 std::string_view toString(CollisionMethod v);
 std::string_view toString(SolverType v);
 std::string_view toString(Coupling v);
+std::string_view toString(PgsColoring v);
 
 /// Parses the scene-file spelling; std::nullopt for anything else.
 std::optional<Integrator> parseIntegrator(std::string_view s);
@@ -159,5 +167,6 @@ template <> std::span<const std::string_view> spellings<Backend>();
 template <> std::span<const std::string_view> spellings<CollisionMethod>();
 template <> std::span<const std::string_view> spellings<SolverType>();
 template <> std::span<const std::string_view> spellings<Coupling>();
+template <> std::span<const std::string_view> spellings<PgsColoring>();
 
 } // namespace rubble

@@ -107,8 +107,9 @@ class GpuTest : public ::testing::Test {
         return made(test::deviceStage(context(), std::move(in)));
     }
     /// ... with the SAT method's stages, its PGS in `pgsBlocks` blocks.
-    std::unique_ptr<DeviceStage> satStage(StageInput in, int pgsBlocks = -1) {
-        return made(test::satStage(context(), std::move(in), pgsBlocks));
+    std::unique_ptr<DeviceStage> satStage(StageInput in, int pgsBlocks = -1,
+                                          bool deviceColoring = false) {
+        return made(test::satStage(context(), std::move(in), pgsBlocks, deviceColoring));
     }
 
   private:

@@ -85,7 +85,7 @@ struct DeviceStage {
     Status summarizePairs(const StepParams& params) {
         return pgs.summarize(q(), bodies, pairs, joints, params);
     }
-    Status colorPgs() { return pgs.plan(q(), pairs, joints, bodies.count); }
+    Status colorPgs() { return pgs.plan(q(), pairs, joints, bodies, q().lastStatus()); }
     Status buildPgsRows(const StepParams& params) {
         return pgs.buildRows(q(), bodies, pairs, params);
     }
@@ -137,9 +137,11 @@ inline Result<std::unique_ptr<DeviceStage>> deviceStage(std::shared_ptr<gpu::Con
 
 /// The input's bodies on a new queue of `context` with the stages of the SAT method (hulls,
 /// boxes, pairs, manifolds; no particles), its PGS in `pgsBlocks` blocks (RunOptions::pgsBlocks:
-/// -1 as the device suits). Errors: those of the stages' creation.
+/// -1 as the device suits), colored by the device when `deviceColoring` and there are no
+/// blocks. Errors: those of the stages' creation.
 inline Result<std::unique_ptr<DeviceStage>> satStage(std::shared_ptr<gpu::Context> context,
-                                                     StageInput in, int pgsBlocks = -1) {
+                                                     StageInput in, int pgsBlocks = -1,
+                                                     bool deviceColoring = false) {
     auto d = std::make_unique<DeviceStage>();
     d->in = std::move(in);
     d->sat = true;
@@ -158,7 +160,7 @@ inline Result<std::unique_ptr<DeviceStage>> satStage(std::shared_ptr<gpu::Contex
                                      ? std::uint32_t(pgsBlocks)
                                      : gpu::defaultPgsBlocks(sq.c().workSizes().pgsBlocks, n,
                                                              sq.c().workSizes().pgsBlockBodies);
-    RUBBLE_TRY(d->pgs.create(sq, n, blocks));
+    RUBBLE_TRY(d->pgs.create(sq, n, blocks, deviceColoring));
     RUBBLE_TRY(d->joints.create(sq, {}, view, d->bodies.kinematic));
     RUBBLE_TRY(sq.finish());
     return d;

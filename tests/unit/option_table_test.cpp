@@ -48,6 +48,7 @@ RunOptions otherRun() {
     r.kernelDir = "kernels";
     r.deterministic = true;
     r.pgsBlocks = 3;
+    r.pgsColoring = PgsColoring::Device;
     r.bodySleep = true;
     r.buildOptions = "-cl-opt-disable";
     return r;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "rubble/shared/group.h"
+#include "rubble/shared/pgs_coloring.h"
 #include "rubble/shared/pgs_joint.h"
 
 #ifdef __OPENCL_C_VERSION__
@@ -45,6 +46,31 @@ static uint elementsEnd(const uint count, const uint mode, __global const uint* 
         return get_local_id(0) == 0u ? min(blockStarts[get_group_id(0) + 1u], count) : 0u;
     if (mode == RUBBLE_PGS_SERIAL) return get_global_id(0) == 0u ? count : 0u;
     return min((uint)get_global_id(0) + 1u, count);
+}
+
+// A launch's elements: elements[first + i] for i from begin below end, step apart. A device
+// plan's launch (RUBBLE_PGS_COLOR, RUBBLE_PGS_OVERFLOW) takes its range from the color starts,
+// `first` being the color, whatever the launch's size.
+typedef struct ElementRange {
+    uint first, begin, end, step;
+} ElementRange;
+static ElementRange elementRange(const uint first, const uint count, const uint mode,
+                                 __global const uint* blockStarts) {
+    ElementRange r;
+    r.step = 1u;
+    if (mode == RUBBLE_PGS_COLOR || mode == RUBBLE_PGS_OVERFLOW) {
+        r.first = blockStarts[first];
+        const uint n = blockStarts[first + 1u] - r.first;
+        const int each = mode == RUBBLE_PGS_COLOR;
+        r.begin = each ? (uint)get_global_id(0) : 0u;
+        r.end = each || get_global_id(0) == 0u ? n : 0u;
+        r.step = each ? (uint)get_global_size(0) : 1u;
+        return r;
+    }
+    r.first = first;
+    r.begin = elementsBegin(count, mode, blockStarts);
+    r.end = elementsEnd(count, mode, blockStarts);
+    return r;
 }
 
 // Which rows of an element a pass over it solves (`part` of solveElement), and of which of its

@@ -32,10 +32,15 @@ RUBBLE_SHARED_BEGIN
 // How a sweep kernel's launch goes through its elements (its `mode` argument): one per
 // work-item (a color), all of them in order on work-item 0 (the serial tail), or in blocks:
 // work-item 0 of group g runs block g's elements in order (blockStarts), the blocks sharing no
-// body that moves.
+// body that moves. The device's plan (kernels/coloring.cl) gives a launch a color by its index
+// (`first`), whose range the launch reads from the color starts bound as blockStarts: its
+// elements striding over the launch's work-items, or, for the overflow set, in order on
+// work-item 0.
 #define RUBBLE_PGS_PER_ITEM 0u
 #define RUBBLE_PGS_SERIAL 1u
 #define RUBBLE_PGS_BLOCKS 2u
+#define RUBBLE_PGS_COLOR 3u
+#define RUBBLE_PGS_OVERFLOW 4u
 
 // 32 bytes: one element of the device's solve, in color order (the host makes them after
 // coloring): a pair's contact rows, or a joint. Point k's rows (its normal row, its friction
