@@ -8,6 +8,7 @@
 #include <set>
 
 #include "gpu_fixture.h"
+#include "support/physics_cases.h"
 #include "rubble/shared/pgs_coloring.h"
 #include "support/floor_reach.h"
 
@@ -79,22 +80,7 @@ class DeviceColoring : public test::GpuTest {
 
 // Unit crates in a block five wide, three high and four deep, on a floor: each crate touches up
 // to six others, and the pairs hold more than the colors' worth of elements on a body.
-std::string crateBlock() {
-    std::string json = R"({"format": "rubble-scene", "version": 1, "name": "block",
-      "simulation": {"dt": 0.016666667, "solver": {"iterations": 10}},
-      "materials": {"default": {"friction": 0.5, "restitution": 0.0}},
-      "shapes": {"ground": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
-                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
-      "bodies": [{"name": "floor", "shape": "ground", "static": true})";
-    for (int x = 0; x < 5; ++x)
-        for (int y = 0; y < 3; ++y)
-            for (int z = 0; z < 4; ++z)
-                json += ", {\"name\": \"c" + std::to_string(x * 12 + y * 4 + z) +
-                        "\", \"shape\": \"crate\", \"mass\": 1, \"position\": [" +
-                        std::to_string(x * 0.99) + ", " + std::to_string(0.495 + y * 0.99) + ", " +
-                        std::to_string(z * 0.99) + "]}";
-    return json + "]}";
-}
+std::string crateBlock() { return test::crateBlockScene(5, 3, 4); }
 
 // Every pair with points is an element once; within a color no two elements share a body that
 // moves; each color and the overflow set keep element order (pair order here: no joints); each

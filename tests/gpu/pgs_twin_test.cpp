@@ -232,20 +232,7 @@ TEST_F(PgsTwin, AStackOfThreeMatchesTheCpu) {
 // two of a launch on one moving body; every point's rows at a place of their own, a color's
 // element's in a run, a block's by point.
 TEST_F(PgsTwin, BlocksShareNoMovingBodyAndPlaceEveryElementOnce) {
-    std::string json = R"({"format": "rubble-scene", "version": 1, "name": "blocks",
-      "simulation": {"dt": 0.016666667, "solver": {"iterations": 10}},
-      "materials": {"default": {"friction": 0.5, "restitution": 0.0}},
-      "shapes": {"ground": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
-                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
-      "bodies": [{"name": "floor", "shape": "ground", "static": true})";
-    for (int x = 0; x < 5; ++x)
-        for (int y = 0; y < 2; ++y)
-            for (int z = 0; z < 4; ++z)
-                json += ", {\"name\": \"c" + std::to_string(x * 8 + y * 4 + z) +
-                        "\", \"shape\": \"crate\", \"mass\": 1, \"position\": [" +
-                        std::to_string(x * 0.99) + ", " + std::to_string(0.495 + y * 0.99) +
-                        ", " + std::to_string(z * 0.99) + "]}";
-    json += "]}";
+    const std::string json = test::crateBlockScene(5, 2, 4);
     test::StageInput in = test::stageInput(json);
     const StepParams params = in.params();
     std::unique_ptr<test::DeviceStage> made = satStage(in, 4);

@@ -15,6 +15,25 @@
 
 namespace rubble::test {
 
+/// Unit crates in a block nx wide, ny high and nz deep on a floor, 0.99 m apart (each touching
+/// its neighbours by 1 cm), named c<x * ny * nz + y * nz + z>; friction 0.5, 10 iterations.
+inline std::string crateBlockScene(int nx, int ny, int nz) {
+    std::string json = R"({"format": "rubble-scene", "version": 1, "name": "block",
+      "simulation": {"dt": 0.016666667, "solver": {"iterations": 10}},
+      "materials": {"default": {"friction": 0.5, "restitution": 0.0}},
+      "shapes": {"ground": {"type": "plane", "normal": [0, 1, 0], "offset": 0},
+                 "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}},
+      "bodies": [{"name": "floor", "shape": "ground", "static": true})";
+    for (int x = 0; x < nx; ++x)
+        for (int y = 0; y < ny; ++y)
+            for (int z = 0; z < nz; ++z)
+                json += ", {\"name\": \"c" + std::to_string((x * ny + y) * nz + z) +
+                        "\", \"shape\": \"crate\", \"mass\": 1, \"position\": [" +
+                        std::to_string(x * 0.99) + ", " + std::to_string(0.495 + y * 0.99) +
+                        ", " + std::to_string(z * 0.99) + "]}";
+    return json + "]}";
+}
+
 /// The keys a device run adds to a scene's simulation block: particles and the Jacobi solver.
 inline const char* kDeviceSimulation =
     R"(, "collision": {"method": "particles", "particle_spacing": 0.1},
