@@ -1,6 +1,6 @@
-// host/collision/triangle_contact.cpp: a static triangle's contacts with spheres, capsules and
-// convex hulls (stage narrowPhase, CPU) over rubble/shared/triangle_contact.h; see
-// triangle_contact.h.
+// host/collision/triangle_contact.cpp: the host's side of a static triangle's contacts (stage
+// narrowPhase, CPU): a triangle's shared record and a hull placed in the mesh's frame for
+// rubble/shared/triangle_contact.h; see triangle_contact.h.
 #include "host/collision/triangle_contact.h"
 
 #include <algorithm>
@@ -8,24 +8,6 @@
 #include "host/core/math.h"
 
 namespace rubble {
-namespace {
-
-// Contacts of one triangle with a sphere or a capsule, at most.
-constexpr std::uint32_t kRoundContacts = 2;
-
-// Runs `collide` on a buffer with room for `room` more contacts after out's, and brings what it
-// wrote to the host's type.
-template <typename Collide>
-void collectContacts(std::vector<TriangleContact>& out, std::uint32_t room, Collide collide) {
-    std::vector<shared::TriangleContact> items(room);
-    shared::ContactBuffer buffer{items.data(), 0u, room};
-    collide(&buffer);
-    for (std::uint32_t i = 0; i < buffer.count; ++i)
-        out.push_back(
-            {toVec3(items[i].position), items[i].depth, toVec3(items[i].normal), items[i].feature});
-}
-
-} // namespace
 
 shared::MeshTriangle meshTriangleOf(const LevelTriangle& t, std::uint32_t index) {
     shared::MeshTriangle r{};
@@ -97,31 +79,6 @@ void placeHull(const HalfEdgeMesh& hull, const glm::mat3& rotation, glm::vec3 tr
     v.edgeDirections = out.edgeDirections.data();
     v.polygon = out.polygon.data();
     v.clipped = out.clipped.data();
-}
-
-void collideTriangleSphere(const LevelTriangle& t, std::uint32_t index, glm::vec3 c, float r,
-                           float margin, std::vector<TriangleContact>& out) {
-    const shared::MeshTriangle m = meshTriangleOf(t, index);
-    collectContacts(out, kRoundContacts, [&](shared::ContactBuffer* b) {
-        shared::collideTriangleSphereItem(m, toFloat4(c), r, margin, b);
-    });
-}
-
-void collideTriangleCapsule(const LevelTriangle& t, std::uint32_t index, const Segment& s, float r,
-                            float margin, std::vector<TriangleContact>& out) {
-    const shared::MeshTriangle m = meshTriangleOf(t, index);
-    const shared::CapsuleSegment segment{toFloat4(s.p0), toFloat4(s.p1)};
-    collectContacts(out, kRoundContacts, [&](shared::ContactBuffer* b) {
-        shared::collideTriangleCapsuleItem(m, segment, r, margin, b);
-    });
-}
-
-void collideTriangleHull(const LevelTriangle& t, std::uint32_t index, PlacedHull& hull,
-                         float margin, std::vector<TriangleContact>& out) {
-    const shared::MeshTriangle m = meshTriangleOf(t, index);
-    collectContacts(out, std::uint32_t(hull.polygon.size()), [&](shared::ContactBuffer* b) {
-        shared::collideTriangleHullItem(m, hull.view, margin, b);
-    });
 }
 
 } // namespace rubble

@@ -1,7 +1,7 @@
-// host/collision/triangle_contact.h: contacts of one static triangle (level_mesh.h) with a
-// sphere, a capsule or a convex hull, in the mesh's frame, for stage narrowPhase of the CPU
-// pipeline (level_collision.h gathers them per pair), over the shared math of
-// rubble/shared/triangle_contact.h that the device runs too. Triangles are two-sided; internal
+// host/collision/triangle_contact.h: what the CPU's narrow phase hands the shared triangle
+// contacts (rubble/shared/triangle_contact.h, triangle_hull_contact.h, which the device runs too):
+// a static triangle's record (level_mesh.h) and a hull placed in the mesh's frame;
+// level_collision.h collides them per pair. Triangles are two-sided; internal
 // edges (EdgeKind Flat and Concave, and Convex ones outside the arc between the two faces' normals)
 // never give a contact normal other than the face's, so that bodies slide over the seams of a
 // mesh as over one surface.
@@ -48,19 +48,5 @@ shared::MeshTriangle meshTriangleOf(const LevelTriangle& t, std::uint32_t index)
 /// Places `hull` by the rotation and translation of its frame in the mesh's (reusing `out`).
 void placeHull(const HalfEdgeMesh& hull, const glm::mat3& rotation, glm::vec3 translation,
                PlacedHull& out);
-
-/// A sphere of radius r at c: one contact within the margin (collideTriangleSphereItem).
-void collideTriangleSphere(const LevelTriangle& t, std::uint32_t index, glm::vec3 c, float r,
-                           float margin, std::vector<TriangleContact>& out);
-
-/// A capsule (segment s, radius r): the segment's ends clipped to the triangle when it lies on
-/// the face, otherwise the closest points; each within the margin (collideTriangleCapsuleItem).
-void collideTriangleCapsule(const LevelTriangle& t, std::uint32_t index, const Segment& s, float r,
-                            float margin, std::vector<TriangleContact>& out);
-
-/// A convex hull placed by placeHull: separating axes, then a clipped face or the edges' closest
-/// points (collideTriangleHullItem).
-void collideTriangleHull(const LevelTriangle& t, std::uint32_t index, PlacedHull& hull,
-                         float margin, std::vector<TriangleContact>& out);
 
 } // namespace rubble

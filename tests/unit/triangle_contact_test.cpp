@@ -18,6 +18,45 @@
 namespace rubble {
 namespace {
 
+// Runs `collide` (a shared triangle function) on a buffer with room for `room` contacts and
+// appends what it wrote to `out` in the host's type.
+template <typename Collide>
+void collectContacts(std::vector<TriangleContact>& out, std::uint32_t room, Collide collide) {
+    std::vector<shared::TriangleContact> items(room);
+    shared::ContactBuffer buffer{items.data(), 0u, room};
+    collide(&buffer);
+    for (std::uint32_t i = 0; i < buffer.count; ++i)
+        out.push_back(
+            {toVec3(items[i].position), items[i].depth, toVec3(items[i].normal), items[i].feature});
+}
+
+// Triangle `index` of a level against a sphere, a capsule or a placed hull, as the narrow phase
+// collides them (level_collision.cpp).
+void collideTriangleSphere(const LevelTriangle& t, std::uint32_t index, glm::vec3 c, float r,
+                           float margin, std::vector<TriangleContact>& out) {
+    const shared::MeshTriangle m = meshTriangleOf(t, index);
+    collectContacts(out, 2, [&](shared::ContactBuffer* b) {
+        shared::collideTriangleSphereItem(m, toFloat4(c), r, margin, b);
+    });
+}
+
+void collideTriangleCapsule(const LevelTriangle& t, std::uint32_t index, const Segment& s, float r,
+                            float margin, std::vector<TriangleContact>& out) {
+    const shared::MeshTriangle m = meshTriangleOf(t, index);
+    const shared::CapsuleSegment segment{toFloat4(s.p0), toFloat4(s.p1)};
+    collectContacts(out, 2, [&](shared::ContactBuffer* b) {
+        shared::collideTriangleCapsuleItem(m, segment, r, margin, b);
+    });
+}
+
+void collideTriangleHull(const LevelTriangle& t, std::uint32_t index, PlacedHull& hull,
+                         float margin, std::vector<TriangleContact>& out) {
+    const shared::MeshTriangle m = meshTriangleOf(t, index);
+    collectContacts(out, std::uint32_t(hull.polygon.size()), [&](shared::ContactBuffer* b) {
+        shared::collideTriangleHullItem(m, hull.view, margin, b);
+    });
+}
+
 // A flat grid of n x n quads of side `cell` at y = 0, centred on the origin, facing +y.
 TriangleMesh flatGrid(int n, float cell) {
     TriangleMesh m;
