@@ -3,8 +3,8 @@
 
   bench/plot_suite.py bench/results/<machine>/solver_suite.csv --table
       prints the Markdown table of docs/solvers.md ("The solver test set"): a row per scene, a
-      column per solver and path, each cell "stands · top drift · deepest penetration · energy
-      gained · joint error (scenes with joints) · ms/step";
+      column per solver and path, each cell "stands · top drift / creep · deepest penetration ·
+      energy gained · joint error (scenes with joints) · ms/step";
   bench/plot_suite.py bench/results/<machine>/solver_suite.csv --out docs/images/solver_suite.png
       draws the top body's drift, the deepest penetration and the energy gained of every scene,
       one bar per solver and path, on log axes, zeros drawn at 1e-6 (matplotlib from Debian's
@@ -15,8 +15,8 @@ import csv
 import math
 import sys
 
-COLUMNS = ["scene", "solver", "path", "settings", "steps", "stands", "top_drift", "penetration",
-           "energy_gained", "joint_error", "ms_per_step", "skipped"]
+COLUMNS = ["scene", "solver", "path", "settings", "steps", "stands", "top_drift", "top_creep",
+           "penetration", "energy_gained", "joint_error", "ms_per_step", "skipped"]
 
 
 def read(path):
@@ -28,12 +28,12 @@ def read(path):
 
 
 def cell(r):
-    """One run in a cell: stands (or -), top drift (cm), deepest penetration (mm), energy gained
-    (J), the largest joint error (mm) when the scene has joints, ms/step."""
+    """One run in a cell: stands (or -), top drift / creep (cm), deepest penetration (mm), energy
+    gained (J), the largest joint error (mm) when the scene has joints, ms/step."""
     if r["skipped"] and r["steps"] == "0":
         return "skipped: " + short(r["skipped"])
     stands = r["stands"] if not r["skipped"] else "stopped at step " + r["steps"]
-    parts = [stands, "%.3g cm" % (100 * float(r["top_drift"])),
+    parts = [stands, "%.3g / %.3g cm" % (100 * float(r["top_drift"]), 100 * float(r["top_creep"])),
              "%.3g mm" % (1000 * float(r["penetration"])), "%.3g J" % float(r["energy_gained"])]
     if float(r["joint_error"]) > 0:
         parts.append("joint %.3g mm" % (1000 * float(r["joint_error"])))

@@ -97,15 +97,15 @@ std::string suiteNumber(double v) {
 Status writeSuiteCsv(const std::string& path, std::span<const SuiteRow> rows) {
     std::ofstream out(path, std::ios::binary);
     if (!out) return makeError(ErrorKind::Io, path, "cannot be written");
-    out << "scene,solver,path,settings,steps,stands,top_drift,penetration,energy_gained,"
-           "joint_error,ms_per_step,skipped\n";
+    out << "scene,solver,path,settings,steps,stands,top_drift,top_creep,penetration,"
+           "energy_gained,joint_error,ms_per_step,skipped\n";
     for (const SuiteRow& r : rows) {
         std::string why = r.skipped;
         std::replace(why.begin(), why.end(), '"', '\'');
         std::replace(why.begin(), why.end(), '\n', ' ');
         out << r.scene << ',' << r.solver << ',' << r.path << ',' << r.settings << ','
             << r.steps << ',' << r.stands << ',' << suiteNumber(r.topDrift) << ','
-            << suiteNumber(r.penetration) << ',' << suiteNumber(r.energyGained) << ','
+            << suiteNumber(r.topCreep) << ',' << suiteNumber(r.penetration) << ',' << suiteNumber(r.energyGained) << ','
             << suiteNumber(r.jointError) << ',' << suiteNumber(r.msPerStep) << ",\"" << why
             << "\"\n";
     }
@@ -138,22 +138,23 @@ int suiteCommand(const SolversArgs& args) {
     o.run = args.run;
     Result<std::vector<SuiteRow>> rows = runSolverSuite(o);
     if (!rows) return report(rows.error());
-    std::printf("| scene | solver | path | settings | stands | top drift (m) | deepest "
-                "penetration (m) | energy gained (J) | joint error (m) | ms/step |\n"
-                "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+    std::printf("| scene | solver | path | settings | stands | top drift (m) | top creep (m) | "
+                "deepest penetration (m) | energy gained (J) | joint error (m) | ms/step |\n"
+                "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
     for (const SuiteRow& r : *rows) {
         if (!r.skipped.empty() && r.steps == 0) {
-            std::printf("| %s | %s | %s | %s | skipped: %s | | | | | |\n", r.scene.c_str(),
+            std::printf("| %s | %s | %s | %s | skipped: %s | | | | | | |\n", r.scene.c_str(),
                         r.solver.c_str(), r.path.c_str(), r.settings.c_str(),
                         r.skipped.c_str());
             continue;
         }
-        std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", r.scene.c_str(),
+        std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", r.scene.c_str(),
                     r.solver.c_str(), r.path.c_str(), r.settings.c_str(),
                     (r.skipped.empty() ? r.stands : "stopped at step " +
                                                          std::to_string(r.steps))
                         .c_str(),
-                    suiteNumber(r.topDrift).c_str(), suiteNumber(r.penetration).c_str(),
+                    suiteNumber(r.topDrift).c_str(), suiteNumber(r.topCreep).c_str(),
+                    suiteNumber(r.penetration).c_str(),
                     suiteNumber(r.energyGained).c_str(), suiteNumber(r.jointError).c_str(),
                     suiteNumber(r.msPerStep).c_str());
     }

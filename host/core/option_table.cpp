@@ -277,8 +277,9 @@ const std::vector<Option>& table() {
         runOption<&RunOptions::pgsColoring>(
             {.name = "pgs-coloring",
              .uses = kEverywhere,
-             .help = "Who colors the device's PGS solve without blocks: the device (fixed "
-                     "colors, no read back) or the host (by support, a read each step)"}),
+             .help = "Who colors the device's solve without blocks: the device (fixed "
+                     "colors, no read back), the host (by support, a read each step), or auto "
+                     "(the device for the soft step, the host for PGS)"}),
         runOption<&RunOptions::bodySleep>(
             {.name = "body-sleep",
              .uses = kEverywhere,

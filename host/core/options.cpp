@@ -13,7 +13,7 @@ constexpr std::string_view kMethods[] = {"sat", "particles"};
 constexpr std::string_view kSolvers[] = {"pgs", "jacobi", "lcp-jacobi", "lemke",
                                          "soft-step"};
 constexpr std::string_view kCouplings[] = {"one-way", "two-way"};
-constexpr std::string_view kColorings[] = {"host", "device"};
+constexpr std::string_view kColorings[] = {"auto", "host", "device"};
 
 template <class E> std::string_view nameOf(E v) {
     const std::span<const std::string_view> names = spellings<E>();
@@ -46,6 +46,11 @@ std::string_view toString(SolverType v) { return nameOf(v); }
 std::string_view toString(Coupling v) { return nameOf(v); }
 std::string_view toString(PgsColoring v) {
     return nameOf(v);
+}
+
+PgsColoring resolvePgsColoring(PgsColoring chosen, SolverType solver) {
+    if (chosen != PgsColoring::Auto) return chosen;
+    return solver == SolverType::SoftStep ? PgsColoring::Device : PgsColoring::Host;
 }
 
 std::optional<Integrator> parseIntegrator(std::string_view s) { return valueOf<Integrator>(s); }

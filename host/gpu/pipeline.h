@@ -40,7 +40,7 @@ struct PipelineInput {
     std::span<const std::uint8_t> kinematic;
     bool deterministic = false; ///< contacts sorted by key so that atomics cannot reorder sums
     int pgsBlocks = -1;         ///< RunOptions::pgsBlocks
-    PgsColoring pgsColoring = PgsColoring::Host; ///< RunOptions::pgsColoring
+    PgsColoring pgsColoring = PgsColoring::Host; ///< RunOptions::pgsColoring, resolved
     /// The world's collision method: with Sat the shapes' hulls go to the device (and `shapes`
     /// must hold every shape the bodies use); with Particles the particles do.
     CollisionMethod collision = CollisionMethod::Particles;

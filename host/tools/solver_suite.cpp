@@ -128,6 +128,7 @@ SuiteRow runOne(Scene scene, SolverType solver, const std::string& path, const S
     bool named = false;
     const std::optional<std::uint32_t> watched = watchedBody(world, named);
     const glm::vec3 start = watched ? world.body(*watched).position : glm::vec3(0.0f);
+    glm::vec3 halfway = start;
     const double e0 = energy(world, sim.gravity);
     double wallMs = 0.0;
     for (int step = 0; step < o.steps; ++step) {
@@ -140,6 +141,7 @@ SuiteRow runOne(Scene scene, SolverType solver, const std::string& path, const S
             break;
         }
         row.steps = step + 1;
+        if (watched && row.steps == o.steps / 2) halfway = world.body(*watched).position;
         row.penetration = std::max(row.penetration, double(world.lastStep().largestPenetration));
         row.energyGained = std::max(row.energyGained, energy(world, sim.gravity) - e0);
         row.jointError = std::max(row.jointError, jointError(world, joints));
@@ -148,6 +150,7 @@ SuiteRow runOne(Scene scene, SolverType solver, const std::string& path, const S
     if (!watched) return row;
     const glm::vec3 moved = world.body(*watched).position - start;
     row.topDrift = glm::length(moved);
+    row.topCreep = glm::length(world.body(*watched).position - halfway);
     const bool stood = row.skipped.empty() && std::hypot(moved.x, moved.z) < kStandSideways &&
                        -moved.y < kStandSink && moved.y < kStandSideways;
     if (named) row.stands = std::string(stood ? "yes" : "no");

@@ -66,7 +66,7 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
     if (s.offload) in.kinematic = s.offload->kinematic;
     in.deterministic = s.run.deterministic;
     in.pgsBlocks = s.run.pgsBlocks;
-    in.pgsColoring = s.run.pgsColoring;
+    in.pgsColoring = resolvePgsColoring(s.run.pgsColoring, s.options.solverType());
     Result<gpu::PipelineHandle> p = gpu::Pipeline::create(std::move(context), in);
     RUBBLE_TRY(p);
     s.device = std::move(*p);

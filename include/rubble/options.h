@@ -49,8 +49,10 @@ enum class Coupling { OneWay, TwoWay };
 
 /// Who colors the device's Gauss-Seidel elements when no blocks are used (docs/opencl.md,
 /// "Coloring by support" and "Coloring on the device"): the host each step (by support, a
-/// blocking read of the pairs), or the device (a fixed number of colors and launches).
-enum class PgsColoring { Host, Device };
+/// blocking read of the pairs), or the device (a fixed number of colors and launches). Auto
+/// takes the device's for the soft step and the host's for PGS, the one that keeps each
+/// solver nearer the CPU reference (resolvePgsColoring).
+enum class PgsColoring { Auto, Host, Device };
 
 /// The `simulation.solver` block of a scene.
 struct SolverOptions {
@@ -123,7 +125,7 @@ struct RunOptions {
     /// that many blocks.
     int pgsBlocks = -1;
     /// Who colors the device's solve when it has no blocks (a GPU, or --pgs-blocks 0).
-    PgsColoring pgsColoring = PgsColoring::Host;
+    PgsColoring pgsColoring = PgsColoring::Auto;
     /// SAT on the device: each body sleeps by itself on the device (its slow time and its
     /// neighbours', as the particle paths sleep) instead of by the CPU's islands.
     bool bodySleep = false;
@@ -144,6 +146,9 @@ std::string_view toString(CollisionMethod v);
 std::string_view toString(SolverType v);
 std::string_view toString(Coupling v);
 std::string_view toString(PgsColoring v);
+/// The coloring a run takes for `solver`: `chosen` unless it is Auto (then Device for the soft
+/// step, Host otherwise).
+PgsColoring resolvePgsColoring(PgsColoring chosen, SolverType solver);
 
 /// Parses the scene-file spelling; std::nullopt for anything else.
 std::optional<Integrator> parseIntegrator(std::string_view s);

@@ -123,6 +123,9 @@ struct SuiteRow {
     std::string stands{"-"};
     /// The "top" body's (else the highest body's) distance from its start at the end, m
     double topDrift = 0;
+    /// How far the same body moved over the run's second half, m: settling shows in the drift,
+    /// a body that never comes to rest here too
+    double topCreep = 0;
     double penetration = 0; ///< the deepest contact of any step, before its solve, m
     /// How far kinetic plus potential energy ever rose above the start's, J
     double energyGained = 0;

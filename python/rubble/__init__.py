@@ -112,7 +112,7 @@ def solver_suite(scenes: Optional[Union[str, "os.PathLike[str]", List[str]]] = N
     scenes: scene files, or a folder of them (default: the repository's scenes/solver).
     paths: any of "cpu", "device-colored", "device-blocks" (default all three).
     Returns the table of ``rubble solvers --suite --csv`` (columns scene, solver, path,
-    settings, steps, stands, top_drift, penetration, energy_gained, joint_error, ms_per_step,
+    settings, steps, stands, top_drift, top_creep, penetration, energy_gained, joint_error, ms_per_step,
     skipped). Raises rubble.SceneError for a scene that does not load or bad counts.
     """
     if scenes is None:

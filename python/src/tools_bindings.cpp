@@ -117,6 +117,7 @@ py::dict suiteColumns(const std::vector<SuiteRow>& rows) {
     d["steps"] = column<long long>(rows, &SuiteRow::steps);
     d["stands"] = text(&SuiteRow::stands);
     d["top_drift"] = column<double>(rows, &SuiteRow::topDrift);
+    d["top_creep"] = column<double>(rows, &SuiteRow::topCreep);
     d["penetration"] = column<double>(rows, &SuiteRow::penetration);
     d["energy_gained"] = column<double>(rows, &SuiteRow::energyGained);
     d["joint_error"] = column<double>(rows, &SuiteRow::jointError);

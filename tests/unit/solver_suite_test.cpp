@@ -27,17 +27,19 @@ TEST(SolverSuite, CommandWritesEverySolversRowWithItsColumns) {
     ASSERT_EQ(rows.size(), 1u + 2u * 4u) << "a header, then 2 scenes x 4 solvers";
     EXPECT_EQ(rows[0],
               (std::vector<std::string>{"scene", "solver", "path", "settings", "steps", "stands",
-                                        "top_drift", "penetration", "energy_gained", "joint_error",
-                                        "ms_per_step", "skipped"}));
+                                        "top_drift", "top_creep", "penetration", "energy_gained",
+                                        "joint_error", "ms_per_step", "skipped"}));
     for (std::size_t i = 1; i < rows.size(); ++i) {
         const std::vector<std::string>& row = rows[i];
-        ASSERT_EQ(row.size(), 12u) << r.output;
+        ASSERT_EQ(row.size(), 13u) << r.output;
         EXPECT_EQ(row[2], "cpu");
         EXPECT_EQ(row[4], "5") << row[0] << " " << row[1] << ": every step ran";
         // Five steps from rest: the top body has settled by a few centimetres at most.
         EXPECT_EQ(row[5], "yes") << row[0] << " " << row[1];
         EXPECT_LT(std::stod(row[6]), 0.1) << row[0] << " " << row[1];
-        EXPECT_GT(std::stod(row[10]), 0.0);
+        EXPECT_GE(std::stod(row[7]), 0.0) << row[0] << " " << row[1];
+        EXPECT_LT(std::stod(row[7]), 0.1) << row[0] << " " << row[1];
+        EXPECT_GT(std::stod(row[11]), 0.0);
         EXPECT_EQ(row[1] == "soft-step" ? "substeps=5 relax=1" : "iterations=10", row[3]);
     }
     EXPECT_NE(r.output.find("| stack_20 | soft-step | cpu |"), std::string::npos) << r.output;
