@@ -47,6 +47,36 @@ shared::BodyVelocity sharedVelocity(const SolverVelocity& v) {
     return shared::BodyVelocity{toFloat4(v.linear), toFloat4(v.angular)};
 }
 
+// Where findRun found the last pair's run in `last`.
+struct RunCursor {
+    std::uint32_t a = 0, b = 0;
+    std::size_t at = 0;
+};
+
+// The first of last step's impulses of pair (a, b) or after it: std::lower_bound over all of
+// `last`, which is sorted by pair. The manifolds come in pair order, so the search gallops on
+// from the previous pair's run (every entry before it is below that pair, hence below this one)
+// instead of bisecting all of `last` again for each manifold.
+std::size_t findRun(std::span<const ContactImpulse> last, std::uint32_t a, std::uint32_t b,
+                    RunCursor& cursor) {
+    auto below = [&](const ContactImpulse& x) { return keyLess(x, a, b, 0u); };
+    const bool onward = a != cursor.a ? a > cursor.a : b >= cursor.b;
+    std::size_t low = onward ? cursor.at : 0, high = last.size();
+    if (onward) {
+        // Doubling steps until an entry not below the pair bounds the run's start.
+        high = low;
+        for (std::size_t step = 1; high < last.size() && below(last[high]); step *= 2) {
+            low = high + 1;
+            high = low + step;
+        }
+        high = std::min(high, last.size());
+    }
+    const auto from = last.begin() + std::ptrdiff_t(low);
+    const auto run = std::partition_point(from, last.begin() + std::ptrdiff_t(high), below);
+    cursor = RunCursor{a, b, std::size_t(run - last.begin())};
+    return cursor.at;
+}
+
 // Row `row` starts from an old point's impulses, its friction in its own tangents.
 void takeImpulse(ContactRows& rows, std::size_t row, const ContactImpulse& from) {
     rows.normals[row].impulse = from.normal;
@@ -132,7 +162,6 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                       std::span<const std::uint32_t> materialOf, std::span<const BodyPair> joined,
                       std::span<const ContactImpulse> last, const ContactRowSettings& settings,
                       ContactRows& rows) {
-    rows.clear();
     const float dt = settings.dt;
     auto makesRows = [&](const Manifold& m) {
         return m.count > 0 && (bodies.moves(m.a) || bodies.moves(m.b)) &&
@@ -148,6 +177,8 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
         for (std::uint32_t k = 0; k < m.count; ++k) ++start[k + 1];
     }
     for (int k = 0; k < 4; ++k) start[k + 1] += start[k];
+    // Every row below is written whole, so the arrays keep last step's entries instead of being
+    // cleared and filled with zeros first (a pass over some 350 bytes a point).
     rows.normals.resize(start[4]);
     rows.frictions.resize(start[4]);
     rows.keys.resize(start[4]);
@@ -157,6 +188,8 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
     // next contact's search starts.
     std::span<const ContactImpulse> particleRun;
     std::size_t particleCursor = 0;
+    // The previous manifold's pair and where its old run starts (findRun).
+    RunCursor lastRun;
     for (const Manifold& m : manifolds) {
         if (!makesRows(m)) continue;
         const MaterialDesc& matA = materials[materialOf[m.a]];
@@ -191,7 +224,7 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                 restitution, settings.baumgarte, settings.slop, dt, fixedTangent);
 
             const shared::PgsNormalRow& rn = row.normal;
-            NormalRow& nr = rows.normals[at[k]];
+            NormalRow nr;
             nr.a = m.a;
             nr.b = m.b;
             nr.normal = toLanes(rn.normal);
@@ -208,7 +241,7 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
             nr.bounceLift = rn.mass.z;
 
             const shared::PgsFrictionRows& rf = row.friction;
-            FrictionRows& fr = rows.frictions[at[k]];
+            FrictionRows fr;
             fr.a = m.a;
             fr.b = m.b;
             fr.inverseMassA = ima;
@@ -226,6 +259,8 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
             // round with it: its arm enters J v, while no impulse turns it (its turn stays 0).
             turningWall(nr, fr, 0, bodyA, ra, ima);
             turningWall(nr, fr, 1, bodyB, p.position - toVec3(positionB), imb);
+            rows.normals[at[k]] = nr;
+            rows.frictions[at[k]] = fr;
 
             ContactKey& key = rows.keys[at[k]];
             key.a = m.a;
@@ -247,10 +282,8 @@ void buildContactRows(std::span<const Manifold> manifolds, std::span<const share
                 warmStartParticle(rows, at[k], particleRun, particleCursor);
         } else if (settings.warmStart) {
             // Last step's impulses of this pair: a sorted run.
-            const auto run = std::lower_bound(
-                last.begin(), last.end(), 0u,
-                [&](const ContactImpulse& x, std::uint32_t) { return keyLess(x, m.a, m.b, 0u); });
-            warmStart(rows, at, m.count, last.subspan(std::size_t(run - last.begin())));
+            const std::size_t run = findRun(last, m.a, m.b, lastRun);
+            warmStart(rows, at, m.count, last.subspan(run));
         }
     }
 }

@@ -54,6 +54,39 @@ struct ContactKey {
     glm::vec3 pointInA{0.0f}; ///< the contact point in a's frame, m
 };
 
+/// What a PGS sweep reads of a point's normal row, packed into 80 bytes (solveContactSweep): the
+/// fourth lanes of the five vectors carry the row's scalars, and are masked off where a vector is
+/// applied to velocities; body indices sit in lanes that only applied vectors have, so that their
+/// bits never enter arithmetic as (denormal) floats. The inverse masses come from the bodies
+/// (SolverBodies::inverseMass, which the rows copy). A large scene's rows do not fit in the
+/// caches, and every sweep streams them from memory again: fewer bytes, faster sweeps.
+struct SweepNormal {
+    Lanes normal{}; ///< fourth lane: mass, kg
+    Lanes crossA{}; ///< fourth lane: targetSpeed, m/s
+    Lanes crossB{}; ///< fourth lane: zero
+    Lanes turnA{};  ///< fourth lane: body a's index (its bits)
+    Lanes turnB{};  ///< fourth lane: body b's index (its bits)
+};
+static_assert(sizeof(SweepNormal) == 80);
+
+/// What a PGS sweep reads and writes of a point's friction rows, packed into 160 bytes the same
+/// way. The friction bound is mu times the point's normal impulse (SweepRows::normalImpulse).
+struct SweepFriction {
+    Lanes tangent[2] = {}; ///< fourth lanes: inverseMassA, inverseMassB, 1/kg
+    Lanes crossA[2] = {};  ///< fourth lanes: mass[0], mass[1], kg
+    Lanes crossB[2] = {};  ///< fourth lanes: impulse[0], impulse[1], N s
+    Lanes turnA[2] = {};   ///< fourth lanes: the indices of bodies a and b (their bits)
+    Lanes turnB[2] = {};   ///< fourth lanes: the friction coefficient, zero
+};
+static_assert(sizeof(SweepFriction) == 160);
+
+/// The rows in the sweeps' packed form (packContactRows), parallel to ContactRows' arrays.
+struct SweepRows {
+    std::vector<SweepNormal> normals;
+    std::vector<SweepFriction> frictions;
+    std::vector<float> normalImpulse; ///< each point's accumulated normal impulse, N s
+};
+
 /// This step's contact rows; the three arrays run in parallel, one entry per contact point,
 /// point-major: every manifold's first point, then every second point, and so on, manifold order
 /// kept within each. Consecutive rows then mostly touch different bodies, so that the sweep's
@@ -71,6 +104,7 @@ struct ContactRows {
     // The layer pass: each body's layer above the bodies that do not move, its rows in order.
     std::vector<std::uint32_t> layer, layerRows;
     std::vector<std::uint8_t> loaded;
+    SweepRows sweep; ///< the PGS sweeps' packed copy, valid inside solvePgs
 
     std::size_t size() const { return normals.size(); }
     void clear() {

@@ -2,6 +2,7 @@
 #include "host/dynamics/pgs.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "host/core/math.h"
@@ -132,14 +133,78 @@ void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBod
     }
 }
 
-void warmStartContacts(const ContactRows& contacts, SolverBodies& bodies) {
-    for (std::size_t i = 0; i < contacts.size(); ++i) {
-        const NormalRow& n = contacts.normals[i];
-        SolverVelocity& a = bodies.velocity[n.a];
-        SolverVelocity& b = bodies.velocity[n.b];
-        if (n.impulse != 0.0f)
-            applyRow(a, b, n.normal, n.turnA, n.turnB, n.inverseMassA, n.inverseMassB, n.impulse);
+namespace {
+
+// The first three lanes of a vector, the fourth cleared: a packed row's vector whose fourth lane
+// carries a scalar, ready to be applied to velocities.
+Lanes xyz(Lanes v) {
+    using Bits = std::uint32_t __attribute__((vector_size(16)));
+    constexpr Bits kMask = {~0u, ~0u, ~0u, 0u};
+    return Lanes((Bits)v & kMask);
+}
+
+// How many rows ahead the sweeps ask for their bodies' velocities, and twice as far for the rows
+// themselves (the bodies' indices are read from them): the rows stream from memory, the
+// velocities are read at random, and neither arrives in time unasked.
+constexpr std::size_t kPrefetchRows = 8;
+
+template <typename T> void prefetchLines(const T& x) {
+    for (std::size_t at = 0; at < sizeof(T); at += 64)
+        __builtin_prefetch(reinterpret_cast<const char*>(&x) + at);
+}
+
+// A body index carried in a float lane, bit for bit.
+float indexLane(std::uint32_t i) {
+    return std::bit_cast<float>(i);
+}
+std::uint32_t laneIndex(float lane) {
+    return std::bit_cast<std::uint32_t>(lane);
+}
+
+} // namespace
+
+void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart) {
+    SweepRows& s = contacts.sweep;
+    const std::size_t n = contacts.size();
+    s.normals.resize(n);
+    s.frictions.resize(n);
+    s.normalImpulse.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const NormalRow& r = contacts.normals[i];
         const FrictionRows& f = contacts.frictions[i];
+        SweepNormal& p = s.normals[i];
+        p.normal = r.normal;
+        p.normal[3] = r.mass;
+        p.crossA = r.crossA;
+        p.crossA[3] = r.targetSpeed;
+        p.crossB = r.crossB;
+        p.crossB[3] = 0.0f;
+        p.turnA = r.turnA;
+        p.turnA[3] = indexLane(r.a);
+        p.turnB = r.turnB;
+        p.turnB[3] = indexLane(r.b);
+        s.normalImpulse[i] = r.impulse;
+        SweepFriction& q = s.frictions[i];
+        for (int k = 0; k < 2; ++k) {
+            q.tangent[k] = f.tangent[k];
+            q.crossA[k] = f.crossA[k];
+            q.crossA[k][3] = f.mass[k];
+            q.crossB[k] = f.crossB[k];
+            q.crossB[k][3] = f.impulse[k];
+            q.turnA[k] = f.turnA[k];
+            q.turnB[k] = f.turnB[k];
+        }
+        q.tangent[0][3] = f.inverseMassA;
+        q.tangent[1][3] = f.inverseMassB;
+        q.turnA[0][3] = indexLane(f.a);
+        q.turnA[1][3] = indexLane(f.b);
+        q.turnB[0][3] = f.friction;
+        q.turnB[1][3] = 0.0f;
+        if (!warmStart) continue;
+        SolverVelocity& a = bodies.velocity[r.a];
+        SolverVelocity& b = bodies.velocity[r.b];
+        if (r.impulse != 0.0f)
+            applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB, r.impulse);
         for (int k = 0; k < 2; ++k)
             if (f.impulse[k] != 0.0f)
                 applyRow(a, b, f.tangent[k], f.turnA[k], f.turnB[k], f.inverseMassA, f.inverseMassB,
@@ -147,37 +212,74 @@ void warmStartContacts(const ContactRows& contacts, SolverBodies& bodies) {
     }
 }
 
-float solveContactSweep(ContactRows& contacts, SolverBodies& bodies, float relaxation) {
+void unpackContactImpulses(ContactRows& contacts) {
+    const SweepRows& s = contacts.sweep;
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+        contacts.normals[i].impulse = s.normalImpulse[i];
+        FrictionRows& f = contacts.frictions[i];
+        f.impulse[0] = s.frictions[i].crossB[0][3];
+        f.impulse[1] = s.frictions[i].crossB[1][3];
+    }
+}
+
+float solveContactSweep(SweepRows& rows, SolverBodies& bodies, float relaxation) {
     float residual = 0.0f;
-    // Every normal row first: the friction bounds then see this sweep's normal impulses.
-    for (NormalRow& r : contacts.normals) {
-        const float applied = solveNormalRow(r, bodies.velocity[r.a], bodies.velocity[r.b],
-                                             r.targetSpeed, r.impulse, relaxation);
+    const std::size_t n = rows.normals.size();
+    const float* inverseMass = bodies.inverseMass.data();
+    SolverVelocity* velocity = bodies.velocity.data();
+    // Every normal row first: the friction bounds then see this sweep's normal impulses. The
+    // operations are solveNormalRow's, in the same order.
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i + 2 * kPrefetchRows < n) prefetchLines(rows.normals[i + 2 * kPrefetchRows]);
+        if (i + kPrefetchRows < n) {
+            const SweepNormal& ahead = rows.normals[i + kPrefetchRows];
+            __builtin_prefetch(&velocity[laneIndex(ahead.turnA[3])]);
+            __builtin_prefetch(&velocity[laneIndex(ahead.turnB[3])]);
+        }
+        const SweepNormal& r = rows.normals[i];
+        const std::uint32_t ia = laneIndex(r.turnA[3]), ib = laneIndex(r.turnB[3]);
+        SolverVelocity& a = velocity[ia];
+        SolverVelocity& b = velocity[ib];
+        float& accumulated = rows.normalImpulse[i];
+        const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
+        const float total =
+            std::max(accumulated + r.normal[3] * (r.crossA[3] - speed) * relaxation, 0.0f);
+        const float applied = total - accumulated;
+        accumulated = total;
+        applyRow(a, b, xyz(r.normal), xyz(r.turnA), xyz(r.turnB), inverseMass[ia], inverseMass[ib],
+                 applied);
         residual = std::max(residual, std::abs(applied));
     }
     // Friction: a point's two tangent rows from the same velocities, each within the box
     // |lambda_t| <= mu lambda_n, applied together.
-    for (std::size_t i = 0; i < contacts.size(); ++i) {
-        FrictionRows& r = contacts.frictions[i];
-        SolverVelocity& a = bodies.velocity[r.a];
-        SolverVelocity& b = bodies.velocity[r.b];
-        const float bound = r.friction * contacts.normals[i].impulse;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i + 2 * kPrefetchRows < n) prefetchLines(rows.frictions[i + 2 * kPrefetchRows]);
+        if (i + kPrefetchRows < n) {
+            const SweepFriction& ahead = rows.frictions[i + kPrefetchRows];
+            __builtin_prefetch(&velocity[laneIndex(ahead.turnA[0][3])]);
+            __builtin_prefetch(&velocity[laneIndex(ahead.turnA[1][3])]);
+        }
+        SweepFriction& r = rows.frictions[i];
+        SolverVelocity& a = velocity[laneIndex(r.turnA[0][3])];
+        SolverVelocity& b = velocity[laneIndex(r.turnA[1][3])];
+        const float bound = r.turnB[0][3] * rows.normalImpulse[i];
         const Lanes dv = b.linear - a.linear;
         float applied[2];
         for (int k = 0; k < 2; ++k) {
             const float speed =
                 sum3(r.tangent[k] * dv + r.crossB[k] * b.angular - r.crossA[k] * a.angular);
-            const float change = -r.mass[k] * speed * relaxation;
-            const float total = std::clamp(r.impulse[k] + change, -bound, bound);
-            applied[k] = total - r.impulse[k];
-            r.impulse[k] = total;
+            const float change = -r.crossA[k][3] * speed * relaxation;
+            const float before = r.crossB[k][3];
+            const float total = std::clamp(before + change, -bound, bound);
+            applied[k] = total - before;
+            r.crossB[k][3] = total;
             residual = std::max(residual, std::abs(applied[k]));
         }
-        const Lanes push = r.tangent[0] * applied[0] + r.tangent[1] * applied[1];
-        a.linear -= push * r.inverseMassA;
-        a.angular -= r.turnA[0] * applied[0] + r.turnA[1] * applied[1];
-        b.linear += push * r.inverseMassB;
-        b.angular += r.turnB[0] * applied[0] + r.turnB[1] * applied[1];
+        const Lanes push = xyz(r.tangent[0]) * applied[0] + xyz(r.tangent[1]) * applied[1];
+        a.linear -= push * r.tangent[0][3];
+        a.angular -= xyz(r.turnA[0]) * applied[0] + xyz(r.turnA[1]) * applied[1];
+        b.linear += push * r.tangent[1][3];
+        b.angular += xyz(r.turnB[0]) * applied[0] + xyz(r.turnB[1]) * applied[1];
     }
     return residual;
 }
@@ -275,16 +377,16 @@ void addBounceImpulses(const ContactRows& contacts, std::span<shared::BodyMoment
 
 void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodies,
               const SolverOptions& options, std::vector<float>& residuals) {
-    if (options.warmStart) {
-        warmStartJoints(joints, bodies);
-        warmStartContacts(contacts, bodies);
-    }
+    if (options.warmStart) warmStartJoints(joints, bodies);
+    packContactRows(contacts, bodies, options.warmStart);
     residuals.assign(std::size_t(std::max(options.iterations, 0)), 0.0f);
     for (float& residual : residuals) {
         for (Joint& j : joints)
             residual = std::max(residual, solveJointVelocity(j, bodies, options.relaxation));
-        residual = std::max(residual, solveContactSweep(contacts, bodies, options.relaxation));
+        residual =
+            std::max(residual, solveContactSweep(contacts.sweep, bodies, options.relaxation));
     }
+    unpackContactImpulses(contacts);
     solveLayers(contacts, joints, bodies);
 }
 

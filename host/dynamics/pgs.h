@@ -48,11 +48,17 @@ inline constexpr float kLayerMassRatio = RUBBLE_LAYER_MASS_RATIO;
 /// skip it. reads: rows, joints   writes: bodies' velocities, rows' layer lists
 void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBodies& bodies);
 
-/// One sweep of the contact rows; returns the largest |applied impulse change|, N s.
-float solveContactSweep(ContactRows& contacts, SolverBodies& bodies, float relaxation);
+/// Copies the rows into contacts.sweep, the packed form the sweeps stream through (a point's
+/// normal row in 80 bytes, its friction rows in 160, against 352 for the full rows), and with
+/// `warmStart` applies the contacts' accumulated impulses in the same pass.
+/// reads: rows   writes: contacts.sweep, bodies' velocities (warm start)
+void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart);
 
-/// Applies the contacts' accumulated impulses (warm start). writes: bodies' velocities
-void warmStartContacts(const ContactRows& contacts, SolverBodies& bodies);
+/// One sweep of the packed contact rows; returns the largest |applied impulse change|, N s.
+float solveContactSweep(SweepRows& rows, SolverBodies& bodies, float relaxation);
+
+/// The sweeps' impulses back into the full rows. reads: contacts.sweep   writes: rows' impulses
+void unpackContactImpulses(ContactRows& contacts);
 
 /// The split position pass; returns false (and leaves bodies.push untouched) when no contact
 /// needs it. A row that bounces (a bounce speed, and a normal impulse from the solve) aims at the

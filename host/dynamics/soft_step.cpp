@@ -33,6 +33,32 @@ float separationNow(const NormalRow& r, const SoftContactPoint& p, const SoftPos
     return p.separation + sum3(r.normal * ((pointB - p.offsetB) - (pointA - p.offsetA)));
 }
 
+// How many points ahead the passes over every point ask for the next points' rows, and for
+// their bodies' velocities and poses: the rows stream from memory, the bodies are read at random.
+constexpr std::size_t kPrefetchRows = 8;
+
+template <typename T> void prefetchLines(const T& x) {
+    for (std::size_t at = 0; at < sizeof(T); at += 64)
+        __builtin_prefetch(reinterpret_cast<const char*>(&x) + at);
+}
+
+// Asks for point i's data and its bodies' velocities and poses before they are needed; the
+// rows twice as far ahead, since the bodies' indices are read from them.
+void prefetchPoint(const ContactRows& rows, std::span<const SoftContactPoint> points,
+                   const SoftPoses& poses, const SolverBodies& bodies, std::size_t i) {
+    if (i + kPrefetchRows < rows.size()) {
+        prefetchLines(rows.normals[i + kPrefetchRows]);
+        prefetchLines(rows.frictions[i + kPrefetchRows]);
+        prefetchLines(points[i + kPrefetchRows]);
+    }
+    const NormalRow& r = rows.normals[i];
+    for (const std::uint32_t body : {r.a, r.b}) {
+        __builtin_prefetch(&bodies.velocity[body]);
+        __builtin_prefetch(&poses.moved[body]);
+        __builtin_prefetch(&poses.pose[body]);
+    }
+}
+
 // A gap (separation > 0) is closed within the substep and no further, rigidly; an overlap is
 // pushed out by the point's spring (biased pass) or held rigidly (relax pass).
 PointSoftness pointSoftness(const SoftContactPoint& p, float separation, float inverseH,
@@ -130,6 +156,8 @@ float solveContacts(ContactRows& rows, std::span<SoftContactPoint> points, Solve
     float residual = 0.0f;
     const float inverseH = 1.0f / s.h;
     for (std::size_t i = 0; i < rows.size(); ++i) {
+        if (i + kPrefetchRows < rows.size())
+            prefetchPoint(rows, points, poses, bodies, i + kPrefetchRows);
         NormalRow& r = rows.normals[i];
         SoftContactPoint& p = points[i];
         SolverVelocity& a = bodies.velocity[r.a];
@@ -163,6 +191,13 @@ float solveContacts(ContactRows& rows, std::span<SoftContactPoint> points, Solve
 
 void warmStartContacts(const ContactRows& rows, SolverBodies& bodies) {
     for (std::size_t i = 0; i < rows.size(); ++i) {
+        if (i + 2 * kPrefetchRows < rows.size()) {
+            prefetchLines(rows.normals[i + 2 * kPrefetchRows]);
+            prefetchLines(rows.frictions[i + 2 * kPrefetchRows]);
+            const NormalRow& ahead = rows.normals[i + kPrefetchRows];
+            __builtin_prefetch(&bodies.velocity[ahead.a]);
+            __builtin_prefetch(&bodies.velocity[ahead.b]);
+        }
         const NormalRow& n = rows.normals[i];
         SolverVelocity& a = bodies.velocity[n.a];
         SolverVelocity& b = bodies.velocity[n.b];

@@ -198,6 +198,32 @@ TEST(ContactRows, WarmStartMatchesFeaturesThenNearestPoints) {
         EXPECT_EQ(r.impulse, 0.0f);
 }
 
+TEST(ContactRows, WarmStartFindsEachPairsImpulsesInAnyManifoldOrder) {
+    Fixture f;
+    ContactRows rows = f.build({floorContact(1, 0, 0.001f), floorContact(2, 3, 0.001f)});
+    for (NormalRow& r : rows.normals) r.impulse = r.b == 1 ? 1.0f : 2.0f;
+    std::vector<ContactImpulse> last, scratch;
+    storeContactImpulses(rows, {}, f.bodies, last, scratch);
+    ASSERT_EQ(last.size(), 8u);
+    // The pairs in reverse order: the second manifold's run lies before the first's.
+    for (const NormalRow& r :
+         f.build({floorContact(2, 3, 0.001f), floorContact(1, 0, 0.001f)}, {}, last).normals)
+        EXPECT_EQ(r.impulse, r.b == 1 ? 1.0f : 2.0f);
+    // A pair with no old impulses between and after two that have them.
+    f.masses.push_back(f.masses[1]);
+    f.poses.push_back(f.poses[1]);
+    f.velocities.push_back({});
+    f.beforeForces.push_back({});
+    f.materialOf.push_back(0);
+    Manifold lifted = floorContact(3, 6, 0.001f);
+    lifted.a = 2;
+    const ContactRows mixed =
+        f.build({floorContact(1, 0, 0.001f), lifted, floorContact(2, 3, 0.001f)}, {}, last);
+    ASSERT_EQ(mixed.size(), 12u);
+    for (const NormalRow& r : mixed.normals)
+        EXPECT_EQ(r.impulse, r.a == 2 ? 0.0f : r.b == 1 ? 1.0f : 2.0f);
+}
+
 TEST(ContactRows, RowsInterleavePointsAndStoreInManifoldOrder) {
     Fixture f;
     ContactRows rows = f.build({floorContact(1, 0, 0.001f, 2), floorContact(2, 3, 0.001f, 3)});
