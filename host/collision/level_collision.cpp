@@ -101,9 +101,8 @@ void LevelCandidateCache::clear() {
 }
 
 bool LevelCandidateCache::contains(const BvhBox& outer, const BvhBox& inner) {
-    return outer.min.x <= inner.min.x && outer.min.y <= inner.min.y &&
-           outer.min.z <= inner.min.z && inner.max.x <= outer.max.x &&
-           inner.max.y <= outer.max.y && inner.max.z <= outer.max.z;
+    return outer.min.x <= inner.min.x && outer.min.y <= inner.min.y && outer.min.z <= inner.min.z &&
+           inner.max.x <= outer.max.x && inner.max.y <= outer.max.y && inner.max.z <= outer.max.z;
 }
 
 void collideLevel(const LevelMesh& level, const shared::RigidTransform& levelAt, const Shape& other,

@@ -65,8 +65,9 @@ class SatCollision final : public CollisionStage {
     /// come out with negative depth, and the solver lets them close only that far. A static body
     /// whose shape has a LevelMesh collides by its triangles (level_collision.h), one manifold
     /// per group of contacts sharing a normal, over the triangles the cache kept for the pair
-    /// (LevelCandidateCache; the same triangles as a fresh query). With StepParams::recycleContacts a hull pair that
-    /// moved little against itself keeps last step's manifold (rubble/shared/contact_recycling.h).
+    /// (LevelCandidateCache; the same triangles as a fresh query). With
+    /// StepParams::recycleContacts a hull pair that moved little against itself keeps last
+    /// step's manifold (rubble/shared/contact_recycling.h).
     Status narrowPhase(const CollisionScene& scene, BodiesView bodies,
                        const StepParams& params, StepContacts& out) override;
     /// The manifolds' points (manifoldsToContacts).
