@@ -5,6 +5,7 @@ its plane, on the CPU (or with --backend opencl on the device's SAT path), side 
   bench/terrain_scale.py              # build/rubble, 900 steps, 708 x 708 quads of 0.5 m
   bench/terrain_scale.py --quads 100 --size 50 --steps 120 --crates 8,4,8   # a quick look
   bench/terrain_scale.py --backend opencl --out bench/results/<machine>/terrain_scale_opencl.csv
+  bench/terrain_scale.py --base /work/base/rubble --repeat 3 --out .../terrain_scale_cpu.csv
 
 Writes a folder of its own (--work, a new temporary one by default) holding the terrain (rolling
 hills, every height at or below the plane's y = 0, so that both piles start at the same heights)
@@ -14,7 +15,10 @@ bench/results/<machine>/ (--out): median and p90 ms/step, the broad and narrow p
 per step, and how deep the deepest crate corner lies below the surface under it at the end
 (vertically, against the triangles themselves), besides the deepest contact of the whole run
 (largest_penetration_m, the metrics file's largest_penetration).
-With --repeat N the two scenes run N times in turn and each row is one run.
+With --repeat N the two scenes run N times in turn and each row is one run. With --base PATH a
+second binary (another build, e.g. main's) runs each scene right before --rubble does, in the
+same repeats, so that the two are timed side by side on the same load (column binary: base or
+build; ratio_to_plane against the same binary's plane runs).
 Python's standard library only; bench/run's machine name.
 """
 import argparse
@@ -185,6 +189,20 @@ def run(rubble, scene, steps, folder, tag, backend):
     return m, rows
 
 
+def write_rows(out, results):
+    """The rows so far, each with its ms per step against the median of the same binary's plane
+    runs (blank until that binary has one)."""
+    for r in results:
+        plane = sorted(p["median_ms"] for p in results
+                       if p["scene"] == "pile_on_plane" and p["binary"] == r["binary"])
+        r["ratio_to_plane"] = r["median_ms"] / plane[len(plane) // 2] if plane else ""
+    os.makedirs(os.path.dirname(out) or ".", exist_ok=True)
+    with open(out, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(results[0]))
+        writer.writeheader()
+        writer.writerows(results)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rubble", default=os.path.join(ROOT, "build", "rubble"))
@@ -194,6 +212,7 @@ def main():
     ap.add_argument("--amplitude", type=float, default=1.0, help="crest to deepest hollow, m")
     ap.add_argument("--steps", type=int, default=900)
     ap.add_argument("--crates", default="32,16,32", help="the grid of crates (debris_16k's)")
+    ap.add_argument("--base", help="a second rubble binary run alternately with --rubble")
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--backend", choices=sorted(BACKENDS), default="cpu",
                     help="cpu, or opencl (the device's SAT + PGS path)")
@@ -241,41 +260,41 @@ def main():
             json.dump(s, f, indent=1)
 
     floors = {"pile_on_plane": lambda x, z: 0.0, "pile_on_terrain_mesh": terrain.surface}
+    binaries = [("base", args.base)] if args.base else []
+    binaries.append(("build", args.rubble))
     results = []
     for k in range(args.repeat):
         for name, path in scenes.items():
-            m, rows = run(args.rubble, path, args.steps, folder, "%s_%d" % (name, k), args.backend)
-            worst, who, off = deepest_below(rows, grid["name_prefix"], half, floors[name])
-            stages = m.get("stages_ms", {})
-            results.append({
-                "scene": name, "config": BACKENDS[args.backend][1], "repeat": k,
-                "floor_triangles": mesh_triangles if name != "pile_on_plane" else 0,
-                "surface_triangles": terrain.triangles() if name != "pile_on_plane" else 0,
-                "terrain_cell_m": round(terrain.cell, 5) if name != "pile_on_plane" else "",
-                "bodies": m["bodies"], "steps": m["steps"],
-                "median_ms": m["ms_per_step"]["median"], "p90_ms": m["ms_per_step"]["p90"],
-                "stage_broad_phase_ms": stages.get("broad_phase", 0.0) / m["steps"],
-                "stage_narrow_phase_ms": stages.get("narrow_phase", 0.0) / m["steps"],
-                "deepest_below_surface_m": worst, "deepest_body": who, "off_floor": off,
-                "largest_penetration_m": m.get("largest_penetration", ""),
-                "kinetic_energy_j": m.get("kinetic_energy", {}).get("last", ""),
-            })
-    plane = sorted(r["median_ms"] for r in results if r["scene"] == "pile_on_plane")
-    reference = plane[len(plane) // 2]
-    for r in results:
-        r["ratio_to_plane"] = r["median_ms"] / reference
-
-    os.makedirs(os.path.dirname(out), exist_ok=True)
-    with open(out, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(results[0]))
-        writer.writeheader()
-        writer.writerows(results)
+            for binary, rubble in binaries:
+                m, rows = run(rubble, path, args.steps, folder, "%s_%s_%d" % (name, binary, k),
+                              args.backend)
+                worst, who, off = deepest_below(rows, grid["name_prefix"], half, floors[name])
+                stages = m.get("stages_ms", {})
+                results.append({
+                    "scene": name, "config": BACKENDS[args.backend][1], "binary": binary,
+                    "repeat": k,
+                    "floor_triangles": mesh_triangles if name != "pile_on_plane" else 0,
+                    "surface_triangles": terrain.triangles() if name != "pile_on_plane" else 0,
+                    "terrain_cell_m": round(terrain.cell, 5) if name != "pile_on_plane" else "",
+                    "bodies": m["bodies"], "steps": m["steps"],
+                    "mean_ms": 1000.0 * m["wall_s"] / m["steps"],
+                    "median_ms": m["ms_per_step"]["median"], "p90_ms": m["ms_per_step"]["p90"],
+                    "stage_broad_phase_ms": stages.get("broad_phase", 0.0) / m["steps"],
+                    "stage_narrow_phase_ms": stages.get("narrow_phase", 0.0) / m["steps"],
+                    "deepest_below_surface_m": worst, "deepest_body": who, "off_floor": off,
+                    "largest_penetration_m": m.get("largest_penetration", ""),
+                    "kinetic_energy_j": m.get("kinetic_energy", {}).get("last", ""),
+                    "asleep": m.get("asleep", {}).get("last", ""),
+                })
+                write_rows(out, results)
+    write_rows(out, results)
     print("wrote %s (work folder %s)" % (out, folder))
     for r in results:
-        print("%-22s %8d tris  median %8.2f ms  p90 %8.2f ms  narrow %8.2f ms  deepest %.4f m "
-              "(%s)  ratio %.2f" % (r["scene"], r["floor_triangles"], r["median_ms"], r["p90_ms"],
-                                    r["stage_narrow_phase_ms"], r["deepest_below_surface_m"],
-                                    r["deepest_body"], r["ratio_to_plane"]))
+        print("%-22s %-5s %8d tris  mean %8.2f ms  median %8.2f ms  p90 %8.2f ms  narrow %8.2f ms"
+              "  deepest %.4f m (%s)  ratio %.2f" % (
+                  r["scene"], r["binary"], r["floor_triangles"], r["mean_ms"], r["median_ms"],
+                  r["p90_ms"], r["stage_narrow_phase_ms"], r["deepest_below_surface_m"],
+                  r["deepest_body"], r["ratio_to_plane"]))
 
 
 if __name__ == "__main__":

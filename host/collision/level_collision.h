@@ -2,10 +2,12 @@
 // narrowPhase of the CPU pipeline (SatCollision): the triangles under the body's box from the
 // mesh's hierarchy, each collided (triangle_contact.h), their contacts grouped by normal and
 // each group reduced to a manifold of at most four points (rubble/shared/level_contact.h, whose
-// device twin keeps the group with the deepest point).
+// device twin keeps the group with the deepest point). Each pair's triangles under a grown box
+// are kept between steps (LevelCandidateCache) while the body's box stays inside it.
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "host/collision/broad_phase.h"
@@ -25,6 +27,59 @@ struct LevelScratch {
     PlacedHull hull;
 };
 
+/// How far a level pair's kept box reaches past the body's box on every side, in the level's
+/// frame, m: the body may move (or turn) this much before its pair walks the hierarchy again.
+/// Larger keeps more triangles to filter each step, smaller walks more often; a falling crate
+/// moves about 0.16 m a step at 10 m/s, one at rest not at all.
+inline constexpr float kLevelCandidateMargin = 0.1f;
+
+/// The world box `otherBox` as a box in the frame of the level placed at `levelAt`: what the
+/// level's hierarchy is queried with.
+BvhBox levelQueryBox(const shared::RigidTransform& levelAt, const Aabb& otherBox);
+
+/// The triangles under each (body, static level) pair's box, kept between steps: a pair's
+/// hierarchy query is made for the body's box grown by kLevelCandidateMargin (level frame) and
+/// reused while this step's box stays inside the grown one, so that any translation or rotation
+/// that moves a side of the box by more than the margin walks the hierarchy again. The triangles
+/// handed out are those of the grown box whose own boxes overlap this step's box, ascending:
+/// exactly what TriangleBvh::query gives for it, so contacts and trajectories do not change.
+/// Pairs not seen in a step (separated, asleep) are forgotten.
+class LevelCandidateCache {
+  public:
+    /// Starts a step: the pairs given from here on replace last step's.
+    void beginStep();
+    /// The triangles of `level` whose boxes overlap `query` (the body's box in the level's
+    /// frame), ascending, into `out`. Pairs must come in ascending order within a step.
+    void candidates(const BodyPair& pair, const LevelMesh& level, const BvhBox& query,
+                    std::vector<std::uint32_t>& out);
+    /// Ends a step: its pairs are kept for the next.
+    void endStep();
+    /// Forgets every pair (they name bodies by index).
+    void clear();
+
+    /// This step's pairs that kept last step's triangles, and those that walked the hierarchy.
+    std::uint32_t reused() const { return reused_; }
+    std::uint32_t queried() const { return queried_; }
+    /// Pairs kept for the next step (after endStep).
+    std::size_t size() const { return entries_.size(); }
+    /// The grown box kept for `pair` (after endStep), or nullptr.
+    const BvhBox* keptBox(const BodyPair& pair) const;
+
+  private:
+    struct Entry {
+        BodyPair pair;
+        BvhBox box;              ///< the grown box queried, level frame
+        std::uint32_t first = 0; ///< its triangles in the pool, ascending
+        std::uint32_t count = 0;
+    };
+    static bool contains(const BvhBox& outer, const BvhBox& inner);
+
+    std::vector<Entry> entries_, next_;                    ///< sorted by pair
+    std::vector<std::uint32_t> triangles_, nextTriangles_; ///< the entries' triangles
+    std::size_t cursor_ = 0;
+    std::uint32_t reused_ = 0, queried_ = 0;
+};
+
 /// The static level mesh at `levelAt` against `other` (a box, convex hull, mesh hull, sphere or
 /// capsule) at `otherAt`, whose world box (grown by its margin and reach) is `otherBox`:
 /// manifolds appended to `out`, in the world frame, normals from the level to the other body,
@@ -33,6 +88,13 @@ struct LevelScratch {
 void collideLevel(const LevelMesh& level, const shared::RigidTransform& levelAt, const Shape& other,
                   const shared::RigidTransform& otherAt, const Aabb& otherBox, float margin,
                   LevelScratch& scratch, std::vector<shared::ContactManifold>& out);
+
+/// collideLevel against the given triangles of the level (ascending; those under the other
+/// body's box, as levelQueryBox and the hierarchy or a LevelCandidateCache find them).
+void collideLevelTriangles(const LevelMesh& level, const shared::RigidTransform& levelAt,
+                           const Shape& other, const shared::RigidTransform& otherAt,
+                           std::span<const std::uint32_t> triangles, float margin,
+                           LevelScratch& scratch, std::vector<shared::ContactManifold>& out);
 
 /// Up to four of the points (their indices into `contacts`, from `group`), spanning the largest
 /// area (reduceLevelGroupItem).

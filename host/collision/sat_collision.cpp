@@ -104,6 +104,7 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
     out.manifolds.clear();
     c.nextFeatures.clear();
     c.nextRecycled.clear();
+    c.levelCandidates.beginStep();
     // Kept manifolds only from a step that kept them for every feature.
     const bool recycle = params.recycleContacts;
     const bool haveRecycled = recycle && c.recycled.size() == c.features.size();
@@ -131,9 +132,13 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
         c.levelManifolds.clear();
         if (levelA || levelB) {
             const std::uint32_t mesh = levelA ? pair.a : pair.b, body = levelA ? pair.b : pair.a;
-            collideLevel(*scene.shapes[bodies.shapeOf[mesh]].level, c.transforms[mesh],
-                         scene.shapes[bodies.shapeOf[body]], c.transforms[body], c.boxes[body],
-                         margin, c.level, c.levelManifolds);
+            const LevelMesh& level = *scene.shapes[bodies.shapeOf[mesh]].level;
+            const Shape& other = scene.shapes[bodies.shapeOf[body]];
+            c.levelCandidates.candidates(pair, level,
+                                         levelQueryBox(c.transforms[mesh], c.boxes[body]),
+                                         c.level.triangles);
+            collideLevelTriangles(level, c.transforms[mesh], other, c.transforms[body],
+                                  c.level.triangles, margin, c.level, c.levelManifolds);
             if (levelB)
                 for (shared::ContactManifold& m : c.levelManifolds)
                     m.normal = shared::negate4(m.normal);
@@ -182,6 +187,7 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
     }
     std::swap(c.features, c.nextFeatures);
     std::swap(c.recycled, c.nextRecycled);
+    c.levelCandidates.endStep();
     out.contactCount = std::uint32_t(contacts);
     out.largestPenetration = deepest;
     if (form_ == ContactForm::Points) manifoldsToContacts(out.manifolds, out.points);
@@ -199,6 +205,7 @@ Status SatCollision::rebuild(const CollisionScene& scene, BodiesView, float) {
     cache_.nextFeatures.clear();
     cache_.recycled.clear();
     cache_.nextRecycled.clear();
+    cache_.levelCandidates.clear();
     return {};
 }
 

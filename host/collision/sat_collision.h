@@ -40,6 +40,7 @@ struct CollisionCache {
     const Shape* hullsOf = nullptr;          ///< the shapes `hulls` was made from
     ClipSpace clip;                          ///< for the hulls' largest face
     LevelScratch level;                      ///< pairs with a static mesh
+    LevelCandidateCache levelCandidates;     ///< their triangles, kept between steps
     std::vector<shared::ContactManifold> levelManifolds;
 };
 
@@ -63,14 +64,17 @@ class SatCollision final : public CollisionStage {
     /// bodies can come this step (relative translation plus turning): contacts up to that gap
     /// come out with negative depth, and the solver lets them close only that far. A static body
     /// whose shape has a LevelMesh collides by its triangles (level_collision.h), one manifold
-    /// per group of contacts sharing a normal. With StepParams::recycleContacts a hull pair that
-    /// moved little against itself keeps last step's manifold (rubble/shared/contact_recycling.h).
+    /// per group of contacts sharing a normal, over the triangles the cache kept for the pair
+    /// (LevelCandidateCache; the same triangles as a fresh query). With
+    /// StepParams::recycleContacts a hull pair that moved little against itself keeps last
+    /// step's manifold (rubble/shared/contact_recycling.h).
     Status narrowPhase(const CollisionScene& scene, BodiesView bodies,
                        const StepParams& params, StepContacts& out) override;
     /// The manifolds' points (manifoldsToContacts).
     void contactPoints(const StepContacts& contacts,
                        std::vector<shared::ParticleContact>& points) const override;
-    /// Forgets the cached features (they name bodies by index) and flattens the shapes.
+    /// Forgets the cached features and level triangles (they name bodies by index) and flattens
+    /// the shapes.
     Status rebuild(const CollisionScene& scene, BodiesView bodies, float particleSpacing) override;
 
     const CollisionCache& cache() const { return cache_; }

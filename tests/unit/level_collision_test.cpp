@@ -1,0 +1,198 @@
+// tests/unit/level_collision_test.cpp: host/collision/level_collision: the triangles a (body,
+// level) pair keeps between steps (LevelCandidateCache) against a fresh hierarchy query each
+// step: the same contacts while the body rests or slides, a new query when it leaves its region.
+#include "host/collision/level_collision.h"
+
+#include <cmath>
+#include <random>
+#include <utility>
+
+#include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
+
+#include "host/collision/hull_data.h"
+#include "host/core/math.h"
+#include "host/geometry/shape.h"
+#include "rubble/shared/broad_phase.h"
+
+namespace rubble {
+namespace {
+
+// A rolling grid of n x n quads of side `cell` centred on the origin, facing +y, heights up to
+// `bump` m, so that a crate on it touches triangles of several normals.
+LevelMesh rollingGrid(int n, float cell, float bump) {
+    TriangleMesh m;
+    const float x0 = -0.5f * cell * float(n);
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const float x = x0 + cell * float(i), z = x0 + cell * float(j);
+            m.vertices.emplace_back(x, bump * std::sin(1.3f * x) * std::cos(0.9f * z), z);
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const auto a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n + 1),
+                       d = c + 1;
+            m.triangles.emplace_back(a, c, b);
+            m.triangles.emplace_back(b, c, d);
+        }
+    Result<LevelMesh> level = buildLevelMesh(m, "test");
+    EXPECT_TRUE(level.ok());
+    return std::move(*level);
+}
+
+Shape crateShape() {
+    ShapeDesc d;
+    d.type = ShapeType::Box;
+    d.halfExtents = glm::vec3(0.5f);
+    Result<Shape> s = buildShape(d);
+    EXPECT_TRUE(s.ok());
+    return std::move(*s);
+}
+
+constexpr float kMargin = 0.01f; // m, the pair's contact margin
+const BodyPair kPair{0, 1};      // the level is body 0, the crate body 1
+
+// One pair stepped through a list of crate poses, with the cache and with a fresh hierarchy
+// query each step.
+struct Pair {
+    explicit Pair(LevelMesh mesh) : level(std::move(mesh)) {}
+
+    LevelMesh level;
+    Shape crate = crateShape();
+    HullData hulls = flattenHulls(std::span<const Shape>(&crate, 1));
+    shared::RigidTransform levelAt = transformAt(glm::vec3(0.0f), glm::quat(1, 0, 0, 0));
+    LevelCandidateCache cache;
+    LevelScratch cachedScratch, freshScratch;
+    std::vector<shared::ContactManifold> cached, fresh;
+
+    static shared::RigidTransform transformAt(glm::vec3 p, glm::quat q) {
+        shared::BodyPose pose{};
+        pose.position = toFloat4(p);
+        pose.orientation = toFloat4(glm::normalize(q));
+        return shared::transformOfPose(pose);
+    }
+
+    // One step with the crate at (p, q): both contact sets, and the triangles each tested.
+    void step(glm::vec3 p, glm::quat q) {
+        const shared::RigidTransform t = transformAt(p, q);
+        const shared::BodyBox wb = shared::worldBoxItem(hulls.shapes[0], t, kMargin);
+        const Aabb box{toVec3(wb.min), toVec3(wb.max)};
+        cached.clear();
+        fresh.clear();
+        cache.beginStep();
+        cache.candidates(kPair, level, levelQueryBox(levelAt, box), cachedScratch.triangles);
+        collideLevelTriangles(level, levelAt, crate, t, cachedScratch.triangles, kMargin,
+                              cachedScratch, cached);
+        cache.endStep();
+        collideLevel(level, levelAt, crate, t, box, kMargin, freshScratch, fresh);
+    }
+
+    // The cached step's triangles and contacts are the fresh ones (within 1e-5 m).
+    void expectSameContacts(int step) const {
+        ASSERT_EQ(cachedScratch.triangles, freshScratch.triangles) << "step " << step;
+        ASSERT_EQ(cached.size(), fresh.size()) << "step " << step;
+        for (std::size_t m = 0; m < fresh.size(); ++m) {
+            ASSERT_EQ(cached[m].count, fresh[m].count) << "step " << step;
+            EXPECT_NEAR(glm::distance(toVec3(cached[m].normal), toVec3(fresh[m].normal)), 0.0f,
+                        1e-5f);
+            for (std::uint32_t k = 0; k < fresh[m].count; ++k) {
+                const shared::float4 a = cached[m].points[k], b = fresh[m].points[k];
+                EXPECT_NEAR(glm::distance(toVec3(a), toVec3(b)), 0.0f, 1e-5f) << "step " << step;
+                EXPECT_NEAR(a.w, b.w, 1e-5f) << "depth, step " << step;
+                EXPECT_EQ(cached[m].features[k], fresh[m].features[k]) << "step " << step;
+            }
+        }
+    }
+
+    std::size_t contactCount() const {
+        std::size_t n = 0;
+        for (const shared::ContactManifold& m : fresh) n += m.count;
+        return n;
+    }
+};
+
+TEST(LevelCandidateCache, CrateRestingOnAMeshKeepsItsTrianglesAndContacts) {
+    // A crate settling on rolling ground, trembling by a tenth of a millimetre and a few
+    // thousandths of a radian each step, as an awake body at rest does: every step reuses the
+    // first query and gives the contacts a fresh query gives.
+    Pair pair(rollingGrid(24, 0.25f, 0.05f));
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    const glm::vec3 rest(0.3f, 0.47f, -0.2f);
+    const glm::quat tilt = glm::angleAxis(0.05f, glm::normalize(glm::vec3(1, 0, 1)));
+    int reused = 0;
+    for (int i = 0; i < 60; ++i) {
+        const glm::vec3 p = rest + 1e-4f * glm::vec3(u(rng), u(rng), u(rng));
+        const glm::quat q = glm::angleAxis(3e-3f * u(rng), glm::vec3(0, 1, 0)) * tilt;
+        pair.step(p, q);
+        pair.expectSameContacts(i);
+        ASSERT_GE(pair.contactCount(), 4u) << "the crate rests on the ground, step " << i;
+        reused += int(pair.cache.reused());
+    }
+    EXPECT_EQ(reused, 59) << "every step after the first keeps its triangles";
+}
+
+TEST(LevelCandidateCache, SlidingCrateQueriesAgainWhenItLeavesItsRegion) {
+    // A crate sliding 3 m across small triangles at 2 cm a step (1.2 m/s at 60 Hz), turning
+    // slowly: it leaves its kept region every few steps and queries again, and no step misses
+    // a triangle or a contact a fresh query finds.
+    Pair pair(rollingGrid(40, 0.2f, 0.03f));
+    int queried = 0, reused = 0;
+    for (int i = 0; i < 150; ++i) {
+        const glm::vec3 p(-1.5f + 0.02f * float(i), 0.48f, 0.1f);
+        const glm::quat q = glm::angleAxis(0.002f * float(i), glm::vec3(0, 1, 0));
+        pair.step(p, q);
+        pair.expectSameContacts(i);
+        ASSERT_GE(pair.contactCount(), 1u) << "step " << i;
+        queried += int(pair.cache.queried());
+        reused += int(pair.cache.reused());
+    }
+    // 3 m in regions 0.1 m wider on each side: a query every 5 or 6 steps.
+    EXPECT_GE(queried, 25);
+    EXPECT_LE(queried, 35);
+    EXPECT_EQ(queried + reused, 150);
+}
+
+TEST(LevelCandidateCache, PairIsQueriedAgainPastTheMargin) {
+    Pair pair(rollingGrid(24, 0.25f, 0.05f));
+    const glm::vec3 p(0.0f, 0.47f, 0.0f);
+    const glm::quat level(1, 0, 0, 0);
+    pair.step(p, level);
+    EXPECT_EQ(pair.cache.queried(), 1u);
+    ASSERT_NE(pair.cache.keptBox(kPair), nullptr);
+    const BvhBox first = *pair.cache.keptBox(kPair);
+
+    // Moved by half the margin and turned by 0.05 rad about y (the box's sides move out by
+    // another 0.025 m): within the margin, the kept box stays.
+    const float within = 0.5f * kLevelCandidateMargin;
+    pair.step(p + glm::vec3(within, 0.0f, -within), glm::angleAxis(0.05f, glm::vec3(0, 1, 0)));
+    EXPECT_EQ(pair.cache.reused(), 1u);
+    EXPECT_EQ(pair.cache.keptBox(kPair)->min, first.min);
+    pair.expectSameContacts(1);
+
+    // Moved past the margin along z: a new query, a new box around the new place.
+    const glm::vec3 moved = p + glm::vec3(0.0f, 0.0f, 1.2f * kLevelCandidateMargin);
+    pair.step(moved, level);
+    EXPECT_EQ(pair.cache.queried(), 1u);
+    EXPECT_EQ(pair.cache.reused(), 0u);
+    EXPECT_NEAR(pair.cache.keptBox(kPair)->max.z - first.max.z, 1.2f * kLevelCandidateMargin,
+                1e-5f);
+    pair.expectSameContacts(2);
+
+    // Turned in place by 20 degrees about y: the box's sides move out by 0.14 m, past the
+    // margin: a new query.
+    pair.step(moved, glm::angleAxis(glm::radians(20.0f), glm::vec3(0, 1, 0)));
+    EXPECT_EQ(pair.cache.queried(), 1u);
+    pair.expectSameContacts(3);
+
+    // A step without the pair (separated or asleep) forgets it.
+    pair.cache.beginStep();
+    pair.cache.endStep();
+    EXPECT_EQ(pair.cache.size(), 0u);
+    EXPECT_EQ(pair.cache.keptBox(kPair), nullptr);
+    pair.step(moved, level);
+    EXPECT_EQ(pair.cache.queried(), 1u);
+}
+
+} // namespace
+} // namespace rubble
