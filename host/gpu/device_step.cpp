@@ -140,11 +140,9 @@ Status Pipeline::growPairs(const DeviceStatus& st, const StepParams& params) {
     if (st.pairs > budget)
         return limitError("broadPhase", "broad-phase pairs", st.pairs, budget, params.step + 1,
                           "bodies overlap each other in large numbers");
-    // Half as much again as found, so that a pile that grows step by step regrows a few times,
-    // not every step; past 2^21 pairs 2^20 more, and past 2^23 an eighth more, as the per-pair
-    // arrays are then most of the device's memory (12.4M pairs: 13.98M slots, not 2^24).
-    const std::size_t margin =
-        std::min<std::size_t>(st.pairs / 2, std::max<std::size_t>(st.pairs / 8, 1u << 20));
+    // An eighth more than found: the per-pair arrays are most of the device's memory, and a
+    // regrowth costs one more collision of one step (12.4M pairs: 13.98M slots, not 2^24).
+    const std::size_t margin = std::max<std::size_t>(st.pairs / 8, 1024);
     const auto grown = std::uint32_t(std::min<std::size_t>(st.pairs + margin, budget));
     std::fprintf(stderr,
                  "rubble: pair overflow (%u pairs, room for %u): buffers grown to %u "
