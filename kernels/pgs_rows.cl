@@ -15,7 +15,10 @@
 // without points none. A point deep enough to push marks its pair's moving bodies for the split
 // position pass, and the status block, so that the host knows before it enqueues the pass; a
 // point that will have a bounce speed (pointBounceItem, as its row will) marks the status block
-// for the restitution pass.
+// for the restitution pass. A pair that keeps impulses (its points' keys, or last step's) takes
+// that many PgsImpulse slots of `kept` from the status block's count (impulseStart); past the
+// set's room (`impulseRoom`) it keeps none, and the host, seeing the count, grows the room and
+// runs the round again.
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void
 summarizePairs(const uint capacity, __global const uint* pairCount,
                __global const BodyPairRecord* pairs, __global const ContactManifold* manifolds,
@@ -25,9 +28,10 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
                const float dt, const uint warmStart, const uint previousCapacity,
                __global const uint* previousCount, __global const uint* previousOf,
                __global const uint* previousImpulseCount,
+               __global const uint* previousImpulseStart,
                __global const PgsImpulse* previousImpulses, __global uint* pairRows,
-               __global uint* impulseCount, __global PgsImpulse* kept, __global uint* pushed,
-               __global uint* status) {
+               __global uint* impulseCount, __global uint* impulseStart, const uint impulseRoom,
+               __global PgsImpulse* kept, __global uint* pushed, __global uint* status) {
     const uint n = min(pairCount[0], capacity);
     // Last step's entries: its pairs and the still pairs it carried (markStillPairs).
     const uint previous = warmStart ? keptPairsItem(previousCount, previousCapacity) : 0u;
@@ -40,6 +44,8 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
         if (count > 0u && (movesA || movesB)) {
             pairRows[p] = count | (movesA ? RUBBLE_PGS_MOVES_A : 0u) |
                           (movesB ? RUBBLE_PGS_MOVES_B : 0u);
+            // buildPgsRows and the last sweep write the slots; a room too small is run again.
+            impulseStart[p] = atomic_add(&status[RUBBLE_STATUS_IMPULSES], count);
             impulseCount[p] = count;
             int pushes = 0;
             for (uint k = 0; k < count; ++k)
@@ -74,12 +80,16 @@ summarizePairs(const uint capacity, __global const uint* pairCount,
             continue;
         }
         pairRows[p] = 0u;
-        uint keep = 0u;
+        uint keep = 0u, start = 0u;
         if (count > 0u) {
             const uint q = previousOf[p];
             keep = q < previous ? min(previousImpulseCount[q], 4u) : 0u;
-            for (uint k = 0; k < keep; ++k) kept[4u * p + k] = previousImpulses[4u * q + k];
+            if (keep > 0u) start = atomic_add(&status[RUBBLE_STATUS_IMPULSES], keep);
+            if (start + keep > impulseRoom) keep = 0u;
+            const uint from = keep > 0u ? previousImpulseStart[q] : 0u;
+            for (uint k = 0; k < keep; ++k) kept[start + k] = previousImpulses[from + k];
         }
+        impulseStart[p] = start;
         impulseCount[p] = keep;
     }
 }
@@ -99,9 +109,10 @@ buildPgsRows(const uint count, __global const uint* order, __global const PgsEle
              const float dt, const uint warmStart, const uint previousCapacity,
              __global const uint* previousCount, __global const uint* previousOf,
              __global const uint* previousImpulseCount,
+             __global const uint* previousImpulseStart,
              __global const PgsImpulse* previousImpulses, __global PgsNormalRow* normalRows,
              __global PgsFrictionRows* frictionRows, __global float4* impulses,
-             __global PgsImpulse* kept) {
+             __global const uint* impulseStart, __global PgsImpulse* kept) {
     const uint i = get_global_id(0);
     // A device plan's order runs over every pair, those without rows marked.
     if (i >= count || order[i] == RUBBLE_PGS_NO_ELEMENT) return;
@@ -121,6 +132,7 @@ buildPgsRows(const uint count, __global const uint* order, __global const PgsEle
     const BodyVelocity va = velocities[a], vb = velocities[b];
     const BodyVelocity aa = approach[a], ab = approach[b];
     const float4 fixedTangent = perpendicularItem(m.normal);
+    const uint keptAt = impulseStart[p];
     // The keys first: they choose which old point each new one takes its impulses from.
     PgsImpulse keys[4], old[4];
     for (uint k = 0; k < points; ++k) {
@@ -130,7 +142,8 @@ buildPgsRows(const uint count, __global const uint* order, __global const PgsEle
         keys[k].pointInA = quatRotateInverse(pa.orientation, rA);
         keys[k].feature = m.features[k];
     }
-    for (uint o = 0; o < oldCount; ++o) old[o] = previousImpulses[4u * q + o];
+    const uint from = oldCount > 0u ? previousImpulseStart[q] : 0u;
+    for (uint o = 0; o < oldCount; ++o) old[o] = previousImpulses[from + o];
     const WarmStartMatch match = warmStartMatchItem(keys, points, old, oldCount);
     for (uint k = 0; k < points; ++k) {
         const float4 point = m.points[k];
@@ -154,6 +167,6 @@ buildPgsRows(const uint count, __global const uint* order, __global const PgsEle
         key.friction = add4(scale4(row.friction.tangent[0], start.y),
                             scale4(row.friction.tangent[1], start.z));
         key.pad0 = key.pad1 = 0u;
-        kept[4u * p + k] = key;
+        kept[keptAt + k] = key;
     }
 }

@@ -71,10 +71,11 @@ __kernel void placeStillPairs(const uint previousCapacity, __global const uint* 
 __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void carryStillPairs(
     const uint previousCapacity, __global const uint* previousCount,
     __global const BodyPairRecord* previousPairs, __global const uint* previousImpulseCount,
-    __global const PgsImpulse* previousImpulses, __global const uint* carry,
-    __global const uint* place, const uint capacity,
+    __global const uint* previousImpulseStart, __global const PgsImpulse* previousImpulses,
+    __global const uint* carry, __global const uint* place, const uint capacity,
     __global uint* pairCount, __global BodyPairRecord* pairs, __global uint* impulseCount,
-    __global PgsImpulse* impulses, __global uint* status) {
+    __global uint* impulseStart, const uint impulseRoom, __global PgsImpulse* impulses,
+    __global uint* status) {
     const uint ownRun = min(previousCount[0], previousCapacity);
     const uint n = keptPairsItem(previousCount, previousCapacity);
     const uint current = min(pairCount[0], capacity);
@@ -101,8 +102,13 @@ __kernel __attribute__((reqd_work_group_size(RUBBLE_GROUP_PAIRS, 1, 1))) void ca
         const uint at = current + rank;
         if (at >= capacity) continue;
         pairs[at] = pair;
-        const uint held = min(previousImpulseCount[q], 4u);
+        uint held = min(previousImpulseCount[q], 4u);
+        // Its impulses after this step's (the host leaves room for all of last step's).
+        const uint start = held > 0u ? atomic_add(&status[RUBBLE_STATUS_IMPULSES], held) : 0u;
+        if (start + held > impulseRoom) held = 0u;
+        const uint from = held > 0u ? previousImpulseStart[q] : 0u;
+        impulseStart[at] = start;
         impulseCount[at] = held;
-        for (uint k = 0; k < held; ++k) impulses[4u * at + k] = previousImpulses[4u * q + k];
+        for (uint k = 0; k < held; ++k) impulses[start + k] = previousImpulses[from + k];
     }
 }

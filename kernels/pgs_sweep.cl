@@ -90,8 +90,8 @@ RUBBLE_PGS_INLINE float solvePoint(const PgsElement e, const uint k, const uint 
     l->z = u.impulse.y;
     residual = fmax(residual, u.impulse.z);
     if (lastSweep) {
-        kept[4u * e.id + k].normal = l->x;
-        kept[4u * e.id + k].friction = add4(scale4(r.tangent[0], l->y), scale4(r.tangent[1], l->z));
+        kept[k].normal = l->x;
+        kept[k].friction = add4(scale4(r.tangent[0], l->y), scale4(r.tangent[1], l->z));
     }
     return residual;
 }
@@ -118,6 +118,7 @@ RUBBLE_PGS_INLINE float solveElement(const PgsElement e, __global const PgsNorma
                                      __global const JacobiBody* bodies,
                                      __global BodyVelocity* velocities, const float relaxation,
                                      const uint lastSweep, __global PgsImpulse* kept,
+                                     __global const uint* impulseStart,
                                      const uint part, const uint slot, const uint backward) {
     // One point (slot < 4) or all of them (RUBBLE_PGS_ALL_SLOTS). A joint's blocks go with the
     // normal rows of the pass that starts at the first point (a color's, or a block's pass over
@@ -138,6 +139,8 @@ RUBBLE_PGS_INLINE float solveElement(const PgsElement e, __global const PgsNorma
         jointRows[j].turnImpulse = u.turnImpulse;
         return u.pointImpulse.w;
     }
+    // The pair's kept impulses, which the last sweep writes (solvePoint).
+    if (lastSweep) kept += impulseStart[e.id];
     // A block's pass: one point, its impulses in a scalar.
     if (slot != RUBBLE_PGS_ALL_SLOTS) {
         float4 l = impulses[e.normal[slot]];
@@ -193,7 +196,8 @@ solvePgs(const uint first, const uint count, const uint mode,
          __global const PgsJoint* joints, __global PgsJointRow* jointRows,
          __global const JacobiBody* bodies, __global BodyVelocity* velocities,
          const float relaxation, const uint lastSweep, const uint sweep,
-         __global PgsImpulse* kept, __global uint* status, const uint pushSweep,
+         __global PgsImpulse* kept, __global const uint* impulseStart, __global uint* status,
+         const uint pushSweep,
          __global const uint* pushed,
          __global BodyVelocity* push, __global uint* sweepResidual) {
     const ElementRange range = elementRange(first, count, mode, blockStarts);
@@ -211,9 +215,9 @@ solvePgs(const uint first, const uint count, const uint mode,
             const PgsElement e = elements[range.first + i];
             residual = fmax(residual, solveElement(e, normalRows, frictionRows, impulses, joints,
                                                    jointRows, bodies, velocities, relaxation,
-                                                   lastSweep, kept, RUBBLE_PGS_NORMALS |
-                                                   RUBBLE_PGS_FRICTION, RUBBLE_PGS_ALL_SLOTS,
-                                                   sweep & 1u));
+                                                   lastSweep, kept, impulseStart,
+                                                   RUBBLE_PGS_NORMALS | RUBBLE_PGS_FRICTION,
+                                                   RUBBLE_PGS_ALL_SLOTS, sweep & 1u));
             if (pushes)
                 pushResidual = fmax(pushResidual, pushElement(e, normalRows, impulses, pushed,
                                                               push, relaxation,
@@ -233,7 +237,7 @@ solvePgs(const uint first, const uint count, const uint mode,
                 const PgsElement e = elements[range.first + i];
                 residual = fmax(residual, solveElement(e, normalRows, frictionRows, impulses,
                                                        joints, jointRows, bodies, velocities,
-                                                       relaxation, lastSweep, kept,
+                                                       relaxation, lastSweep, kept, impulseStart,
                                                        RUBBLE_PGS_NORMALS, pass, 0u));
                 if (pushes)
                     pushResidual = fmax(pushResidual,
@@ -245,7 +249,8 @@ solvePgs(const uint first, const uint count, const uint mode,
                 residual = fmax(residual,
                                 solveElement(elements[range.first + i], normalRows, frictionRows,
                                              impulses, joints, jointRows, bodies, velocities,
-                                             relaxation, lastSweep, kept, RUBBLE_PGS_FRICTION,
+                                             relaxation, lastSweep, kept, impulseStart,
+                                             RUBBLE_PGS_FRICTION,
                                              pass, 0u));
     }
     if (lastSweep && residual > 0.0f) atomic_max(&largest[0], as_uint(residual));

@@ -302,11 +302,13 @@ static void bounceSoftElement(const PgsElement e, __global const PgsNormalRow* n
                               __global const PgsFrictionRows* frictionRows,
                               __global float4* impulses, __global const SoftContact* contacts,
                               __global BodyVelocity* velocities, const float threshold,
-                              __global PgsImpulse* kept, const uint slot) {
+                              __global PgsImpulse* kept, __global const uint* impulseStart,
+                              const uint slot) {
     const uint points = e.rows & RUBBLE_PGS_POINTS;
     const uint from = slotFrom(slot), to = slotEnd(points, slot);
     if ((e.id & RUBBLE_PGS_JOINT_ELEMENT) || from >= to) return;
     BodyVelocityPair v = loadPair(e.a, e.b, velocities);
+    const uint start = impulseStart[e.id];
     // A landing's impulses stopped a hit, not a load: the next step starts its points cold.
     int landing = 0;
     for (uint k = 0; k < points; ++k) {
@@ -323,8 +325,8 @@ static void bounceSoftElement(const PgsElement e, __global const PgsNormalRow* n
         if (landing) l.x = l.y = l.z = 0.0f;
         impulses[at] = l;
         const PgsFrictionRows f = frictionRows[at];
-        kept[4u * e.id + k].normal = l.x;
-        kept[4u * e.id + k].friction = add4(scale4(f.tangent[0], l.y), scale4(f.tangent[1], l.z));
+        kept[start + k].normal = l.x;
+        kept[start + k].friction = add4(scale4(f.tangent[0], l.y), scale4(f.tangent[1], l.z));
     }
     storePair(v, e.a, e.b, e.rows, velocities);
 }
@@ -335,13 +337,14 @@ bounceSoft(const uint first, const uint count, const uint mode, __global const P
            __global const uint* blockStarts, __global const PgsNormalRow* normalRows,
            __global const PgsFrictionRows* frictionRows, __global float4* impulses,
            __global const SoftContact* contacts, __global BodyVelocity* velocities,
-           const float threshold, __global PgsImpulse* kept) {
+           const float threshold, __global PgsImpulse* kept, __global const uint* impulseStart) {
     const ElementRange range = elementRange(first, count, mode, blockStarts);
     const uint passes = slotPasses(mode, blockStarts);
     for (uint pass = 0u; pass < passes; ++pass)
         for (uint i = range.begin; i < range.end; i += range.step)
             bounceSoftElement(elements[range.first + i], normalRows, frictionRows, impulses,
-                              contacts, velocities, threshold, kept, passSlot(mode, pass));
+                              contacts, velocities, threshold, kept, impulseStart,
+                              passSlot(mode, pass));
 }
 
 // One work-item per body, the step's end: the momenta take up the solve's velocity change at the

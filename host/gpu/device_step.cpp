@@ -99,6 +99,13 @@ Status Pipeline::collideSat(const StepParams& params) {
             RUBBLE_TRY(growPairs(*st, params));
             continue;
         }
+        Result<bool> impulsesFit = pairs_.fitImpulses(q, *st);
+        RUBBLE_TRY(impulsesFit);
+        if (!*impulsesFit) {
+            // As after a pair overflow: the round runs again, now with room for every impulse.
+            woken = st->woken;
+            continue;
+        }
         if (islands_) {
             // The CPU's wake ran on the device after the summaries (wakeAndSummarize): the
             // islands a restless body touches woke, and the collision runs again for their
@@ -133,7 +140,10 @@ Status Pipeline::growPairs(const DeviceStatus& st, const StepParams& params) {
     if (st.pairs > budget)
         return limitError("broadPhase", "broad-phase pairs", st.pairs, budget, params.step + 1,
                           "bodies overlap each other in large numbers");
-    const auto grown = std::uint32_t(std::min<std::size_t>(st.pairs + st.pairs / 2, budget));
+    // An eighth more than found: the per-pair arrays are most of the device's memory, and a
+    // regrowth costs one more collision of one step (12.4M pairs: 13.98M slots, not 2^24).
+    const std::size_t margin = std::max<std::size_t>(st.pairs / 8, 1024);
+    const auto grown = std::uint32_t(std::min<std::size_t>(st.pairs + margin, budget));
     std::fprintf(stderr,
                  "rubble: pair overflow (%u pairs, room for %u): buffers grown to %u "
                  "and the step's collision run again\n",
@@ -200,6 +210,7 @@ Status Pipeline::solvePairs(const StepParams& params) {
     // step's set as it is: it holds still pairs only, and none of them can have moved (a moving
     // body finds the pairs of the bodies it rests against), so the carry would copy it whole.
     const bool stillSet = sat() && pairsFound_ == 0 && keptFound_ == 0 && !hostWrote_;
+    keptPairs_ = !stillSet;
     if (!stillSet) {
         RUBBLE_TRY(pairs_.keep(q, bodies_, sat()));
         keptFound_ = pairsFound_;
@@ -283,6 +294,8 @@ Status Pipeline::meetStep(const StepParams& params, std::span<const std::string>
         RUBBLE_TRY(q.finish());
     }
     DeviceStatus st = q.lastStatus();
+    // The set kept holds this many impulses: the next step's carry copies at most these.
+    if (pairPgs() && keptPairs_) pairs_.previous.impulseTotal = st.impulses;
     // The islands' update changed flags and velocities: the next step's pair set is kept again.
     if (islands_ && params.sleep && islands_->met(st)) hostWrote_ = true;
     if (readBack) bodies_.takeSleepFlags(*readBack);

@@ -3,15 +3,45 @@
 #include "host/gpu/pairs.h"
 
 #include <algorithm>
+#include <string>
 #include <utility>
 
 #include "host/core/assert.h"
+#include "host/gpu/cl_check.h"
 #include "host/gpu/sort.h"
 #include "rubble/shared/broad_phase.h"
 #include "rubble/shared/particle.h"
 #include "rubble/shared/pgs_row.h"
 
 namespace rubble::gpu {
+namespace {
+
+// Room for `slots` impulses and an eighth more, so that a pile that grows step by step regrows
+// now and then.
+std::uint64_t impulseRoomFor(std::uint64_t slots) {
+    return std::max<std::uint64_t>(slots + slots / 8, 1024);
+}
+
+// A set's impulses in a buffer of `room` slots, the first `keep` copied over (enqueued).
+Status growImpulses(StageQueue& q, PairSet& set, std::uint64_t room, std::uint32_t keep) {
+    const Context& c = q.c();
+    if (room > 0xffffffffu)
+        return makeError(ErrorKind::Limit, "device memory",
+                         std::to_string(room) + " contact impulses kept for the next step, " +
+                             "more than a 32-bit index reaches");
+    Buffer grown;
+    RUBBLE_TRY(grown.reserve(c.context(), room * sizeof(shared::PgsImpulse)));
+    if (keep > 0)
+        RUBBLE_CL_CHECK(clEnqueueCopyBuffer(c.queue(), set.impulses.mem(), grown.mem(), 0, 0,
+                                            std::size_t(keep) * sizeof(shared::PgsImpulse), 0,
+                                            nullptr, nullptr));
+    // Released while the copy may be queued: OpenCL keeps it until the copy ran.
+    set.impulses = std::move(grown);
+    set.impulseRoom = std::uint32_t(room);
+    return {};
+}
+
+} // namespace
 
 Status PairStore::create(StageQueue& q, std::uint32_t guess, bool withKeys) {
     const Context& c = q.c();
@@ -23,9 +53,15 @@ Status PairStore::create(StageQueue& q, std::uint32_t guess, bool withKeys) {
         RUBBLE_TRY(set->pairs.reserve(c.context(), sizeof(shared::BodyPairRecord)));
         RUBBLE_TRY(set->features.reserve(c.context(), sizeof(shared::PairCache)));
         RUBBLE_TRY(set->impulseCount.reserve(c.context(), sizeof(cl_uint)));
-        RUBBLE_TRY(set->impulses.reserve(c.context(), 4 * sizeof(shared::PgsImpulse)));
+        RUBBLE_TRY(set->impulseStart.reserve(c.context(), sizeof(cl_uint)));
+        RUBBLE_TRY(set->impulses.reserve(c.context(), sizeof(shared::PgsImpulse)));
+        set->impulseRoom = 1;
         RUBBLE_TRY(set->keys.reserve(c.context(), sizeof(shared::ParticleContactKey)));
     }
+    // Particle pairs are one point each and carry nothing: room for a slot per pair never runs
+    // out. SAT pairs start with the same and grow by what the summaries take (fitImpulses).
+    for (PairSet* set : {&current, &previous})
+        RUBBLE_TRY(growImpulses(q, *set, impulseRoomFor(guess), 0));
     // Both sets at the first guess, so that the first steps' swaps reallocate nothing: a buffer
     // released while queued commands still read it is legal, but Oclgrind then sees the buffer
     // that replaces it as never written.
@@ -46,11 +82,27 @@ Status PairStore::setCapacity(StageQueue& q, std::uint32_t capacity) {
     RUBBLE_TRY(manifolds.reserve(c.context(), n * sizeof(shared::ContactManifold)));
     RUBBLE_TRY(previousOf.reserve(c.context(), n * sizeof(cl_uint)));
     RUBBLE_TRY(current.impulseCount.reserve(c.context(), n * sizeof(cl_uint)));
-    RUBBLE_TRY(current.impulses.reserve(c.context(), 4 * n * sizeof(shared::PgsImpulse)));
+    RUBBLE_TRY(current.impulseStart.reserve(c.context(), n * sizeof(cl_uint)));
     RUBBLE_TRY(summaries.reserve(c.context(), n * sizeof(cl_uint)));
-    if (withKeys_)
+    if (withKeys_) {
         RUBBLE_TRY(current.keys.reserve(c.context(), n * sizeof(shared::ParticleContactKey)));
+        if (current.impulseRoom < capacity)
+            RUBBLE_TRY(growImpulses(q, current, impulseRoomFor(capacity), 0));
+    }
     return {};
+}
+
+Result<bool> PairStore::fitImpulses(StageQueue& q, const DeviceStatus& st) {
+    // The carry appends at most every impulse of last step's set after this step's.
+    const std::uint64_t need = std::uint64_t(st.impulses) + previous.impulseTotal;
+    if (st.impulses > current.impulseRoom) {
+        // Some pairs kept nothing: the round runs again with room for all.
+        RUBBLE_TRY(growImpulses(q, current, impulseRoomFor(need), 0));
+        return false;
+    }
+    if (need > current.impulseRoom)
+        RUBBLE_TRY(growImpulses(q, current, impulseRoomFor(need), st.impulses));
+    return true;
 }
 
 Status PairStore::keep(StageQueue& q, const DeviceBodies& b, bool carryStill) {
@@ -61,7 +113,9 @@ Status PairStore::keep(StageQueue& q, const DeviceBodies& b, bool carryStill) {
     // overflow) reallocates buffers that this step's queued kernels read as last step's: they
     // run first.
     const std::uint32_t capacity = std::max(current.capacity, previous.capacity);
-    if (capacity > current.capacity) RUBBLE_TRY(q.finish());
+    const bool moreImpulses = previous.impulseRoom > current.impulseRoom;
+    if (capacity > current.capacity || moreImpulses) RUBBLE_TRY(q.finish());
+    if (moreImpulses) RUBBLE_TRY(growImpulses(q, current, previous.impulseRoom, 0));
     return setCapacity(q, capacity);
 }
 
@@ -74,6 +128,7 @@ Status PairStore::carryStillPairs(StageQueue& q, const DeviceBodies& b) {
     RUBBLE_TRY(chunkCounts_.reserve(c.context(), std::size_t(items) * sizeof(cl_uint)));
     RUBBLE_TRY(chunkStarts_.reserve(c.context(), (std::size_t(items) + 1) * sizeof(cl_uint)));
     const cl_uint previousCapacity = previous.capacity;
+    const cl_uint impulseRoom = current.impulseRoom;
     RUBBLE_TRY(Dispatch(c, KernelId::MarkStillPairs, &q.profile())
                    .with([&](Dispatch& d) { bindPrevious(d); })
                    .arg(previous.impulseCount)
@@ -95,11 +150,14 @@ Status PairStore::carryStillPairs(StageQueue& q, const DeviceBodies& b) {
     return Dispatch(c, KernelId::CarryStillPairs, &q.profile())
         .with([&](Dispatch& d) { bindPrevious(d); })
         .arg(previous.impulseCount)
+        .arg(previous.impulseStart)
         .arg(previous.impulses)
         .arg(carry_)
         .arg(place_)
         .with([&](Dispatch& d) { bindCurrent(d); })
         .arg(current.impulseCount)
+        .arg(current.impulseStart)
+        .arg(impulseRoom)
         .arg(current.impulses)
         .arg(q.status())
         .run(q.strideItems(previous.capacity, group), group);

@@ -25,9 +25,14 @@ struct PairSet {
     /// 0 in a set that carries nothing, the particles').
     Buffer count;
     Buffer features; ///< PairCache per pair, in pair order
-    /// PGS: each pair's contact impulses at the end of its step (4 PgsImpulse slots per pair),
-    /// and how many of its slots hold one; the next step's rows warm-start from them.
-    Buffer impulses, impulseCount;
+    /// PGS: the contact impulses at the end of the step (PgsImpulse), a pair's `impulseCount`
+    /// of them from its `impulseStart`, packed in the order the pairs took their slots
+    /// (summarizePairs, carryStillPairs); the next step's rows warm-start from them.
+    Buffer impulses, impulseCount, impulseStart;
+    std::uint32_t impulseRoom = 0; ///< PgsImpulse slots `impulses` holds
+    /// Slots the set's pairs took (the status block's count at the end of the step it was filled
+    /// in): at most this many impulses are carried from it into the next set.
+    std::uint32_t impulseTotal = 0;
     /// Particles with PGS: each pair's ParticleContactKey (a pair is one contact), in pair order.
     Buffer keys;
 };
@@ -48,8 +53,13 @@ class PairStore {
     Buffer summaries; ///< PGS, per pair: its point count and RUBBLE_PGS_MOVES_* (0: no rows)
 
     /// Sizes this step's per-pair arrays for `capacity` pairs (last step's keep their size: the
-    /// next narrow phase reads them before they change). Errors: Device.
+    /// next narrow phase reads them before they change). Errors: Device, Limit.
     Status setCapacity(StageQueue& q, std::uint32_t capacity);
+    /// After this round's summaries (`st`, read after them): whether this step's set had room
+    /// for the impulses its pairs took. If not, grows the room (the round runs again). If so,
+    /// makes room for the impulses the carry may add after them (all of last step's), keeping
+    /// those already written. Errors: Device, Limit.
+    Result<bool> fitImpulses(StageQueue& q, const DeviceStatus& st);
     /// This step's pairs become last step's, at the end of a step; with `carryStill` (SAT) the
     /// still pairs of last step's set (both bodies at rest by `b.jacobi`, holding impulses, not
     /// found again) are carried after them (kernels: markStillPairs to carryStillPairs).

@@ -37,6 +37,7 @@ void bindRowSettings(Dispatch& d, const PairStore& pairs, const StepParams& para
         .arg(pairs.previous.count)
         .arg(pairs.previousOf)
         .arg(pairs.previous.impulseCount)
+        .arg(pairs.previous.impulseStart)
         .arg(pairs.previous.impulses);
 }
 
@@ -87,6 +88,9 @@ Status PgsSolve::summarize(StageQueue& q, DeviceBodies& b, PairStore& pairs, Dev
                          &q.profile()));
     RUBBLE_TRY(fillRange(c, q.status(), 0u, RUBBLE_STATUS_BOUNCES * sizeof(cl_uint),
                          2 * sizeof(cl_uint), &q.profile()));
+    RUBBLE_TRY(fillRange(c, q.status(), 0u, RUBBLE_STATUS_IMPULSES * sizeof(cl_uint),
+                         sizeof(cl_uint), &q.profile()));
+    const cl_uint impulseRoom = pairs.current.impulseRoom;
     RUBBLE_TRY(Dispatch(c, KernelId::SummarizePairs, &q.profile())
                    .with([&](Dispatch& d) { pairs.bindCurrent(d); })
                    .arg(pairs.manifolds)
@@ -98,6 +102,8 @@ Status PgsSolve::summarize(StageQueue& q, DeviceBodies& b, PairStore& pairs, Dev
                    .with([&](Dispatch& d) { bindRowSettings(d, pairs, params); })
                    .arg(pairs.summaries)
                    .arg(pairs.current.impulseCount)
+                   .arg(pairs.current.impulseStart)
+                   .arg(impulseRoom)
                    .arg(pairs.current.impulses)
                    .arg(pushed_)
                    .arg(q.status())
@@ -126,11 +132,13 @@ Status PgsSolve::buildRows(StageQueue& q, DeviceBodies& b, PairStore& pairs,
                    .arg(normalRows_)
                    .arg(frictionRows_)
                    .arg(impulses_)
+                   .arg(pairs.current.impulseStart)
                    .arg(pairs.current.impulses)
                    .run(count, c.workSizes().pairGroup));
     // Per element its record, manifold, both bodies' poses, velocities, JacobiBody and surfaces,
-    // last step's run of impulses; per point its rows, impulses and key written.
-    const std::uint64_t perElement = sizeof(cl_uint) + sizeof(shared::PgsElement) +
+    // last step's run of impulses (at most four) and its start; per point its rows, impulses and
+    // key written.
+    const std::uint64_t perElement = 3 * sizeof(cl_uint) + sizeof(shared::PgsElement) +
                                      sizeof(shared::ContactManifold) +
                                      2 * (sizeof(shared::BodyPose) + sizeof(shared::BodyVelocity) +
                                           sizeof(shared::JacobiBody) + sizeof(shared::float4)) +
@@ -179,6 +187,7 @@ Status PgsSolve::solve(StageQueue& q, DeviceBodies& b, PairStore& pairs, DeviceJ
                            .arg(last)
                            .arg(cl_uint(it))
                            .arg(pairs.current.impulses)
+                           .arg(pairs.current.impulseStart)
                            .arg(q.status())
                            .arg(pushSweep)
                            .arg(pushed_)

@@ -168,6 +168,9 @@ class Pipeline {
     /// whether the host wrote body state since the last step.
     std::uint32_t pairsFound_ = 0, keptFound_ = 0;
     bool hostWrote_ = false;
+    /// This step's pair set became last step's (PairStore::keep ran): the status read at the
+    /// step's end holds the impulse slots it took.
+    bool keptPairs_ = false;
 };
 
 } // namespace rubble::gpu

@@ -154,6 +154,7 @@ Status SoftStepSolve::solve(StageQueue& q, DeviceBodies& b, const PgsSolve& pgs,
                        .arg(b.velocities)
                        .arg(threshold)
                        .arg(pairs.current.impulses)
+                       .arg(pairs.current.impulseStart)
                        .run(l.items(group), group));
     return Dispatch(c, KernelId::FinishSoftStep, &q.profile())
         .arg(count)

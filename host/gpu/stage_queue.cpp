@@ -65,6 +65,7 @@ DeviceStatus StageQueue::lastStatus() const {
     d.largeBodies = slots[RUBBLE_STATUS_LARGE];
     d.kept = slots[RUBBLE_STATUS_KEPT];
     d.carried = slots[RUBBLE_STATUS_CARRIED];
+    d.impulses = slots[RUBBLE_STATUS_IMPULSES];
     d.pushes = slots[RUBBLE_STATUS_PUSHED] != 0;
     d.bounces = slots[RUBBLE_STATUS_BOUNCES] != 0;
     d.layers = slots[RUBBLE_STATUS_LAYERS] != 0;

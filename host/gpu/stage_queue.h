@@ -28,6 +28,8 @@ struct DeviceStatus {
     /// SAT: last step's kept pair entries as markStillPairs saw them, and the still pairs
     /// carried into this step's set; both 0 when the carry did not run.
     std::uint32_t kept = 0, carried = 0;
+    /// PGS: impulse slots taken in the pair set filled this step (may exceed its room).
+    std::uint32_t impulses = 0;
     bool pushes = false;  ///< PGS: a row pushes (the split position pass runs)
     bool bounces = false; ///< PGS: a row may bounce
     bool layers = false;  ///< PGS: moving bodies far apart in mass touch (the layer pass)

@@ -158,10 +158,11 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
         // chunks' starts
         return n.kept * 2 * kWord + (n.sortItems + 2) * kWord;
     case KernelId::CarryStillPairs: // per kept entry its mark; per carried one: its place, a
-        // search of the other run and that entry's place, its pair, impulse count and four
-        // impulses read and written
-        return n.kept * kWord + n.carried * (2 * kWord + kSearchReads * kPair +
-                                             2 * (kPair + kWord + 4 * sizeof(shared::PgsImpulse)));
+        // search of the other run and that entry's place, its pair, impulse count and start and
+        // up to four impulses read and written
+        return n.kept * kWord +
+               n.carried * (2 * kWord + kSearchReads * kPair +
+                            2 * (kPair + 2 * kWord + 4 * sizeof(shared::PgsImpulse)));
     case KernelId::WakeStillPairs: // per kept entry: its impulse count, its pair, both bodies'
         // flags and restless words (an upper bound: every entry holds impulses)
         return n.kept * (kWord + kPair + 4 * kWord);

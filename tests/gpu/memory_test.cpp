@@ -9,6 +9,8 @@
 
 #include "gpu_fixture.h"
 #include "host/gpu/memory.h"
+#include "host/gpu/pairs.h"
+#include "host/gpu/stage_queue.h"
 
 namespace rubble {
 namespace {
@@ -79,6 +81,28 @@ TEST_F(DeviceMemory, ABufferPastTheAddressSpaceLimitIsRefused) {
         << refused.error().describe();
     EXPECT_EQ(big.bytes(), 0u);
     EXPECT_TRUE(fits.ok()) << fits.error().describe();
+}
+
+// The pair sets hold impulses by the contact points their pairs keep, not four slots per pair in
+// each set: 2^20 pair slots of SAT (both sets, the candidates, the manifolds and the per-pair
+// words) with room for an impulse per pair take at most 480 bytes a slot (four slots a pair
+// took 728).
+TEST_F(DeviceMemory, APairSlotHoldsNoImpulsesOfItsOwn) {
+    Result<std::unique_ptr<gpu::StageQueue>> q = gpu::StageQueue::create(context());
+    ASSERT_TRUE(q.ok()) << q.error().describe();
+    const cl_context c = context()->context();
+    const std::uint64_t before = gpu::deviceBytesInUse(c);
+    constexpr std::uint32_t kSlots = 1u << 20;
+    {
+        gpu::PairStore pairs;
+        const Status made = pairs.create(**q, kSlots, false);
+        ASSERT_TRUE(made.ok()) << made.error().describe();
+        EXPECT_GE(pairs.current.impulseRoom, kSlots);
+        const std::uint64_t perSlot = (gpu::deviceBytesInUse(c) - before) / kSlots;
+        EXPECT_LE(perSlot, 480u);
+        ASSERT_TRUE((*q)->finish().ok());
+    }
+    EXPECT_EQ(gpu::deviceBytesInUse(c), before);
 }
 
 } // namespace

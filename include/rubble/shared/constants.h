@@ -58,7 +58,10 @@
 #define RUBBLE_STATUS_KEPT 13u        // SAT: last step's kept pair entries (markStillPairs)
 #define RUBBLE_STATUS_CARRIED 14u     // SAT: still pairs carried into the next step's set
 #define RUBBLE_STATUS_FELL_ASLEEP 15u // SAT islands: bodies put to sleep at the end of the step
-#define RUBBLE_STATUS_COUNT 16u
+// PGS: PgsImpulse slots taken in the pair set being filled this step (summarizePairs, then
+// carryStillPairs; may exceed the set's room)
+#define RUBBLE_STATUS_IMPULSES 16u
+#define RUBBLE_STATUS_COUNT 17u
 
 // Stages over contacts run a fixed number of work-items that stride through however many
 // contacts there are: this many work-groups per compute unit.
