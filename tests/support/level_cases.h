@@ -1,5 +1,5 @@
-// tests/support/level_cases.h: cases the CPU's and the device's level-mesh tests share: a flat
-// grid of triangles as an OBJ, and a box sliding over it against the same box on a plane.
+// tests/support/level_cases.h: cases the CPU's and the device's level-mesh tests share: grids of
+// triangles (as a mesh or an OBJ), and a box sliding over one against the same box on a plane.
 #pragma once
 
 #include <algorithm>
@@ -11,10 +11,31 @@
 #include <glm/glm.hpp>
 #include <gtest/gtest.h>
 
+#include "host/geometry/obj_mesh.h"
 #include "rubble/world.h"
 #include "support/test_util.h"
 
 namespace rubble::test {
+
+/// A grid of n x n quads of side `cell` centred on the origin, facing up (two triangles a quad),
+/// its vertex at (x, z) at the height `height(x, z)`.
+template <class Height> TriangleMesh quadGrid(int n, float cell, Height height) {
+    TriangleMesh m;
+    const float x0 = -0.5f * cell * float(n);
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const float x = x0 + cell * float(i), z = x0 + cell * float(j);
+            m.vertices.emplace_back(x, height(x, z), z);
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const auto a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n + 1),
+                       d = c + 1;
+            m.triangles.emplace_back(a, c, b);
+            m.triangles.emplace_back(b, c, d);
+        }
+    return m;
+}
 
 /// An OBJ of a flat grid of n x n quads of side `cell` at y = 0, centred on the origin, facing
 /// up (two triangles a quad).

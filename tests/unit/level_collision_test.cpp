@@ -14,6 +14,7 @@
 #include "host/core/math.h"
 #include "host/geometry/shape.h"
 #include "rubble/shared/broad_phase.h"
+#include "support/level_cases.h"
 
 namespace rubble {
 namespace {
@@ -21,20 +22,9 @@ namespace {
 // A rolling grid of n x n quads of side `cell` centred on the origin, facing +y, heights up to
 // `bump` m, so that a crate on it touches triangles of several normals.
 LevelMesh rollingGrid(int n, float cell, float bump) {
-    TriangleMesh m;
-    const float x0 = -0.5f * cell * float(n);
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i) {
-            const float x = x0 + cell * float(i), z = x0 + cell * float(j);
-            m.vertices.emplace_back(x, bump * std::sin(1.3f * x) * std::cos(0.9f * z), z);
-        }
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const auto a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n + 1),
-                       d = c + 1;
-            m.triangles.emplace_back(a, c, b);
-            m.triangles.emplace_back(b, c, d);
-        }
+    const TriangleMesh m = test::quadGrid(n, cell, [bump](float x, float z) {
+        return bump * std::sin(1.3f * x) * std::cos(0.9f * z);
+    });
     Result<LevelMesh> level = buildLevelMesh(m, "test");
     EXPECT_TRUE(level.ok());
     return std::move(*level);

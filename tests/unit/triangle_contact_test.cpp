@@ -14,6 +14,7 @@
 #include "host/core/math.h"
 #include "host/geometry/shape.h"
 #include "rubble/shared/broad_phase.h"
+#include "support/level_cases.h"
 
 namespace rubble {
 namespace {
@@ -59,19 +60,7 @@ void collideTriangleHull(const LevelTriangle& t, std::uint32_t index, PlacedHull
 
 // A flat grid of n x n quads of side `cell` at y = 0, centred on the origin, facing +y.
 TriangleMesh flatGrid(int n, float cell) {
-    TriangleMesh m;
-    const float x0 = -0.5f * cell * float(n);
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i)
-            m.vertices.emplace_back(x0 + cell * float(i), 0.0f, x0 + cell * float(j));
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const auto a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n + 1),
-                       d = c + 1;
-            m.triangles.emplace_back(a, c, b);
-            m.triangles.emplace_back(b, c, d);
-        }
-    return m;
+    return test::quadGrid(n, cell, [](float, float) { return 0.0f; });
 }
 
 LevelMesh levelOf(const TriangleMesh& mesh) {
