@@ -63,23 +63,6 @@ template <typename T> void prefetchLines(const T& x) {
         __builtin_prefetch(reinterpret_cast<const char*>(&x) + at);
 }
 
-// Every point's separation at the bodies' current poses. The poses change only when the
-// substeps move the bodies, so the passes between two moves share these.
-void updateSeparations(SoftPassRows& packed, const SoftPoses& poses) {
-    const std::size_t n = packed.anchors.size();
-    for (std::size_t i = 0; i < n; ++i) {
-        if (i + 2 * kPrefetchRows < n) prefetchLines(packed.anchors[i + 2 * kPrefetchRows]);
-        if (i + kPrefetchRows < n) {
-            const SoftAnchors& ahead = packed.anchors[i + kPrefetchRows];
-            for (const float lane : {ahead.anchorA[3], ahead.anchorB[3]}) {
-                __builtin_prefetch(&poses.moved[laneIndex(lane)]);
-                __builtin_prefetch(&poses.pose[laneIndex(lane)]);
-            }
-        }
-        packed.state[i].separation = separationNow(packed.anchors[i], poses);
-    }
-}
-
 // A gap (separation > 0) is closed within the substep and no further, rigidly; an overlap is
 // pushed out by the point's spring (biased pass) or held rigidly (relax pass).
 PointSoftness pointSoftness(float biasRate, float massScale, float impulseScale, float separation,
@@ -106,10 +89,10 @@ bool isLanding(std::span<const SoftContactPoint> points, const SoftManifold& m, 
     return false;
 }
 
-// The rows and points into the passes' packed form (SoftPassRows), with the landings that
-// solveManifoldNormals takes (two or more points); the points' springs are set.
-void packSoftRows(const ContactRows& rows, std::span<const SoftContactPoint> points,
-                  std::span<const SoftManifold> pointManifolds, float threshold,
+// Sets each point's spring, and puts the rows and points into the passes' packed form
+// (SoftPassRows), with the landings that solveManifoldNormals takes (two or more points).
+void packSoftRows(const ContactRows& rows, std::span<SoftContactPoint> points,
+                  std::span<const SoftManifold> pointManifolds, const SoftStepSettings& s,
                   SoftPassRows& packed) {
     const std::size_t n = rows.size();
     packed.normals.resize(n);
@@ -119,7 +102,9 @@ void packSoftRows(const ContactRows& rows, std::span<const SoftContactPoint> poi
     for (std::size_t i = 0; i < n; ++i) {
         const NormalRow& r = rows.normals[i];
         const FrictionRows& f = rows.frictions[i];
-        const SoftContactPoint& p = points[i];
+        SoftContactPoint& p = points[i];
+        p.soft = softnessFor(s.contactHertz, s.dampingRatio, s.h, r.inverseMassA, r.inverseMassB,
+                             kStillContactHertzScale);
         SoftNormal& q = packed.normals[i];
         q.normal = r.normal;
         q.normal[3] = r.mass;
@@ -160,7 +145,8 @@ void packSoftRows(const ContactRows& rows, std::span<const SoftContactPoint> poi
     }
     packed.landings.clear();
     for (std::size_t m = 0; m < pointManifolds.size(); ++m)
-        if (pointManifolds[m].count >= 2 && isLanding(points, pointManifolds[m], threshold))
+        if (pointManifolds[m].count >= 2 &&
+            isLanding(points, pointManifolds[m], s.restitutionThreshold))
             packed.landings.push_back(std::uint32_t(m));
 }
 
@@ -184,11 +170,12 @@ void unpackSoftRows(const SoftPassRows& packed, ContactRows& rows,
 // hit and turns the body, and the next substep's warm start applies that share again; this
 // update stops all of them at once, so that a face that lands flat stays flat. Contacts that
 // were touching at the step's start are left to the point updates, which their warm start
-// carries. The impulses and separations are the packed ones. Returns the |applied change| per
+// carries. The impulses are the packed ones, and so are the separations unless `moved` (the
+// poses, when they moved since the separations were found). Returns the |applied change| per
 // point, N s.
 float solveManifoldNormals(const ContactRows& rows, std::span<const SoftContactPoint> points,
                            const SoftManifold& m, SoftPassRows& packed, SolverBodies& bodies,
-                           const SoftStepSettings& s, bool useBias) {
+                           const SoftPoses* moved, const SoftStepSettings& s, bool useBias) {
     const float inverseH = 1.0f / s.h;
     const NormalRow& first = rows.normals[m.rows[0]];
     SolverVelocity& a = bodies.velocity[first.a];
@@ -199,8 +186,10 @@ float solveManifoldNormals(const ContactRows& rows, std::span<const SoftContactP
         const NormalRow& r = rows.normals[m.rows[k]];
         const Softness& spring = points[m.rows[k]].soft;
         const SoftPointState& p = packed.state[m.rows[k]];
+        const float separation =
+            moved ? separationNow(packed.anchors[m.rows[k]], *moved) : p.separation;
         const PointSoftness soft =
-            pointSoftness(spring.biasRate, spring.massScale, spring.impulseScale, p.separation,
+            pointSoftness(spring.biasRate, spring.massScale, spring.impulseScale, separation,
                           inverseH, s, useBias);
         const float diagonalTerm = soft.impulseScale / (soft.massScale * r.mass);
         slope +=
@@ -233,19 +222,22 @@ float solveManifoldNormals(const ContactRows& rows, std::span<const SoftContactP
 // largest |applied change| per point, N s.
 float solveManifolds(const ContactRows& rows, std::span<const SoftContactPoint> points,
                      std::span<const SoftManifold> pointManifolds, SoftPassRows& packed,
-                     SolverBodies& bodies, const SoftStepSettings& s, bool useBias) {
+                     SolverBodies& bodies, const SoftPoses* moved, const SoftStepSettings& s,
+                     bool useBias) {
     float residual = 0.0f;
     for (const std::uint32_t m : packed.landings)
         residual = std::max(residual, solveManifoldNormals(rows, points, pointManifolds[m], packed,
-                                                           bodies, s, useBias));
+                                                           bodies, moved, s, useBias));
     return residual;
 }
 
 // One pass over the packed contact points: each point's normal row (soft with bias, rigid
 // without; a gap is closed within the substep and no further), then its two friction rows
-// within |lambda_t| <= mu lambda_n. Returns the largest |applied change|, N s.
-float solveContacts(SoftPassRows& packed, SolverBodies& bodies, const SoftStepSettings& s,
-                    bool useBias) {
+// within |lambda_t| <= mu lambda_n. With `moved` (the poses, when they moved since the
+// separations were found) each point's separation is found first and kept for the passes until
+// the next move: the poses change only there. Returns the largest |applied change|, N s.
+float solveContacts(SoftPassRows& packed, SolverBodies& bodies, const SoftPoses* moved,
+                    const SoftStepSettings& s, bool useBias) {
     float residual = 0.0f;
     const float inverseH = 1.0f / s.h;
     const std::size_t n = packed.normals.size();
@@ -255,14 +247,20 @@ float solveContacts(SoftPassRows& packed, SolverBodies& bodies, const SoftStepSe
         if (i + 2 * kPrefetchRows < n) {
             prefetchLines(packed.normals[i + 2 * kPrefetchRows]);
             prefetchLines(packed.frictions[i + 2 * kPrefetchRows]);
+            if (moved) prefetchLines(packed.anchors[i + 2 * kPrefetchRows]);
         }
         if (i + kPrefetchRows < n) {
             const SoftNormal& ahead = packed.normals[i + kPrefetchRows];
-            __builtin_prefetch(&velocity[laneIndex(ahead.turnA[3])]);
-            __builtin_prefetch(&velocity[laneIndex(ahead.turnB[3])]);
+            for (const float lane : {ahead.turnA[3], ahead.turnB[3]}) {
+                __builtin_prefetch(&velocity[laneIndex(lane)]);
+                if (!moved) continue;
+                __builtin_prefetch(&moved->moved[laneIndex(lane)]);
+                __builtin_prefetch(&moved->pose[laneIndex(lane)]);
+            }
         }
         const SoftNormal& r = packed.normals[i];
         SoftPointState& p = packed.state[i];
+        if (moved) p.separation = separationNow(packed.anchors[i], *moved);
         const std::uint32_t ia = laneIndex(r.turnA[3]), ib = laneIndex(r.turnB[3]);
         SolverVelocity& a = velocity[ia];
         SolverVelocity& b = velocity[ib];
@@ -537,18 +535,15 @@ void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points,
             j.turnImpulse = glm::vec2(0.0f);
         }
     }
-    // Each constraint's spring.
-    for (std::size_t i = 0; i < rows.size(); ++i)
-        points[i].soft =
-            softnessFor(s.contactHertz, s.dampingRatio, s.h, rows.normals[i].inverseMassA,
-                        rows.normals[i].inverseMassB, kStillContactHertzScale);
+    // Each constraint's spring (the contacts' in packSoftRows).
     std::vector<Softness> jointSoftness(joints.size());
     for (std::size_t i = 0; i < joints.size(); ++i)
         jointSoftness[i] =
             softnessFor(s.jointHertz, s.jointDampingRatio, s.h, bodies.inverseMass[joints[i].a],
                         bodies.inverseMass[joints[i].b], 1.0f);
-    packSoftRows(rows, points, pointManifolds, s.restitutionThreshold, packed);
-    updateSeparations(packed, poses);
+    packSoftRows(rows, points, pointManifolds, s, packed);
+    // The poses, while the points' separations have not been found since they moved.
+    const SoftPoses* moved = &poses;
     residuals.clear();
     for (int sub = 0; sub < s.substeps; ++sub) {
         for (std::size_t i = 0; i < n; ++i) {
@@ -557,16 +552,20 @@ void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points,
         }
         warmStartJoints(joints, poses, bodies);
         warmStartContacts(packed, bodies);
-        float residual = solveManifolds(rows, points, pointManifolds, packed, bodies, s, true);
+        float residual =
+            solveManifolds(rows, points, pointManifolds, packed, bodies, moved, s, true);
         residual = std::max(residual, solveJoints(joints, bodies, poses, jointSoftness, true));
-        residual = std::max(residual, solveContacts(packed, bodies, s, true));
+        residual = std::max(residual, solveContacts(packed, bodies, moved, s, true));
+        moved = nullptr;
         residuals.push_back(residual);
         movePoses(bodies, s.h, poses);
-        updateSeparations(packed, poses);
+        moved = &poses;
         for (int k = 0; k < s.relaxIterations; ++k) {
-            float relaxed = solveManifolds(rows, points, pointManifolds, packed, bodies, s, false);
+            float relaxed =
+                solveManifolds(rows, points, pointManifolds, packed, bodies, moved, s, false);
             relaxed = std::max(relaxed, solveJoints(joints, bodies, poses, jointSoftness, false));
-            relaxed = std::max(relaxed, solveContacts(packed, bodies, s, false));
+            relaxed = std::max(relaxed, solveContacts(packed, bodies, moved, s, false));
+            moved = nullptr;
             residuals.push_back(relaxed);
         }
     }

@@ -89,8 +89,8 @@ struct SoftNormal {
 };
 static_assert(sizeof(SoftNormal) == 80);
 
-/// What a point's separation needs (separationNow), 80 bytes: the normal, the point's offsets
-/// from the centres of mass at the step's start and in the bodies' frames.
+/// What a point's separation at the current poses needs, 80 bytes: the normal, the point's
+/// offsets from the centres of mass at the step's start and in the bodies' frames.
 struct SoftAnchors {
     Lanes normal{};  ///< fourth lane: the separation at the step's start, m
     Lanes offsetA{}; ///< world, m
@@ -102,7 +102,7 @@ static_assert(sizeof(SoftAnchors) == 80);
 
 /// What a pass reads and writes of a point besides its packed rows.
 struct SoftPointState {
-    float separation = 0.0f;       ///< now, at the bodies' current poses, m
+    float separation = 0.0f;       ///< at the bodies' poses since they last moved, m
     float impulseScale = 0.0f;     ///< the spring's
     float impulse = 0.0f;          ///< accumulated normal impulse, N s
     float maxNormalImpulse = 0.0f; ///< largest normal impulse of the substeps, N s
@@ -111,8 +111,9 @@ static_assert(sizeof(SoftPointState) == 16);
 
 /// The contact points in the passes' packed form, parallel to ContactRows' arrays, filled once
 /// per step: a large scene's rows and points do not fit in the caches, and every pass streams
-/// them from memory again (352 bytes of rows and 96 of point a point, against 256 packed). The
-/// friction rows take PGS's packed form (SweepFriction, the friction impulses in it).
+/// them from memory again (352 bytes of rows and 96 of point a point, against 256 packed, and the
+/// anchors' 80 in the first pass after the bodies moved). The friction rows take PGS's packed
+/// form (SweepFriction, the friction impulses in it).
 struct SoftPassRows {
     std::vector<SoftNormal> normals;
     std::vector<SweepFriction> frictions;
@@ -154,7 +155,8 @@ void prepareSoftContacts(std::span<const Manifold> manifolds, const ContactRows&
 /// reads: rows, points, pointManifolds, joints, start and afterForces velocities
 /// writes: bodies' velocities, poses (the poses at the step's end), impulses, packed, residuals
 /// The passes run on a packed copy of the rows and points (`packed`, filled here), and each
-/// point's separation is found once per pose (at the start and after each substep's move).
+/// point's separation is found in the first pass after the poses moved (and in the first pass)
+/// and kept for the passes until they move again.
 void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points,
                    std::span<const SoftManifold> pointManifolds, std::span<Joint> joints,
                    SolverBodies& bodies, std::span<const shared::BodyVelocity> start,
