@@ -3,6 +3,7 @@
 #include "host/dynamics/soft_step.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "host/core/math.h"
@@ -21,20 +22,40 @@ Lanes rotateLanes(shared::float4 q, glm::vec3 v) {
     return toLanes(toVec3(shared::quatRotate(q, toFloat4(v))));
 }
 
+// The first three lanes of a vector, the fourth cleared: a packed row's vector whose fourth lane
+// carries a scalar, ready to be applied to velocities.
+Lanes xyz(Lanes v) {
+    using Bits = std::uint32_t __attribute__((vector_size(16)));
+    constexpr Bits kMask = {~0u, ~0u, ~0u, 0u};
+    return Lanes((Bits)v & kMask);
+}
+
+// A body index carried in a float lane, bit for bit.
+float indexLane(std::uint32_t i) {
+    return std::bit_cast<float>(i);
+}
+std::uint32_t laneIndex(float lane) {
+    return std::bit_cast<std::uint32_t>(lane);
+}
+
 // A normal row's settings in a pass: the bias speed (m/s), the mass and impulse scales.
 struct PointSoftness {
     float bias = 0.0f, massScale = 1.0f, impulseScale = 0.0f;
 };
 
 // A point's separation now: the start's, moved by the bodies' motion within the step.
-float separationNow(const NormalRow& r, const SoftContactPoint& p, const SoftPoses& poses) {
-    const Lanes pointA = poses.moved[r.a] + rotateLanes(poses.pose[r.a].orientation, p.anchorA);
-    const Lanes pointB = poses.moved[r.b] + rotateLanes(poses.pose[r.b].orientation, p.anchorB);
-    return p.separation + sum3(r.normal * ((pointB - p.offsetB) - (pointA - p.offsetA)));
+float separationNow(const SoftAnchors& p, const SoftPoses& poses) {
+    const std::uint32_t a = laneIndex(p.anchorA[3]), b = laneIndex(p.anchorB[3]);
+    const Lanes pointA =
+        poses.moved[a] + rotateLanes(poses.pose[a].orientation, fromLanes(p.anchorA));
+    const Lanes pointB =
+        poses.moved[b] + rotateLanes(poses.pose[b].orientation, fromLanes(p.anchorB));
+    return p.normal[3] + sum3(p.normal * ((pointB - p.offsetB) - (pointA - p.offsetA)));
 }
 
-// How many points ahead the passes over every point ask for the next points' rows, and for
-// their bodies' velocities and poses: the rows stream from memory, the bodies are read at random.
+// How many points ahead the passes over every point ask for their bodies' velocities (and poses),
+// and twice as far for the points' packed data (the bodies' indices are read from it): the
+// points stream from memory, the bodies are read at random.
 constexpr std::size_t kPrefetchRows = 8;
 
 template <typename T> void prefetchLines(const T& x) {
@@ -42,34 +63,17 @@ template <typename T> void prefetchLines(const T& x) {
         __builtin_prefetch(reinterpret_cast<const char*>(&x) + at);
 }
 
-// Asks for point i's data and its bodies' velocities and poses before they are needed; the
-// rows twice as far ahead, since the bodies' indices are read from them.
-void prefetchPoint(const ContactRows& rows, std::span<const SoftContactPoint> points,
-                   const SoftPoses& poses, const SolverBodies& bodies, std::size_t i) {
-    if (i + kPrefetchRows < rows.size()) {
-        prefetchLines(rows.normals[i + kPrefetchRows]);
-        prefetchLines(rows.frictions[i + kPrefetchRows]);
-        prefetchLines(points[i + kPrefetchRows]);
-    }
-    const NormalRow& r = rows.normals[i];
-    for (const std::uint32_t body : {r.a, r.b}) {
-        __builtin_prefetch(&bodies.velocity[body]);
-        __builtin_prefetch(&poses.moved[body]);
-        __builtin_prefetch(&poses.pose[body]);
-    }
-}
-
 // A gap (separation > 0) is closed within the substep and no further, rigidly; an overlap is
 // pushed out by the point's spring (biased pass) or held rigidly (relax pass).
-PointSoftness pointSoftness(const SoftContactPoint& p, float separation, float inverseH,
-                            const SoftStepSettings& s, bool useBias) {
+PointSoftness pointSoftness(float biasRate, float massScale, float impulseScale, float separation,
+                            float inverseH, const SoftStepSettings& s, bool useBias) {
     PointSoftness k;
     if (separation > 0.0f) {
         k.bias = separation * inverseH;
     } else if (useBias) {
-        k.bias = std::max(p.soft.biasRate * separation, -s.maxPushSpeed);
-        k.massScale = p.soft.massScale;
-        k.impulseScale = p.soft.impulseScale;
+        k.bias = std::max(biasRate * separation, -s.maxPushSpeed);
+        k.massScale = massScale;
+        k.impulseScale = impulseScale;
     }
     return k;
 }
@@ -85,6 +89,79 @@ bool isLanding(std::span<const SoftContactPoint> points, const SoftManifold& m, 
     return false;
 }
 
+// Sets each point's spring, and puts the rows and points into the passes' packed form
+// (SoftPassRows), with the landings that solveManifoldNormals takes (two or more points).
+void packSoftRows(const ContactRows& rows, std::span<SoftContactPoint> points,
+                  std::span<const SoftManifold> pointManifolds, const SoftStepSettings& s,
+                  SoftPassRows& packed) {
+    const std::size_t n = rows.size();
+    packed.normals.resize(n);
+    packed.frictions.resize(n);
+    packed.anchors.resize(n);
+    packed.state.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const NormalRow& r = rows.normals[i];
+        const FrictionRows& f = rows.frictions[i];
+        SoftContactPoint& p = points[i];
+        p.soft = softnessFor(s.contactHertz, s.dampingRatio, s.h, r.inverseMassA, r.inverseMassB,
+                             kStillContactHertzScale);
+        SoftNormal& q = packed.normals[i];
+        q.normal = r.normal;
+        q.normal[3] = r.mass;
+        q.crossA = r.crossA;
+        q.crossA[3] = p.soft.biasRate;
+        q.crossB = r.crossB;
+        q.crossB[3] = p.soft.massScale;
+        q.turnA = r.turnA;
+        q.turnA[3] = indexLane(r.a);
+        q.turnB = r.turnB;
+        q.turnB[3] = indexLane(r.b);
+        SweepFriction& g = packed.frictions[i];
+        for (int k = 0; k < 2; ++k) {
+            g.tangent[k] = f.tangent[k];
+            g.crossA[k] = f.crossA[k];
+            g.crossA[k][3] = f.mass[k];
+            g.crossB[k] = f.crossB[k];
+            g.crossB[k][3] = f.impulse[k];
+            g.turnA[k] = f.turnA[k];
+            g.turnB[k] = f.turnB[k];
+        }
+        g.tangent[0][3] = f.inverseMassA;
+        g.tangent[1][3] = f.inverseMassB;
+        g.turnA[0][3] = indexLane(f.a);
+        g.turnA[1][3] = indexLane(f.b);
+        g.turnB[0][3] = f.friction;
+        g.turnB[1][3] = 0.0f;
+        SoftAnchors& c = packed.anchors[i];
+        c.normal = r.normal;
+        c.normal[3] = p.separation;
+        c.offsetA = p.offsetA;
+        c.offsetB = p.offsetB;
+        c.anchorA = toLanes(p.anchorA);
+        c.anchorA[3] = indexLane(r.a);
+        c.anchorB = toLanes(p.anchorB);
+        c.anchorB[3] = indexLane(r.b);
+        packed.state[i] = SoftPointState{0.0f, p.soft.impulseScale, r.impulse, p.maxNormalImpulse};
+    }
+    packed.landings.clear();
+    for (std::size_t m = 0; m < pointManifolds.size(); ++m)
+        if (pointManifolds[m].count >= 2 &&
+            isLanding(points, pointManifolds[m], s.restitutionThreshold))
+            packed.landings.push_back(std::uint32_t(m));
+}
+
+// The passes' impulses back into the rows and points.
+void unpackSoftRows(const SoftPassRows& packed, ContactRows& rows,
+                    std::span<SoftContactPoint> points) {
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        rows.normals[i].impulse = packed.state[i].impulse;
+        points[i].maxNormalImpulse = packed.state[i].maxNormalImpulse;
+        FrictionRows& f = rows.frictions[i];
+        f.impulse[0] = packed.frictions[i].crossB[0][3];
+        f.impulse[1] = packed.frictions[i].crossB[1][3];
+    }
+}
+
 // One update of a landing's normal rows together, along the direction that adds the same
 // impulse to every point (a push at the points' centroid): the exact minimum along it of the
 // quadratic that the point updates minimise one row at a time (each point's spring a diagonal
@@ -93,26 +170,32 @@ bool isLanding(std::span<const SoftContactPoint> points, const SoftManifold& m, 
 // hit and turns the body, and the next substep's warm start applies that share again; this
 // update stops all of them at once, so that a face that lands flat stays flat. Contacts that
 // were touching at the step's start are left to the point updates, which their warm start
-// carries. Returns the |applied change| per point, N s.
-float solveManifoldNormals(ContactRows& rows, std::span<SoftContactPoint> points,
-                           const SoftManifold& m, SolverBodies& bodies, const SoftPoses& poses,
-                           const SoftStepSettings& s, bool useBias) {
-    if (m.count < 2 || !isLanding(points, m, s.restitutionThreshold)) return 0.0f;
+// carries. The impulses are the packed ones, and so are the separations unless `moved` (the
+// poses, when they moved since the separations were found). Returns the |applied change| per
+// point, N s.
+float solveManifoldNormals(const ContactRows& rows, std::span<const SoftContactPoint> points,
+                           const SoftManifold& m, SoftPassRows& packed, SolverBodies& bodies,
+                           const SoftPoses* moved, const SoftStepSettings& s, bool useBias) {
     const float inverseH = 1.0f / s.h;
     const NormalRow& first = rows.normals[m.rows[0]];
     SolverVelocity& a = bodies.velocity[first.a];
     SolverVelocity& b = bodies.velocity[first.b];
-    float slope = 0.0f, diagonal = 0.0f, lowest = first.impulse;
+    float slope = 0.0f, diagonal = 0.0f, lowest = packed.state[m.rows[0]].impulse;
     Lanes crossA{}, turnA{}, crossB{}, turnB{};
     for (std::uint32_t k = 0; k < m.count; ++k) {
         const NormalRow& r = rows.normals[m.rows[k]];
-        const SoftContactPoint& p = points[m.rows[k]];
+        const Softness& spring = points[m.rows[k]].soft;
+        const SoftPointState& p = packed.state[m.rows[k]];
+        const float separation =
+            moved ? separationNow(packed.anchors[m.rows[k]], *moved) : p.separation;
         const PointSoftness soft =
-            pointSoftness(p, separationNow(r, p, poses), inverseH, s, useBias);
-        const float spring = soft.impulseScale / (soft.massScale * r.mass);
-        slope += rowSpeed(a, b, r.normal, r.crossA, r.crossB) + soft.bias + spring * r.impulse;
-        diagonal += spring;
-        lowest = std::min(lowest, r.impulse);
+            pointSoftness(spring.biasRate, spring.massScale, spring.impulseScale, separation,
+                          inverseH, s, useBias);
+        const float diagonalTerm = soft.impulseScale / (soft.massScale * r.mass);
+        slope +=
+            rowSpeed(a, b, r.normal, r.crossA, r.crossB) + soft.bias + diagonalTerm * p.impulse;
+        diagonal += diagonalTerm;
+        lowest = std::min(lowest, p.impulse);
         crossA += r.crossA;
         turnA += r.turnA;
         crossB += r.crossB;
@@ -124,10 +207,9 @@ float solveManifoldNormals(ContactRows& rows, std::span<SoftContactPoint> points
     if (!(curvature > 0.0f)) return 0.0f;
     const float change = std::max(-slope / curvature, -lowest);
     for (std::uint32_t k = 0; k < m.count; ++k) {
-        NormalRow& r = rows.normals[m.rows[k]];
-        r.impulse += change;
-        points[m.rows[k]].maxNormalImpulse =
-            std::max(points[m.rows[k]].maxNormalImpulse, r.impulse);
+        SoftPointState& p = packed.state[m.rows[k]];
+        p.impulse += change;
+        p.maxNormalImpulse = std::max(p.maxNormalImpulse, p.impulse);
     }
     a.linear -= first.normal * (first.inverseMassA * (n * change));
     a.angular -= turnA * change;
@@ -138,74 +220,103 @@ float solveManifoldNormals(ContactRows& rows, std::span<SoftContactPoint> points
 
 // Every landing's normal rows together (solveManifoldNormals), in manifold order. Returns the
 // largest |applied change| per point, N s.
-float solveManifolds(ContactRows& rows, std::span<SoftContactPoint> points,
-                     std::span<const SoftManifold> pointManifolds, SolverBodies& bodies,
-                     const SoftPoses& poses, const SoftStepSettings& s, bool useBias) {
+float solveManifolds(const ContactRows& rows, std::span<const SoftContactPoint> points,
+                     std::span<const SoftManifold> pointManifolds, SoftPassRows& packed,
+                     SolverBodies& bodies, const SoftPoses* moved, const SoftStepSettings& s,
+                     bool useBias) {
     float residual = 0.0f;
-    for (const SoftManifold& m : pointManifolds)
-        residual =
-            std::max(residual, solveManifoldNormals(rows, points, m, bodies, poses, s, useBias));
+    for (const std::uint32_t m : packed.landings)
+        residual = std::max(residual, solveManifoldNormals(rows, points, pointManifolds[m], packed,
+                                                           bodies, moved, s, useBias));
     return residual;
 }
 
-// One pass over the contact points: each point's normal row (soft with bias, rigid without; a
-// gap is closed within the substep and no further), then its two friction rows within
-// |lambda_t| <= mu lambda_n. Returns the largest |applied change|, N s.
-float solveContacts(ContactRows& rows, std::span<SoftContactPoint> points, SolverBodies& bodies,
-                    const SoftPoses& poses, const SoftStepSettings& s, bool useBias) {
+// One pass over the packed contact points: each point's normal row (soft with bias, rigid
+// without; a gap is closed within the substep and no further), then its two friction rows
+// within |lambda_t| <= mu lambda_n. With `moved` (the poses, when they moved since the
+// separations were found) each point's separation is found first and kept for the passes until
+// the next move: the poses change only there. Returns the largest |applied change|, N s.
+float solveContacts(SoftPassRows& packed, SolverBodies& bodies, const SoftPoses* moved,
+                    const SoftStepSettings& s, bool useBias) {
     float residual = 0.0f;
     const float inverseH = 1.0f / s.h;
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        if (i + kPrefetchRows < rows.size())
-            prefetchPoint(rows, points, poses, bodies, i + kPrefetchRows);
-        NormalRow& r = rows.normals[i];
-        SoftContactPoint& p = points[i];
-        SolverVelocity& a = bodies.velocity[r.a];
-        SolverVelocity& b = bodies.velocity[r.b];
-        const PointSoftness soft =
-            pointSoftness(p, separationNow(r, p, poses), inverseH, s, useBias);
+    const std::size_t n = packed.normals.size();
+    const float* inverseMass = bodies.inverseMass.data();
+    SolverVelocity* velocity = bodies.velocity.data();
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i + 2 * kPrefetchRows < n) {
+            prefetchLines(packed.normals[i + 2 * kPrefetchRows]);
+            prefetchLines(packed.frictions[i + 2 * kPrefetchRows]);
+            if (moved) prefetchLines(packed.anchors[i + 2 * kPrefetchRows]);
+        }
+        if (i + kPrefetchRows < n) {
+            const SoftNormal& ahead = packed.normals[i + kPrefetchRows];
+            for (const float lane : {ahead.turnA[3], ahead.turnB[3]}) {
+                __builtin_prefetch(&velocity[laneIndex(lane)]);
+                if (!moved) continue;
+                __builtin_prefetch(&moved->moved[laneIndex(lane)]);
+                __builtin_prefetch(&moved->pose[laneIndex(lane)]);
+            }
+        }
+        const SoftNormal& r = packed.normals[i];
+        SoftPointState& p = packed.state[i];
+        if (moved) p.separation = separationNow(packed.anchors[i], *moved);
+        const std::uint32_t ia = laneIndex(r.turnA[3]), ib = laneIndex(r.turnB[3]);
+        SolverVelocity& a = velocity[ia];
+        SolverVelocity& b = velocity[ib];
+        const PointSoftness soft = pointSoftness(r.crossA[3], r.crossB[3], p.impulseScale,
+                                                 p.separation, inverseH, s, useBias);
         const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
         const float change =
-            -r.mass * soft.massScale * (speed + soft.bias) - soft.impulseScale * r.impulse;
-        const float total = std::max(r.impulse + change, 0.0f);
-        const float applied = total - r.impulse;
-        r.impulse = total;
+            -r.normal[3] * soft.massScale * (speed + soft.bias) - soft.impulseScale * p.impulse;
+        const float total = std::max(p.impulse + change, 0.0f);
+        const float applied = total - p.impulse;
+        p.impulse = total;
         p.maxNormalImpulse = std::max(p.maxNormalImpulse, total);
-        applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB, applied);
+        applyRow(a, b, xyz(r.normal), xyz(r.turnA), xyz(r.turnB), inverseMass[ia], inverseMass[ib],
+                 applied);
         residual = std::max(residual, std::abs(applied));
 
-        FrictionRows& f = rows.frictions[i];
-        const float bound = f.friction * r.impulse;
+        SweepFriction& f = packed.frictions[i];
+        const float bound = f.turnB[0][3] * p.impulse;
         for (int k = 0; k < 2; ++k) {
             const float tangentSpeed = rowSpeed(a, b, f.tangent[k], f.crossA[k], f.crossB[k]);
-            const float next = std::clamp(f.impulse[k] - f.mass[k] * tangentSpeed, -bound, bound);
-            const float step = next - f.impulse[k];
-            f.impulse[k] = next;
-            applyRow(a, b, f.tangent[k], f.turnA[k], f.turnB[k], f.inverseMassA, f.inverseMassB,
-                     step);
+            const float before = f.crossB[k][3];
+            const float next = std::clamp(before - f.crossA[k][3] * tangentSpeed, -bound, bound);
+            const float step = next - before;
+            f.crossB[k][3] = next;
+            applyRow(a, b, xyz(f.tangent[k]), xyz(f.turnA[k]), xyz(f.turnB[k]), f.tangent[0][3],
+                     f.tangent[1][3], step);
             residual = std::max(residual, std::abs(step));
         }
     }
     return residual;
 }
 
-void warmStartContacts(const ContactRows& rows, SolverBodies& bodies) {
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        if (i + 2 * kPrefetchRows < rows.size()) {
-            prefetchLines(rows.normals[i + 2 * kPrefetchRows]);
-            prefetchLines(rows.frictions[i + 2 * kPrefetchRows]);
-            const NormalRow& ahead = rows.normals[i + kPrefetchRows];
-            __builtin_prefetch(&bodies.velocity[ahead.a]);
-            __builtin_prefetch(&bodies.velocity[ahead.b]);
+void warmStartContacts(const SoftPassRows& packed, SolverBodies& bodies) {
+    const std::size_t n = packed.normals.size();
+    const float* inverseMass = bodies.inverseMass.data();
+    SolverVelocity* velocity = bodies.velocity.data();
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i + 2 * kPrefetchRows < n) {
+            prefetchLines(packed.normals[i + 2 * kPrefetchRows]);
+            prefetchLines(packed.frictions[i + 2 * kPrefetchRows]);
         }
-        const NormalRow& n = rows.normals[i];
-        SolverVelocity& a = bodies.velocity[n.a];
-        SolverVelocity& b = bodies.velocity[n.b];
-        applyRow(a, b, n.normal, n.turnA, n.turnB, n.inverseMassA, n.inverseMassB, n.impulse);
-        const FrictionRows& f = rows.frictions[i];
+        if (i + kPrefetchRows < n) {
+            const SoftNormal& ahead = packed.normals[i + kPrefetchRows];
+            __builtin_prefetch(&velocity[laneIndex(ahead.turnA[3])]);
+            __builtin_prefetch(&velocity[laneIndex(ahead.turnB[3])]);
+        }
+        const SoftNormal& r = packed.normals[i];
+        const std::uint32_t ia = laneIndex(r.turnA[3]), ib = laneIndex(r.turnB[3]);
+        SolverVelocity& a = velocity[ia];
+        SolverVelocity& b = velocity[ib];
+        applyRow(a, b, xyz(r.normal), xyz(r.turnA), xyz(r.turnB), inverseMass[ia], inverseMass[ib],
+                 packed.state[i].impulse);
+        const SweepFriction& f = packed.frictions[i];
         for (int k = 0; k < 2; ++k)
-            applyRow(a, b, f.tangent[k], f.turnA[k], f.turnB[k], f.inverseMassA, f.inverseMassB,
-                     f.impulse[k]);
+            applyRow(a, b, xyz(f.tangent[k]), xyz(f.turnA[k]), xyz(f.turnB[k]), f.tangent[0][3],
+                     f.tangent[1][3], f.crossB[k][3]);
     }
 }
 
@@ -404,7 +515,7 @@ void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points,
                    std::span<const SoftManifold> pointManifolds, std::span<Joint> joints,
                    SolverBodies& bodies, std::span<const shared::BodyVelocity> start,
                    std::span<const shared::BodyVelocity> afterForces, const SoftStepSettings& s,
-                   SoftPoses& poses, std::vector<float>& residuals) {
+                   SoftPoses& poses, SoftPassRows& packed, std::vector<float>& residuals) {
     const std::size_t n = bodies.velocity.size();
     // Each substep takes its share of the forces' velocity change.
     std::vector<SolverVelocity> forcesShare(n);
@@ -424,16 +535,15 @@ void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points,
             j.turnImpulse = glm::vec2(0.0f);
         }
     }
-    // Each constraint's spring.
-    for (std::size_t i = 0; i < rows.size(); ++i)
-        points[i].soft =
-            softnessFor(s.contactHertz, s.dampingRatio, s.h, rows.normals[i].inverseMassA,
-                        rows.normals[i].inverseMassB, kStillContactHertzScale);
+    // Each constraint's spring (the contacts' in packSoftRows).
     std::vector<Softness> jointSoftness(joints.size());
     for (std::size_t i = 0; i < joints.size(); ++i)
         jointSoftness[i] =
             softnessFor(s.jointHertz, s.jointDampingRatio, s.h, bodies.inverseMass[joints[i].a],
                         bodies.inverseMass[joints[i].b], 1.0f);
+    packSoftRows(rows, points, pointManifolds, s, packed);
+    // The poses, while the points' separations have not been found since they moved.
+    const SoftPoses* moved = &poses;
     residuals.clear();
     for (int sub = 0; sub < s.substeps; ++sub) {
         for (std::size_t i = 0; i < n; ++i) {
@@ -441,19 +551,25 @@ void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points,
             bodies.velocity[i].angular += forcesShare[i].angular;
         }
         warmStartJoints(joints, poses, bodies);
-        warmStartContacts(rows, bodies);
-        float residual = solveManifolds(rows, points, pointManifolds, bodies, poses, s, true);
+        warmStartContacts(packed, bodies);
+        float residual =
+            solveManifolds(rows, points, pointManifolds, packed, bodies, moved, s, true);
         residual = std::max(residual, solveJoints(joints, bodies, poses, jointSoftness, true));
-        residual = std::max(residual, solveContacts(rows, points, bodies, poses, s, true));
+        residual = std::max(residual, solveContacts(packed, bodies, moved, s, true));
+        moved = nullptr;
         residuals.push_back(residual);
         movePoses(bodies, s.h, poses);
+        moved = &poses;
         for (int k = 0; k < s.relaxIterations; ++k) {
-            float relaxed = solveManifolds(rows, points, pointManifolds, bodies, poses, s, false);
+            float relaxed =
+                solveManifolds(rows, points, pointManifolds, packed, bodies, moved, s, false);
             relaxed = std::max(relaxed, solveJoints(joints, bodies, poses, jointSoftness, false));
-            relaxed = std::max(relaxed, solveContacts(rows, points, bodies, poses, s, false));
+            relaxed = std::max(relaxed, solveContacts(packed, bodies, moved, s, false));
+            moved = nullptr;
             residuals.push_back(relaxed);
         }
     }
+    unpackSoftRows(packed, rows, points);
     applyRestitution(rows, points, bodies, s.restitutionThreshold);
     // A landing's impulses stopped a hit, not a load: the next step starts its points cold, so
     // that its warm start does not throw the body back up and leave the point rows to take the

@@ -76,6 +76,52 @@ SoftStepSettings makeSoftStepSettings(const SolverOptions& options, float dt);
 Softness softnessFor(float hertz, float dampingRatio, float h, float ima, float imb,
                      float againstStill);
 
+/// What a pass over the contact points reads of a point's normal row and spring, packed into 80
+/// bytes as PGS packs its rows (SweepNormal): the fourth lanes of the vectors carry the scalars,
+/// and the body indices sit in lanes that only applied vectors have. The inverse masses come
+/// from the bodies (SolverBodies::inverseMass, which the rows copy).
+struct SoftNormal {
+    Lanes normal{}; ///< fourth lane: mass, kg
+    Lanes crossA{}; ///< fourth lane: the spring's biasRate, 1/s
+    Lanes crossB{}; ///< fourth lane: the spring's massScale
+    Lanes turnA{};  ///< fourth lane: body a's index (its bits)
+    Lanes turnB{};  ///< fourth lane: body b's index (its bits)
+};
+static_assert(sizeof(SoftNormal) == 80);
+
+/// What a point's separation at the current poses needs, 80 bytes: the normal, the point's
+/// offsets from the centres of mass at the step's start and in the bodies' frames.
+struct SoftAnchors {
+    Lanes normal{};  ///< fourth lane: the separation at the step's start, m
+    Lanes offsetA{}; ///< world, m
+    Lanes offsetB{};
+    Lanes anchorA{}; ///< body a's frame, m; fourth lane: body a's index (its bits)
+    Lanes anchorB{}; ///< body b's frame, m; fourth lane: body b's index (its bits)
+};
+static_assert(sizeof(SoftAnchors) == 80);
+
+/// What a pass reads and writes of a point besides its packed rows.
+struct SoftPointState {
+    float separation = 0.0f;       ///< at the bodies' poses since they last moved, m
+    float impulseScale = 0.0f;     ///< the spring's
+    float impulse = 0.0f;          ///< accumulated normal impulse, N s
+    float maxNormalImpulse = 0.0f; ///< largest normal impulse of the substeps, N s
+};
+static_assert(sizeof(SoftPointState) == 16);
+
+/// The contact points in the passes' packed form, parallel to ContactRows' arrays, filled once
+/// per step: a large scene's rows and points do not fit in the caches, and every pass streams
+/// them from memory again (352 bytes of rows and 96 of point a point, against 256 packed, and the
+/// anchors' 80 in the first pass after the bodies moved). The friction rows take PGS's packed
+/// form (SweepFriction, the friction impulses in it).
+struct SoftPassRows {
+    std::vector<SoftNormal> normals;
+    std::vector<SweepFriction> frictions;
+    std::vector<SoftAnchors> anchors;
+    std::vector<SoftPointState> state;
+    std::vector<std::uint32_t> landings; ///< the landing manifolds (pointManifolds' indices)
+};
+
 /// The bodies' poses during the substeps, by body index: where each body is now and how far it
 /// has moved since the step began.
 struct SoftPoses {
@@ -107,12 +153,15 @@ void prepareSoftContacts(std::span<const Manifold> manifolds, const ContactRows&
 /// Box2D v3's b2ApplyRestitution). The accumulated impulses are per substep.
 /// residuals[k] is the largest |impulse change| of the k-th pass (biased or relax).
 /// reads: rows, points, pointManifolds, joints, start and afterForces velocities
-/// writes: bodies' velocities, poses (the poses at the step's end), impulses, residuals
+/// writes: bodies' velocities, poses (the poses at the step's end), impulses, packed, residuals
+/// The passes run on a packed copy of the rows and points (`packed`, filled here), and each
+/// point's separation is found in the first pass after the poses moved (and in the first pass)
+/// and kept for the passes until they move again.
 void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points,
                    std::span<const SoftManifold> pointManifolds, std::span<Joint> joints,
                    SolverBodies& bodies, std::span<const shared::BodyVelocity> start,
                    std::span<const shared::BodyVelocity> afterForces,
-                   const SoftStepSettings& settings, SoftPoses& poses,
+                   const SoftStepSettings& settings, SoftPoses& poses, SoftPassRows& packed,
                    std::vector<float>& residuals);
 
 } // namespace rubble

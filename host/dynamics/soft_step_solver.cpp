@@ -46,7 +46,7 @@ Status SoftStepSolver::solve(const SolverScene&, Bodies bodies,
     SoftStepCache& c = cache_;
     const SoftStepSettings settings = makeSoftStepSettings(params.solver, params.dt);
     solveSoftStep(c.contacts, c.points, c.pointManifolds, c.joints, c.bodies, c.start, before,
-                  settings, c.poses, c.residuals);
+                  settings, c.poses, c.packed, c.residuals);
     scatterSolverVelocities(c.bodies, bodies.velocities);
     storeContactImpulses(c.contacts, c.impulses, c.bodies, c.nextImpulses, c.impulseScratch);
     std::swap(c.impulses, c.nextImpulses);

@@ -7,10 +7,10 @@
 
 #include "host/dynamics/contact_rows.h"
 #include "host/dynamics/contact_solver.h"
-#include "host/dynamics/solver_islands.h"
 #include "host/dynamics/joints.h"
 #include "host/dynamics/soft_step.h"
 #include "host/dynamics/solver_bodies.h"
+#include "host/dynamics/solver_islands.h"
 
 namespace rubble {
 
@@ -27,6 +27,7 @@ struct SoftStepCache {
     std::vector<SoftManifold> pointManifolds; ///< each manifold's points, manifold order
     std::vector<shared::BodyVelocity> start;  ///< velocities before the step's forces
     SoftPoses poses;                          ///< the bodies' poses through the substeps
+    SoftPassRows packed;                      ///< the passes' packed rows and points
     std::vector<float> residuals;
     SolverIslands islands; ///< islands and sleep timers
 };
