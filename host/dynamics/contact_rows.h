@@ -3,6 +3,8 @@
 // warm-start them.
 #pragma once
 
+#include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -86,6 +88,54 @@ struct SweepRows {
     std::vector<SweepFriction> frictions;
     std::vector<float> normalImpulse; ///< each point's accumulated normal impulse, N s
 };
+
+/// The first three lanes of a packed row's vector, the fourth (which carries a scalar) cleared:
+/// ready to be applied to velocities.
+inline Lanes xyz(Lanes v) {
+    using Bits = std::uint32_t __attribute__((vector_size(16)));
+    constexpr Bits kMask = {~0u, ~0u, ~0u, 0u};
+    return Lanes((Bits)v & kMask);
+}
+
+/// A body index carried in a packed row's float lane, bit for bit, and back.
+inline float indexLane(std::uint32_t i) {
+    return std::bit_cast<float>(i);
+}
+inline std::uint32_t laneIndex(float lane) {
+    return std::bit_cast<std::uint32_t>(lane);
+}
+
+/// A point's friction rows in the packed form, impulses included.
+inline SweepFriction packFriction(const FrictionRows& f) {
+    SweepFriction q;
+    for (int k = 0; k < 2; ++k) {
+        q.tangent[k] = f.tangent[k];
+        q.crossA[k] = f.crossA[k];
+        q.crossA[k][3] = f.mass[k];
+        q.crossB[k] = f.crossB[k];
+        q.crossB[k][3] = f.impulse[k];
+        q.turnA[k] = f.turnA[k];
+        q.turnB[k] = f.turnB[k];
+    }
+    q.tangent[0][3] = f.inverseMassA;
+    q.tangent[1][3] = f.inverseMassB;
+    q.turnA[0][3] = indexLane(f.a);
+    q.turnA[1][3] = indexLane(f.b);
+    q.turnB[0][3] = f.friction;
+    q.turnB[1][3] = 0.0f;
+    return q;
+}
+
+/// How many points ahead the passes over packed rows ask for their bodies' velocities, and twice
+/// as far for the rows themselves (the bodies' indices are read from them): the rows stream from
+/// memory, the velocities are read at random, and neither arrives in time unasked.
+inline constexpr std::size_t kPrefetchRows = 8;
+
+/// Asks for every cache line of `x`.
+template <typename T> void prefetchLines(const T& x) {
+    for (std::size_t at = 0; at < sizeof(T); at += 64)
+        __builtin_prefetch(reinterpret_cast<const char*>(&x) + at);
+}
 
 /// This step's contact rows; the three arrays run in parallel, one entry per contact point,
 /// point-major: every manifold's first point, then every second point, and so on, manifold order

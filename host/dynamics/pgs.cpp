@@ -2,7 +2,6 @@
 #include "host/dynamics/pgs.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 
 #include "host/core/math.h"
@@ -133,36 +132,6 @@ void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBod
     }
 }
 
-namespace {
-
-// The first three lanes of a vector, the fourth cleared: a packed row's vector whose fourth lane
-// carries a scalar, ready to be applied to velocities.
-Lanes xyz(Lanes v) {
-    using Bits = std::uint32_t __attribute__((vector_size(16)));
-    constexpr Bits kMask = {~0u, ~0u, ~0u, 0u};
-    return Lanes((Bits)v & kMask);
-}
-
-// How many rows ahead the sweeps ask for their bodies' velocities, and twice as far for the rows
-// themselves (the bodies' indices are read from them): the rows stream from memory, the
-// velocities are read at random, and neither arrives in time unasked.
-constexpr std::size_t kPrefetchRows = 8;
-
-template <typename T> void prefetchLines(const T& x) {
-    for (std::size_t at = 0; at < sizeof(T); at += 64)
-        __builtin_prefetch(reinterpret_cast<const char*>(&x) + at);
-}
-
-// A body index carried in a float lane, bit for bit.
-float indexLane(std::uint32_t i) {
-    return std::bit_cast<float>(i);
-}
-std::uint32_t laneIndex(float lane) {
-    return std::bit_cast<std::uint32_t>(lane);
-}
-
-} // namespace
-
 void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart) {
     SweepRows& s = contacts.sweep;
     const std::size_t n = contacts.size();
@@ -184,22 +153,7 @@ void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart
         p.turnB = r.turnB;
         p.turnB[3] = indexLane(r.b);
         s.normalImpulse[i] = r.impulse;
-        SweepFriction& q = s.frictions[i];
-        for (int k = 0; k < 2; ++k) {
-            q.tangent[k] = f.tangent[k];
-            q.crossA[k] = f.crossA[k];
-            q.crossA[k][3] = f.mass[k];
-            q.crossB[k] = f.crossB[k];
-            q.crossB[k][3] = f.impulse[k];
-            q.turnA[k] = f.turnA[k];
-            q.turnB[k] = f.turnB[k];
-        }
-        q.tangent[0][3] = f.inverseMassA;
-        q.tangent[1][3] = f.inverseMassB;
-        q.turnA[0][3] = indexLane(f.a);
-        q.turnA[1][3] = indexLane(f.b);
-        q.turnB[0][3] = f.friction;
-        q.turnB[1][3] = 0.0f;
+        s.frictions[i] = packFriction(f);
         if (!warmStart) continue;
         SolverVelocity& a = bodies.velocity[r.a];
         SolverVelocity& b = bodies.velocity[r.b];

@@ -3,7 +3,6 @@
 #include "host/dynamics/soft_step.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 
 #include "host/core/math.h"
@@ -22,21 +21,6 @@ Lanes rotateLanes(shared::float4 q, glm::vec3 v) {
     return toLanes(toVec3(shared::quatRotate(q, toFloat4(v))));
 }
 
-// The first three lanes of a vector, the fourth cleared: a packed row's vector whose fourth lane
-// carries a scalar, ready to be applied to velocities.
-Lanes xyz(Lanes v) {
-    using Bits = std::uint32_t __attribute__((vector_size(16)));
-    constexpr Bits kMask = {~0u, ~0u, ~0u, 0u};
-    return Lanes((Bits)v & kMask);
-}
-
-// A body index carried in a float lane, bit for bit.
-float indexLane(std::uint32_t i) {
-    return std::bit_cast<float>(i);
-}
-std::uint32_t laneIndex(float lane) {
-    return std::bit_cast<std::uint32_t>(lane);
-}
 
 // A normal row's settings in a pass: the bias speed (m/s), the mass and impulse scales.
 struct PointSoftness {
@@ -53,15 +37,6 @@ float separationNow(const SoftAnchors& p, const SoftPoses& poses) {
     return p.normal[3] + sum3(p.normal * ((pointB - p.offsetB) - (pointA - p.offsetA)));
 }
 
-// How many points ahead the passes over every point ask for their bodies' velocities (and poses),
-// and twice as far for the points' packed data (the bodies' indices are read from it): the
-// points stream from memory, the bodies are read at random.
-constexpr std::size_t kPrefetchRows = 8;
-
-template <typename T> void prefetchLines(const T& x) {
-    for (std::size_t at = 0; at < sizeof(T); at += 64)
-        __builtin_prefetch(reinterpret_cast<const char*>(&x) + at);
-}
 
 // A gap (separation > 0) is closed within the substep and no further, rigidly; an overlap is
 // pushed out by the point's spring (biased pass) or held rigidly (relax pass).
@@ -116,22 +91,7 @@ void packSoftRows(const ContactRows& rows, std::span<SoftContactPoint> points,
         q.turnA[3] = indexLane(r.a);
         q.turnB = r.turnB;
         q.turnB[3] = indexLane(r.b);
-        SweepFriction& g = packed.frictions[i];
-        for (int k = 0; k < 2; ++k) {
-            g.tangent[k] = f.tangent[k];
-            g.crossA[k] = f.crossA[k];
-            g.crossA[k][3] = f.mass[k];
-            g.crossB[k] = f.crossB[k];
-            g.crossB[k][3] = f.impulse[k];
-            g.turnA[k] = f.turnA[k];
-            g.turnB[k] = f.turnB[k];
-        }
-        g.tangent[0][3] = f.inverseMassA;
-        g.tangent[1][3] = f.inverseMassB;
-        g.turnA[0][3] = indexLane(f.a);
-        g.turnA[1][3] = indexLane(f.b);
-        g.turnB[0][3] = f.friction;
-        g.turnB[1][3] = 0.0f;
+        packed.frictions[i] = packFriction(f);
         SoftAnchors& c = packed.anchors[i];
         c.normal = r.normal;
         c.normal[3] = p.separation;
@@ -231,6 +191,27 @@ float solveManifolds(const ContactRows& rows, std::span<const SoftContactPoint> 
     return residual;
 }
 
+// Asks for what a pass over the points reads soon after point i: the packed rows (and, with
+// `moved`, the anchors) of the point kPrefetchRows further on than the next, and the velocities
+// (and, with `moved`, the poses) of the bodies of the point kPrefetchRows on.
+void prefetchAhead(const SoftPassRows& packed, const SolverVelocity* velocity,
+                   const SoftPoses* moved, std::size_t i) {
+    const std::size_t n = packed.normals.size();
+    if (i + 2 * kPrefetchRows < n) {
+        prefetchLines(packed.normals[i + 2 * kPrefetchRows]);
+        prefetchLines(packed.frictions[i + 2 * kPrefetchRows]);
+        if (moved) prefetchLines(packed.anchors[i + 2 * kPrefetchRows]);
+    }
+    if (i + kPrefetchRows >= n) return;
+    const SoftNormal& ahead = packed.normals[i + kPrefetchRows];
+    for (const float lane : {ahead.turnA[3], ahead.turnB[3]}) {
+        __builtin_prefetch(&velocity[laneIndex(lane)]);
+        if (!moved) continue;
+        __builtin_prefetch(&moved->moved[laneIndex(lane)]);
+        __builtin_prefetch(&moved->pose[laneIndex(lane)]);
+    }
+}
+
 // One pass over the packed contact points: each point's normal row (soft with bias, rigid
 // without; a gap is closed within the substep and no further), then its two friction rows
 // within |lambda_t| <= mu lambda_n. With `moved` (the poses, when they moved since the
@@ -244,20 +225,7 @@ float solveContacts(SoftPassRows& packed, SolverBodies& bodies, const SoftPoses*
     const float* inverseMass = bodies.inverseMass.data();
     SolverVelocity* velocity = bodies.velocity.data();
     for (std::size_t i = 0; i < n; ++i) {
-        if (i + 2 * kPrefetchRows < n) {
-            prefetchLines(packed.normals[i + 2 * kPrefetchRows]);
-            prefetchLines(packed.frictions[i + 2 * kPrefetchRows]);
-            if (moved) prefetchLines(packed.anchors[i + 2 * kPrefetchRows]);
-        }
-        if (i + kPrefetchRows < n) {
-            const SoftNormal& ahead = packed.normals[i + kPrefetchRows];
-            for (const float lane : {ahead.turnA[3], ahead.turnB[3]}) {
-                __builtin_prefetch(&velocity[laneIndex(lane)]);
-                if (!moved) continue;
-                __builtin_prefetch(&moved->moved[laneIndex(lane)]);
-                __builtin_prefetch(&moved->pose[laneIndex(lane)]);
-            }
-        }
+        prefetchAhead(packed, velocity, moved, i);
         const SoftNormal& r = packed.normals[i];
         SoftPointState& p = packed.state[i];
         if (moved) p.separation = separationNow(packed.anchors[i], *moved);
@@ -298,15 +266,7 @@ void warmStartContacts(const SoftPassRows& packed, SolverBodies& bodies) {
     const float* inverseMass = bodies.inverseMass.data();
     SolverVelocity* velocity = bodies.velocity.data();
     for (std::size_t i = 0; i < n; ++i) {
-        if (i + 2 * kPrefetchRows < n) {
-            prefetchLines(packed.normals[i + 2 * kPrefetchRows]);
-            prefetchLines(packed.frictions[i + 2 * kPrefetchRows]);
-        }
-        if (i + kPrefetchRows < n) {
-            const SoftNormal& ahead = packed.normals[i + kPrefetchRows];
-            __builtin_prefetch(&velocity[laneIndex(ahead.turnA[3])]);
-            __builtin_prefetch(&velocity[laneIndex(ahead.turnB[3])]);
-        }
+        prefetchAhead(packed, velocity, nullptr, i);
         const SoftNormal& r = packed.normals[i];
         const std::uint32_t ia = laneIndex(r.turnA[3]), ib = laneIndex(r.turnB[3]);
         SolverVelocity& a = velocity[ia];
