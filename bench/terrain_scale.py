@@ -6,6 +6,8 @@ its plane, on the CPU (or with --backend opencl on the device's SAT path), side 
   bench/terrain_scale.py --quads 100 --size 50 --steps 120 --crates 8,4,8   # a quick look
   bench/terrain_scale.py --backend opencl --out bench/results/<machine>/terrain_scale_opencl.csv
   bench/terrain_scale.py --base /work/base/rubble --repeat 3 --out .../terrain_scale_cpu.csv
+  bench/terrain_scale.py --base build/rubble --extra=--recycle-contacts --extra=true --repeat 3 \
+      --out .../terrain_scale_recycle_cpu.csv     # recycling off (base) and on (build)
 
 Writes a folder of its own (--work, a new temporary one by default) holding the terrain (rolling
 hills, every height at or below the plane's y = 0, so that both piles start at the same heights)
@@ -18,7 +20,9 @@ per step, and how deep the deepest crate corner lies below the surface under it 
 With --repeat N the two scenes run N times in turn and each row is one run. With --base PATH a
 second binary (another build, e.g. main's) runs each scene right before --rubble does, in the
 same repeats, so that the two are timed side by side on the same load (column binary: base or
-build; ratio_to_plane against the same binary's plane runs).
+build; ratio_to_plane against the same binary's plane runs). --extra and --base-extra add
+arguments to the runs of --rubble and of --base (column args), e.g. one binary with and without
+an option.
 Python's standard library only; bench/run's machine name.
 """
 import argparse
@@ -174,10 +178,10 @@ BACKENDS = {"cpu": ([], "cpu-sat-pgs"),
             "opencl": (["--backend", "opencl", "--collision", "sat"], "opencl-sat-pgs")}
 
 
-def run(rubble, scene, steps, folder, tag, backend):
+def run(rubble, scene, steps, folder, tag, backend, extra):
     metrics, state = os.path.join(folder, tag + ".json"), os.path.join(folder, tag + ".csv")
     command = [rubble, "run", scene, "--steps", str(steps), "--every", str(steps),
-               "--metrics", metrics, "--out", state] + BACKENDS[backend][0]
+               "--metrics", metrics, "--out", state] + BACKENDS[backend][0] + extra
     print(" ".join(command), flush=True)
     done = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if done.returncode != 0:
@@ -214,6 +218,10 @@ def main():
     ap.add_argument("--crates", default="32,16,32", help="the grid of crates (debris_16k's)")
     ap.add_argument("--base", help="a second rubble binary run alternately with --rubble")
     ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--extra", action="append", default=[],
+                    help="an argument added to --rubble's runs (repeat for more)")
+    ap.add_argument("--base-extra", action="append", default=[],
+                    help="an argument added to --base's runs (repeat for more)")
     ap.add_argument("--backend", choices=sorted(BACKENDS), default="cpu",
                     help="cpu, or opencl (the device's SAT + PGS path)")
     ap.add_argument("--work", help="folder for the meshes, scenes and runs (default: a new one)")
@@ -260,19 +268,19 @@ def main():
             json.dump(s, f, indent=1)
 
     floors = {"pile_on_plane": lambda x, z: 0.0, "pile_on_terrain_mesh": terrain.surface}
-    binaries = [("base", args.base)] if args.base else []
-    binaries.append(("build", args.rubble))
+    binaries = [("base", args.base, args.base_extra)] if args.base else []
+    binaries.append(("build", args.rubble, args.extra))
     results = []
     for k in range(args.repeat):
         for name, path in scenes.items():
-            for binary, rubble in binaries:
+            for binary, rubble, extra in binaries:
                 m, rows = run(rubble, path, args.steps, folder, "%s_%s_%d" % (name, binary, k),
-                              args.backend)
+                              args.backend, extra)
                 worst, who, off = deepest_below(rows, grid["name_prefix"], half, floors[name])
                 stages = m.get("stages_ms", {})
                 results.append({
                     "scene": name, "config": BACKENDS[args.backend][1], "binary": binary,
-                    "repeat": k,
+                    "args": " ".join(extra), "repeat": k,
                     "floor_triangles": mesh_triangles if name != "pile_on_plane" else 0,
                     "surface_triangles": terrain.triangles() if name != "pile_on_plane" else 0,
                     "terrain_cell_m": round(terrain.cell, 5) if name != "pile_on_plane" else "",

@@ -3,12 +3,84 @@
 #include "host/collision/level_collision.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <utility>
 
 #include "host/core/math.h"
 
 namespace rubble {
+namespace {
+
+// What made a level contact, from the low field of its feature id
+// (rubble/shared/triangle_hull_contact.h): an edge pair (tested first: its tag holds the hull
+// edge's index too), the triangle clipped to a face of the body (the point lies on the
+// triangle), a face of the body clipped to the triangle's prism (the point lies on the body).
+// Spheres and capsules use tags below these.
+constexpr std::uint32_t kTagEdges = 0x4000u;
+constexpr std::uint32_t kTagOnTriangle = 0x2000u;
+constexpr std::uint32_t kTagOnBody = 0x1000u;
+
+// The farthest a point of the body can have moved in the level's frame since `made`, m: its
+// origin's move plus the chord 2 sin(theta / 2) = ||R - R0||_F / sqrt(2) of its turn times its
+// bounding radius.
+float levelDrift(const shared::RigidTransform& made, const shared::RigidTransform& now,
+                 float bodyRadius) {
+    const shared::Mat3 r = now.rotation, q = made.rotation;
+    const shared::float4 d0 = shared::sub4(r.r0, q.r0), d1 = shared::sub4(r.r1, q.r1),
+                         d2 = shared::sub4(r.r2, q.r2);
+    const float chord =
+        std::sqrt(0.5f * (shared::dot3(d0, d0) + shared::dot3(d1, d1) + shared::dot3(d2, d2)));
+    return shared::length3(shared::sub4(now.translation, made.translation)) + chord * bodyRadius;
+}
+
+// A level manifold (level frame, normal from the level to the body) kept with the body at
+// `bodyInLevel`: each point's surface point on the level (level frame) and on the body (body
+// frame), at depth / 2 on either side of it along the normal.
+shared::RecycledManifold keptLevelManifold(const shared::ContactManifold& inLevel,
+                                           const shared::RigidTransform& bodyInLevel) {
+    shared::RecycledManifold r = shared::emptyRecycledManifoldItem();
+    r.made = bodyInLevel;
+    r.normal = inLevel.normal;
+    r.count = inLevel.count;
+    for (std::uint32_t i = 0; i < inLevel.count; ++i) {
+        const shared::float4 p =
+            shared::vec4(inLevel.points[i].x, inLevel.points[i].y, inLevel.points[i].z);
+        const shared::float4 half = shared::scale4(inLevel.normal, 0.5f * inLevel.points[i].w);
+        r.pointA[i] = shared::add4(p, half);
+        r.pointB[i] = shared::transformApplyInverse(bodyInLevel, shared::sub4(p, half));
+        r.features[i] = inLevel.features[i];
+    }
+    return r;
+}
+
+// A kept level manifold with the body at `bodyInLevel`, level frame: each point's separation
+// along the kept normal recomputed and the point placed where the triangle test puts it; points
+// beyond the margin left out.
+shared::ContactManifold rebuiltLevelManifold(const shared::RecycledManifold& r,
+                                             const shared::RigidTransform& bodyInLevel,
+                                             float margin) {
+    shared::ContactManifold m = shared::emptyContactsItem();
+    const shared::float4 n = r.normal;
+    m.normal = n;
+    for (std::uint32_t i = 0; i < r.count; ++i) {
+        const shared::float4 onLevel = r.pointA[i];
+        const shared::float4 onBody = shared::transformApply(bodyInLevel, r.pointB[i]);
+        const float s = shared::dot3(n, shared::sub4(onBody, onLevel));
+        if (s > margin) continue;
+        const std::uint32_t tag = r.features[i] & 0x7FFFu;
+        const shared::float4 half = shared::scale4(n, 0.5f * s);
+        const shared::float4 position =
+            (tag & kTagEdges)        ? shared::scale4(shared::add4(onLevel, onBody), 0.5f)
+            : (tag & kTagOnTriangle) ? shared::add4(onLevel, half)
+            : (tag & kTagOnBody)     ? shared::sub4(onBody, half)
+                                     : shared::scale4(shared::add4(onLevel, onBody), 0.5f);
+        shared::addContactItem(&m, position, -s, r.features[i]);
+    }
+    return m;
+}
+
+} // namespace
 
 void reduceContacts(const std::vector<TriangleContact>& contacts,
                     const std::vector<std::uint32_t>& group, std::vector<std::uint32_t>& kept) {
@@ -81,6 +153,17 @@ void LevelCandidateCache::candidates(const BodyPair& pair, const LevelMesh& leve
         if (boxesOverlap(boxes[nextTriangles_[k]], query)) out.push_back(nextTriangles_[k]);
 }
 
+void LevelCandidateCache::carry(const BodyPair& pair) {
+    while (cursor_ < entries_.size() && entries_[cursor_].pair < pair) ++cursor_;
+    if (cursor_ == entries_.size() || !(entries_[cursor_].pair == pair)) return;
+    Entry entry = entries_[cursor_];
+    const auto first = std::ptrdiff_t(entry.first);
+    entry.first = std::uint32_t(nextTriangles_.size());
+    nextTriangles_.insert(nextTriangles_.end(), triangles_.begin() + first,
+                          triangles_.begin() + first + std::ptrdiff_t(entry.count));
+    next_.push_back(entry);
+}
+
 const BvhBox* LevelCandidateCache::keptBox(const BodyPair& pair) const {
     const auto at = std::lower_bound(entries_.begin(), entries_.end(), pair,
                                      [](const Entry& e, const BodyPair& p) { return e.pair < p; });
@@ -103,6 +186,79 @@ void LevelCandidateCache::clear() {
 bool LevelCandidateCache::contains(const BvhBox& outer, const BvhBox& inner) {
     return outer.min.x <= inner.min.x && outer.min.y <= inner.min.y && outer.min.z <= inner.min.z &&
            inner.max.x <= outer.max.x && inner.max.y <= outer.max.y && inner.max.z <= outer.max.z;
+}
+
+void LevelManifoldCache::beginStep() {
+    next_.clear();
+    nextManifolds_.clear();
+    cursor_ = 0;
+    recycled_ = 0;
+}
+
+bool LevelManifoldCache::recycle(const BodyPair& pair, const shared::RigidTransform& levelAt,
+                                 const shared::RigidTransform& bodyInLevel, float bodyRadius,
+                                 float margin, std::vector<shared::ContactManifold>& out) {
+    // Pairs come in ascending order, as last step's entries are kept: walk them alongside.
+    while (cursor_ < entries_.size() && entries_[cursor_].pair < pair) ++cursor_;
+    if (cursor_ == entries_.size() || !(entries_[cursor_].pair == pair)) return false;
+    const Entry& kept = entries_[cursor_];
+    // The manifolds of one pair were made together: the first holds their pose and age.
+    const shared::RecycledManifold& made = manifolds_[kept.first];
+    if (made.age >= RUBBLE_RECYCLE_MAX_AGE || margin > kept.margin + RUBBLE_RECYCLE_DISTANCE ||
+        levelDrift(made.made, bodyInLevel, bodyRadius) > RUBBLE_RECYCLE_DISTANCE)
+        return false;
+    const std::size_t start = out.size();
+    std::uint32_t points = 0;
+    for (std::uint32_t k = kept.first; k < kept.first + kept.count; ++k) {
+        const shared::ContactManifold m = rebuiltLevelManifold(manifolds_[k], bodyInLevel, margin);
+        if (m.count == 0) continue;
+        out.push_back(shared::contactsToWorldItem(m, levelAt, 0));
+        points += m.count;
+    }
+    // Every point moved past the margin: the triangles tell what touches now.
+    if (points == 0) {
+        out.resize(start);
+        return false;
+    }
+    next_.push_back(Entry{pair, std::uint32_t(nextManifolds_.size()), kept.count, kept.margin});
+    for (std::uint32_t k = kept.first; k < kept.first + kept.count; ++k) {
+        nextManifolds_.push_back(manifolds_[k]);
+        nextManifolds_.back().age += 1u;
+    }
+    ++recycled_;
+    return true;
+}
+
+void LevelManifoldCache::keep(const BodyPair& pair, const shared::RigidTransform& levelAt,
+                              const shared::RigidTransform& bodyInLevel, float margin,
+                              std::span<const shared::ContactManifold> manifolds) {
+    Entry entry{pair, std::uint32_t(nextManifolds_.size()), 0, margin};
+    for (const shared::ContactManifold& world : manifolds) {
+        if (world.count == 0) continue;
+        // Back into the level's frame, where the level's points stay put.
+        shared::ContactManifold inLevel = world;
+        inLevel.normal = shared::transformRotateInverse(levelAt, world.normal);
+        for (std::uint32_t i = 0; i < world.count; ++i) {
+            const shared::float4 p = shared::transformApplyInverse(levelAt, world.points[i]);
+            inLevel.points[i] = shared::make4(p.x, p.y, p.z, world.points[i].w);
+        }
+        nextManifolds_.push_back(keptLevelManifold(inLevel, bodyInLevel));
+        ++entry.count;
+    }
+    if (entry.count > 0) next_.push_back(entry);
+}
+
+void LevelManifoldCache::endStep() {
+    std::swap(entries_, next_);
+    std::swap(manifolds_, nextManifolds_);
+}
+
+void LevelManifoldCache::clear() {
+    entries_.clear();
+    next_.clear();
+    manifolds_.clear();
+    nextManifolds_.clear();
+    cursor_ = 0;
 }
 
 void collideLevel(const LevelMesh& level, const shared::RigidTransform& levelAt, const Shape& other,

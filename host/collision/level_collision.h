@@ -3,7 +3,9 @@
 // mesh's hierarchy, each collided (triangle_contact.h), their contacts grouped by normal and
 // each group reduced to a manifold of at most four points (rubble/shared/level_contact.h, whose
 // device twin keeps the group with the deepest point). Each pair's triangles under a grown box
-// are kept between steps (LevelCandidateCache) while the body's box stays inside it.
+// are kept between steps (LevelCandidateCache) while the body's box stays inside it; with
+// recycle_contacts its manifolds are kept too (LevelManifoldCache) and stand for new ones while
+// the body has hardly moved.
 #pragma once
 
 #include <cstdint>
@@ -14,6 +16,7 @@
 #include "host/collision/triangle_contact.h"
 #include "host/geometry/shape.h"
 #include "rubble/shared/clip.h"
+#include "rubble/shared/contact_recycling.h"
 #include "rubble/shared/hull.h"
 #include "rubble/shared/level_contact.h"
 
@@ -52,6 +55,9 @@ class LevelCandidateCache {
     /// frame), ascending, into `out`. Pairs must come in ascending order within a step.
     void candidates(const BodyPair& pair, const LevelMesh& level, const BvhBox& query,
                     std::vector<std::uint32_t>& out);
+    /// Carries `pair`'s kept triangles to the next step untouched, for a pair that does not
+    /// collide its triangles this step (its manifolds are recycled). Same order as candidates.
+    void carry(const BodyPair& pair);
     /// Ends a step: its pairs are kept for the next.
     void endStep();
     /// Forgets every pair (they name bodies by index).
@@ -78,6 +84,63 @@ class LevelCandidateCache {
     std::vector<std::uint32_t> triangles_, nextTriangles_; ///< the entries' triangles
     std::size_t cursor_ = 0;
     std::uint32_t reused_ = 0, queried_ = 0;
+};
+
+/// With recycle_contacts (StepParams::recycleContacts), each (body, static level) pair's
+/// manifolds, kept in the frames of the level and of the body as a hull pair keeps its one
+/// (shared::RecycledManifold per manifold, the level as body a). While no point of the body can
+/// have moved by more than RUBBLE_RECYCLE_DISTANCE against the level since they were made (its
+/// origin's move plus the turn's chord times its bounding radius, in the level's frame), they
+/// stand for new ones: each point keeps its surface point on the level and on the body, its
+/// separation is recomputed along the normal kept in the level's frame, and it is placed as the
+/// triangle test places it (from the body's point where the triangle's face clipped the body,
+/// from the triangle's where a face of the body clipped the triangle, midway otherwise). The
+/// pair's margin may be at most RUBBLE_RECYCLE_DISTANCE wider than the one the manifolds were
+/// made with (a triangle point left out then is still 3.5 mm clear at the end of the step, as
+/// for a hull pair; the margin of a body resting on a level holds the step's gravity, g dt^2),
+/// and they are recycled at most RUBBLE_RECYCLE_MAX_AGE steps in a row. Pairs not seen in a
+/// step are forgotten; a pair whose last collision gave no contact keeps nothing.
+class LevelManifoldCache {
+  public:
+    /// Starts a step: the pairs given from here on replace last step's.
+    void beginStep();
+    /// When `pair` may recycle last step's manifolds with the body at `bodyInLevel` (its pose
+    /// in the level's frame; the level at `levelAt`), appends them rebuilt to `out` (world
+    /// frame, normals from the level to the body, points beyond `margin` left out), keeps them
+    /// for the next step and returns true; otherwise (nothing kept, past a limit, every point
+    /// beyond the margin) leaves `out` alone and returns false. `bodyRadius` is the body's
+    /// bounding radius (m). Pairs must come in ascending order within a step.
+    bool recycle(const BodyPair& pair, const shared::RigidTransform& levelAt,
+                 const shared::RigidTransform& bodyInLevel, float bodyRadius, float margin,
+                 std::vector<shared::ContactManifold>& out);
+    /// Keeps the manifolds the triangles just gave `pair` with `margin` (world frame, normals
+    /// from the level to the body, as collideLevelTriangles makes them) with the body at
+    /// `bodyInLevel`.
+    void keep(const BodyPair& pair, const shared::RigidTransform& levelAt,
+              const shared::RigidTransform& bodyInLevel, float margin,
+              std::span<const shared::ContactManifold> manifolds);
+    /// Ends a step: its pairs are kept for the next.
+    void endStep();
+    /// Forgets every pair (they name bodies by index).
+    void clear();
+
+    /// This step's pairs whose manifolds were recycled.
+    std::uint32_t recycled() const { return recycled_; }
+    /// Pairs kept for the next step (after endStep).
+    std::size_t size() const { return entries_.size(); }
+
+  private:
+    struct Entry {
+        BodyPair pair;
+        std::uint32_t first = 0; ///< its manifolds in the pool
+        std::uint32_t count = 0;
+        float margin = 0.0f; ///< the pair's margin when they were made, m
+    };
+
+    std::vector<Entry> entries_, next_; ///< sorted by pair
+    std::vector<shared::RecycledManifold> manifolds_, nextManifolds_;
+    std::size_t cursor_ = 0;
+    std::uint32_t recycled_ = 0;
 };
 
 /// The static level mesh at `levelAt` against `other` (a box, convex hull, mesh hull, sphere or

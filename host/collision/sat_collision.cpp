@@ -105,6 +105,7 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
     c.nextFeatures.clear();
     c.nextRecycled.clear();
     c.levelCandidates.beginStep();
+    c.levelRecycled.beginStep();
     // Kept manifolds only from a step that kept them for every feature.
     const bool recycle = params.recycleContacts;
     const bool haveRecycled = recycle && c.recycled.size() == c.features.size();
@@ -134,11 +135,23 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
             const std::uint32_t mesh = levelA ? pair.a : pair.b, body = levelA ? pair.b : pair.a;
             const LevelMesh& level = *scene.shapes[bodies.shapeOf[mesh]].level;
             const Shape& other = scene.shapes[bodies.shapeOf[body]];
-            c.levelCandidates.candidates(pair, level,
-                                         levelQueryBox(c.transforms[mesh], c.boxes[body]),
-                                         c.level.triangles);
-            collideLevelTriangles(level, c.transforms[mesh], other, c.transforms[body],
-                                  c.level.triangles, margin, c.level, c.levelManifolds);
+            const shared::RigidTransform& levelAt = c.transforms[mesh];
+            // A body that has hardly moved on the level keeps its manifolds; its triangles stay
+            // kept for when it moves on.
+            const shared::RigidTransform bodyInLevel =
+                recycle ? shared::transformRelative(levelAt, c.transforms[body]) : levelAt;
+            const float radius = c.hulls.shapes[bodies.shapeOf[body]].boundingRadius;
+            if (recycle && c.levelRecycled.recycle(pair, levelAt, bodyInLevel, radius, margin,
+                                                   c.levelManifolds)) {
+                c.levelCandidates.carry(pair);
+            } else {
+                c.levelCandidates.candidates(pair, level, levelQueryBox(levelAt, c.boxes[body]),
+                                             c.level.triangles);
+                collideLevelTriangles(level, levelAt, other, c.transforms[body],
+                                      c.level.triangles, margin, c.level, c.levelManifolds);
+                if (recycle)
+                    c.levelRecycled.keep(pair, levelAt, bodyInLevel, margin, c.levelManifolds);
+            }
             if (levelB)
                 for (shared::ContactManifold& m : c.levelManifolds)
                     m.normal = shared::negate4(m.normal);
@@ -188,6 +201,7 @@ Status SatCollision::narrowPhase(const CollisionScene& scene, BodiesView bodies,
     std::swap(c.features, c.nextFeatures);
     std::swap(c.recycled, c.nextRecycled);
     c.levelCandidates.endStep();
+    c.levelRecycled.endStep();
     out.contactCount = std::uint32_t(contacts);
     out.largestPenetration = deepest;
     if (form_ == ContactForm::Points) manifoldsToContacts(out.manifolds, out.points);
@@ -206,6 +220,7 @@ Status SatCollision::rebuild(const CollisionScene& scene, BodiesView, float) {
     cache_.recycled.clear();
     cache_.nextRecycled.clear();
     cache_.levelCandidates.clear();
+    cache_.levelRecycled.clear();
     return {};
 }
 

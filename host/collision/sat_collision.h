@@ -41,6 +41,7 @@ struct CollisionCache {
     ClipSpace clip;                          ///< for the hulls' largest face
     LevelScratch level;                      ///< pairs with a static mesh
     LevelCandidateCache levelCandidates;     ///< their triangles, kept between steps
+    LevelManifoldCache levelRecycled;        ///< their manifolds, with recycleContacts
     std::vector<shared::ContactManifold> levelManifolds;
 };
 
@@ -67,13 +68,15 @@ class SatCollision final : public CollisionStage {
     /// per group of contacts sharing a normal, over the triangles the cache kept for the pair
     /// (LevelCandidateCache; the same triangles as a fresh query). With
     /// StepParams::recycleContacts a hull pair that moved little against itself keeps last
-    /// step's manifold (rubble/shared/contact_recycling.h).
+    /// step's manifold (rubble/shared/contact_recycling.h), and a level pair its manifolds
+    /// (LevelManifoldCache).
     Status narrowPhase(const CollisionScene& scene, BodiesView bodies,
                        const StepParams& params, StepContacts& out) override;
     /// The manifolds' points (manifoldsToContacts).
     void contactPoints(const StepContacts& contacts,
                        std::vector<shared::ParticleContact>& points) const override;
-    /// Forgets the cached features and level triangles (they name bodies by index) and flattens
+    /// Forgets the cached features and level triangles and manifolds (they name bodies by index)
+    /// and flattens
     /// the shapes.
     Status rebuild(const CollisionScene& scene, BodiesView bodies, float particleSpacing) override;
 

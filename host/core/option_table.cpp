@@ -162,9 +162,9 @@ const std::vector<Option>& table() {
             {.key = "collision.recycle_contacts",
              .name = "recycle-contacts",
              .uses = kEverywhere,
-             .help = "SAT on the cpu backend: hull pairs that moved less than 0.25 mm "
-                     "against each other keep their manifold, its depths recomputed "
-                     "(docs/collision.md)"}),
+             .help = "SAT on the cpu backend: hull pairs, and bodies on static meshes, that "
+                     "moved less than 0.25 mm against each other keep their manifolds, their "
+                     "depths recomputed (docs/collision.md)"}),
         simulationOption<&S::solver, &SolverOptions::type>({.key = "solver.type",
                                                             .name = "solver",
                                                             .uses = kEverywhere,

@@ -23,7 +23,7 @@ struct StepParams {
     CollisionMethod collision = CollisionMethod::Sat;
     float particleSpacing = 0.1f;     ///< m
     bool continuous = true;           ///< contact margins widened by the motion (SatCollision)
-    bool recycleContacts = false;     ///< hull pairs that moved little keep their manifolds
+    bool recycleContacts = false;     ///< hull and level pairs that moved little keep manifolds
     SolverOptions solver;             ///< the scene's solver block as given
     shared::SolverParams rows{};      ///< the contact rows of the jacobi family (solverParams)
     float jacobiRelaxation = 1.0f;    ///< jacobiRelaxation(solver)

@@ -80,9 +80,10 @@ struct CollisionOptions {
     /// (SimulationOptions::collisionMethod; a world holds the one in effect).
     std::optional<CollisionMethod> method;
     float particleSpacing = 0.1f; ///< voxel size of the particle representation, m
-    /// Contact recycling (SAT on the CPU): a hull pair that has moved less than
-    /// RUBBLE_RECYCLE_DISTANCE (0.25 mm) against itself since its manifold was made keeps that manifold,
-    /// its separations recomputed, instead of running SAT and clipping (docs/collision.md).
+    /// Contact recycling (SAT on the CPU): a hull pair, or a body on a static level mesh, that has
+    /// moved less than RUBBLE_RECYCLE_DISTANCE (0.25 mm) against itself since its manifolds were
+    /// made keeps them, their separations recomputed, instead of running SAT or the triangle
+    /// tests and clipping (docs/collision.md).
     bool recycleContacts = false;
 };
 

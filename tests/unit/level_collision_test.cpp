@@ -1,8 +1,10 @@
 // tests/unit/level_collision_test.cpp: host/collision/level_collision: the triangles a (body,
 // level) pair keeps between steps (LevelCandidateCache) against a fresh hierarchy query each
-// step: the same contacts while the body rests or slides, a new query when it leaves its region.
+// step: the same contacts while the body rests or slides, a new query when it leaves its region;
+// and the manifolds it recycles (LevelManifoldCache) against fresh ones.
 #include "host/collision/level_collision.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <utility>
@@ -182,6 +184,175 @@ TEST(LevelCandidateCache, PairIsQueriedAgainPastTheMargin) {
     EXPECT_EQ(pair.cache.keptBox(kPair), nullptr);
     pair.step(moved, level);
     EXPECT_EQ(pair.cache.queried(), 1u);
+}
+
+// One pair stepped through crate poses with recycling (LevelManifoldCache), as the narrow phase
+// runs it, and collided afresh each step.
+struct RecyclingPair {
+    explicit RecyclingPair(LevelMesh mesh) : level(std::move(mesh)) {}
+
+    LevelMesh level;
+    Shape crate = crateShape();
+    HullData hulls = flattenHulls(std::span<const Shape>(&crate, 1));
+    shared::RigidTransform levelAt = Pair::transformAt(glm::vec3(0.0f), glm::quat(1, 0, 0, 0));
+    LevelCandidateCache candidates;
+    LevelManifoldCache manifolds;
+    LevelScratch recycledScratch, freshScratch;
+    std::vector<shared::ContactManifold> recycled, fresh;
+
+    // One step with the crate at (p, q) and the pair's margin: whether it recycled.
+    bool step(glm::vec3 p, glm::quat q, float margin = RUBBLE_CONTACT_MARGIN) {
+        const shared::RigidTransform t = Pair::transformAt(p, q);
+        const shared::BodyBox wb = shared::worldBoxItem(hulls.shapes[0], t, margin);
+        const Aabb box{toVec3(wb.min), toVec3(wb.max)};
+        const shared::RigidTransform inLevel = shared::transformRelative(levelAt, t);
+        recycled.clear();
+        fresh.clear();
+        candidates.beginStep();
+        manifolds.beginStep();
+        const float radius = hulls.shapes[0].boundingRadius;
+        const bool kept = manifolds.recycle(kPair, levelAt, inLevel, radius, margin, recycled);
+        if (kept) {
+            candidates.carry(kPair);
+        } else {
+            candidates.candidates(kPair, level, levelQueryBox(levelAt, box),
+                                  recycledScratch.triangles);
+            collideLevelTriangles(level, levelAt, crate, t, recycledScratch.triangles, margin,
+                                  recycledScratch, recycled);
+            manifolds.keep(kPair, levelAt, inLevel, margin, recycled);
+        }
+        candidates.endStep();
+        manifolds.endStep();
+        collideLevel(level, levelAt, crate, t, box, margin, freshScratch, fresh);
+        return kept;
+    }
+
+    // Every fresh point has a recycled point of the same feature within `along` (m) of it and
+    // within `tolerance` (m) of its depth, and the two have as many points, with normals within
+    // `tolerance`.
+    void expectCloseToFresh(float along, float tolerance, int step) const {
+        std::size_t recycledPoints = 0, freshPoints = 0;
+        for (const shared::ContactManifold& m : recycled) recycledPoints += m.count;
+        for (const shared::ContactManifold& f : fresh) {
+            freshPoints += f.count;
+            for (std::uint32_t k = 0; k < f.count; ++k) {
+                const shared::ContactManifold* match = nullptr;
+                std::uint32_t at = 0;
+                for (const shared::ContactManifold& m : recycled)
+                    for (std::uint32_t j = 0; j < m.count; ++j)
+                        if (m.features[j] == f.features[k]) match = &m, at = j;
+                ASSERT_NE(match, nullptr) << "a fresh point is missing, step " << step;
+                EXPECT_LT(glm::distance(toVec3(match->normal), toVec3(f.normal)), tolerance);
+                EXPECT_LT(glm::distance(toVec3(match->points[at]), toVec3(f.points[k])), along)
+                    << "step " << step;
+                EXPECT_NEAR(match->points[at].w, f.points[k].w, tolerance)
+                    << "depth, step " << step;
+            }
+        }
+        EXPECT_EQ(recycledPoints, freshPoints) << "step " << step;
+    }
+
+    // The deepest recycled point is as deep as the deepest fresh one, within `tolerance` (m).
+    void expectAsDeepAsFresh(float tolerance, int step) const {
+        const auto deepest = [](const std::vector<shared::ContactManifold>& set) {
+            float d = -1.0f;
+            for (const shared::ContactManifold& m : set)
+                for (std::uint32_t k = 0; k < m.count; ++k) d = std::max(d, m.points[k].w);
+            return d;
+        };
+        EXPECT_NEAR(deepest(recycled), deepest(fresh), tolerance) << "step " << step;
+    }
+};
+
+// The crate's resting height on a flat grid of 0.25 m quads at y = 0.
+constexpr float kRestY = 0.5f - 0.001f;
+
+TEST(LevelManifoldCache, CrateAtRestRecyclesUpToTheAgeLimit) {
+    // A crate resting 1 mm deep on a flat grid, trembling by 20 micrometres: its manifold is
+    // kept for RUBBLE_RECYCLE_MAX_AGE steps, then made afresh, and a recycled manifold is the
+    // fresh one: the same features and depths (within a micrometre), the points within the
+    // recycling limit (a point where an edge of the crate crosses a triangle's side slides along
+    // the edge as the crate moves; a recycled one stays where it was made).
+    RecyclingPair pair(rollingGrid(24, 0.25f, 0.0f));
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    const glm::quat turn = glm::angleAxis(0.3f, glm::vec3(0, 1, 0));
+    int recycled = 0;
+    for (int i = 0; i < 50; ++i) {
+        const glm::vec3 p = glm::vec3(0.1f, kRestY, -0.05f) + 2e-5f * glm::vec3(u(rng), 0, u(rng));
+        const bool kept = pair.step(p, turn);
+        EXPECT_EQ(kept, i % int(RUBBLE_RECYCLE_MAX_AGE + 1) != 0) << "step " << i;
+        recycled += int(kept);
+        ASSERT_EQ(pair.fresh.size(), 1u) << "one manifold on a flat mesh";
+        ASSERT_EQ(pair.fresh[0].count, 4u) << "its four corners";
+        pair.expectCloseToFresh(RUBBLE_RECYCLE_DISTANCE, 1e-6f, i);
+    }
+    EXPECT_EQ(recycled, 40);
+    EXPECT_EQ(pair.manifolds.size(), 1u);
+}
+
+TEST(LevelManifoldCache, RecycledCornersMoveWithTheBody) {
+    // The crate slides 0.2 mm in one step, within the limit: the corners (points of the crate's
+    // face clipped to the triangles) move with it and keep their depths, as the fresh ones do.
+    RecyclingPair pair(rollingGrid(24, 0.25f, 0.0f));
+    const glm::quat turn = glm::angleAxis(0.3f, glm::vec3(0, 1, 0));
+    const glm::vec3 p(0.1f, kRestY, -0.05f);
+    ASSERT_FALSE(pair.step(p, turn));
+    ASSERT_TRUE(pair.step(p + glm::vec3(2e-4f, 0.0f, 0.0f), turn));
+    pair.expectCloseToFresh(1e-6f, 1e-6f, 1);
+    // Sinking by 0.2 mm deepens every point by as much.
+    ASSERT_TRUE(pair.step(p + glm::vec3(0.0f, -2e-4f, 0.0f), turn));
+    pair.expectCloseToFresh(1e-6f, 1e-6f, 2);
+    EXPECT_NEAR(pair.recycled[0].points[0].w, 1.2e-3f, 1e-6f);
+}
+
+TEST(LevelManifoldCache, SlidingCrateGetsFreshManifoldsPastTheLimit) {
+    // A crate sliding 3 m across rolling ground at 2 cm a step and one creeping at 0.1 mm a step:
+    // the first never recycles; the second recycles only while within 0.25 mm of where its
+    // manifolds were made. Both are always as deep as a fresh collision, to within the limit: no
+    // point stays behind (sinks) or ahead (floats) of the body.
+    for (const float stride : {0.02f, 1e-4f}) {
+        RecyclingPair pair(rollingGrid(40, 0.2f, 0.03f));
+        int recycled = 0;
+        for (int i = 0; i < 150; ++i) {
+            const glm::vec3 p(-1.5f + stride * float(i), 0.48f, 0.1f);
+            const glm::quat q = glm::angleAxis(0.1f * stride * float(i), glm::vec3(0, 1, 0));
+            recycled += int(pair.step(p, q));
+            ASSERT_GE(pair.fresh.size(), 1u) << "step " << i;
+            pair.expectAsDeepAsFresh(RUBBLE_RECYCLE_DISTANCE, i);
+        }
+        if (stride > RUBBLE_RECYCLE_DISTANCE)
+            EXPECT_EQ(recycled, 0) << "stride " << stride;
+        else
+            EXPECT_EQ(recycled, 100) << "two of every three steps, stride " << stride;
+    }
+}
+
+TEST(LevelManifoldCache, WideMarginTurnOrAbsenceMakesAFreshManifold) {
+    RecyclingPair pair(rollingGrid(24, 0.25f, 0.0f));
+    const glm::vec3 p(0.1f, kRestY, -0.05f);
+    const glm::quat level(1, 0, 0, 0);
+    // A body resting on a level starts each step with the step's gravity, g dt: its margin
+    // holds g dt^2 = 2.7 mm at 60 Hz, every step alike, and its manifolds are recycled.
+    const float resting = RUBBLE_CONTACT_MARGIN + 9.81f / 3600.0f;
+    ASSERT_FALSE(pair.step(p, level, resting));
+    EXPECT_TRUE(pair.step(p, level, resting));
+    // A margin widened by more than the limit since they were made (the body speeds up by more
+    // than 1.5 cm/s).
+    EXPECT_FALSE(pair.step(p, level, resting + 2.0f * RUBBLE_RECYCLE_DISTANCE));
+    EXPECT_TRUE(pair.step(p, level, resting + RUBBLE_RECYCLE_DISTANCE));
+    // A turn of 1 mrad moves the crate's corners (0.87 m out) by 0.87 mm.
+    EXPECT_FALSE(pair.step(p, glm::angleAxis(1e-3f, glm::vec3(0, 1, 0))));
+    EXPECT_TRUE(pair.step(p, glm::angleAxis(1e-3f, glm::vec3(0, 1, 0))));
+    // A step without the pair forgets it.
+    pair.manifolds.beginStep();
+    pair.manifolds.endStep();
+    EXPECT_EQ(pair.manifolds.size(), 0u);
+    EXPECT_FALSE(pair.step(p, glm::angleAxis(1e-3f, glm::vec3(0, 1, 0))));
+    // Lifted clear of the margin: nothing to keep.
+    EXPECT_FALSE(pair.step(p + glm::vec3(0.0f, 0.01f, 0.0f), level));
+    EXPECT_TRUE(pair.recycled.empty());
+    EXPECT_EQ(pair.manifolds.size(), 0u);
 }
 
 } // namespace
