@@ -28,8 +28,9 @@ prepareSoftContacts(const uint count, __global const uint* order,
 }
 
 // One work-item per body: a body that moves starts the substeps from its velocities before the
-// step's forces and keeps 1/substeps of their change for each substep; every body's pose is
-// copied to the substeps' poses, and the motion within the step starts at zero.
+// step's forces and keeps 1/substeps of their change for each substep, the first substep's
+// share added here (addSoftForces adds the others'); every body's pose is copied to the
+// substeps' poses, and the motion within the step starts at zero.
 __kernel void beginSoftStep(const uint count, __global const JacobiBody* bodies,
                             __global const BodyPose* poses, __global const BodyVelocity* atStart,
                             __global BodyVelocity* velocities, __global BodyVelocity* share,
@@ -48,10 +49,13 @@ __kernel void beginSoftStep(const uint count, __global const JacobiBody* bodies,
     d.angular =
         scale4(sub4(vec4(v.angular.x, v.angular.y, v.angular.z), start.angular), shareOfForces);
     share[i] = d;
+    start.linear = add4(start.linear, d.linear);
+    start.angular = add4(start.angular, d.angular);
     velocities[i] = start;
 }
 
-// One work-item per body: a substep's share of the forces' velocity change.
+// One work-item per body, from the second substep on: a substep's share of the forces' velocity
+// change.
 __kernel void addSoftForces(const uint count, __global const JacobiBody* bodies,
                             __global const BodyVelocity* share, __global BodyVelocity* velocities) {
     const uint i = get_global_id(0);

@@ -115,12 +115,14 @@ Status SoftStepSolve::solve(StageQueue& q, DeviceBodies& b, const PgsSolve& pgs,
     const cl_float h = s.h;
     for (std::uint32_t sub = 0; sub < s.substeps; ++sub) {
         const bool lastSubstep = sub + 1 == s.substeps;
-        RUBBLE_TRY(Dispatch(c, KernelId::AddSoftForces, &q.profile())
-                       .arg(count)
-                       .arg(b.jacobi)
-                       .arg(share_)
-                       .arg(b.velocities)
-                       .run(count, RUBBLE_GROUP_BODIES));
+        // beginSoftStep added the first substep's share.
+        if (sub > 0)
+            RUBBLE_TRY(Dispatch(c, KernelId::AddSoftForces, &q.profile())
+                           .arg(count)
+                           .arg(b.jacobi)
+                           .arg(share_)
+                           .arg(b.velocities)
+                           .run(count, RUBBLE_GROUP_BODIES));
         for (const PgsLaunch& l : launches)
             RUBBLE_TRY(launch(KernelId::WarmStartSoft, l)
                            .arg(rows.normalRows)
