@@ -12,8 +12,10 @@ first start of the next), the idle time from the last read from the device befor
 first --before kernel (buildPgsRows: the host colors the rows in it) to that kernel's start,
 and the sum of the gaps before the --kernel launches (solvePgs); then per stage the gap before
 its first command in the step and the sum of the gaps before all of its commands (the step's
-first command has none: the gap before it is the one between steps). --skip drops the first N
-steps (the first launches of a kernel on PoCL compile it).
+first command has none: the gap before it is the one between steps). Also the blocking reads
+per step: reads after which the host enqueued the step's next command only once the read had
+ended (it waited for it), and how many steps have any. --skip drops the first N steps (the
+first launches of a kernel on PoCL compile it).
 """
 import argparse
 import json
@@ -50,6 +52,17 @@ def gaps(events):
     return out
 
 
+def blocking_reads(events):
+    """The reads of a step the host waited for: the next command of the step was enqueued
+    (CL_PROFILING_COMMAND_QUEUED, ts - queued_to_start_us) no earlier than the read's end."""
+    count = 0
+    for a, b in zip(events, events[1:]):
+        queued = b["ts"] - b["args"].get("queued_to_start_us", 0.0)
+        if a["name"] == READ and queued >= a["ts"] + a["dur"]:
+            count += 1
+    return count
+
+
 def analyse(trace, kernel="solvePgs", before="buildPgsRows", skip=0):
     """Per-step figures (ms) of a trace, and their medians: a dict with "steps" (one dict per
     step) and "median" (each figure's median over the steps that have it)."""
@@ -63,7 +76,8 @@ def analyse(trace, kernel="solvePgs", before="buildPgsRows", skip=0):
         busy = sum(e["dur"] for e in events)
         span = events[-1]["ts"] + events[-1]["dur"] - events[0]["ts"]
         row = {"step": step, "commands": len(events), "busy_ms": busy / 1e3,
-               "span_ms": span / 1e3, "idle_ms": (span - busy) / 1e3}
+               "span_ms": span / 1e3, "idle_ms": (span - busy) / 1e3,
+               "blocking_reads": blocking_reads(events)}
         if i > 0:
             last = all_steps[numbers[i - 1]][-1]
             row["between_steps_ms"] = (events[0]["ts"] - (last["ts"] + last["dur"])) / 1e3
@@ -124,6 +138,7 @@ def main(argv=None):
     if not result["steps"]:
         sys.exit(f"bench/trace_gaps.py: {args.trace}: no device commands")
     m = result["median"]
+    waited = sum(1 for r in result["steps"] if r["blocking_reads"] > 0)
     other = trace.get("otherData", {})
     print(f"{args.trace}: {other.get('scene', '?')} on {other.get('device', '?')}, "
           f"{len(result['steps'])} steps")
@@ -139,6 +154,8 @@ def main(argv=None):
                   ("  the caller between two World::step", m["between_host_steps_ms"], "%.3f"),
                   ("  World::step's start before its first command",
                    m["host_begin_to_first_command_ms"], "%.3f")]
+    lines += [("blocking reads", m["blocking_reads"], "%.0f"),
+              ("  steps with any", f"{waited} of {len(result['steps'])}", "%s")]
     lines += [(f"idle from the last read to {args.before}",
                m.get(f"idle_before_{args.before}_ms"), "%.3f"),
               (f"{args.kernel} launches", m[args.kernel + "_launches"], "%.0f"),

@@ -57,6 +57,7 @@ Status copyBytes(const Context& c, const Buffer& b, Transfer kind, std::size_t o
     if (bytes == 0) return {};
     cl_event* event = profile ? profile->transfer(kind, bytes) : nullptr;
     const cl_bool blocking = wait == Wait::Done ? CL_TRUE : CL_FALSE;
+    if (profile && blocking) profile->countWait();
     const bool write = kind == Transfer::Write;
     const cl_int status =
         write ? clEnqueueWriteBuffer(c.queue(), b.mem(), blocking, offset, bytes, data, 0, nullptr,

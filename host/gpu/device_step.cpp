@@ -3,6 +3,12 @@
 // profiling events. Three collision paths share the ends of the step: SAT (broad phase, narrow
 // phase, the wake, PGS), particles with PGS (particle contacts as pairs of one point, PGS), and
 // particles with the Jacobi family.
+//
+// A step run ahead (SAT, the device's plan): the host does not wait for the status after the
+// summaries but assumes last step's round of it (the pairs and impulses fit, nothing woke, the
+// same rows push, bounce and layer), keeps the step's start on the device, and checks the round
+// once the step is met; a step whose round was not as assumed is put back to its start and runs
+// again as a step that waits, so the result is always the waiting step's.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -30,6 +36,8 @@ Status namingStage(Status s, const Profile& profile) {
 } // namespace
 
 Status Pipeline::beginStep(const StepParams& params, const StepInputs& in) {
+    queue_->profile().discard();
+    waitsAtBegin_ = queue_->waits();
     return namingStage(enqueueStep(params, in), queue_->profile());
 }
 
@@ -42,8 +50,13 @@ Status Pipeline::enqueueStep(const StepParams& params, const StepInputs& in) {
     RUBBLE_ASSERT(!stepPending_);
     StageQueue& q = *queue_;
     Profile& profile = q.profile();
-    profile.discard();
     profile.setStage(DeviceStage::ApplyForces);
+    ahead_ = mayRunAhead(in);
+    uploaded_ = false;
+    if (ahead_) {
+        RUBBLE_TRY(pairs_.keepImpulseRoomAhead(q, lastRound_.impulses));
+        RUBBLE_TRY(keepStepStart());
+    }
     // The SAT method's manifolds live per pair: its contacts never overflow.
     RUBBLE_TRY(q.resetStatus(sat() ? 0xffffffffu : particles_.contacts().capacity));
     if (obstacles_.count() > 0) RUBBLE_TRY(obstacles_.place(q, bodies_, in.obstacles));
@@ -81,7 +94,85 @@ Status Pipeline::enqueueStep(const StepParams& params, const StepInputs& in) {
     return {};
 }
 
+bool Pipeline::mayRunAhead(const StepInputs& in) const {
+    // Nothing from the host (bodies, explosions, obstacles, kinematic motion; an upload also
+    // resets the islands' host state), last step's round known and its set kept whole; the pair
+    // sets of one size, so that the step's keep reallocates nothing and can be taken back.
+    return sat() && pgs_.devicePlans() && roundKnown_ && !again_ && !uploaded_ && keptFound_ > 0 &&
+           in.explosions.empty() && in.kinematicVelocities.empty() && in.kinematicTargets.empty() &&
+           obstacles_.count() == 0 && pairs_.current.capacity == pairs_.previous.capacity &&
+           pairs_.current.impulseRoom == pairs_.previous.impulseRoom;
+}
+
+Status Pipeline::keepStepStart() {
+    // What a step reads from the step before and writes: the bodies, the joints' kept
+    // impulses, the islands' state. Last step's pair set is only read; the levels of the
+    // device's plan are two buffers taken in turn.
+    stepState_.assign({&bodies_.poses, &bodies_.velocities, &bodies_.momenta, &bodies_.forces,
+                       &bodies_.flags, &bodies_.slowFor});
+    if (joints_.count > 0) stepState_.push_back(&joints_.rows);
+    if (islands_) islands_->addStepState(stepState_);
+    aheadPairsFound_ = pairsFound_;
+    aheadKeptFound_ = keptFound_;
+    aheadHostWrote_ = hostWrote_;
+    return stepStart_.keep(*queue_, stepState_);
+}
+
+Status Pipeline::collideSatAhead(const StepParams& params) {
+    StageQueue& q = *queue_;
+    Profile& profile = q.profile();
+    profile.setStage(DeviceStage::BroadPhase);
+    RUBBLE_TRY(broadPhase_.run(q, bodies_, shapes_, pairs_, sort_, params.dt));
+    profile.setStage(DeviceStage::NarrowPhase);
+    RUBBLE_TRY(collideShapes(q, bodies_, shapes_, broadPhase_.spin(), broadPhase_.boxes(), pairs_,
+                             params.dt));
+    RUBBLE_TRY(summarizeRound(params, 1));
+    // The round's status, read with the step's end (aheadHeld).
+    RUBBLE_TRY(q.keepRoundStatus());
+    assumed_ = lastRound_;
+    assumed_.woken = 0;
+    q.assumeStatus(assumed_);
+    aheadCapacity_ = pairs_.current.capacity;
+    aheadRoom_ = pairs_.current.impulseRoom;
+    aheadPreviousTotal_ = pairs_.previous.impulseTotal;
+    pairsFound_ = assumed_.pairs;
+    RUBBLE_TRY(pgs_.plan(q, pairs_, joints_, bodies_, assumed_));
+    return pgs_.buildRows(q, bodies_, pairs_, params);
+}
+
+bool Pipeline::aheadHeld() const {
+    // As the waiting step decides after its first round: it would have gone on, with the same
+    // launches (collideSat, PgsSolve::solve).
+    const DeviceStatus round = queue_->roundStatus();
+    return round.pairs <= aheadCapacity_ && round.woken == 0 &&
+           std::uint64_t(round.impulses) + aheadPreviousTotal_ <= aheadRoom_ &&
+           round.pushes == assumed_.pushes && round.bounces == assumed_.bounces &&
+           round.layers == assumed_.layers;
+}
+
+Status Pipeline::runStepAgain(const StepParams& params, const std::optional<Bodies>& readBack) {
+    // Every command of the step has run: its start back in place, then the step as one that
+    // waits (its profile records kept: the step's device time is both runs').
+    StageQueue& q = *queue_;
+    RUBBLE_TRY(stepStart_.restore(q));
+    pairs_.undoKeep();
+    pgs_.undoPlan();
+    pairsFound_ = aheadPairsFound_;
+    keptFound_ = aheadKeptFound_;
+    hostWrote_ = aheadHostWrote_;
+    StepInputs in;
+    in.readBack = readBack;
+    again_ = true;
+    const Status s = enqueueStep(params, in);
+    again_ = false;
+    stepPending_ = false;
+    readBack_.reset();
+    RUBBLE_TRY(s);
+    return q.finish();
+}
+
 Status Pipeline::collideSat(const StepParams& params) {
+    if (ahead_) return collideSatAhead(params);
     StageQueue& q = *queue_;
     Profile& profile = q.profile();
     std::uint32_t woken = 0;
@@ -130,6 +221,8 @@ Status Pipeline::collideSat(const StepParams& params) {
         }
     }
     pairsFound_ = q.lastStatus().pairs;
+    lastRound_ = q.lastStatus();
+    roundKnown_ = true;
     RUBBLE_TRY(pgs_.plan(q, pairs_, joints_, bodies_, q.lastStatus()));
     return pgs_.buildRows(q, bodies_, pairs_, params);
 }
@@ -152,6 +245,11 @@ Status Pipeline::growPairs(const DeviceStatus& st, const StepParams& params) {
 }
 
 Result<DeviceStatus> Pipeline::wakeAndSummarize(const StepParams& params, std::uint32_t round) {
+    RUBBLE_TRY(summarizeRound(params, round));
+    return queue_->readStatus();
+}
+
+Status Pipeline::summarizeRound(const StepParams& params, std::uint32_t round) {
     StageQueue& q = *queue_;
     // Sleeping bodies hit in this step wake before the rows, so that their mass takes part.
     q.profile().setStage(DeviceStage::Sleep);
@@ -165,7 +263,7 @@ Result<DeviceStatus> Pipeline::wakeAndSummarize(const StepParams& params, std::u
         RUBBLE_TRY(islands_->wake(q, bodies_, pairs_, joints_, bodies_.movingKinematic > 0));
         q.profile().setStage(DeviceStage::BuildContactRows);
     }
-    return q.readStatus();
+    return {};
 }
 
 Status Pipeline::collideParticlePairs(const StepParams& params) {
@@ -278,6 +376,12 @@ Status Pipeline::meetStep(const StepParams& params, std::span<const std::string>
     const std::optional<Bodies> readBack = std::exchange(readBack_, std::nullopt);
     const auto waitStart = std::chrono::steady_clock::now();
     RUBBLE_TRY(q.finish());
+    if (ahead_ && !aheadHeld()) RUBBLE_TRY(runStepAgain(params, readBack));
+    if (ahead_) {
+        // The round as assumed: the step is the waiting step's. Its pairs as found.
+        pairsFound_ = keptFound_ = q.roundStatus().pairs;
+        lastRound_ = q.roundStatus();
+    }
     stats.deviceWaitMs = msSince(waitStart);
     for (;;) {
         const DeviceStatus st = q.lastStatus();
@@ -311,6 +415,8 @@ Status Pipeline::meetStep(const StepParams& params, std::span<const std::string>
     stats.deviceContactCount = st.contacts;
     stats.deviceAsleep = st.asleep;
     stats.asleep = st.asleep;
+    // Besides the wait at the step's end.
+    stats.deviceWaits = std::uint32_t(q.waits() - waitsAtBegin_ - 1);
     stats.largestPenetration = std::max(stats.largestPenetration, st.largestPenetration);
     stats.solverResidual = std::max(stats.solverResidual, st.solverResidual);
     if (st.firstNonFinite < bodies_.count)

@@ -105,6 +105,16 @@ Result<bool> PairStore::fitImpulses(StageQueue& q, const DeviceStatus& st) {
     return true;
 }
 
+Status PairStore::keepImpulseRoomAhead(StageQueue& q, std::uint32_t lastRoundImpulses) {
+    const std::uint64_t need = std::uint64_t(lastRoundImpulses) + previous.impulseTotal;
+    const std::uint64_t room = need + need / 8;
+    if (room <= current.impulseRoom && room <= previous.impulseRoom) return {};
+    // Both sets alike, so that the step's keep reallocates nothing (PairStore::undoKeep).
+    const std::uint64_t grown = impulseRoomFor(room);
+    RUBBLE_TRY(growImpulses(q, current, grown, 0));
+    return growImpulses(q, previous, grown, previous.impulseTotal);
+}
+
 Status PairStore::keep(StageQueue& q, const DeviceBodies& b, bool carryStill) {
     // Particles carry nothing: their sets' second count word stays 0 (keptPairsItem).
     if (carryStill) RUBBLE_TRY(carryStillPairs(q, b));

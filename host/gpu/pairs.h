@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "host/collision/contact.h"
@@ -60,12 +61,20 @@ class PairStore {
     /// makes room for the impulses the carry may add after them (all of last step's), keeping
     /// those already written. Errors: Device, Limit.
     Result<bool> fitImpulses(StageQueue& q, const DeviceStatus& st);
+    /// Before a step that does not wait for its summaries (a step run ahead): room in both sets
+    /// for this step's impulses and all of last step's, estimated from last step's round
+    /// (`lastRoundImpulses`, the slots its pairs took) with an eighth more; last step's
+    /// impulses copied over where its set grows (enqueued). Errors: Device, Limit.
+    Status keepImpulseRoomAhead(StageQueue& q, std::uint32_t lastRoundImpulses);
     /// This step's pairs become last step's, at the end of a step; with `carryStill` (SAT) the
     /// still pairs of last step's set (both bodies at rest by `b.jacobi`, holding impulses, not
     /// found again) are carried after them (kernels: markStillPairs to carryStillPairs).
     Status keep(StageQueue& q, const DeviceBodies& b, bool carryStill);
 
     /// Binds a pair kernel's first arguments: capacity, count (on the device), pairs.
+    /// Takes back the swap of the last keep(): the step that kept this set runs again. Only
+    /// after a keep that reallocated nothing (both sets of one capacity and impulse room).
+    void undoKeep() { std::swap(current, previous); }
     void bindCurrent(Dispatch& d) const;
     void bindPrevious(Dispatch& d) const;
     /// Work-items of a kernel striding through this step's pairs.

@@ -61,6 +61,11 @@ class PgsSolve {
                 const DeviceBodies& b, const DeviceStatus& st);
     /// Whether the device plans the colors (no blocks, and the device coloring chosen).
     bool devicePlans() const { return devicePlan_; }
+    /// Takes back the last plan's turn of the levels (the device's plan): the step runs again
+    /// from its start.
+    void undoPlan() {
+        if (devicePlan_) levelHalf_ ^= 1u;
+    }
     /// The device's plan after the step (a finished queue): each color's first element, the
     /// overflow set's and the end, then the same in rows (RUBBLE_PGS_COLOR_STARTS_WORDS words),
     /// and each element's set by element index (the joints, then the pairs; pairs without rows

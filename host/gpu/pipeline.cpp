@@ -49,7 +49,10 @@ Status Pipeline::makeStages(const PipelineInput& in) {
         RUBBLE_TRY(shapes_.create(q, in.shapes, bodies.shapeOf));
         RUBBLE_TRY(broadPhase_.create(q, bodies, in.shapes, in.joined));
         // Pairs: a first guess of four per body.
-        RUBBLE_TRY(pairs_.create(q, std::max<std::uint32_t>(1024, 4 * std::uint32_t(n)), false));
+        const std::uint32_t guess = in.pairCapacity > 0
+                                        ? in.pairCapacity
+                                        : std::max<std::uint32_t>(1024, 4 * std::uint32_t(n));
+        RUBBLE_TRY(pairs_.create(q, guess, false));
         if (in.islands) {
             std::vector<float> radii(n);
             for (std::size_t i = 0; i < n; ++i)
@@ -82,6 +85,7 @@ Status Pipeline::uploadBodies(BodiesView bodies) {
     // island; updateSleep sees it as woken from outside).
     if (islands_) islands_->reset(bodies_);
     hostWrote_ = true;
+    uploaded_ = true;
     return {};
 }
 

@@ -25,6 +25,7 @@
 #include "host/gpu/sleep.h"
 #include "host/gpu/soft_step.h"
 #include "host/gpu/sort.h"
+#include "host/gpu/step_start.h"
 #include "rubble/world.h"
 
 namespace rubble::gpu {
@@ -53,6 +54,9 @@ struct PipelineInput {
     /// Particles: the first guess of the contacts the buffers hold (0: a few per particle);
     /// a step that finds more grows them.
     std::uint32_t contactCapacity = 0;
+    /// SAT: the first guess of the pairs the buffers hold (0: four per body, at least 1024); a
+    /// step that finds more grows them.
+    std::uint32_t pairCapacity = 0;
     /// SAT: bodies sleep by the CPU's islands, on the device (DeviceIslands); false, each body
     /// sleeps by itself (RunOptions::bodySleep).
     bool islands = false;
@@ -97,12 +101,14 @@ class Pipeline {
     /// Errors: Device.
     Status downloadPoses(std::uint32_t first, std::uint32_t count, void* out);
 
-    /// Enqueues a whole step without waiting (host/gpu/device_step.cpp). SAT and PGS wait once
-    /// in the middle, for the host's plan of the solve; lcp-jacobi for its dense problem's size.
+    /// Enqueues a whole step without waiting (host/gpu/device_step.cpp). SAT waits once in the
+    /// middle, for the status after the summaries, unless the step runs ahead (no blocks, the
+    /// device's plan, nothing from the host); lcp-jacobi waits for its dense problem's size.
     /// Errors: Device, Limit.
     Status beginStep(const StepParams& params, const StepInputs& in);
     /// Waits for the step, reads its status and device times into `stats`. On a contact
-    /// overflow the buffers grow and the stages from collision on run again (said on stderr).
+    /// overflow the buffers grow and the stages from collision on run again (said on stderr); a
+    /// step that ran ahead on what its status turned out not to be runs again from its start.
     /// Errors: Device, Limit, Numerical (a body that is not finite, named by `names`).
     Status endStep(const StepParams& params, std::span<const std::string> names, StepStats& stats);
     /// Whether the last step left the world at rest, so that the next one would change nothing
@@ -139,6 +145,14 @@ class Pipeline {
     Status solveParticles(const StepParams& params);
     Result<DeviceStatus> wakeAndSummarize(const StepParams& params, std::uint32_t round);
     Status growPairs(const DeviceStatus& st, const StepParams& params);
+    // A step run ahead (device_step.cpp): whether this one may, its start kept, its round
+    // checked once met, and run again from its start when the check fails.
+    bool mayRunAhead(const StepInputs& in) const;
+    Status keepStepStart();
+    Status collideSatAhead(const StepParams& params);
+    Status summarizeRound(const StepParams& params, std::uint32_t round);
+    bool aheadHeld() const;
+    Status runStepAgain(const StepParams& params, const std::optional<Bodies>& readBack);
     void countTraffic(const StepParams& params, const DeviceStatus& st, TrafficCounts& t) const;
 
     std::unique_ptr<StageQueue> queue_;
@@ -168,9 +182,27 @@ class Pipeline {
     /// whether the host wrote body state since the last step.
     std::uint32_t pairsFound_ = 0, keptFound_ = 0;
     bool hostWrote_ = false;
+    bool uploaded_ = false; ///< the host uploaded the bodies since the last step began
     /// This step's pair set became last step's (PairStore::keep ran): the status read at the
     /// step's end holds the impulse slots it took.
     bool keptPairs_ = false;
+    /// SAT: the status after the last collision round of the step met last (roundKnown_: one
+    /// was), which a step run ahead assumes of its own round.
+    DeviceStatus lastRound_;
+    bool roundKnown_ = false;
+    /// This step runs ahead: it did not wait for its round's status, assumed `assumed_` (with
+    /// the pair and impulse room and the previous set's impulses as they were) and keeps its
+    /// start in stepStart_ (the buffers of stepState_).
+    bool ahead_ = false;
+    bool again_ = false; ///< the step is running again after a failed run ahead
+    DeviceStatus assumed_;
+    std::uint32_t aheadCapacity_ = 0, aheadRoom_ = 0, aheadPreviousTotal_ = 0;
+    std::uint32_t aheadPairsFound_ = 0, aheadKeptFound_ = 0;
+    bool aheadHostWrote_ = false;
+    StepStart stepStart_;
+    std::vector<const Buffer*> stepState_;
+    /// The queue's waits (blocking transfers, finishes) when the step began.
+    std::uint64_t waitsAtBegin_ = 0;
 };
 
 } // namespace rubble::gpu

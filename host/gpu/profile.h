@@ -76,6 +76,10 @@ class Profile {
     /// The bytes of the command recorded last, for a kernel whose traffic the counts of
     /// collect() do not give (exclusiveScan).
     void setLastBytes(std::size_t bytes);
+    /// Counts a time the host waited for the device: a blocking transfer, a finish.
+    void countWait() { ++waits_; }
+    /// The waits counted so far.
+    std::uint64_t waits() const { return waits_; }
 
     /// Reads the times of the recorded commands (all of them must have completed), adds them to
     /// the run's totals (kernels with the bytes kernelBytes gives for `counts`), releases their
@@ -108,6 +112,7 @@ class Profile {
     bool keepCommands_ = false;
     std::vector<DeviceCommand> lastCommands_; // reused: a warm step allocates nothing
     std::vector<CommandTotals> totals_;
+    std::uint64_t waits_ = 0;
 };
 
 } // namespace rubble::gpu

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "host/gpu/joints.h"
 #include "host/gpu/pairs.h"
@@ -58,6 +59,11 @@ class DeviceIslands {
     /// The step's status block once met, after an update: the bodies asleep after it. Returns
     /// whether the update put any body to sleep or woke any.
     bool met(const DeviceStatus& st);
+    /// Adds the buffers a step reads from the step before and writes (slow times, groups, last
+    /// step's sleep) to `state`.
+    void addStepState(std::vector<const Buffer*>& state) const {
+        state.insert(state.end(), {&slowFor_, &group_, &wasAsleep_});
+    }
     /// Bodies asleep at the end of the last step (or as uploaded).
     std::uint32_t asleep() const { return asleep_; }
 

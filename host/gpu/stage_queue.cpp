@@ -15,9 +15,9 @@ Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes) {
 
 Result<std::unique_ptr<StageQueue>> StageQueue::create(std::shared_ptr<Context> context) {
     std::unique_ptr<StageQueue> q(new StageQueue(std::move(context)));
-    RUBBLE_TRY(q->status_.reserve(q->c().context(), RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
+    RUBBLE_TRY(q->status_.reserve(q->c().context(), 2 * RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
     // A status block that stages run alone (twin tests) can read: all zero.
-    RUBBLE_TRY(upload(q->c(), q->status_, std::span<const cl_uint>(q->statusInit_)));
+    RUBBLE_TRY(upload(q->c(), q->status_, std::span<const cl_uint>(q->statusHost_)));
     RUBBLE_TRY(q->finish());
     return q;
 }
@@ -37,6 +37,7 @@ Status StageQueue::copy(const Buffer& from, const Buffer& to, std::size_t bytes,
 }
 
 Status StageQueue::finish() {
+    profile_.countWait();
     RUBBLE_CL_CHECK(clFinish(context_->queue()));
     return {};
 }
@@ -49,8 +50,9 @@ Status StageQueue::resetStatus(cl_uint capacity) {
     return enqueueUpload(*context_, status_, std::span<const cl_uint>(statusInit_), &profile_);
 }
 
-DeviceStatus StageQueue::lastStatus() const {
-    const std::array<cl_uint, RUBBLE_STATUS_COUNT>& slots = statusHost_;
+namespace {
+
+DeviceStatus statusOf(const cl_uint* slots) {
     DeviceStatus d;
     d.contacts = slots[RUBBLE_STATUS_CONTACTS];
     d.firstNonFinite = slots[RUBBLE_STATUS_NONFINITE];
@@ -72,10 +74,47 @@ DeviceStatus StageQueue::lastStatus() const {
     return d;
 }
 
+} // namespace
+
+DeviceStatus StageQueue::lastStatus() const {
+    return statusOf(statusHost_.data());
+}
+
+DeviceStatus StageQueue::roundStatus() const {
+    return statusOf(statusHost_.data() + RUBBLE_STATUS_COUNT);
+}
+
+Status StageQueue::keepRoundStatus() {
+    return copy(status_, status_, RUBBLE_STATUS_COUNT * sizeof(cl_uint), 0,
+                RUBBLE_STATUS_COUNT * sizeof(cl_uint));
+}
+
+void StageQueue::assumeStatus(const DeviceStatus& d) {
+    cl_uint* slots = statusHost_.data();
+    slots[RUBBLE_STATUS_CONTACTS] = d.contacts;
+    slots[RUBBLE_STATUS_NONFINITE] = d.firstNonFinite;
+    std::memcpy(&slots[RUBBLE_STATUS_PENETRATION], &d.largestPenetration, sizeof(float));
+    std::memcpy(&slots[RUBBLE_STATUS_RESIDUAL], &d.solverResidual, sizeof(float));
+    slots[RUBBLE_STATUS_CAPACITY] = d.capacity;
+    slots[RUBBLE_STATUS_ASLEEP] = d.asleep;
+    slots[RUBBLE_STATUS_WOKEN] = d.woken;
+    slots[RUBBLE_STATUS_FELL_ASLEEP] = d.fellAsleep;
+    slots[RUBBLE_STATUS_PAIRS] = d.pairs;
+    slots[RUBBLE_STATUS_GRID_ENTRIES] = d.gridEntries;
+    slots[RUBBLE_STATUS_LARGE] = d.largeBodies;
+    slots[RUBBLE_STATUS_KEPT] = d.kept;
+    slots[RUBBLE_STATUS_CARRIED] = d.carried;
+    slots[RUBBLE_STATUS_IMPULSES] = d.impulses;
+    slots[RUBBLE_STATUS_PUSHED] = d.pushes;
+    slots[RUBBLE_STATUS_BOUNCES] = d.bounces;
+    slots[RUBBLE_STATUS_LAYERS] = d.layers;
+}
+
 Result<DeviceStatus> StageQueue::readStatus() {
     // Timed: in a step it is the device's work while the host waits (a read outside a step is
     // dropped with the records at the next step).
-    RUBBLE_TRY(download(*context_, status_, std::span<cl_uint>(statusHost_), &profile_));
+    RUBBLE_TRY(download(*context_, status_,
+                        std::span<cl_uint>(statusHost_.data(), RUBBLE_STATUS_COUNT), &profile_));
     return lastStatus();
 }
 
@@ -88,6 +127,7 @@ Status StageQueue::enqueueStatusRead() {
 
 Status StageQueue::writeStatusSlot(std::uint32_t slot, cl_uint value) {
     statusHost_[slot] = value;
+    profile_.countWait();
     return writeBytes(*context_, status_, slot * sizeof(cl_uint), &value, sizeof value, Wait::Done);
 }
 

@@ -1,6 +1,7 @@
 // host/gpu/stage_queue.h: what every device stage enqueues on: the context's queue, the profile
 // that times the step's commands, and the status block (RUBBLE_STATUS_* slots) in which stages
-// count what they made and the host reads once a step is met.
+// count what they made and the host reads once a step is met, and a copy of it taken on the device
+// after a step's collision round, read with it.
 #pragma once
 
 #include <array>
@@ -66,12 +67,23 @@ class StageQueue {
     /// Clears the status slots at the start of a step (enqueued): the contact capacity is
     /// `capacity` (all ones where contacts cannot overflow).
     Status resetStatus(cl_uint capacity);
-    /// Waits for the queue and reads the status block. Errors: Device.
+    /// Waits for the queue and reads the status block (a blocking read). Errors: Device.
     Result<DeviceStatus> readStatus();
-    /// Enqueues the status block's read at the end of a step and flushes the queue.
+    /// Enqueues the status block's read at the end of a step, with the round's copy, and
+    /// flushes the queue.
     Status enqueueStatusRead();
     /// The status block as last read.
     DeviceStatus lastStatus() const;
+    /// Enqueues a copy of the status block as it stands (after a collision round's summaries)
+    /// into the round's copy, which enqueueStatusRead reads with the block.
+    Status keepRoundStatus();
+    /// The round's copy as last read.
+    DeviceStatus roundStatus() const;
+    /// Sets the status block as last read to `st` without reading it: what the host assumes of a
+    /// round it does not wait for (the real block arrives with the step's end).
+    void assumeStatus(const DeviceStatus& st);
+    /// How many times the host has waited for the device (blocking transfers, finish) so far.
+    std::uint64_t waits() const { return profile_.waits(); }
     /// Sets one slot, blocking (a test's input, a regrown buffer's capacity). Errors: Device.
     Status writeStatusSlot(std::uint32_t slot, cl_uint value);
 
@@ -82,7 +94,9 @@ class StageQueue {
     Buffer status_;
     // Host memory of the status block's non-blocking transfers: it stays put until the step is
     // met.
-    std::array<cl_uint, RUBBLE_STATUS_COUNT> statusInit_{}, statusHost_{};
+    // statusHost_ holds the block, then the round's copy (the device buffer's two halves).
+    std::array<cl_uint, RUBBLE_STATUS_COUNT> statusInit_{};
+    std::array<cl_uint, 2 * RUBBLE_STATUS_COUNT> statusHost_{};
 };
 
 } // namespace rubble::gpu

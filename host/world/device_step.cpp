@@ -208,6 +208,7 @@ Status stepDevice(WorldState& s, StepStats& stats) {
         stats.deviceStages = device.deviceStages;
         stats.deviceContactCount = device.deviceContactCount;
         stats.deviceAsleep = device.deviceAsleep;
+        stats.deviceWaits = device.deviceWaits;
         stats.asleep = c.asleep + device.deviceAsleep;
         stats.contactCount = c.contactCount + device.deviceContactCount;
         stats.largestPenetration = std::max(c.largestPenetration, device.largestPenetration);

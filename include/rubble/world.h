@@ -116,6 +116,9 @@ struct StepStats {
     DeviceStageMs deviceStages;
     std::uint32_t deviceContactCount = 0; ///< contact points on the device (its rows / 3)
     std::uint32_t deviceAsleep = 0;       ///< device bodies asleep after the step
+    /// Times the host waited for the device within the step (blocking reads), besides the wait
+    /// at its end; a steady SAT step on the device's plan waits none.
+    std::uint32_t deviceWaits = 0;
 };
 
 /// One device kernel's (or kind of transfer's) total over the steps taken so far.

@@ -53,6 +53,8 @@ def test_gaps_of_a_trace_laid_out_by_hand():
     assert m["between_steps_ms"] == pytest.approx(0.840)
     assert m["idle_before_buildPgsRows_ms"] == pytest.approx(0.088)  # 80 + 8 us
     assert m["solvePgs_launches"] == 2
+    # The host enqueued the upload (queued 99 us) after the read had ended (20 us): it waited.
+    assert m["blocking_reads"] == 1
     assert m["gaps_before_solvePgs_ms"] == pytest.approx(0.010)  # 3 + 7 us
     assert m["stage build_contact_rows first_gap_ms"] == pytest.approx(0.005)
     assert m["stage build_contact_rows all_gaps_ms"] == pytest.approx(0.093)
