@@ -15,9 +15,12 @@ Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes) {
 
 Result<std::unique_ptr<StageQueue>> StageQueue::create(std::shared_ptr<Context> context) {
     std::unique_ptr<StageQueue> q(new StageQueue(std::move(context)));
-    RUBBLE_TRY(q->status_.reserve(q->c().context(), 2 * RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
+    RUBBLE_TRY(q->status_.reserve(q->c().context(), RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
+    RUBBLE_TRY(q->roundStatus_.reserve(q->c().context(), RUBBLE_STATUS_COUNT * sizeof(cl_uint)));
     // A status block that stages run alone (twin tests) can read: all zero.
-    RUBBLE_TRY(upload(q->c(), q->status_, std::span<const cl_uint>(q->statusHost_)));
+    const std::span<const cl_uint> zeros(q->statusHost_.data(), RUBBLE_STATUS_COUNT);
+    RUBBLE_TRY(upload(q->c(), q->status_, zeros));
+    RUBBLE_TRY(upload(q->c(), q->roundStatus_, zeros));
     RUBBLE_TRY(q->finish());
     return q;
 }
@@ -85,8 +88,7 @@ DeviceStatus StageQueue::roundStatus() const {
 }
 
 Status StageQueue::keepRoundStatus() {
-    return copy(status_, status_, RUBBLE_STATUS_COUNT * sizeof(cl_uint), 0,
-                RUBBLE_STATUS_COUNT * sizeof(cl_uint));
+    return copy(status_, roundStatus_, RUBBLE_STATUS_COUNT * sizeof(cl_uint));
 }
 
 void StageQueue::assumeStatus(const DeviceStatus& d) {
@@ -120,7 +122,13 @@ Result<DeviceStatus> StageQueue::readStatus() {
 
 Status StageQueue::enqueueStatusRead() {
     // Non-blocking: statusHost_ stays put until the step is met.
-    RUBBLE_TRY(enqueueDownload(*context_, status_, std::span<cl_uint>(statusHost_), &profile_));
+    RUBBLE_TRY(enqueueDownload(*context_, status_,
+                               std::span<cl_uint>(statusHost_.data(), RUBBLE_STATUS_COUNT),
+                               &profile_));
+    RUBBLE_TRY(enqueueDownload(*context_, roundStatus_,
+                               std::span<cl_uint>(statusHost_.data() + RUBBLE_STATUS_COUNT,
+                                                  RUBBLE_STATUS_COUNT),
+                               &profile_));
     RUBBLE_CL_CHECK(clFlush(context_->queue()));
     return {};
 }

@@ -92,9 +92,11 @@ class StageQueue {
     std::shared_ptr<Context> context_;
     Profile profile_;
     Buffer status_;
+    // The round's copy of the status block: a buffer of its own, so that no copy has one buffer
+    // at both ends.
+    Buffer roundStatus_;
     // Host memory of the status block's non-blocking transfers: it stays put until the step is
-    // met.
-    // statusHost_ holds the block, then the round's copy (the device buffer's two halves).
+    // met. statusHost_ holds the block, then the round's copy.
     std::array<cl_uint, RUBBLE_STATUS_COUNT> statusInit_{};
     std::array<cl_uint, 2 * RUBBLE_STATUS_COUNT> statusHost_{};
 };
