@@ -192,7 +192,7 @@ class Pipeline {
     // The step in flight and what the next step may skip.
     bool stepPending_ = false;
     std::optional<Bodies> readBack_;
-    bool sumEnergy_ = false;   ///< the step in flight sums the bodies' energy
+    bool sumEnergy_ = false;     ///< the step in flight sums the bodies' energy
     bool restartEnergy_ = false; ///< and starts the watch's reference again
     EnergyBuffers energy_;
     bool energySummed_ = false; ///< the step met last did

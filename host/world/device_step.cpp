@@ -72,8 +72,9 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
     RUBBLE_TRY(p);
     s.device = std::move(*p);
     s.deviceEnergy = {};
-    s.deviceKinematic = std::any_of(s.bodies.masses.begin(), s.bodies.masses.end(),
-                                    [](const BodyMass& m) { return m.flags & RUBBLE_BODY_KINEMATIC; });
+    s.deviceKinematic =
+        std::any_of(s.bodies.masses.begin(), s.bodies.masses.end(),
+                    [](const BodyMass& m) { return m.flags & RUBBLE_BODY_KINEMATIC; });
     s.hostStale = false;
     s.hostDirty = false;
     s.forcesDirty = false;
@@ -151,8 +152,8 @@ Status stepDevice(WorldState& s, StepStats& stats) {
     // Pipeline::atRest so): its step would change nothing there, and the last step's energy sum
     // (or the host's copy) stands for it in the blow-up watch.
     // World::step cleared `stats`: no contacts, no device time.
-    if (!o && s.dueEvents.empty() && s.kinematicVelocitySet.empty() &&
-        s.kinematicTargets.empty() && p.atRest()) {
+    if (!o && s.dueEvents.empty() && s.kinematicVelocitySet.empty() && s.kinematicTargets.empty() &&
+        p.atRest()) {
         stats.asleep = stats.deviceAsleep = p.asleepBodies();
         stats.hostMs = msSince(start);
         return {};

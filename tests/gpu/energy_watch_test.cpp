@@ -29,9 +29,7 @@ class EnergyWatch : public test::GpuTest {
         }
         return worldOf(scene, run);
     }
-    static std::uint64_t bodyReads(World& w) {
-        return WorldAccess::state(w).device->bodyReads();
-    }
+    static std::uint64_t bodyReads(World& w) { return WorldAccess::state(w).device->bodyReads(); }
 };
 
 // Sixty crates settling in a block: after the watch's first step, steps with nothing asked of
@@ -87,11 +85,13 @@ TEST_F(EnergyWatch, BlowUpsStopTheRunNamingTheBody) {
         deviceStep = device.stepIndex();
         ASSERT_FALSE(cpuFailed.ok()) << c.where;
         ASSERT_FALSE(deviceFailed.ok()) << c.where;
-        EXPECT_EQ(deviceFailed.error().kind, ErrorKind::Numerical) << deviceFailed.error().describe();
+        EXPECT_EQ(deviceFailed.error().kind, ErrorKind::Numerical)
+            << deviceFailed.error().describe();
         EXPECT_EQ(deviceFailed.error().where, c.where) << deviceFailed.error().describe();
         EXPECT_EQ(deviceFailed.error().where, cpuFailed.error().where);
-        EXPECT_NE(deviceFailed.error().message.find("the bodies' energy (kinetic and potential) grew"),
-                  std::string::npos)
+        EXPECT_NE(
+            deviceFailed.error().message.find("the bodies' energy (kinetic and potential) grew"),
+            std::string::npos)
             << deviceFailed.error().message;
         EXPECT_EQ(deviceStep, cpuStep) << c.where;
     }
