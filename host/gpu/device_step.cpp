@@ -51,6 +51,9 @@ Status Pipeline::enqueueStep(const StepParams& params, const StepInputs& in) {
     StageQueue& q = *queue_;
     Profile& profile = q.profile();
     profile.setStage(DeviceStage::ApplyForces);
+    sumEnergy_ = in.sumEnergy;
+    restartEnergy_ = in.restartEnergy;
+    energySummed_ = false;
     ahead_ = mayRunAhead(in);
     uploaded_ = false;
     if (ahead_) {
@@ -87,6 +90,7 @@ Status Pipeline::enqueueStep(const StepParams& params, const StepInputs& in) {
     }
     readBack_ = in.readBack;
     if (readBack_) {
+        ++bodyReads_;
         RUBBLE_TRY(bodies_.enqueueRead(q, *readBack_, true));
         RUBBLE_CL_CHECK(clFlush(q.c().queue()));
     }
@@ -112,6 +116,9 @@ Status Pipeline::keepStepStart() {
                        &bodies_.flags, &bodies_.slowFor});
     if (joints_.count > 0) stepState_.push_back(&joints_.rows);
     if (islands_) islands_->addStepState(stepState_);
+    // The energy watch's lowest sum and the bodies' energies at it (a restart rewrites both).
+    if (sumEnergy_ && !restartEnergy_ && energy_.lowest.bytes() > 0)
+        stepState_.insert(stepState_.end(), {&energy_.atLowest, &energy_.lowest});
     aheadPairsFound_ = pairsFound_;
     aheadKeptFound_ = keptFound_;
     aheadHostWrote_ = hostWrote_;
@@ -162,6 +169,8 @@ Status Pipeline::runStepAgain(const StepParams& params, const std::optional<Bodi
     hostWrote_ = aheadHostWrote_;
     StepInputs in;
     in.readBack = readBack;
+    in.sumEnergy = sumEnergy_;
+    in.restartEnergy = restartEnergy_;
     again_ = true;
     const Status s = enqueueStep(params, in);
     again_ = false;
@@ -314,6 +323,7 @@ Status Pipeline::solvePairs(const StepParams& params) {
         keptFound_ = pairsFound_;
     }
     hostWrote_ = false;
+    if (sumEnergy_) RUBBLE_TRY(sumBodyEnergy(q, bodies_, energy_, params.gravity, restartEnergy_));
     return q.enqueueStatusRead();
 }
 
@@ -364,6 +374,7 @@ Status Pipeline::solveParticles(const StepParams& params) {
     if (gatherImpulses_) RUBBLE_TRY(obstacles_.gather(q, k.rows, k.bodyStart, k.bodyList));
     // This step's contacts and impulses become the next step's warm start.
     if (solver.warmStart) RUBBLE_TRY(particles_.keepForWarmStart(q));
+    if (sumEnergy_) RUBBLE_TRY(sumBodyEnergy(q, bodies_, energy_, params.gravity, restartEnergy_));
     return q.enqueueStatusRead();
 }
 
@@ -398,6 +409,7 @@ Status Pipeline::meetStep(const StepParams& params, std::span<const std::string>
         RUBBLE_TRY(q.finish());
     }
     DeviceStatus st = q.lastStatus();
+    energySummed_ = sumEnergy_;
     // The set kept holds this many impulses: the next step's carry copies at most these.
     if (pairPgs() && keptPairs_) pairs_.previous.impulseTotal = st.impulses;
     // The islands' update changed flags and velocities: the next step's pair set is kept again.

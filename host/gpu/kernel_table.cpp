@@ -342,6 +342,10 @@ const std::vector<KernelSignature>& kernelSignatures() {
          "sleepIslands",
          {"count", "status", "masses", "roots", "island", "islandSlowFor", "flags", "velocities",
           "momenta", "slowFor", "group", "wasAsleep"}},
+        {KernelId::SumBodyEnergy,
+         "sumBodyEnergy",
+         {"count", "status", "poses", "velocities", "momenta", "masses", "gravity", "restart",
+          "energies", "atLowest", "lowest"}},
     };
     return table;
 }

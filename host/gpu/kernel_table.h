@@ -106,6 +106,7 @@ enum class KernelId : unsigned {
     UniteIslandJoints,
     GatherIslands,
     SleepIslands,
+    SumBodyEnergy,
     Count
 };
 

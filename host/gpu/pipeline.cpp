@@ -93,7 +93,21 @@ Status Pipeline::uploadForces(std::span<const shared::BodyForce> forces) {
     return bodies_.uploadForces(*queue_, forces);
 }
 
+std::optional<std::pair<float, float>> Pipeline::energyOfLastStep() const {
+    if (!energySummed_) return std::nullopt;
+    const DeviceStatus st = queue_->lastStatus();
+    return std::pair(st.energy, st.energyScale);
+}
+
+Status Pipeline::downloadLowestEnergies(std::vector<double>& out) {
+    Result<std::vector<float>> e = download<float>(queue_->c(), energy_.atLowest, bodies_.count);
+    RUBBLE_TRY(e);
+    out.assign(e->begin(), e->end());
+    return {};
+}
+
 Status Pipeline::downloadBodies(Bodies bodies) {
+    ++bodyReads_;
     RUBBLE_TRY(bodies_.enqueueRead(*queue_, bodies, false));
     RUBBLE_TRY(queue_->finish());
     bodies_.takeSleepFlags(bodies);

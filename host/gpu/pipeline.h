@@ -10,11 +10,13 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host/core/step_params.h"
 #include "host/gpu/broad_phase.h"
 #include "host/gpu/forces.h"
+#include "host/gpu/integrate.h"
 #include "host/gpu/jacobi.h"
 #include "host/gpu/joints.h"
 #include "host/gpu/pairs.h"
@@ -77,6 +79,11 @@ struct StepInputs {
     /// does), in the same queue as the step, so that the host waits once: they must stay put
     /// until endStep.
     std::optional<Bodies> readBack;
+    /// When set, the step ends by summing the bodies' energy into its status block
+    /// (energyOfLastStep), for the host's blow-up watch without reading the bodies.
+    bool sumEnergy = false;
+    /// With sumEnergy: this step is the watch's new reference (its energies the lowest so far).
+    bool restartEnergy = false;
 };
 
 class Pipeline {
@@ -97,6 +104,14 @@ class Pipeline {
     /// Reads poses, velocities, momenta and the sleep flags back into the host arrays.
     /// Errors: Device.
     Status downloadBodies(Bodies bodies);
+    /// The bodies' energy and its rounding scale (DeviceStatus::energy, energyScale) as the step
+    /// met last summed them, if it did (StepInputs::sumEnergy).
+    std::optional<std::pair<float, float>> energyOfLastStep() const;
+    /// Each body's energy (J) when the device's sum was the lowest since the watch's last
+    /// reference (StepInputs::restartEnergy), read into `out` (one per body). Errors: Device.
+    Status downloadLowestEnergies(std::vector<double>& out);
+    /// How many times the bodies were read back so far (downloadBodies, StepInputs::readBack).
+    std::uint64_t bodyReads() const { return bodyReads_; }
     /// Reads `count` BodyPose records from body `first` on into `out`, for drawing.
     /// Errors: Device.
     Status downloadPoses(std::uint32_t first, std::uint32_t count, void* out);
@@ -177,6 +192,11 @@ class Pipeline {
     // The step in flight and what the next step may skip.
     bool stepPending_ = false;
     std::optional<Bodies> readBack_;
+    bool sumEnergy_ = false;     ///< the step in flight sums the bodies' energy
+    bool restartEnergy_ = false; ///< and starts the watch's reference again
+    EnergyBuffers energy_;
+    bool energySummed_ = false; ///< the step met last did
+    std::uint64_t bodyReads_ = 0;
     bool gatherImpulses_ = false;
     /// SAT: the pairs this step's collision found, and those of the set kept as last step's;
     /// whether the host wrote body state since the last step.

@@ -74,6 +74,8 @@ DeviceStatus statusOf(const cl_uint* slots) {
     d.pushes = slots[RUBBLE_STATUS_PUSHED] != 0;
     d.bounces = slots[RUBBLE_STATUS_BOUNCES] != 0;
     d.layers = slots[RUBBLE_STATUS_LAYERS] != 0;
+    std::memcpy(&d.energy, &slots[RUBBLE_STATUS_ENERGY], sizeof(float));
+    std::memcpy(&d.energyScale, &slots[RUBBLE_STATUS_ENERGY_SCALE], sizeof(float));
     return d;
 }
 

@@ -34,6 +34,9 @@ struct DeviceStatus {
     bool pushes = false;  ///< PGS: a row pushes (the split position pass runs)
     bool bounces = false; ///< PGS: a row may bounce
     bool layers = false;  ///< PGS: moving bodies far apart in mass touch (the layer pass)
+    /// The dynamic bodies' mechanical energy after the step (J) and the sum of its terms'
+    /// magnitudes (J, the scale of its rounding), when the step summed it (sumBodyEnergy).
+    float energy = 0, energyScale = 0;
     /// Whether this step's contacts fit their buffer (particles; SAT's never overflow).
     bool contactsFit() const { return contacts <= capacity; }
 };

@@ -55,6 +55,9 @@ std::uint64_t kernelBytes(KernelId id, const TrafficCounts& n) {
     case KernelId::IntegratePositions: // flags, masses, momenta, pose r/w, velocity r/w
         return n.bodies * (kWord + sizeof(BodyMass) + sizeof(BodyMomentum) + 2 * sizeof(BodyPose) +
                            2 * sizeof(BodyVelocity));
+    case KernelId::SumBodyEnergy: // masses, velocities, momenta, pose; energy written
+        return n.bodies * (sizeof(BodyMass) + sizeof(BodyVelocity) + sizeof(BodyMomentum) +
+                           sizeof(BodyPose) + kWord);
     case KernelId::TransformParticles: // records, world; each body's flags and pose
         return n.particles * (sizeof(Particle) + kVec) + n.bodies * (kWord + sizeof(BodyPose));
     case KernelId::ComputeCellKeys: // world; key and value written

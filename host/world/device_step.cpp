@@ -12,6 +12,7 @@
 #include "host/dynamics/forces.h"
 #include "host/dynamics/joints.h"
 #include "host/gpu/pipeline.h"
+#include "host/world/blowup_check.h"
 #include "host/world/offload.h"
 #include "host/world/step_stop.h"
 #include "host/world/world_state.h"
@@ -70,6 +71,10 @@ Status attachDevice(WorldState& s, std::shared_ptr<gpu::Context> context,
     Result<gpu::PipelineHandle> p = gpu::Pipeline::create(std::move(context), in);
     RUBBLE_TRY(p);
     s.device = std::move(*p);
+    s.deviceEnergy = {};
+    s.deviceKinematic =
+        std::any_of(s.bodies.masses.begin(), s.bodies.masses.end(),
+                    [](const BodyMass& m) { return m.flags & RUBBLE_BODY_KINEMATIC; });
     s.hostStale = false;
     s.hostDirty = false;
     s.forcesDirty = false;
@@ -144,11 +149,11 @@ Status stepDevice(WorldState& s, StepStats& stats) {
         s.eventFired[e] = 1;
     }
     // A world at rest with nothing new for the device (the uploads above, if any, tell
-    // Pipeline::atRest so): its step would change nothing there, and the host's copy is the last
-    // step's read-back.
+    // Pipeline::atRest so): its step would change nothing there, and the last step's energy sum
+    // (or the host's copy) stands for it in the blow-up watch.
     // World::step cleared `stats`: no contacts, no device time.
-    if (!o && s.dueEvents.empty() && !s.hostStale && s.kinematicVelocitySet.empty() &&
-        s.kinematicTargets.empty() && p.atRest()) {
+    if (!o && s.dueEvents.empty() && s.kinematicVelocitySet.empty() && s.kinematicTargets.empty() &&
+        p.atRest()) {
         stats.asleep = stats.deviceAsleep = p.asleepBodies();
         stats.hostMs = msSince(start);
         return {};
@@ -184,9 +189,14 @@ Status stepDevice(WorldState& s, StepStats& stats) {
         s.deviceVelocities.push_back(kinematicState(body));
     s.kinematicVelocitySet.clear();
     in.kinematicVelocities = s.deviceVelocities;
-    // Without a CPU world the step ends by reading the bodies back, which the blow-up watch
-    // reads after every step: in the step's queue the host waits once, not twice.
-    if (!o) in.readBack = s.bodies.view();
+    // Without a CPU world the step ends by summing the bodies' energy for the blow-up watch;
+    // a step that starts the watch again reads the bodies back as well, in the step's queue, so
+    // that the host waits once, not twice. Other steps leave the host's copy stale (syncHost).
+    if (!o) {
+        in.sumEnergy = true;
+        in.restartEnergy = watchReadsBodies(s);
+        if (in.restartEnergy) in.readBack = s.bodies.view();
+    }
     // The device's step is enqueued first; the CPU world steps while it runs; they meet.
     RUBBLE_TRY(p.beginStep(params, in));
     s.hostStale = true;

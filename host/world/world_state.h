@@ -71,6 +71,16 @@ struct WorldState {
     std::unique_ptr<ContactSolver> solver;
     StepContacts contacts;
     BlowUpWatch blowUp; ///< energy since the last reference (the blow-up watch after each step)
+    /// The blow-up watch on the device's sums of the bodies' energy (host/world/blowup_check.cpp):
+    /// the lowest the device summed since the watch's reference (J) and the rounding it may
+    /// carry (J); `known` once a step that read the bodies set them.
+    struct DeviceEnergyWatch {
+        bool known = false;
+        double lowest = 0, lowestRounding = 0;
+    } deviceEnergy;
+    /// The device world has kinematic bodies: their motion is the host's, and the watch reads
+    /// the bodies every step.
+    bool deviceKinematic = false;
     // Scratch reused every step: the velocities before the solve, and at the start of the step
     // before the forces (restitution's approach speeds; explicit Euler moves positions with them).
     std::vector<BodyVelocity> velocitiesBeforeSolve;

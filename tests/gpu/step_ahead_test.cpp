@@ -4,7 +4,10 @@
 // ends on the bits of a step that had room.
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "gpu_fixture.h"
 #include "support/physics_cases.h"
@@ -49,7 +52,7 @@ TEST_F(StepAhead, SteadyColoredStepsWaitForNothing) {
 // room for 200 pairs the landing step finds more, after steps that ran ahead on room for all. That
 // step runs again from its start (bodies, islands, the plan's levels, which the landing changes,
 // pair sets), now waiting and with grown buffers, and the run ends on the bits of one with room
-// from the start.
+// from the start; so do the energy watch's sums and its lowest.
 TEST_F(StepAhead, AnOverflowSeenLateStepsTheBitsOfARoomyRun) {
     // More than the falling block's pairs, fewer than the landed block's.
     constexpr std::uint32_t kTightPairs = 200;
@@ -77,6 +80,9 @@ TEST_F(StepAhead, AnOverflowSeenLateStepsTheBitsOfARoomyRun) {
         test::StageInput in = test::stageInput(scene);
         std::vector<shared::BodyPose> poses[2];
         std::vector<shared::BodyVelocity> velocities[2];
+        // The energy watch's sums each step and each body's energy at the lowest sum.
+        std::vector<std::pair<float, float>> energies[2];
+        std::vector<double> atLowest[2];
         int overflowStep = 0;
         for (int run = 0; run < 2; ++run) {
             gpu::PipelineInput input;
@@ -95,8 +101,11 @@ TEST_F(StepAhead, AnOverflowSeenLateStepsTheBitsOfARoomyRun) {
             for (int step = 0; step < 90; ++step) {
                 const StepParams params = in.params(step);
                 StepStats stats;
+                gpu::StepInputs inputs;
+                inputs.sumEnergy = true;
+                inputs.restartEnergy = step == 0;
                 ::testing::internal::CaptureStderr();
-                const Status begun = p.beginStep(params, gpu::StepInputs{});
+                const Status begun = p.beginStep(params, inputs);
                 const Status met = begun.ok() ? p.endStep(params, in.names, stats) : begun;
                 const std::string said = ::testing::internal::GetCapturedStderr();
                 ASSERT_TRUE(met.ok()) << solver << ": " << met.error().describe();
@@ -105,7 +114,11 @@ TEST_F(StepAhead, AnOverflowSeenLateStepsTheBitsOfARoomyRun) {
                     overflowStep = step + 1;
                     EXPECT_GT(stats.deviceWaits, 0u) << solver; // the step ran again
                 }
+                const std::optional<std::pair<float, float>> e = p.energyOfLastStep();
+                ASSERT_TRUE(e.has_value()) << solver << ", step " << step + 1;
+                energies[run].push_back(*e);
             }
+            ASSERT_TRUE(p.downloadLowestEnergies(atLowest[run]).ok());
             BodyArrays out = in.bodies;
             ASSERT_TRUE(p.downloadBodies(out.view()).ok());
             poses[run] = out.poses;
@@ -122,6 +135,12 @@ TEST_F(StepAhead, AnOverflowSeenLateStepsTheBitsOfARoomyRun) {
                 std::memcmp(&velocities[0][i], &velocities[1][i], sizeof(shared::BodyVelocity)), 0)
                 << solver << ": " << in.names[i];
         }
+        ASSERT_EQ(energies[0].size(), energies[1].size());
+        for (std::size_t i = 0; i < energies[0].size(); ++i) {
+            EXPECT_EQ(energies[0][i].first, energies[1][i].first) << solver << ", step " << i + 1;
+            EXPECT_EQ(energies[0][i].second, energies[1][i].second) << solver << ", step " << i + 1;
+        }
+        EXPECT_EQ(atLowest[0], atLowest[1]) << solver;
         // The block landed: the trajectory compared is not a free fall.
         EXPECT_LT(poses[1][in.bodies.count() - 1].position.y, 1.6f) << solver;
     }

@@ -61,7 +61,11 @@
 // PGS: PgsImpulse slots taken in the pair set being filled this step (summarizePairs, then
 // carryStillPairs; may exceed the set's room)
 #define RUBBLE_STATUS_IMPULSES 16u
-#define RUBBLE_STATUS_COUNT 17u
+// The dynamic bodies' mechanical energy after the step (sumBodyEnergy), J, float bits, and the
+// sum of its terms' magnitudes, J, float bits: the scale of its rounding (the blow-up watch)
+#define RUBBLE_STATUS_ENERGY 17u
+#define RUBBLE_STATUS_ENERGY_SCALE 18u
+#define RUBBLE_STATUS_COUNT 19u
 
 // Stages over contacts run a fixed number of work-items that stride through however many
 // contacts there are: this many work-groups per compute unit.
