@@ -41,3 +41,34 @@ def test_repeat_must_be_one_or_more(rubble_binary):
     done = subprocess.run([sys.executable, str(SCRIPT), "--build", str(rubble_binary.parent),
                            "--repeat", "0"], capture_output=True, text=True, timeout=60)
     assert done.returncode != 0 and "--repeat 0" in done.stderr
+
+
+def test_two_binaries_in_turn_each_its_own_rows(rubble_binary, tmp_path):
+    # The same executable under two names: each rubble configuration runs once per binary in
+    # each repetition, in turn, its rows named by the label and its ratio to the reference run
+    # of the same binary.
+    out = tmp_path / "binaries.csv"
+    done = subprocess.run([sys.executable, str(SCRIPT), "--scenes", "stack_10",
+                           "--configs", "cpu-sat-pgs,cpu-sat-soft-step",
+                           "--binaries", "%s,%s" % (rubble_binary, rubble_binary),
+                           "--labels", "old,new", "--repeat", "2", "--steps", "5",
+                           "--out", str(out)], capture_output=True, text=True, cwd=REPO,
+                          timeout=300)
+    assert done.returncode == 0, done.stderr
+    rows = list(csv.DictReader(out.open()))
+    assert [(r["repeat"], r["config"], r["binary"]) for r in rows] == [
+        (k, c, b) for k in ("1", "2") for c in ("cpu-sat-pgs", "cpu-sat-soft-step")
+        for b in ("old", "new")]
+    assert all(r["status"] == "ok" for r in rows)
+    for r in rows:
+        reference = next(q for q in rows if q["repeat"] == r["repeat"] and q["binary"] == r["binary"]
+                         and q["config"] == "cpu-sat-pgs")
+        assert float(r["ratio_to_reference"]) == pytest.approx(
+            float(r["median_ms"]) / float(reference["median_ms"]))
+    assert "cpu-sat-soft-step new" in done.stdout
+
+
+def test_labels_must_match_the_binaries(rubble_binary):
+    done = subprocess.run([sys.executable, str(SCRIPT), "--binaries", str(rubble_binary),
+                           "--labels", "old,new"], capture_output=True, text=True, timeout=60)
+    assert done.returncode != 0 and "2 labels for 1 --binaries" in done.stderr
