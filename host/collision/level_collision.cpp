@@ -12,15 +12,6 @@
 namespace rubble {
 namespace {
 
-// What made a level contact, from the low field of its feature id
-// (rubble/shared/triangle_hull_contact.h): an edge pair (tested first: its tag holds the hull
-// edge's index too), the triangle clipped to a face of the body (the point lies on the
-// triangle), a face of the body clipped to the triangle's prism (the point lies on the body).
-// Spheres and capsules use tags below these.
-constexpr std::uint32_t kTagEdges = 0x4000u;
-constexpr std::uint32_t kTagOnTriangle = 0x2000u;
-constexpr std::uint32_t kTagOnBody = 0x1000u;
-
 // The farthest a point of the body can have moved in the level's frame since `made`, m: its
 // origin's move plus the chord 2 sin(theta / 2) = ||R - R0||_F / sqrt(2) of its turn times its
 // bounding radius.
@@ -68,13 +59,15 @@ shared::ContactManifold rebuiltLevelManifold(const shared::RecycledManifold& r,
         const shared::float4 onBody = shared::transformApply(bodyInLevel, r.pointB[i]);
         const float s = shared::dot3(n, shared::sub4(onBody, onLevel));
         if (s > margin) continue;
+        // What made the point (an edge pair first: its tag holds the hull edge's index too).
         const std::uint32_t tag = r.features[i] & 0x7FFFu;
         const shared::float4 half = shared::scale4(n, 0.5f * s);
         const shared::float4 position =
-            (tag & kTagEdges)        ? shared::scale4(shared::add4(onLevel, onBody), 0.5f)
-            : (tag & kTagOnTriangle) ? shared::add4(onLevel, half)
-            : (tag & kTagOnBody)     ? shared::sub4(onBody, half)
-                                     : shared::scale4(shared::add4(onLevel, onBody), 0.5f);
+            (tag & RUBBLE_TRIANGLE_TAG_EDGES) ? shared::scale4(shared::add4(onLevel, onBody), 0.5f)
+            : (tag & RUBBLE_TRIANGLE_TAG_ON_TRIANGLE) ? shared::add4(onLevel, half)
+            : (tag & RUBBLE_TRIANGLE_TAG_ON_BODY)
+                ? shared::sub4(onBody, half)
+                : shared::scale4(shared::add4(onLevel, onBody), 0.5f);
         shared::addContactItem(&m, position, -s, r.features[i]);
     }
     return m;

@@ -69,6 +69,17 @@ RUBBLE_FN float triangleMaxItem(MeshTriangle t, float4 u) {
 #define RUBBLE_TRIANGLE_AXIS_HULL_FACE 1u
 #define RUBBLE_TRIANGLE_AXIS_EDGES 2u
 
+// What made a hull's contact with a triangle, in the low field of its feature id (the triangle's
+// index is the high field): the closest points of a hull edge and a triangle edge (the hull
+// edge's index << 2 | the triangle edge's side below it), a corner of the triangle clipped to a
+// face of the hull (on the triangle), a corner of the hull's face clipped to the triangle's prism
+// (on the body); the clipped corner's own tag in the low 12 bits of the last two. Sphere and
+// capsule contacts use tags below these (triangle_contact.h).
+#define RUBBLE_TRIANGLE_TAG_EDGES 0x4000u
+#define RUBBLE_TRIANGLE_TAG_ON_TRIANGLE 0x2000u
+#define RUBBLE_TRIANGLE_TAG_ON_BODY 0x1000u
+#define RUBBLE_TRIANGLE_TAG_CORNER 0xFFFu
+
 // A convex hull: separating axes (the triangle's normal, the hull's face normals, the cross
 // products of the hull's edges with the triangle's boundary edges and its edges convex from the
 // hull's side), the least-penetrating axis that normalAllowedItem accepts (faces preferred), then
@@ -166,9 +177,9 @@ RUBBLE_FN void collideTriangleHullItem(MeshTriangle t, PlacedHull hull, float ma
         b.p0 = t.v[chosenSide];
         b.p1 = t.v[(chosenSide + 1u) % 3u];
         const CapsuleClosest c = closestSegmentPointsItem(a, b);
-        addTriangleContactItem(
-            out, c.onA, normal, best,
-            triangleFeatureItem(t.index, 0x4000u | (chosenEdge << 2) | chosenSide));
+        addTriangleContactItem(out, c.onA, normal, best,
+                               triangleFeatureItem(t.index, RUBBLE_TRIANGLE_TAG_EDGES |
+                                                                (chosenEdge << 2) | chosenSide));
         return;
     }
     TaggedPoint* polygon = hull.polygon;
@@ -201,7 +212,9 @@ RUBBLE_FN void collideTriangleHullItem(MeshTriangle t, PlacedHull hull, float ma
             if (separation <= margin)
                 addTriangleContactItem(
                     out, sub4(q, scale4(fn, separation)), normal, separation,
-                    triangleFeatureItem(t.index, 0x2000u | (polygon[i].tag & 0xFFFu)));
+                    triangleFeatureItem(t.index,
+                                        RUBBLE_TRIANGLE_TAG_ON_TRIANGLE |
+                                            (polygon[i].tag & RUBBLE_TRIANGLE_TAG_CORNER)));
         }
         return;
     }
@@ -235,7 +248,8 @@ RUBBLE_FN void collideTriangleHullItem(MeshTriangle t, PlacedHull hull, float ma
         if (separation <= margin)
             addTriangleContactItem(
                 out, polygon[i].position, face, separation,
-                triangleFeatureItem(t.index, 0x1000u | (polygon[i].tag & 0xFFFu)));
+                triangleFeatureItem(t.index, RUBBLE_TRIANGLE_TAG_ON_BODY |
+                                                 (polygon[i].tag & RUBBLE_TRIANGLE_TAG_CORNER)));
     }
 }
 
