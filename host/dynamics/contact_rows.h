@@ -82,11 +82,19 @@ struct SweepFriction {
 };
 static_assert(sizeof(SweepFriction) == 160);
 
-/// The rows in the sweeps' packed form (packContactRows), parallel to ContactRows' arrays.
+/// The rows in the sweeps' packed form (packContactRows), in the sweeps' order: by wave, then as
+/// in ContactRows. A row's wave is one more than the latest wave among the earlier rows that share
+/// a moving body with it, so that rows of one wave touch no moving body twice and each body's rows
+/// keep their order. Gauss-Seidel then gives the same bits as over ContactRows' order (a row reads
+/// and writes only its two bodies, and a body that does not move keeps its zero velocity), while
+/// consecutive rows rarely wait on each other's velocities: in ContactRows' order most rows share
+/// a body with the one before (pairs are sorted by body), and each update then waits for the last.
 struct SweepRows {
     std::vector<SweepNormal> normals;
     std::vector<SweepFriction> frictions;
     std::vector<float> normalImpulse; ///< each point's accumulated normal impulse, N s
+    std::vector<std::uint32_t> place; ///< each ContactRows row's index here
+    std::vector<std::uint32_t> lastWave, waveStart; ///< scratch of the ordering, by body and wave
 };
 
 /// The first three lanes of a packed row's vector, the fourth (which carries a scalar) cleared:
@@ -139,9 +147,8 @@ template <typename T> void prefetchLines(const T& x) {
 
 /// This step's contact rows; the three arrays run in parallel, one entry per contact point,
 /// point-major: every manifold's first point, then every second point, and so on, manifold order
-/// kept within each. Consecutive rows then mostly touch different bodies, so that the sweep's
-/// updates overlap instead of waiting on each other, and no corner of a face contact is always
-/// solved first.
+/// kept within each, so that no corner of a face contact is always solved first. The sweeps run
+/// in an order with the same result and fewer waits (SweepRows).
 struct ContactRows {
     std::vector<NormalRow> normals;
     std::vector<FrictionRows> frictions;

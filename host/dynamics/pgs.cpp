@@ -132,16 +132,50 @@ void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBod
     }
 }
 
+namespace {
+
+// Each row's place in the sweeps' order (SweepRows): its wave is one more than the latest wave
+// of its moving bodies' earlier rows; rows sorted by wave, stably.
+// reads: keys (each row's bodies), bodies   writes: s.place, scratch
+void orderSweepRows(const ContactRows& contacts, const SolverBodies& bodies, SweepRows& s) {
+    const std::size_t n = contacts.size();
+    std::vector<std::uint32_t>& last = s.lastWave;
+    last.assign(bodies.velocity.size(), 0);
+    s.place.resize(n);
+    std::uint32_t waves = 0;
+    // The wave of each row, kept in place until the counting sort below turns it into a place.
+    for (std::size_t i = 0; i < n; ++i) {
+        const ContactKey& k = contacts.keys[i];
+        const bool movesA = bodies.moves(k.a), movesB = bodies.moves(k.b);
+        const std::uint32_t wave =
+            std::max(movesA ? last[k.a] : 0u, movesB ? last[k.b] : 0u) + 1u;
+        if (movesA) last[k.a] = wave;
+        if (movesB) last[k.b] = wave;
+        s.place[i] = wave;
+        waves = std::max(waves, wave);
+    }
+    std::vector<std::uint32_t>& start = s.waveStart;
+    start.assign(std::size_t(waves) + 2, 0);
+    for (std::size_t i = 0; i < n; ++i) ++start[s.place[i] + 1];
+    for (std::size_t w = 1; w < start.size(); ++w) start[w] += start[w - 1];
+    for (std::size_t i = 0; i < n; ++i) s.place[i] = start[s.place[i]]++;
+}
+
+} // namespace
+
 void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart) {
     SweepRows& s = contacts.sweep;
     const std::size_t n = contacts.size();
     s.normals.resize(n);
     s.frictions.resize(n);
     s.normalImpulse.resize(n);
+    orderSweepRows(contacts, bodies, s);
+    // The warm start in ContactRows' order: the sweeps' order gives the same bits (SweepRows).
     for (std::size_t i = 0; i < n; ++i) {
         const NormalRow& r = contacts.normals[i];
         const FrictionRows& f = contacts.frictions[i];
-        SweepNormal& p = s.normals[i];
+        const std::uint32_t at = s.place[i];
+        SweepNormal& p = s.normals[at];
         p.normal = r.normal;
         p.normal[3] = r.mass;
         p.crossA = r.crossA;
@@ -152,8 +186,8 @@ void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart
         p.turnA[3] = indexLane(r.a);
         p.turnB = r.turnB;
         p.turnB[3] = indexLane(r.b);
-        s.normalImpulse[i] = r.impulse;
-        s.frictions[i] = packFriction(f);
+        s.normalImpulse[at] = r.impulse;
+        s.frictions[at] = packFriction(f);
         if (!warmStart) continue;
         SolverVelocity& a = bodies.velocity[r.a];
         SolverVelocity& b = bodies.velocity[r.b];
@@ -169,10 +203,11 @@ void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart
 void unpackContactImpulses(ContactRows& contacts) {
     const SweepRows& s = contacts.sweep;
     for (std::size_t i = 0; i < contacts.size(); ++i) {
-        contacts.normals[i].impulse = s.normalImpulse[i];
+        const std::uint32_t at = s.place[i];
+        contacts.normals[i].impulse = s.normalImpulse[at];
         FrictionRows& f = contacts.frictions[i];
-        f.impulse[0] = s.frictions[i].crossB[0][3];
-        f.impulse[1] = s.frictions[i].crossB[1][3];
+        f.impulse[0] = s.frictions[at].crossB[0][3];
+        f.impulse[1] = s.frictions[at].crossB[1][3];
     }
 }
 

@@ -49,8 +49,9 @@ inline constexpr float kLayerMassRatio = RUBBLE_LAYER_MASS_RATIO;
 void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBodies& bodies);
 
 /// Copies the rows into contacts.sweep, the packed form the sweeps stream through (a point's
-/// normal row in 80 bytes, its friction rows in 160, against 352 for the full rows), and with
-/// `warmStart` applies the contacts' accumulated impulses in the same pass.
+/// normal row in 80 bytes, its friction rows in 160, against 352 for the full rows) in the
+/// sweeps' order (SweepRows), and with `warmStart` applies the contacts' accumulated impulses in
+/// the same pass.
 /// reads: rows   writes: contacts.sweep, bodies' velocities (warm start)
 void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart);
 
