@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "host/collision/contact.h"
+#include "host/core/union_find.h"
 #include "host/dynamics/solver_bodies.h"
 #include "rubble/scene.h"
 #include "rubble/shared/body.h"
@@ -82,19 +83,25 @@ struct SweepFriction {
 };
 static_assert(sizeof(SweepFriction) == 160);
 
-/// The rows in the sweeps' packed form (packContactRows), in the sweeps' order: by wave, then as
-/// in ContactRows. A row's wave is one more than the latest wave among the earlier rows that share
-/// a moving body with it, so that rows of one wave touch no moving body twice and each body's rows
-/// keep their order. Gauss-Seidel then gives the same bits as over ContactRows' order (a row reads
-/// and writes only its two bodies, and a body that does not move keeps its zero velocity), while
-/// consecutive rows rarely wait on each other's velocities: in ContactRows' order most rows share
-/// a body with the one before (pairs are sorted by body), and each update then waits for the last.
+/// The rows in the sweeps' packed form (packContactRows), in the sweeps' order: by island (the
+/// rows joined through the moving bodies they share), then within each island's blocks of rows by
+/// wave, then as in ContactRows. A row's wave is one more than the latest wave among the earlier
+/// rows that share a moving body with it, so that rows of one wave touch no moving body twice and
+/// each body's rows keep their order. Gauss-Seidel then gives the same bits as over ContactRows'
+/// order (a row reads and writes only its two bodies, and a body that does not move keeps its
+/// zero velocity), while consecutive rows rarely wait on each other's velocities (in ContactRows'
+/// order most rows share a body with the one before: pairs are sorted by body), and an island's
+/// rows can run all their sweeps from the caches.
 struct SweepRows {
     std::vector<SweepNormal> normals;
     std::vector<SweepFriction> frictions;
     std::vector<float> normalImpulse; ///< each point's accumulated normal impulse, N s
-    std::vector<std::uint32_t> place; ///< each ContactRows row's index here
-    std::vector<std::uint32_t> lastWave, waveStart; ///< scratch of the ordering, by body and wave
+    std::vector<std::uint32_t> place;       ///< each ContactRows row's index here
+    std::vector<std::uint32_t> order;       ///< the ContactRows row at each index here
+    std::vector<std::uint32_t> islandStart; ///< where each island's rows start, then the end
+    // Scratch of the ordering: islands of bodies, by body, rows by island, by wave.
+    UnionFind islands;
+    std::vector<std::uint32_t> byBody, byIsland, waveStart;
 };
 
 /// The first three lanes of a packed row's vector, the fourth (which carries a scalar) cleared:

@@ -26,7 +26,9 @@ namespace rubble {
 /// same number of sweeps over the normal rows that push and the rows touching the bodies they
 /// move, on separate pseudo-velocities that start at zero and aim at the rows' Baumgarte speeds
 /// (lambda_push >= 0), so that pushing bodies apart adds no energy; PgsSolver::solvePositions
-/// moves the bodies by dt times them. After the sweeps, the layer pass (solveLayers).
+/// moves the bodies by dt times them. After the sweeps, the layer pass (solveLayers). The contact
+/// rows run in SweepRows' order, and without joints island by island, each island's sweeps
+/// together: the same bits as the sweeps above, from the caches.
 /// reads: rows, joints, bodies   writes: bodies' velocities and push, impulses, residuals
 void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodies,
               const SolverOptions& options, std::vector<float>& residuals);
@@ -55,8 +57,10 @@ void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBod
 /// reads: rows   writes: contacts.sweep, bodies' velocities (warm start)
 void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart);
 
-/// One sweep of the packed contact rows; returns the largest |applied impulse change|, N s.
-float solveContactSweep(SweepRows& rows, SolverBodies& bodies, float relaxation);
+/// One sweep of the packed contact rows [begin, end); returns the largest |applied impulse
+/// change|, N s.
+float solveContactSweep(SweepRows& rows, std::size_t begin, std::size_t end, SolverBodies& bodies,
+                        float relaxation);
 
 /// The sweeps' impulses back into the full rows. reads: contacts.sweep   writes: rows' impulses
 void unpackContactImpulses(ContactRows& contacts);
