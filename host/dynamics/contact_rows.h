@@ -39,16 +39,18 @@ struct NormalRow {
     float bounceImpulse = 0; ///< the restitution pass's, N s
 };
 
-/// The same point's two friction rows, along two unit tangents.
+/// The same point's two friction rows, along two unit tangents. The impulses sit next to the
+/// tangents: the passes after the sweeps (unpackContactImpulses, storeContactImpulses) read or
+/// write only these, and a large scene's rows come from memory.
 struct FrictionRows {
     Lanes tangent[2] = {};
+    float impulse[2] = {0, 0}; ///< accumulated, N s
+    std::uint32_t a = 0, b = 0;
     Lanes crossA[2] = {}, crossB[2] = {};
     Lanes turnA[2] = {}, turnB[2] = {};
-    std::uint32_t a = 0, b = 0;
     float inverseMassA = 0, inverseMassB = 0;
     float mass[2] = {0, 0};
-    float friction = 0;        ///< combined Coulomb coefficient
-    float impulse[2] = {0, 0}; ///< accumulated, N s
+    float friction = 0; ///< combined Coulomb coefficient
 };
 
 /// Where a contact point came from, to hand its impulses to the next step.
