@@ -170,7 +170,8 @@ struct ContactRows {
     // The layer pass: each body's layer above the bodies that do not move, its rows in order.
     std::vector<std::uint32_t> layer, layerRows;
     std::vector<std::uint8_t> loaded;
-    SweepRows sweep; ///< the PGS sweeps' packed copy, valid inside solvePgs
+    SweepRows sweep;     ///< the PGS sweeps' packed copy, valid inside solvePgs
+    SweepRows pushSweep; ///< the split position pass's packed normal rows (solvePushes)
 
     std::size_t size() const { return normals.size(); }
     void clear() {

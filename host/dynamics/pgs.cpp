@@ -18,19 +18,6 @@ bool isBouncing(const NormalRow& r) {
 // The position pass stops when no push impulse changes by more than this, N s.
 constexpr float kPushTolerance = 1e-6f;
 
-// One projected Gauss-Seidel update of a normal row on the velocities a and b (the bodies'
-// velocities, or the split pass's push velocities) toward `target`: the accumulated impulse
-// stays >= 0, the change is applied to both bodies and returned.
-float solveNormalRow(const NormalRow& r, SolverVelocity& a, SolverVelocity& b, float target,
-                     float& accumulated, float relaxation) {
-    const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
-    const float total = std::max(accumulated + r.mass * (target - speed) * relaxation, 0.0f);
-    const float applied = total - accumulated;
-    accumulated = total;
-    applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB, applied);
-    return applied;
-}
-
 constexpr std::uint32_t kNoLayer = 0xffffffffu;
 // What solveLayers marks on a body: it carries a heavy load, or it is in a joint.
 constexpr std::uint8_t kLoaded = 1, kJoined = 2;
@@ -141,22 +128,27 @@ constexpr std::size_t kSweepBlock = 1024;
 
 constexpr std::uint32_t kNoIsland = 0xffffffffu;
 
-// Each row's place in the sweeps' order (SweepRows): rows by island (numbered in the order of
-// their first rows), then within each island's blocks by wave, stably. reads: keys (each row's
-// bodies), bodies   writes: s.place, s.islandStart, scratch
-void orderSweepRows(const ContactRows& contacts, const SolverBodies& bodies, SweepRows& s) {
-    const std::size_t n = contacts.size(), bodyCount = bodies.velocity.size();
+// The places in the sweeps' order (SweepRows) of n rows, the j-th being ContactRows' row
+// rowOf(j) (ascending): rows by island (numbered in the order of their first rows), then within
+// each island's blocks by wave, stably. reads: keys (each row's bodies), bodies
+// writes: s.place (by j), s.order (ContactRows' rows), s.islandStart, scratch
+template <typename RowOf>
+void orderSweepRows(const ContactRows& contacts, std::size_t n, RowOf rowOf,
+                    const SolverBodies& bodies, SweepRows& s) {
+    const std::size_t bodyCount = bodies.velocity.size();
     // Islands: the rows joined through the moving bodies they share.
     s.islands.reset(bodyCount);
-    for (const ContactKey& k : contacts.keys)
+    for (std::size_t i = 0; i < n; ++i) {
+        const ContactKey& k = contacts.keys[rowOf(i)];
         if (bodies.moves(k.a) && bodies.moves(k.b)) s.islands.unite(k.a, k.b);
+    }
     std::vector<std::uint32_t>& byBody = s.byBody;
     byBody.assign(bodyCount, kNoIsland);
     s.place.resize(n);
     std::uint32_t islands = 0;
     // Each row's island, kept in place until the rows are listed by island.
     for (std::size_t i = 0; i < n; ++i) {
-        const ContactKey& k = contacts.keys[i];
+        const ContactKey& k = contacts.keys[rowOf(i)];
         const std::uint32_t root = s.islands.find(bodies.moves(k.a) ? k.a : k.b);
         if (byBody[root] == kNoIsland) byBody[root] = islands++;
         s.place[i] = byBody[root];
@@ -179,7 +171,7 @@ void orderSweepRows(const ContactRows& contacts, const SolverBodies& bodies, Swe
         for (std::size_t t = from[j]; t < from[j + 1]; ++t) {
             if ((t - from[j]) % kSweepBlock == 0) floor = waves;
             const std::uint32_t i = rows[t];
-            const ContactKey& k = contacts.keys[i];
+            const ContactKey& k = contacts.keys[rowOf(i)];
             const bool movesA = bodies.moves(k.a), movesB = bodies.moves(k.b);
             const std::uint32_t wave =
                 std::max({floor, movesA ? last[k.a] : 0u, movesB ? last[k.b] : 0u}) + 1u;
@@ -196,7 +188,7 @@ void orderSweepRows(const ContactRows& contacts, const SolverBodies& bodies, Swe
     s.order.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         s.place[i] = start[s.place[i]]++;
-        s.order[s.place[i]] = std::uint32_t(i);
+        s.order[s.place[i]] = std::uint32_t(rowOf(i));
     }
 }
 
@@ -208,7 +200,7 @@ void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart
     s.normals.resize(n);
     s.frictions.resize(n);
     s.normalImpulse.resize(n);
-    orderSweepRows(contacts, bodies, s);
+    orderSweepRows(contacts, n, [](std::size_t i) { return i; }, bodies, s);
     // The packed rows are written in order, the full rows read where they are; the warm start
     // in the sweeps' order gives the same bits as in ContactRows' (SweepRows).
     for (std::size_t at = 0; at < n; ++at) {
@@ -257,26 +249,29 @@ void unpackContactImpulses(ContactRows& contacts) {
     }
 }
 
-float solveContactSweep(SweepRows& rows, std::size_t begin, std::size_t end, SolverBodies& bodies,
-                        float relaxation) {
+namespace {
+
+// One sweep of packed normal rows [begin, end) on `velocity` (the bodies' velocities, or the
+// split pass's push velocities), each toward the target in its crossA's fourth lane, from the
+// accumulated impulses `impulse`, which stay >= 0; only the clamped change is applied. Returns the
+// largest |applied change|, N s.
+float sweepNormalRows(std::span<const SweepNormal> rows, float* impulse, std::size_t begin,
+                      std::size_t end, SolverVelocity* velocity, const float* inverseMass,
+                      float relaxation) {
     float residual = 0.0f;
-    const std::size_t n = rows.normals.size();
-    const float* inverseMass = bodies.inverseMass.data();
-    SolverVelocity* velocity = bodies.velocity.data();
-    // Every normal row first: the friction bounds then see this sweep's normal impulses. The
-    // operations are solveNormalRow's, in the same order.
+    const std::size_t n = rows.size();
     for (std::size_t i = begin; i < end; ++i) {
-        if (i + 2 * kPrefetchRows < n) prefetchLines(rows.normals[i + 2 * kPrefetchRows]);
+        if (i + 2 * kPrefetchRows < n) prefetchLines(rows[i + 2 * kPrefetchRows]);
         if (i + kPrefetchRows < n) {
-            const SweepNormal& ahead = rows.normals[i + kPrefetchRows];
+            const SweepNormal& ahead = rows[i + kPrefetchRows];
             __builtin_prefetch(&velocity[laneIndex(ahead.turnA[3])]);
             __builtin_prefetch(&velocity[laneIndex(ahead.turnB[3])]);
         }
-        const SweepNormal& r = rows.normals[i];
+        const SweepNormal& r = rows[i];
         const std::uint32_t ia = laneIndex(r.turnA[3]), ib = laneIndex(r.turnB[3]);
         SolverVelocity& a = velocity[ia];
         SolverVelocity& b = velocity[ib];
-        float& accumulated = rows.normalImpulse[i];
+        float& accumulated = impulse[i];
         const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
         const float total =
             std::max(accumulated + r.normal[3] * (r.crossA[3] - speed) * relaxation, 0.0f);
@@ -286,6 +281,19 @@ float solveContactSweep(SweepRows& rows, std::size_t begin, std::size_t end, Sol
                  applied);
         residual = std::max(residual, std::abs(applied));
     }
+    return residual;
+}
+
+} // namespace
+
+float solveContactSweep(SweepRows& rows, std::size_t begin, std::size_t end, SolverBodies& bodies,
+                        float relaxation) {
+    const std::size_t n = rows.normals.size();
+    const float* inverseMass = bodies.inverseMass.data();
+    SolverVelocity* velocity = bodies.velocity.data();
+    // Every normal row first: the friction bounds then see this sweep's normal impulses.
+    float residual = sweepNormalRows(rows.normals, rows.normalImpulse.data(), begin, end, velocity,
+                                     inverseMass, relaxation);
     // Friction: a point's two tangent rows from the same velocities, each within the box
     // |lambda_t| <= mu lambda_n, applied together.
     for (std::size_t i = begin; i < end; ++i) {
@@ -343,17 +351,37 @@ bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, fl
         if (r.pushTarget > 0.0f || moved[r.a] || moved[r.b]) active.push_back(std::uint32_t(i));
     }
     bodies.push.assign(bodies.velocity.size(), SolverVelocity{});
+    // The rows packed as for the velocity sweeps, in their order (SweepRows: the same bits as in
+    // `active`'s), each aiming at its push target.
+    SweepRows& s = contacts.pushSweep;
+    const std::size_t n = active.size();
+    orderSweepRows(contacts, n, [&](std::size_t j) { return active[j]; }, bodies, s);
+    s.normals.resize(n);
+    s.normalImpulse.assign(n, 0.0f);
+    for (std::size_t at = 0; at < n; ++at) {
+        if (at + kPrefetchRows < n) prefetchLines(contacts.normals[s.order[at + kPrefetchRows]]);
+        const NormalRow& r = contacts.normals[s.order[at]];
+        SweepNormal& p = s.normals[at];
+        p.normal = r.normal;
+        p.normal[3] = r.mass;
+        p.crossA = r.crossA;
+        p.crossA[3] = r.pushTarget;
+        p.crossB = r.crossB;
+        p.crossB[3] = 0.0f;
+        p.turnA = r.turnA;
+        p.turnA[3] = indexLane(r.a);
+        p.turnB = r.turnB;
+        p.turnB[3] = indexLane(r.b);
+    }
     for (int it = 0; it < iterations; ++it) {
-        float residual = 0.0f;
-        for (const std::uint32_t i : active) {
-            NormalRow& r = contacts.normals[i];
-            const float applied = solveNormalRow(r, bodies.push[r.a], bodies.push[r.b],
-                                                 r.pushTarget, r.pushImpulse, relaxation);
-            residual = std::max(residual, std::abs(applied));
-        }
+        const float residual = sweepNormalRows(s.normals, s.normalImpulse.data(), 0, n,
+                                               bodies.push.data(), bodies.inverseMass.data(),
+                                               relaxation);
         // Converged: a further sweep would move nothing by more than round-off.
         if (residual <= kPushTolerance) break;
     }
+    for (std::size_t at = 0; at < n; ++at)
+        contacts.normals[s.order[at]].pushImpulse = s.normalImpulse[at];
     // The layer pass's rows (solvePgs), bottom up, each moving its upper body only.
     for (const std::uint32_t i : contacts.layerRows) {
         const NormalRow& r = contacts.normals[i];

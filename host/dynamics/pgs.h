@@ -70,7 +70,9 @@ void unpackContactImpulses(ContactRows& contacts);
 /// larger of its Baumgarte speed and its bounce's lift, which carries the bodies from the
 /// contact to where the rebound has taken them by the step's end. Then the layer pass's rows
 /// (solveLayers) once more, bottom up, each moving its upper body only, so that a light body
-/// under a heavy one is pushed out as well. writes: bodies.push, rows' push targets and impulses
+/// under a heavy one is pushed out as well. The sweeps run over packed rows in SweepRows' order
+/// (contacts.pushSweep): the same bits as in ContactRows' order.
+/// writes: bodies.push, rows' push targets and impulses
 bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, float relaxation);
 
 /// The restitution pass, after the positions moved (as Box2D v3 applies restitution after its
