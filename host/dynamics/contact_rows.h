@@ -97,7 +97,7 @@ static_assert(sizeof(SweepFriction) == 160);
 struct SweepRows {
     std::vector<SweepNormal> normals;
     std::vector<SweepFriction> frictions;
-    std::vector<float> normalImpulse; ///< each point's accumulated normal impulse, N s
+    std::vector<float> normalImpulse;       ///< each point's accumulated normal impulse, N s
     std::vector<std::uint32_t> place;       ///< each ContactRows row's index here
     std::vector<std::uint32_t> order;       ///< the ContactRows row at each index here
     std::vector<std::uint32_t> islandStart; ///< where each island's rows start, then the end

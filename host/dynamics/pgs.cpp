@@ -200,7 +200,8 @@ void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart
     s.normals.resize(n);
     s.frictions.resize(n);
     s.normalImpulse.resize(n);
-    orderSweepRows(contacts, n, [](std::size_t i) { return i; }, bodies, s);
+    const auto everyRow = [](std::size_t i) { return i; };
+    orderSweepRows(contacts, n, everyRow, bodies, s);
     // The packed rows are written in order, the full rows read where they are; the warm start
     // in the sweeps' order gives the same bits as in ContactRows' (SweepRows).
     for (std::size_t at = 0; at < n; ++at) {
@@ -240,7 +241,8 @@ void unpackContactImpulses(ContactRows& contacts) {
     const SweepRows& s = contacts.sweep;
     const std::size_t n = contacts.size();
     for (std::size_t i = 0; i < n; ++i) {
-        if (i + kPrefetchRows < n) __builtin_prefetch(&s.frictions[s.place[i + kPrefetchRows]].crossB);
+        if (i + kPrefetchRows < n)
+            __builtin_prefetch(&s.frictions[s.place[i + kPrefetchRows]].crossB);
         const std::uint32_t at = s.place[i];
         contacts.normals[i].impulse = s.normalImpulse[at];
         FrictionRows& f = contacts.frictions[i];
@@ -355,7 +357,8 @@ bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, fl
     // `active`'s), each aiming at its push target.
     SweepRows& s = contacts.pushSweep;
     const std::size_t n = active.size();
-    orderSweepRows(contacts, n, [&](std::size_t j) { return active[j]; }, bodies, s);
+    const auto activeRow = [&](std::size_t j) { return active[j]; };
+    orderSweepRows(contacts, n, activeRow, bodies, s);
     s.normals.resize(n);
     s.normalImpulse.assign(n, 0.0f);
     for (std::size_t at = 0; at < n; ++at) {
@@ -374,9 +377,9 @@ bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, fl
         p.turnB[3] = indexLane(r.b);
     }
     for (int it = 0; it < iterations; ++it) {
-        const float residual = sweepNormalRows(s.normals, s.normalImpulse.data(), 0, n,
-                                               bodies.push.data(), bodies.inverseMass.data(),
-                                               relaxation);
+        const float residual =
+            sweepNormalRows(s.normals, s.normalImpulse.data(), 0, n, bodies.push.data(),
+                            bodies.inverseMass.data(), relaxation);
         // Converged: a further sweep would move nothing by more than round-off.
         if (residual <= kPushTolerance) break;
     }
@@ -457,8 +460,8 @@ void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodi
         for (float& residual : residuals) {
             for (Joint& j : joints)
                 residual = std::max(residual, solveJointVelocity(j, bodies, options.relaxation));
-            residual = std::max(residual, solveContactSweep(rows, 0, contacts.size(), bodies,
-                                                            options.relaxation));
+            residual = std::max(
+                residual, solveContactSweep(rows, 0, contacts.size(), bodies, options.relaxation));
         }
     }
     unpackContactImpulses(contacts);
