@@ -307,6 +307,13 @@ void storeContactImpulses(const ContactRows& rows, std::span<const ContactImpuls
     if (!std::is_sorted(scratch.begin(), scratch.end(), pairLess))
         std::stable_sort(scratch.begin(), scratch.end(), pairLess);
     // Merge in the still pairs' impulses; a pair with rows has a moving body, so none repeats.
+    // Without any, the rows' impulses are the list as they are.
+    if (std::all_of(previous.begin(), previous.end(), [&](const ContactImpulse& old) {
+            return bodies.moves(old.a) || bodies.moves(old.b);
+        })) {
+        impulses.swap(scratch);
+        return;
+    }
     impulses.clear();
     std::size_t next = 0;
     for (const ContactImpulse& old : previous) {

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "host/collision/contact.h"
+#include "host/core/union_find.h"
 #include "host/dynamics/solver_bodies.h"
 #include "rubble/scene.h"
 #include "rubble/shared/body.h"
@@ -38,16 +39,18 @@ struct NormalRow {
     float bounceImpulse = 0; ///< the restitution pass's, N s
 };
 
-/// The same point's two friction rows, along two unit tangents.
+/// The same point's two friction rows, along two unit tangents. The impulses sit next to the
+/// tangents: the passes after the sweeps (unpackContactImpulses, storeContactImpulses) read or
+/// write only these, and a large scene's rows come from memory.
 struct FrictionRows {
     Lanes tangent[2] = {};
+    float impulse[2] = {0, 0}; ///< accumulated, N s
+    std::uint32_t a = 0, b = 0;
     Lanes crossA[2] = {}, crossB[2] = {};
     Lanes turnA[2] = {}, turnB[2] = {};
-    std::uint32_t a = 0, b = 0;
     float inverseMassA = 0, inverseMassB = 0;
     float mass[2] = {0, 0};
-    float friction = 0;        ///< combined Coulomb coefficient
-    float impulse[2] = {0, 0}; ///< accumulated, N s
+    float friction = 0; ///< combined Coulomb coefficient
 };
 
 /// Where a contact point came from, to hand its impulses to the next step.
@@ -82,11 +85,25 @@ struct SweepFriction {
 };
 static_assert(sizeof(SweepFriction) == 160);
 
-/// The rows in the sweeps' packed form (packContactRows), parallel to ContactRows' arrays.
+/// The rows in the sweeps' packed form (packContactRows), in the sweeps' order: by island (the
+/// rows joined through the moving bodies they share), then within each island's blocks of rows by
+/// wave, then as in ContactRows. A row's wave is one more than the latest wave among the earlier
+/// rows that share a moving body with it, so that rows of one wave touch no moving body twice and
+/// each body's rows keep their order. Gauss-Seidel then gives the same bits as over ContactRows'
+/// order (a row reads and writes only its two bodies, and a body that does not move keeps its
+/// zero velocity), while consecutive rows rarely wait on each other's velocities (in ContactRows'
+/// order most rows share a body with the one before: pairs are sorted by body), and an island's
+/// rows can run all their sweeps from the caches.
 struct SweepRows {
     std::vector<SweepNormal> normals;
     std::vector<SweepFriction> frictions;
-    std::vector<float> normalImpulse; ///< each point's accumulated normal impulse, N s
+    std::vector<float> normalImpulse;       ///< each point's accumulated normal impulse, N s
+    std::vector<std::uint32_t> place;       ///< each ContactRows row's index here
+    std::vector<std::uint32_t> order;       ///< the ContactRows row at each index here
+    std::vector<std::uint32_t> islandStart; ///< where each island's rows start, then the end
+    // Scratch of the ordering: islands of bodies, by body, rows by island, by wave.
+    UnionFind islands;
+    std::vector<std::uint32_t> byBody, byIsland, waveStart;
 };
 
 /// The first three lanes of a packed row's vector, the fourth (which carries a scalar) cleared:
@@ -139,9 +156,8 @@ template <typename T> void prefetchLines(const T& x) {
 
 /// This step's contact rows; the three arrays run in parallel, one entry per contact point,
 /// point-major: every manifold's first point, then every second point, and so on, manifold order
-/// kept within each. Consecutive rows then mostly touch different bodies, so that the sweep's
-/// updates overlap instead of waiting on each other, and no corner of a face contact is always
-/// solved first.
+/// kept within each, so that no corner of a face contact is always solved first. The sweeps run
+/// in an order with the same result and fewer waits (SweepRows).
 struct ContactRows {
     std::vector<NormalRow> normals;
     std::vector<FrictionRows> frictions;
@@ -154,7 +170,8 @@ struct ContactRows {
     // The layer pass: each body's layer above the bodies that do not move, its rows in order.
     std::vector<std::uint32_t> layer, layerRows;
     std::vector<std::uint8_t> loaded;
-    SweepRows sweep; ///< the PGS sweeps' packed copy, valid inside solvePgs
+    SweepRows sweep;     ///< the PGS sweeps' packed copy, valid inside solvePgs
+    SweepRows pushSweep; ///< the split position pass's packed normal rows (solvePushes)
 
     std::size_t size() const { return normals.size(); }
     void clear() {

@@ -18,19 +18,6 @@ bool isBouncing(const NormalRow& r) {
 // The position pass stops when no push impulse changes by more than this, N s.
 constexpr float kPushTolerance = 1e-6f;
 
-// One projected Gauss-Seidel update of a normal row on the velocities a and b (the bodies'
-// velocities, or the split pass's push velocities) toward `target`: the accumulated impulse
-// stays >= 0, the change is applied to both bodies and returned.
-float solveNormalRow(const NormalRow& r, SolverVelocity& a, SolverVelocity& b, float target,
-                     float& accumulated, float relaxation) {
-    const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
-    const float total = std::max(accumulated + r.mass * (target - speed) * relaxation, 0.0f);
-    const float applied = total - accumulated;
-    accumulated = total;
-    applyRow(a, b, r.normal, r.turnA, r.turnB, r.inverseMassA, r.inverseMassB, applied);
-    return applied;
-}
-
 constexpr std::uint32_t kNoLayer = 0xffffffffu;
 // What solveLayers marks on a body: it carries a heavy load, or it is in a joint.
 constexpr std::uint8_t kLoaded = 1, kJoined = 2;
@@ -93,9 +80,10 @@ void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBod
         return upInverse > 0.0f && bodies.inverseMass[down] >= kLayerMassRatio * upInverse;
     };
     // Most steps have no pair of moving bodies this far apart in mass: nothing to do.
+    // (The keys hold each row's bodies in 24 bytes, the normal rows in 144.)
     bool any = false;
-    for (const NormalRow& r : contacts.normals)
-        any = any || (!loaded[r.a] && !loaded[r.b] && (heavyOver(r.a, r.b) || heavyOver(r.b, r.a)));
+    for (const ContactKey& k : contacts.keys)
+        any = any || (!loaded[k.a] && !loaded[k.b] && (heavyOver(k.a, k.b) || heavyOver(k.b, k.a)));
     if (!any) return;
     std::vector<std::uint32_t>& layer = contacts.layer;
     findLayers(contacts, bodies, layer);
@@ -132,16 +120,99 @@ void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBod
     }
 }
 
+namespace {
+
+// The rows of an island are ordered by wave within blocks of this many (SweepRows): the blocks
+// keep the bodies a stretch of rows touches few, and their velocities in the caches.
+constexpr std::size_t kSweepBlock = 1024;
+
+constexpr std::uint32_t kNoIsland = 0xffffffffu;
+
+// The places in the sweeps' order (SweepRows) of n rows, the j-th being ContactRows' row
+// rowOf(j) (ascending): rows by island (numbered in the order of their first rows), then within
+// each island's blocks by wave, stably. reads: keys (each row's bodies), bodies
+// writes: s.place (by j), s.order (ContactRows' rows), s.islandStart, scratch
+template <typename RowOf>
+void orderSweepRows(const ContactRows& contacts, std::size_t n, RowOf rowOf,
+                    const SolverBodies& bodies, SweepRows& s) {
+    const std::size_t bodyCount = bodies.velocity.size();
+    // Islands: the rows joined through the moving bodies they share.
+    s.islands.reset(bodyCount);
+    for (std::size_t i = 0; i < n; ++i) {
+        const ContactKey& k = contacts.keys[rowOf(i)];
+        if (bodies.moves(k.a) && bodies.moves(k.b)) s.islands.unite(k.a, k.b);
+    }
+    std::vector<std::uint32_t>& byBody = s.byBody;
+    byBody.assign(bodyCount, kNoIsland);
+    s.place.resize(n);
+    std::uint32_t islands = 0;
+    // Each row's island, kept in place until the rows are listed by island.
+    for (std::size_t i = 0; i < n; ++i) {
+        const ContactKey& k = contacts.keys[rowOf(i)];
+        const std::uint32_t root = s.islands.find(bodies.moves(k.a) ? k.a : k.b);
+        if (byBody[root] == kNoIsland) byBody[root] = islands++;
+        s.place[i] = byBody[root];
+    }
+    std::vector<std::uint32_t>& from = s.islandStart;
+    from.assign(std::size_t(islands) + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) ++from[s.place[i] + 1];
+    for (std::size_t j = 1; j < from.size(); ++j) from[j] += from[j - 1];
+    std::vector<std::uint32_t>& rows = s.byIsland;
+    rows.resize(n);
+    std::vector<std::uint32_t>& next = s.waveStart;
+    next.assign(from.begin(), from.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) rows[next[s.place[i]]++] = std::uint32_t(i);
+    // Each row's wave, kept in place until the counting sort below turns it into a place; an
+    // island's and a block's waves come after those before.
+    std::vector<std::uint32_t>& last = byBody;
+    last.assign(bodyCount, 0);
+    std::uint32_t waves = 0, floor = 0;
+    for (std::uint32_t j = 0; j < islands; ++j)
+        for (std::size_t t = from[j]; t < from[j + 1]; ++t) {
+            if ((t - from[j]) % kSweepBlock == 0) floor = waves;
+            const std::uint32_t i = rows[t];
+            const ContactKey& k = contacts.keys[rowOf(i)];
+            const bool movesA = bodies.moves(k.a), movesB = bodies.moves(k.b);
+            const std::uint32_t wave =
+                std::max({floor, movesA ? last[k.a] : 0u, movesB ? last[k.b] : 0u}) + 1u;
+            if (movesA) last[k.a] = wave;
+            if (movesB) last[k.b] = wave;
+            s.place[i] = wave;
+            waves = std::max(waves, wave);
+        }
+    // A wave's rows lie in one island, in ContactRows' order.
+    std::vector<std::uint32_t>& start = s.waveStart;
+    start.assign(std::size_t(waves) + 2, 0);
+    for (std::size_t i = 0; i < n; ++i) ++start[s.place[i] + 1];
+    for (std::size_t w = 1; w < start.size(); ++w) start[w] += start[w - 1];
+    s.order.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        s.place[i] = start[s.place[i]]++;
+        s.order[s.place[i]] = std::uint32_t(rowOf(i));
+    }
+}
+
+} // namespace
+
 void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart) {
     SweepRows& s = contacts.sweep;
     const std::size_t n = contacts.size();
     s.normals.resize(n);
     s.frictions.resize(n);
     s.normalImpulse.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
+    const auto everyRow = [](std::size_t i) { return i; };
+    orderSweepRows(contacts, n, everyRow, bodies, s);
+    // The packed rows are written in order, the full rows read where they are; the warm start
+    // in the sweeps' order gives the same bits as in ContactRows' (SweepRows).
+    for (std::size_t at = 0; at < n; ++at) {
+        if (at + kPrefetchRows < n) {
+            prefetchLines(contacts.normals[s.order[at + kPrefetchRows]]);
+            prefetchLines(contacts.frictions[s.order[at + kPrefetchRows]]);
+        }
+        const std::uint32_t i = s.order[at];
         const NormalRow& r = contacts.normals[i];
         const FrictionRows& f = contacts.frictions[i];
-        SweepNormal& p = s.normals[i];
+        SweepNormal& p = s.normals[at];
         p.normal = r.normal;
         p.normal[3] = r.mass;
         p.crossA = r.crossA;
@@ -152,8 +223,8 @@ void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart
         p.turnA[3] = indexLane(r.a);
         p.turnB = r.turnB;
         p.turnB[3] = indexLane(r.b);
-        s.normalImpulse[i] = r.impulse;
-        s.frictions[i] = packFriction(f);
+        s.normalImpulse[at] = r.impulse;
+        s.frictions[at] = packFriction(f);
         if (!warmStart) continue;
         SolverVelocity& a = bodies.velocity[r.a];
         SolverVelocity& b = bodies.velocity[r.b];
@@ -168,33 +239,41 @@ void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart
 
 void unpackContactImpulses(ContactRows& contacts) {
     const SweepRows& s = contacts.sweep;
-    for (std::size_t i = 0; i < contacts.size(); ++i) {
-        contacts.normals[i].impulse = s.normalImpulse[i];
+    const std::size_t n = contacts.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i + kPrefetchRows < n)
+            __builtin_prefetch(&s.frictions[s.place[i + kPrefetchRows]].crossB);
+        const std::uint32_t at = s.place[i];
+        contacts.normals[i].impulse = s.normalImpulse[at];
         FrictionRows& f = contacts.frictions[i];
-        f.impulse[0] = s.frictions[i].crossB[0][3];
-        f.impulse[1] = s.frictions[i].crossB[1][3];
+        f.impulse[0] = s.frictions[at].crossB[0][3];
+        f.impulse[1] = s.frictions[at].crossB[1][3];
     }
 }
 
-float solveContactSweep(SweepRows& rows, SolverBodies& bodies, float relaxation) {
+namespace {
+
+// One sweep of packed normal rows [begin, end) on `velocity` (the bodies' velocities, or the
+// split pass's push velocities), each toward the target in its crossA's fourth lane, from the
+// accumulated impulses `impulse`, which stay >= 0; only the clamped change is applied. Returns the
+// largest |applied change|, N s.
+float sweepNormalRows(std::span<const SweepNormal> rows, float* impulse, std::size_t begin,
+                      std::size_t end, SolverVelocity* velocity, const float* inverseMass,
+                      float relaxation) {
     float residual = 0.0f;
-    const std::size_t n = rows.normals.size();
-    const float* inverseMass = bodies.inverseMass.data();
-    SolverVelocity* velocity = bodies.velocity.data();
-    // Every normal row first: the friction bounds then see this sweep's normal impulses. The
-    // operations are solveNormalRow's, in the same order.
-    for (std::size_t i = 0; i < n; ++i) {
-        if (i + 2 * kPrefetchRows < n) prefetchLines(rows.normals[i + 2 * kPrefetchRows]);
+    const std::size_t n = rows.size();
+    for (std::size_t i = begin; i < end; ++i) {
+        if (i + 2 * kPrefetchRows < n) prefetchLines(rows[i + 2 * kPrefetchRows]);
         if (i + kPrefetchRows < n) {
-            const SweepNormal& ahead = rows.normals[i + kPrefetchRows];
+            const SweepNormal& ahead = rows[i + kPrefetchRows];
             __builtin_prefetch(&velocity[laneIndex(ahead.turnA[3])]);
             __builtin_prefetch(&velocity[laneIndex(ahead.turnB[3])]);
         }
-        const SweepNormal& r = rows.normals[i];
+        const SweepNormal& r = rows[i];
         const std::uint32_t ia = laneIndex(r.turnA[3]), ib = laneIndex(r.turnB[3]);
         SolverVelocity& a = velocity[ia];
         SolverVelocity& b = velocity[ib];
-        float& accumulated = rows.normalImpulse[i];
+        float& accumulated = impulse[i];
         const float speed = rowSpeed(a, b, r.normal, r.crossA, r.crossB);
         const float total =
             std::max(accumulated + r.normal[3] * (r.crossA[3] - speed) * relaxation, 0.0f);
@@ -204,9 +283,22 @@ float solveContactSweep(SweepRows& rows, SolverBodies& bodies, float relaxation)
                  applied);
         residual = std::max(residual, std::abs(applied));
     }
+    return residual;
+}
+
+} // namespace
+
+float solveContactSweep(SweepRows& rows, std::size_t begin, std::size_t end, SolverBodies& bodies,
+                        float relaxation) {
+    const std::size_t n = rows.normals.size();
+    const float* inverseMass = bodies.inverseMass.data();
+    SolverVelocity* velocity = bodies.velocity.data();
+    // Every normal row first: the friction bounds then see this sweep's normal impulses.
+    float residual = sweepNormalRows(rows.normals, rows.normalImpulse.data(), begin, end, velocity,
+                                     inverseMass, relaxation);
     // Friction: a point's two tangent rows from the same velocities, each within the box
     // |lambda_t| <= mu lambda_n, applied together.
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = begin; i < end; ++i) {
         if (i + 2 * kPrefetchRows < n) prefetchLines(rows.frictions[i + 2 * kPrefetchRows]);
         if (i + kPrefetchRows < n) {
             const SweepFriction& ahead = rows.frictions[i + kPrefetchRows];
@@ -261,17 +353,38 @@ bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, fl
         if (r.pushTarget > 0.0f || moved[r.a] || moved[r.b]) active.push_back(std::uint32_t(i));
     }
     bodies.push.assign(bodies.velocity.size(), SolverVelocity{});
+    // The rows packed as for the velocity sweeps, in their order (SweepRows: the same bits as in
+    // `active`'s), each aiming at its push target.
+    SweepRows& s = contacts.pushSweep;
+    const std::size_t n = active.size();
+    const auto activeRow = [&](std::size_t j) { return active[j]; };
+    orderSweepRows(contacts, n, activeRow, bodies, s);
+    s.normals.resize(n);
+    s.normalImpulse.assign(n, 0.0f);
+    for (std::size_t at = 0; at < n; ++at) {
+        if (at + kPrefetchRows < n) prefetchLines(contacts.normals[s.order[at + kPrefetchRows]]);
+        const NormalRow& r = contacts.normals[s.order[at]];
+        SweepNormal& p = s.normals[at];
+        p.normal = r.normal;
+        p.normal[3] = r.mass;
+        p.crossA = r.crossA;
+        p.crossA[3] = r.pushTarget;
+        p.crossB = r.crossB;
+        p.crossB[3] = 0.0f;
+        p.turnA = r.turnA;
+        p.turnA[3] = indexLane(r.a);
+        p.turnB = r.turnB;
+        p.turnB[3] = indexLane(r.b);
+    }
     for (int it = 0; it < iterations; ++it) {
-        float residual = 0.0f;
-        for (const std::uint32_t i : active) {
-            NormalRow& r = contacts.normals[i];
-            const float applied = solveNormalRow(r, bodies.push[r.a], bodies.push[r.b],
-                                                 r.pushTarget, r.pushImpulse, relaxation);
-            residual = std::max(residual, std::abs(applied));
-        }
+        const float residual =
+            sweepNormalRows(s.normals, s.normalImpulse.data(), 0, n, bodies.push.data(),
+                            bodies.inverseMass.data(), relaxation);
         // Converged: a further sweep would move nothing by more than round-off.
         if (residual <= kPushTolerance) break;
     }
+    for (std::size_t at = 0; at < n; ++at)
+        contacts.normals[s.order[at]].pushImpulse = s.normalImpulse[at];
     // The layer pass's rows (solvePgs), bottom up, each moving its upper body only.
     for (const std::uint32_t i : contacts.layerRows) {
         const NormalRow& r = contacts.normals[i];
@@ -334,11 +447,22 @@ void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodi
     if (options.warmStart) warmStartJoints(joints, bodies);
     packContactRows(contacts, bodies, options.warmStart);
     residuals.assign(std::size_t(std::max(options.iterations, 0)), 0.0f);
-    for (float& residual : residuals) {
-        for (Joint& j : joints)
-            residual = std::max(residual, solveJointVelocity(j, bodies, options.relaxation));
-        residual =
-            std::max(residual, solveContactSweep(contacts.sweep, bodies, options.relaxation));
+    SweepRows& rows = contacts.sweep;
+    const std::vector<std::uint32_t>& island = rows.islandStart;
+    if (joints.empty()) {
+        // Islands share no moving body: each one's sweeps alone give the same bits, and a small
+        // island's rows stay in the caches from one sweep to the next.
+        for (std::size_t j = 0; j + 1 < island.size(); ++j)
+            for (float& residual : residuals)
+                residual = std::max(residual, solveContactSweep(rows, island[j], island[j + 1],
+                                                                bodies, options.relaxation));
+    } else {
+        for (float& residual : residuals) {
+            for (Joint& j : joints)
+                residual = std::max(residual, solveJointVelocity(j, bodies, options.relaxation));
+            residual = std::max(
+                residual, solveContactSweep(rows, 0, contacts.size(), bodies, options.relaxation));
+        }
     }
     unpackContactImpulses(contacts);
     solveLayers(contacts, joints, bodies);

@@ -26,7 +26,9 @@ namespace rubble {
 /// same number of sweeps over the normal rows that push and the rows touching the bodies they
 /// move, on separate pseudo-velocities that start at zero and aim at the rows' Baumgarte speeds
 /// (lambda_push >= 0), so that pushing bodies apart adds no energy; PgsSolver::solvePositions
-/// moves the bodies by dt times them. After the sweeps, the layer pass (solveLayers).
+/// moves the bodies by dt times them. After the sweeps, the layer pass (solveLayers). The contact
+/// rows run in SweepRows' order, and without joints island by island, each island's sweeps
+/// together: the same bits as the sweeps above, from the caches.
 /// reads: rows, joints, bodies   writes: bodies' velocities and push, impulses, residuals
 void solvePgs(ContactRows& contacts, std::span<Joint> joints, SolverBodies& bodies,
               const SolverOptions& options, std::vector<float>& residuals);
@@ -49,13 +51,16 @@ inline constexpr float kLayerMassRatio = RUBBLE_LAYER_MASS_RATIO;
 void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBodies& bodies);
 
 /// Copies the rows into contacts.sweep, the packed form the sweeps stream through (a point's
-/// normal row in 80 bytes, its friction rows in 160, against 352 for the full rows), and with
-/// `warmStart` applies the contacts' accumulated impulses in the same pass.
+/// normal row in 80 bytes, its friction rows in 160, against 352 for the full rows) in the
+/// sweeps' order (SweepRows), and with `warmStart` applies the contacts' accumulated impulses in
+/// the same pass.
 /// reads: rows   writes: contacts.sweep, bodies' velocities (warm start)
 void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart);
 
-/// One sweep of the packed contact rows; returns the largest |applied impulse change|, N s.
-float solveContactSweep(SweepRows& rows, SolverBodies& bodies, float relaxation);
+/// One sweep of the packed contact rows [begin, end); returns the largest |applied impulse
+/// change|, N s.
+float solveContactSweep(SweepRows& rows, std::size_t begin, std::size_t end, SolverBodies& bodies,
+                        float relaxation);
 
 /// The sweeps' impulses back into the full rows. reads: contacts.sweep   writes: rows' impulses
 void unpackContactImpulses(ContactRows& contacts);
@@ -65,7 +70,9 @@ void unpackContactImpulses(ContactRows& contacts);
 /// larger of its Baumgarte speed and its bounce's lift, which carries the bodies from the
 /// contact to where the rebound has taken them by the step's end. Then the layer pass's rows
 /// (solveLayers) once more, bottom up, each moving its upper body only, so that a light body
-/// under a heavy one is pushed out as well. writes: bodies.push, rows' push targets and impulses
+/// under a heavy one is pushed out as well. The sweeps run over packed rows in SweepRows' order
+/// (contacts.pushSweep): the same bits as in ContactRows' order.
+/// writes: bodies.push, rows' push targets and impulses
 bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, float relaxation);
 
 /// The restitution pass, after the positions moved (as Box2D v3 applies restitution after its

@@ -163,5 +163,32 @@ TEST(Pgs, PositionPassPushesOutWithoutVelocity) {
     EXPECT_FALSE(solvePushes(shallow.rows, shallow.bodies, 20, 1.0f));
 }
 
+TEST(Pgs, SweepOrderKeepsEachBodysRowsInOrderAndSplitsChains) {
+    // Body 0 is static, 1 to 6 move; rows (a, b) in ContactRows' order. Bodies 1 to 5 make one
+    // island (the static body joins nothing), body 6 another.
+    const std::uint32_t pairs[6][2] = {{1, 2}, {1, 3}, {4, 5}, {2, 4}, {0, 6}, {0, 1}};
+    ContactRows rows;
+    for (const auto& p : pairs) {
+        NormalRow n;
+        n.a = p[0];
+        n.b = p[1];
+        rows.normals.push_back(n);
+        rows.frictions.push_back(FrictionRows{});
+        rows.keys.push_back(ContactKey{p[0], p[1], 0u});
+    }
+    SolverBodies bodies;
+    bodies.velocity.assign(7, SolverVelocity{});
+    bodies.inverseMass = {0.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f};
+    packContactRows(rows, bodies, false);
+    // The first island's waves 1, 2, 1, 2, 3: rows (1, 3) and (4, 5) trade places, so that no
+    // two neighbours share a moving body; the second island's row comes after them.
+    EXPECT_EQ(rows.sweep.place, (std::vector<std::uint32_t>{0, 2, 1, 3, 5, 4}));
+    EXPECT_EQ(rows.sweep.islandStart, (std::vector<std::uint32_t>{0, 5, 6}));
+    for (std::size_t i = 0; i < 6; ++i) {
+        EXPECT_EQ(rows.sweep.order[rows.sweep.place[i]], i);
+        EXPECT_EQ(laneIndex(rows.sweep.normals[rows.sweep.place[i]].turnB[3]), pairs[i][1]);
+    }
+}
+
 } // namespace
 } // namespace rubble
