@@ -271,18 +271,17 @@ void collideLevelTriangles(const LevelMesh& level, const shared::RigidTransform&
     const glm::vec3 levelOrigin = toVec3(levelAt.translation);
     const glm::mat3 toLevel = glm::transpose(levelRotation);
     // The other shape in the level's frame; each triangle's contacts appended with room for as
-    // many as it can give.
+    // many as it can give. The scratch array only grows: its first n hold this pair's contacts.
     const glm::mat3 rotation = toLevel * toMat3(otherAt.rotation);
     const glm::vec3 translation = toLevel * (toVec3(otherAt.translation) - levelOrigin);
     std::vector<shared::TriangleContact>& contacts = scratch.contacts;
-    contacts.clear();
+    std::uint32_t n = 0;
     const auto collide = [&](std::uint32_t room, auto&& one) {
         for (std::uint32_t k : triangles) {
-            const auto count = std::uint32_t(contacts.size());
-            contacts.resize(count + room);
-            shared::ContactBuffer buffer{contacts.data(), count, count + room};
+            if (contacts.size() < std::size_t(n) + room) contacts.resize(std::size_t(n) + room);
+            shared::ContactBuffer buffer{contacts.data(), n, n + room};
             one(meshTriangleOf(level.triangles[k], k), &buffer);
-            contacts.resize(buffer.count);
+            n = buffer.count;
         }
     };
     switch (other.type) {
@@ -317,7 +316,6 @@ void collideLevelTriangles(const LevelMesh& level, const shared::RigidTransform&
     }
 
     // Group by normal, in the order the triangles came, and reduce each group.
-    const auto n = std::uint32_t(contacts.size());
     scratch.taken.assign(n, 0u);
     scratch.group.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) {

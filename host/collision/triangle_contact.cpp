@@ -39,7 +39,14 @@ void placeHull(const HalfEdgeMesh& hull, const glm::mat3& rotation, glm::vec3 tr
     std::size_t largestFace = 0;
     for (std::size_t f = 0; f < hull.faces.size(); ++f) {
         out.faceEdges[f] = hull.faces[f].edge;
-        largestFace = std::max(largestFace, faceVertices(hull, std::uint32_t(f)).size());
+        // The face's corners, counted round its loop.
+        std::size_t corners = 0;
+        std::uint32_t h = hull.faces[f].edge;
+        do {
+            ++corners;
+            h = hull.edges[h].next;
+        } while (h != hull.faces[f].edge);
+        largestFace = std::max(largestFace, corners);
     }
     // Placed once, read by every triangle.
     out.vertices.resize(hull.vertices.size());

@@ -91,7 +91,7 @@ TEST(LevelMesh, EdgeKindsFollowTheNeighbours) {
     int boundary = 0, flatEdges = 0;
     for (const LevelTriangle& t : flat.triangles)
         for (EdgeKind k : t.edges) (k == EdgeKind::Boundary ? boundary : flatEdges) += 1;
-    EXPECT_EQ(boundary, 8);       // the 2 x 2 grid's rim: 8 unit edges
+    EXPECT_EQ(boundary, 8); // the 2 x 2 grid's rim: 8 unit edges
     EXPECT_EQ(flatEdges, 8 * 3 - 8);
     // A ridge (roof) is convex seen from above, a valley concave; flipping one triangle's
     // winding does not change that.
@@ -206,8 +206,8 @@ TEST(TriangleContact, BoxOnAFlatMeshTouchesLikeOnAPlane) {
         const glm::vec3 p(u(rng), 0.25f - 0.003f, u(rng));
         const glm::quat q = glm::angleAxis(angle(rng), glm::vec3(0, 1, 0));
         const shared::RigidTransform t = at(p, q);
-        const shared::BodyBox wb = shared::worldBoxItem(
-            flattenHulls(std::span<const Shape>(&box, 1)).shapes[0], t, 0.01f);
+        const shared::BodyBox wb =
+            shared::worldBoxItem(flattenHulls(std::span<const Shape>(&box, 1)).shapes[0], t, 0.01f);
         LevelScratch scratch;
         std::vector<shared::ContactManifold> out;
         collideLevel(level, at(glm::vec3(0.0f)), box, t, Aabb{toVec3(wb.min), toVec3(wb.max)},
@@ -277,6 +277,81 @@ TEST(TriangleContact, BoxBesideABoundaryEdgeIsPushedSideways) {
         collideTriangleHull(t, 0, hull, 0.005f, out);
         for (const TriangleContact& c : out) EXPECT_NEAR(c.normal.y, 1.0f, 1e-6f);
     }
+}
+
+// Whether edgePairsMayWinItem leaves out the edge pairs of `t` and the placed `hull` for `best`
+// and `margin` (each corner's excess over the face planes found as collideTriangleHullItem finds
+// it); when it does, checks that no axis across an edge of each separates the two by more than
+// what an edge pair must beat.
+bool edgePairsLeftOut(const shared::MeshTriangle& t, const PlacedHull& hull, float best,
+                      float margin) {
+    const shared::PlacedHull& h = hull.view;
+    float excess[3] = {-1e30f, -1e30f, -1e30f};
+    std::uint32_t excessFace[3] = {0u, 0u, 0u};
+    for (std::uint32_t f = 0; f < h.hull.faceCount; ++f)
+        for (std::uint32_t k = 0; k < 3; ++k) {
+            const float over = shared::dot3(hull.faces[f], t.v[k]) - hull.faces[f].w;
+            if (over > excess[k]) {
+                excess[k] = over;
+                excessFace[k] = f;
+            }
+        }
+    if (shared::edgePairsMayWinItem(t, h, best, margin, excess, excessFace)) return false;
+    const float threshold = std::min(best + RUBBLE_TRIANGLE_EDGE_BIAS, margin);
+    for (std::uint32_t e = 0; e < h.hull.edgeCount; ++e)
+        for (std::uint32_t k = 0; k < 3; ++k) {
+            const shared::float4 axis =
+                shared::cross3(hull.edgeDirections[e], shared::sub4(t.v[(k + 1) % 3], t.v[k]));
+            if (shared::length3(axis) < 1e-6f) continue;
+            for (float sign : {1.0f, -1.0f}) {
+                const shared::float4 n = shared::scale4(shared::normalize3(axis), sign);
+                const float separation =
+                    shared::placedMinItem(h, n) - shared::triangleMaxItem(t, n);
+                EXPECT_LE(separation, threshold) << "hull edge " << e << ", triangle edge " << k;
+            }
+        }
+    return true;
+}
+
+TEST(TriangleContact, EdgePairsLeftOutNeverSeparateByMoreThanTheBound) {
+    // A box near a tilted triangle with boundary edges, far from the origin as on a large
+    // level: whenever the edge pairs are left out, none separates by more than it must to win.
+    TriangleMesh m;
+    m.vertices = {{80.0f, 0.0f, 80.0f}, {80.6f, 0.15f, 80.1f}, {80.2f, -0.1f, 80.7f}};
+    m.triangles = {{0, 1, 2}};
+    const LevelMesh level = levelOf(m);
+    const shared::MeshTriangle t = meshTriangleOf(level.triangles[0], 0);
+    const Shape box = boxShape(glm::vec3(0.5f, 0.3f, 0.4f));
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f), unit(0.0f, 1.0f);
+    int leftOut = 0;
+    for (int i = 0; i < 4000; ++i) {
+        const glm::quat q = glm::normalize(glm::quat(1.0f + u(rng), u(rng), u(rng), u(rng)));
+        // A point of the triangle, and the box placed so that its centre is within reach of it.
+        const float a = unit(rng), b = unit(rng) * (1.0f - a);
+        const glm::vec3 onTriangle = level.triangles[0].v[0] +
+                                     a * (level.triangles[0].v[1] - level.triangles[0].v[0]) +
+                                     b * (level.triangles[0].v[2] - level.triangles[0].v[0]);
+        const glm::vec3 centre = onTriangle + 0.7f * glm::vec3(u(rng), u(rng), u(rng));
+        PlacedHull hull;
+        placeHull(box.halfEdge, glm::mat3_cast(q), centre, hull);
+        const float best = -0.03f + 0.04f * unit(rng), margin = 0.004f + 0.01f * unit(rng);
+        if (edgePairsLeftOut(t, hull, best, margin)) ++leftOut;
+    }
+    EXPECT_GT(leftOut, 100) << "the bound leaves the edges out of some cases";
+
+    // A corner 5 mm outside two faces of the box, beside the edge between them, with the
+    // triangle's edge across that edge: the pair's axis separates by 7 mm, more than the corner's
+    // 5 mm excess over either face, so that corner bounds nothing.
+    const float d = 0.005f;
+    const glm::vec3 v0(0.5f + d, 0.3f + d, 0.0f);
+    TriangleMesh beside;
+    beside.vertices = {v0, v0 + glm::vec3(0.5f, -0.5f, 0.0f), v0 + glm::vec3(0.5f, 0.5f, 0.3f)};
+    beside.triangles = {{0, 1, 2}};
+    const LevelMesh besideLevel = levelOf(beside);
+    PlacedHull hull;
+    placeHull(box.halfEdge, glm::mat3(1.0f), glm::vec3(0.0f), hull);
+    EXPECT_FALSE(edgePairsLeftOut(meshTriangleOf(besideLevel.triangles[0], 0), hull, d, 0.02f));
 }
 
 TEST(LevelCollision, ReduceKeepsTheDeepestAndTheCorners) {

@@ -30,6 +30,12 @@ RUBBLE_SHARED_BEGIN
 // pair by RUBBLE_TRIANGLE_EDGE_BIAS more (m): faces give the steadier manifolds.
 #define RUBBLE_TRIANGLE_FACE_BIAS 5e-4f
 #define RUBBLE_TRIANGLE_EDGE_BIAS 1e-3f
+// Rounding allowance of the edge pairs' bound (triangle_hull_contact.h's edgePairsMayWinItem), m
+// per m of the coordinates' size (plus one m): a few float ulps of both sides.
+#define RUBBLE_TRIANGLE_ROUNDING 2e-6f
+// Hull edge directions whose axes with a triangle's edges are kept for the edges parallel to
+// them (a box's twelve edges have three).
+#define RUBBLE_TRIANGLE_KEPT_DIRECTIONS 4u
 // Hulls with at most this many vertices find their support by trying every vertex, which is
 // faster than hill climbing when the vertices are already placed.
 #define RUBBLE_TRIANGLE_BRUTE_SUPPORT 16u

@@ -64,6 +64,71 @@ RUBBLE_FN float triangleMaxItem(MeshTriangle t, float4 u) {
     return max3Item(dot3(u, t.v[0]), dot3(u, t.v[1]), dot3(u, t.v[2]));
 }
 
+// Whether an edge pair's axis may separate the triangle from the hull by more than
+// min(best + RUBBLE_TRIANGLE_EDGE_BIAS, margin), as it must to be chosen (or to end the test).
+// No axis separates the shapes by more than the distance between a point of each: a corner of the
+// triangle inside the hull bounds every axis by its excess over the face planes (minus its depth,
+// as the hull holds the ball of that radius about it), one outside by its excess when its
+// projection onto that face's plane lies in the hull. `excess` and `excessFace` hold each
+// corner's largest excess and its face. The bound is given RUBBLE_TRIANGLE_ROUNDING (relative to
+// the coordinates' size) for the rounding of both it and the axes' separations, so that the edge
+// pairs it leaves out would not have been chosen.
+RUBBLE_FN int edgePairsMayWinItem(MeshTriangle t, PlacedHull hull, float best, float margin,
+                                  const float* excess, const uint* excessFace) {
+    const float winning = best + RUBBLE_TRIANGLE_EDGE_BIAS;
+    const float threshold = winning < margin ? winning : margin;
+    float size = fabs(hull.centroid.x) + fabs(hull.centroid.y) + fabs(hull.centroid.z);
+    for (uint k = 0; k < 3u; ++k) {
+        const float s = fabs(t.v[k].x) + fabs(t.v[k].y) + fabs(t.v[k].z);
+        if (s > size) size = s;
+    }
+    const float limit = threshold - RUBBLE_TRIANGLE_ROUNDING * (1.0f + size);
+    for (uint k = 0; k < 3u; ++k) {
+        if (excess[k] > limit) continue;
+        if (excess[k] <= 0.0f) return 0;
+        const float4 n = faceNormalItem(placedFaceItem(hull, excessFace[k]));
+        const float4 q = sub4(t.v[k], scale4(n, excess[k]));
+        int inside = 1;
+        for (uint f = 0; f < hull.hull.faceCount && inside; ++f) {
+            const float4 plane = placedFaceItem(hull, f);
+            inside = f == excessFace[k] || dot3(faceNormalItem(plane), q) - plane.w <= 0.0f;
+        }
+        if (inside) return 0;
+    }
+    return 1;
+}
+
+// Whether a and b have the same bits in x, y and z (equal, and zeros of the same sign).
+RUBBLE_FN int sameBitsItem(float a, float b) {
+    return a == b && (a != 0.0f || 1.0f / a == 1.0f / b);
+}
+RUBBLE_FN int sameBits3Item(float4 a, float4 b) {
+    return sameBitsItem(a.x, b.x) && sameBitsItem(a.y, b.y) && sameBitsItem(a.z, b.z);
+}
+
+// What triangleEdgeAxisItem found: no axis (the edges are parallel), a component of the cross
+// product that is 0, a test of the axis's side that gave 0.
+#define RUBBLE_EDGE_AXIS_NONE 1u
+#define RUBBLE_EDGE_AXIS_ZERO_PART 2u
+#define RUBBLE_EDGE_AXIS_SIDE_ZERO 4u
+
+// The axis of a hull edge of direction `dh` and a triangle edge `edge` (of length `edgeLength`):
+// their unit cross product turned towards `toHull` (the hull's centroid from the triangle's),
+// into `axis`; flags as above.
+RUBBLE_FN uint triangleEdgeAxisItem(float4 dh, float4 edge, float edgeLength, float4 toHull,
+                                    float4* axis) {
+    float4 u = cross3(dh, edge);
+    const float len = length3(u);
+    *axis = vec4(0.0f, 0.0f, 0.0f);
+    if (len <= 1e-5f * length3(dh) * edgeLength) return RUBBLE_EDGE_AXIS_NONE;
+    uint flags = u.x == 0.0f || u.y == 0.0f || u.z == 0.0f ? RUBBLE_EDGE_AXIS_ZERO_PART : 0u;
+    u = divide4(u, len);
+    const float side = dot3(u, toHull);
+    if (side == 0.0f) flags |= RUBBLE_EDGE_AXIS_SIDE_ZERO;
+    *axis = side < 0.0f ? negate4(u) : u;
+    return flags;
+}
+
 // Which axis a hull's contact with a triangle comes from.
 #define RUBBLE_TRIANGLE_AXIS_FACE 0u
 #define RUBBLE_TRIANGLE_AXIS_HULL_FACE 1u
@@ -98,13 +163,23 @@ RUBBLE_FN void collideTriangleHullItem(MeshTriangle t, PlacedHull hull, float ma
     if (best > margin) return;
     float4 normal = face;
     uint chosenFace = 0u, chosenEdge = 0u, chosenSide = 0u;
-    // The hull's faces: u = -n_f, separation = min over the corners of n_f . v - offset.
+    // The hull's faces: u = -n_f, separation = min over the corners of n_f . v - offset. Each
+    // corner's largest excess over the face planes, and its face, bound the edge pairs below.
+    float excess[3] = {RUBBLE_TRIANGLE_LOWEST, RUBBLE_TRIANGLE_LOWEST, RUBBLE_TRIANGLE_LOWEST};
+    uint excessFace[3] = {0u, 0u, 0u};
     for (uint f = 0; f < hull.hull.faceCount; ++f) {
         const float4 plane = placedFaceItem(hull, f);
         const float4 n = faceNormalItem(plane);
         const float separation =
             min3Item(dot3(n, t.v[0]), dot3(n, t.v[1]), dot3(n, t.v[2])) - plane.w;
         if (separation > margin) return;
+        for (uint k = 0; k < 3u; ++k) {
+            const float over = dot3(n, t.v[k]) - plane.w;
+            if (over > excess[k]) {
+                excess[k] = over;
+                excessFace[k] = f;
+            }
+        }
         if (separation > best + RUBBLE_TRIANGLE_FACE_BIAS &&
             normalAllowedItem(t, side, negate4(n))) {
             best = separation;
@@ -122,28 +197,77 @@ RUBBLE_FN void collideTriangleHullItem(MeshTriangle t, PlacedHull hull, float ma
                           (kind == RUBBLE_EDGE_CONVEX && side > 0.0f) ||
                           (kind == RUBBLE_EDGE_CONCAVE && side < 0.0f);
     }
-    const float4 centre = divide4(add4(add4(t.v[0], t.v[1]), t.v[2]), 3.0f);
-    const float tolerance = RUBBLE_TRIANGLE_FEATURE_TOLERANCE * longestEdgeItem(t);
-    float4 edgeVector[3];
-    float edgeLength[3];
-    for (uint k = 0; k < 3u; ++k) {
-        edgeVector[k] = sub4(t.v[(k + 1u) % 3u], t.v[k]);
-        edgeLength[k] = length3(edgeVector[k]);
+    const uint edgeCount = (edgeMayTouch[0] || edgeMayTouch[1] || edgeMayTouch[2]) &&
+                                   edgePairsMayWinItem(t, hull, best, margin, excess, excessFace)
+                               ? hull.hull.edgeCount
+                               : 0u;
+    float4 centre = t.v[0], edgeVector[3];
+    float tolerance = 0.0f, edgeLength[3];
+    if (edgeCount > 0u) {
+        centre = divide4(add4(add4(t.v[0], t.v[1]), t.v[2]), 3.0f);
+        tolerance = RUBBLE_TRIANGLE_FEATURE_TOLERANCE * longestEdgeItem(t);
+        for (uint k = 0; k < 3u; ++k) {
+            edgeVector[k] = sub4(t.v[(k + 1u) % 3u], t.v[k]);
+            edgeLength[k] = length3(edgeVector[k]);
+        }
     }
-    for (uint e = 0; e < hull.hull.edgeCount; ++e) {
+    // The axes of the hull edges' first few directions, kept for the edges that share one.
+    float4 keptDirection[RUBBLE_TRIANGLE_KEPT_DIRECTIONS];
+    float4 keptAxis[RUBBLE_TRIANGLE_KEPT_DIRECTIONS][3];
+    uint keptFlags[RUBBLE_TRIANGLE_KEPT_DIRECTIONS][3];
+    uint kept = 0u;
+    const float4 toHull = sub4(hull.centroid, centre);
+    for (uint e = 0; e < edgeCount; ++e) {
         const float4 dh = placedEdgeDirectionItem(hull, e);
         const float4 origin = placedEdgeOriginItem(hull, e);
-        const float hullEdgeLength = length3(dh);
+        uint slot = kept;
+        int opposite = 0;
+        for (uint s = 0; s < kept && slot == kept; ++s) {
+            if (sameBits3Item(keptDirection[s], dh)) {
+                slot = s;
+            } else if (sameBits3Item(keptDirection[s], negate4(dh))) {
+                slot = s;
+                opposite = 1;
+            }
+        }
+        float4 axes[3];
+        uint flags[3];
+        if (slot < kept) {
+            for (uint k = 0; k < 3u; ++k) {
+                axes[k] = keptAxis[slot][k];
+                flags[k] = keptFlags[slot][k];
+                if (!opposite || (flags[k] & RUBBLE_EDGE_AXIS_NONE)) continue;
+                // The opposite direction's axis before turning is the negation, exactly, when
+                // no component of the cross product is 0; it turns the other way unless the
+                // test of its side gave 0.
+                if (flags[k] & RUBBLE_EDGE_AXIS_ZERO_PART)
+                    flags[k] =
+                        triangleEdgeAxisItem(dh, edgeVector[k], edgeLength[k], toHull, &axes[k]);
+                else if (flags[k] & RUBBLE_EDGE_AXIS_SIDE_ZERO)
+                    axes[k] = negate4(axes[k]);
+            }
+        } else {
+            for (uint k = 0; k < 3u; ++k) {
+                axes[k] = vec4(0.0f, 0.0f, 0.0f);
+                flags[k] = edgeMayTouch[k] ? triangleEdgeAxisItem(dh, edgeVector[k], edgeLength[k],
+                                                                  toHull, &axes[k])
+                                           : RUBBLE_EDGE_AXIS_NONE;
+            }
+            if (kept < RUBBLE_TRIANGLE_KEPT_DIRECTIONS) {
+                keptDirection[kept] = dh;
+                for (uint k = 0; k < 3u; ++k) {
+                    keptAxis[kept][k] = axes[k];
+                    keptFlags[kept][k] = flags[k];
+                }
+                ++kept;
+            }
+        }
         for (uint k = 0; k < 3u; ++k) {
             // An internal edge never gives the normal; past it the neighbour's face (or, here,
             // this face clipped to the prism) holds whatever touches.
-            if (!edgeMayTouch[k]) continue;
+            if (!edgeMayTouch[k] || (flags[k] & RUBBLE_EDGE_AXIS_NONE)) continue;
             const float4 a0 = t.v[k], a1 = t.v[(k + 1u) % 3u];
-            float4 u = cross3(dh, edgeVector[k]);
-            const float len = length3(u);
-            if (len <= 1e-5f * hullEdgeLength * edgeLength[k]) continue;
-            u = divide4(u, len);
-            if (dot3(u, sub4(hull.centroid, centre)) < 0.0f) u = negate4(u);
+            const float4 u = axes[k];
             // The gap between the two edges' lines along u bounds the separation from above
             // (the hull's least and the triangle's most include the edges' own points): when it
             // can neither separate nor win, the support queries are skipped.
