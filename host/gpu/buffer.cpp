@@ -23,18 +23,20 @@ Buffer::~Buffer() { release(); }
 void Buffer::release() {
     if (!mem_) return;
     clReleaseMemObject(mem_);
+    forgetBuffer(context_, mem_);
     releaseBuffer(context_, bytes_);
     mem_ = nullptr;
     bytes_ = 0;
 }
 
-Status Buffer::reserve(cl_context context, std::size_t bytes) {
+Status Buffer::reserve(cl_context context, std::size_t bytes, std::source_location where) {
     bytes = std::max<std::size_t>(bytes, 16);
     if (mem_ && bytes_ >= bytes) return {};
     // Checked before the old buffer goes: a buffer that does not fit leaves this one as it was.
     RUBBLE_TRY(admitBuffer(context, bytes, mem_ ? bytes_ : 0));
     if (mem_) {
         clReleaseMemObject(mem_); // its bytes were taken off by admitBuffer
+        forgetBuffer(context, mem_);
         mem_ = nullptr;
         bytes_ = 0;
     }
@@ -47,6 +49,7 @@ Status Buffer::reserve(cl_context context, std::size_t bytes) {
     }
     context_ = context;
     bytes_ = bytes;
+    nameBuffer(context, mem_, bytes, where);
     return {};
 }
 

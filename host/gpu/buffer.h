@@ -5,6 +5,7 @@
 #include <CL/cl.h>
 
 #include <cstddef>
+#include <source_location>
 #include <span>
 #include <vector>
 
@@ -28,9 +29,11 @@ class Buffer {
     ~Buffer();
 
     /// Makes the buffer hold at least `bytes` (at least 16); a larger buffer loses its contents.
+    /// The context's ledger names it by `where`, the call (host/gpu/memory.h, deviceBuffers).
     /// Errors: Limit when the device or the process has no room for it (host/gpu/memory.h; the
     /// buffer then keeps what it held), Device.
-    Status reserve(cl_context context, std::size_t bytes);
+    Status reserve(cl_context context, std::size_t bytes,
+                   std::source_location where = std::source_location::current());
     cl_mem mem() const { return mem_; }
     std::size_t bytes() const { return bytes_; }
 
@@ -54,16 +57,20 @@ Status writeBytes(const Context& c, const Buffer& b, std::size_t offset, const v
 Status readBytes(const Context& c, const Buffer& b, std::size_t offset, void* data,
                  std::size_t bytes, Wait wait, Profile* profile = nullptr);
 
-/// Blocking copy of a host array into the start of a buffer (reserved to fit).
+/// Blocking copy of a host array into the start of a buffer (reserved to fit, named by
+/// `where`).
 template <class T>
-Status upload(const Context& c, Buffer& b, std::span<const T> data) {
-    RUBBLE_TRY(b.reserve(c.context(), data.size_bytes()));
+Status upload(const Context& c, Buffer& b, std::span<const T> data,
+              std::source_location where = std::source_location::current()) {
+    RUBBLE_TRY(b.reserve(c.context(), data.size_bytes(), where));
     return writeBytes(c, b, 0, data.data(), data.size_bytes(), Wait::Done);
 }
 
 /// The same, of a whole vector.
-template <class T> Status upload(const Context& c, Buffer& b, const std::vector<T>& data) {
-    return upload(c, b, std::span<const T>(data));
+template <class T>
+Status upload(const Context& c, Buffer& b, const std::vector<T>& data,
+              std::source_location where = std::source_location::current()) {
+    return upload(c, b, std::span<const T>(data), where);
 }
 
 /// Non-blocking copy of a host array into the start of a buffer that already holds it: `data`

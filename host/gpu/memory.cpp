@@ -2,9 +2,13 @@
 // made.
 #include "host/gpu/memory.h"
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <mutex>
@@ -16,6 +20,7 @@ namespace {
 struct Ledger {
     MemoryLimits limits;
     std::uint64_t inUse = 0, peak = 0;
+    std::map<cl_mem, BufferRecord> buffers; ///< live buffers by handle
 };
 
 std::mutex& ledgerMutex() {
@@ -48,11 +53,23 @@ std::uint64_t addressSpace() {
 // bookkeeping and the copies it makes while a command runs).
 constexpr std::uint64_t kHostReserve = std::uint64_t(256) << 20;
 
+// Host allocations from this size up get pages of their own (glibc's M_MMAP_THRESHOLD, held at
+// its starting value), bytes.
+constexpr int kOwnPagesFrom = 128 << 10;
+
 } // namespace
 
 void trackContext(cl_context context, const MemoryLimits& limits) {
+#if defined(__GLIBC__)
+    // A CPU device's buffers are the OpenCL runtime's host allocations. glibc raises its mmap
+    // threshold to the size of each mapped block freed (up to 32 MiB), so that after the first
+    // regrowth the per-pair buffers land on the heap, where the blocks they replace stay
+    // resident as holes; held at 128 KiB, every such block is mapped and its pages go back
+    // when it is freed.
+    if (limits.hostMemory) mallopt(M_MMAP_THRESHOLD, kOwnPagesFrom);
+#endif
     const std::lock_guard<std::mutex> lock(ledgerMutex());
-    ledgers()[context] = Ledger{limits, 0, 0};
+    ledgers()[context] = Ledger{limits, 0, 0, {}};
 }
 
 void untrackContext(cl_context context) {
@@ -98,6 +115,37 @@ void releaseBuffer(cl_context context, std::size_t bytes) {
     const auto found = ledgers().find(context);
     if (found == ledgers().end()) return;
     found->second.inUse -= std::min<std::uint64_t>(bytes, found->second.inUse);
+}
+
+void nameBuffer(cl_context context, cl_mem mem, std::size_t bytes, std::source_location where) {
+    // The path below host/gpu/ (or the whole name of a file elsewhere) and the line.
+    std::string file = where.file_name();
+    const std::size_t at = file.rfind("host/gpu/");
+    if (at != std::string::npos) file.erase(0, at + 9);
+    const std::lock_guard<std::mutex> lock(ledgerMutex());
+    const auto found = ledgers().find(context);
+    if (found == ledgers().end()) return;
+    found->second.buffers[mem] = BufferRecord{file + ":" + std::to_string(where.line()), bytes};
+}
+
+void forgetBuffer(cl_context context, cl_mem mem) {
+    const std::lock_guard<std::mutex> lock(ledgerMutex());
+    const auto found = ledgers().find(context);
+    if (found != ledgers().end()) found->second.buffers.erase(mem);
+}
+
+std::vector<BufferRecord> deviceBuffers(cl_context context) {
+    std::vector<BufferRecord> out;
+    {
+        const std::lock_guard<std::mutex> lock(ledgerMutex());
+        const auto found = ledgers().find(context);
+        if (found == ledgers().end()) return out;
+        for (const auto& [mem, record] : found->second.buffers) out.push_back(record);
+    }
+    std::sort(out.begin(), out.end(), [](const BufferRecord& a, const BufferRecord& b) {
+        return a.bytes != b.bytes ? a.bytes > b.bytes : a.where < b.where;
+    });
+    return out;
 }
 
 std::uint64_t deviceBytesInUse(cl_context context) {

@@ -9,6 +9,9 @@
 #include <CL/cl.h>
 
 #include <cstdint>
+#include <source_location>
+#include <string>
+#include <vector>
 
 #include "rubble/error.h"
 
@@ -30,6 +33,19 @@ void untrackContext(cl_context context);
 Status admitBuffer(cl_context context, std::size_t bytes, std::size_t freed);
 /// A buffer of `bytes` released.
 void releaseBuffer(cl_context context, std::size_t bytes);
+
+/// A live buffer as the ledger lists it: where it was made and its size.
+struct BufferRecord {
+    std::string where;       ///< the reserving call, "file.cpp:line" under host/gpu
+    std::uint64_t bytes = 0; ///< its size now
+};
+
+/// Names a buffer just made (`mem`, counted by admitBuffer) by the call that reserved it, and
+/// drops the name of a buffer released. A context not tracked keeps no names.
+void nameBuffer(cl_context context, cl_mem mem, std::size_t bytes, std::source_location where);
+void forgetBuffer(cl_context context, cl_mem mem);
+/// The context's live buffers, the largest first (equal sizes by name).
+std::vector<BufferRecord> deviceBuffers(cl_context context);
 
 /// Bytes the context's buffers hold now, and at most so far.
 std::uint64_t deviceBytesInUse(cl_context context);

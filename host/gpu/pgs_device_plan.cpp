@@ -58,13 +58,17 @@ Status PgsSolve::planOnDevice(StageQueue& q, const PairStore& pairs, const Devic
                              std::uint32_t(roundUp(count + count / 4, group))});
     }
     rowCount_ = colorStartsKnown_ ? last[RUBBLE_PGS_COLOR_STARTS_WORDS - 1] : 0;
+    // These rooms change only when the pair buffers grow, which they do by their own margin:
+    // sized exactly (not half as much again, as per-step counts are), since a four-point bound
+    // on every pair the broad phase may find is already far more than a pile takes.
     const std::size_t elementBytes = std::size_t(elementRoom_) * sizeof(shared::PgsElement);
-    RUBBLE_TRY(reserveGrowing(c, normalRows_, rowRoom_ * sizeof(shared::PgsNormalRow)));
-    RUBBLE_TRY(reserveGrowing(c, frictionRows_, rowRoom_ * sizeof(shared::PgsFrictionRows)));
-    RUBBLE_TRY(reserveGrowing(c, impulses_, rowRoom_ * sizeof(shared::float4)));
-    RUBBLE_TRY(reserveGrowing(c, elements_, std::max<std::size_t>(1, elementBytes)));
-    RUBBLE_TRY(reserveGrowing(c, colorOf_, std::max<cl_uint>(1, elementRoom_) * sizeof(cl_uint)));
-    RUBBLE_TRY(reserveGrowing(c, buildOrder_, std::max<cl_uint>(1, capacity) * sizeof(cl_uint)));
+    const std::size_t rowRoom = std::max<std::size_t>(1, rowRoom_);
+    RUBBLE_TRY(normalRows_.reserve(c.context(), rowRoom * sizeof(shared::PgsNormalRow)));
+    RUBBLE_TRY(frictionRows_.reserve(c.context(), rowRoom * sizeof(shared::PgsFrictionRows)));
+    RUBBLE_TRY(impulses_.reserve(c.context(), rowRoom * sizeof(shared::float4)));
+    RUBBLE_TRY(elements_.reserve(c.context(), std::max<std::size_t>(1, elementBytes)));
+    RUBBLE_TRY(colorOf_.reserve(c.context(), std::max<cl_uint>(1, elementRoom_) * sizeof(cl_uint)));
+    RUBBLE_TRY(buildOrder_.reserve(c.context(), std::max<cl_uint>(1, capacity) * sizeof(cl_uint)));
     // The pairs past this round's count keep no element; markBounces and the layer pass go
     // through every record there is room for, those past the step's elements zero (no points).
     RUBBLE_TRY(

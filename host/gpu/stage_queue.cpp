@@ -8,9 +8,9 @@
 
 namespace rubble::gpu {
 
-Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes) {
+Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes, std::source_location where) {
     if (b.bytes() >= bytes) return {};
-    return b.reserve(c.context(), std::max<std::size_t>(bytes + bytes / 2, 4096));
+    return b.reserve(c.context(), std::max<std::size_t>(bytes + bytes / 2, 4096), where);
 }
 
 Result<std::unique_ptr<StageQueue>> StageQueue::create(std::shared_ptr<Context> context) {

@@ -44,7 +44,8 @@ struct DeviceStatus {
 /// Reserves `bytes` of a per-step buffer with room to grow (half as much again, at least 4 KiB),
 /// so that a buffer that grows step by step reallocates now and then, not every step (and
 /// Oclgrind, which sees a buffer that replaces one in use as never written, sees few).
-Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes);
+Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes,
+                      std::source_location where = std::source_location::current());
 
 /// The queue, profile and status block the stages of one device world share.
 class StageQueue {

@@ -122,6 +122,14 @@ std::string TraceRecorder::toJson(const World& world) const {
                      " us) after the last";
         other["clock"] = clock;
     }
+    // The device's buffers at the end of the run, the largest first, each by the call that
+    // made it, and the most they held at once (host/gpu/memory.h).
+    const auto mibText = [](std::uint64_t bytes) { return fixed(double(bytes) / 1048576.0, 3); };
+    std::string buffers;
+    for (const DeviceBuffer& b : world.deviceBuffers())
+        buffers += (buffers.empty() ? "" : ", ") + b.where + " " + mibText(b.bytes) + " MiB";
+    other["device_buffers_peak"] = mibText(world.deviceBytesPeak()) + " MiB";
+    other["device_buffers"] = buffers;
     out += "\n],\n\"displayTimeUnit\":\"ms\",\n\"otherData\":";
     out += other.dump();
     out += "}\n";

@@ -6,6 +6,7 @@
 
 #include "host/core/clock.h"
 #include "host/core/math.h"
+#include "host/gpu/memory.h"
 #include "host/gpu/pipeline.h"
 #include "host/world/blowup_check.h"
 #include "host/world/cpu_step.h"
@@ -173,6 +174,16 @@ std::vector<DeviceCommandTime> World::deviceProfile() const {
     for (const gpu::CommandTotals& c : s_->device->profileTotals())
         out.push_back(DeviceCommandTime{std::string(c.name), c.ms, c.launches, c.bytes});
     return out;
+}
+std::vector<DeviceBuffer> World::deviceBuffers() const {
+    std::vector<DeviceBuffer> out;
+    if (!s_->device) return out;
+    for (gpu::BufferRecord& b : gpu::deviceBuffers(s_->device->context().context()))
+        out.push_back(DeviceBuffer{std::move(b.where), b.bytes});
+    return out;
+}
+std::uint64_t World::deviceBytesPeak() const {
+    return s_->device ? gpu::deviceBytesPeak(s_->device->context().context()) : 0;
 }
 void World::keepDeviceCommands(bool keep) {
     if (s_->device) s_->device->keepCommands(keep);

@@ -129,6 +129,13 @@ struct DeviceCommandTime {
     std::uint64_t bytes = 0;    ///< moved: a transfer's, or a kernel's (counted from its code)
 };
 
+/// One buffer the OpenCL device holds now: the call in host/gpu that made it ("pairs.cpp:80")
+/// and its size.
+struct DeviceBuffer {
+    std::string where;
+    std::uint64_t bytes = 0;
+};
+
 /// One command the OpenCL device ran in the last step, from its profiling event: the times are
 /// the device clock's (CL_PROFILING_COMMAND_QUEUED, _SUBMIT, _START, _END), ns from a zero of the
 /// device's own (DeviceClockSample relates it to the host's clock).
@@ -314,6 +321,10 @@ class World {
     std::string deviceName() const;
     /// Device time of each kernel and transfer over the steps so far (empty on the cpu backend).
     std::vector<DeviceCommandTime> deviceProfile() const;
+    /// The device's buffers now, the largest first, and the most bytes they held at once so far
+    /// (empty and 0 on the cpu backend).
+    std::vector<DeviceBuffer> deviceBuffers() const;
+    std::uint64_t deviceBytesPeak() const;
     /// Whether the steps from now on keep each device command's times for lastDeviceCommands()
     /// (off by default: two more profiling queries per command). No effect on the cpu backend.
     void keepDeviceCommands(bool keep);

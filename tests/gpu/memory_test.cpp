@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "gpu_fixture.h"
 #include "host/gpu/memory.h"
@@ -33,6 +34,37 @@ TEST_F(DeviceMemory, BuffersAreCountedWhileTheyLive) {
         EXPECT_GE(gpu::deviceBytesPeak(c.context()), before + (5u << 20));
     }
     EXPECT_EQ(gpu::deviceBytesInUse(c.context()), before);
+}
+
+// The ledger lists each live buffer by the call that made it, the largest first; a buffer
+// grown is listed once at its new size, a buffer freed not at all.
+TEST_F(DeviceMemory, BuffersAreListedByTheCallThatMadeThem) {
+    const gpu::Context& c = *context();
+    const auto listed = [&](const std::string& where) {
+        std::vector<std::uint64_t> sizes;
+        for (const gpu::BufferRecord& r : gpu::deviceBuffers(c.context()))
+            if (r.where.ends_with(where)) sizes.push_back(r.bytes);
+        return sizes;
+    };
+    {
+        gpu::Buffer a, b;
+        ASSERT_TRUE(a.reserve(c.context(), 1 << 20).ok());
+        const std::string aWhere = "memory_test.cpp:" + std::to_string(__LINE__ - 1);
+        ASSERT_TRUE(b.reserve(c.context(), 3 << 20).ok());
+        const std::string bWhere = "memory_test.cpp:" + std::to_string(__LINE__ - 1);
+        EXPECT_EQ(listed(aWhere), std::vector<std::uint64_t>{1u << 20});
+        EXPECT_EQ(listed(bWhere), std::vector<std::uint64_t>{3u << 20});
+        ASSERT_TRUE(a.reserve(c.context(), 5 << 20).ok());
+        const std::string grownWhere = "memory_test.cpp:" + std::to_string(__LINE__ - 1);
+        EXPECT_TRUE(listed(aWhere).empty());
+        EXPECT_EQ(listed(grownWhere), std::vector<std::uint64_t>{5u << 20});
+        const std::vector<gpu::BufferRecord> all = gpu::deviceBuffers(c.context());
+        for (std::size_t i = 1; i < all.size(); ++i) EXPECT_GE(all[i - 1].bytes, all[i].bytes);
+        b = gpu::Buffer();
+        EXPECT_TRUE(listed(bWhere).empty());
+    }
+    for (const gpu::BufferRecord& r : gpu::deviceBuffers(c.context()))
+        EXPECT_EQ(r.where.find("memory_test.cpp"), std::string::npos) << r.where;
 }
 
 TEST_F(DeviceMemory, ABufferPastTheLargestAllocationIsRefusedAndTheOldOneKept) {

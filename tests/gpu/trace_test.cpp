@@ -137,6 +137,27 @@ TEST_F(Trace, HostStepsHoldTheEnqueueOfTheirCommands) {
               std::string::npos);
 }
 
+// The trace ends with the device's buffers, each named by the call in host/gpu that made it:
+// the SAT path's pair sets among them, and their peak at least what is held at the end.
+TEST_F(Trace, ListsTheDeviceBuffersByTheCallThatMadeThem) {
+    runTraced();
+    const auto& other = trace_.at("otherData");
+    const std::string buffers = other.at("device_buffers").get<std::string>();
+    EXPECT_NE(buffers.find("pairs.cpp:"), std::string::npos) << buffers;
+    EXPECT_NE(buffers.find("device_bodies.cpp:"), std::string::npos) << buffers;
+    double held = 0;
+    for (std::size_t at = buffers.find(" MiB"); at != std::string::npos;
+         at = buffers.find(" MiB", at + 1))
+        held += std::stod(buffers.substr(buffers.rfind(' ', at - 1) + 1));
+    const std::string peak = other.at("device_buffers_peak").get<std::string>();
+    EXPECT_GT(held, 0.0);
+    // Each size is rounded to 0.001 MiB in the listing.
+    EXPECT_GE(std::stod(peak) +
+                  0.0005 * double(std::count(buffers.begin(), buffers.end(), ',') + 2),
+              held)
+        << peak << " | " << buffers;
+}
+
 TEST_F(Trace, AFolderThatCannotBeWrittenNamesTheOption) {
     const std::string dir = test::tempDir("trace_bad");
     const test::CommandResult r = test::runRubble(
