@@ -122,6 +122,23 @@ inline std::uint32_t laneIndex(float lane) {
     return std::bit_cast<std::uint32_t>(lane);
 }
 
+/// A point's normal row in the packed form, aiming at `target` (its target speed in the velocity
+/// sweeps, its push target in the position pass).
+inline SweepNormal packNormal(const NormalRow& r, float target) {
+    SweepNormal p;
+    p.normal = r.normal;
+    p.normal[3] = r.mass;
+    p.crossA = r.crossA;
+    p.crossA[3] = target;
+    p.crossB = r.crossB;
+    p.crossB[3] = 0.0f;
+    p.turnA = r.turnA;
+    p.turnA[3] = indexLane(r.a);
+    p.turnB = r.turnB;
+    p.turnB[3] = indexLane(r.b);
+    return p;
+}
+
 /// A point's friction rows in the packed form, impulses included.
 inline SweepFriction packFriction(const FrictionRows& f) {
     SweepFriction q;

@@ -212,17 +212,7 @@ void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart
         const std::uint32_t i = s.order[at];
         const NormalRow& r = contacts.normals[i];
         const FrictionRows& f = contacts.frictions[i];
-        SweepNormal& p = s.normals[at];
-        p.normal = r.normal;
-        p.normal[3] = r.mass;
-        p.crossA = r.crossA;
-        p.crossA[3] = r.targetSpeed;
-        p.crossB = r.crossB;
-        p.crossB[3] = 0.0f;
-        p.turnA = r.turnA;
-        p.turnA[3] = indexLane(r.a);
-        p.turnB = r.turnB;
-        p.turnB[3] = indexLane(r.b);
+        s.normals[at] = packNormal(r, r.targetSpeed);
         s.normalImpulse[at] = r.impulse;
         s.frictions[at] = packFriction(f);
         if (!warmStart) continue;
@@ -364,17 +354,7 @@ bool solvePushes(ContactRows& contacts, SolverBodies& bodies, int iterations, fl
     for (std::size_t at = 0; at < n; ++at) {
         if (at + kPrefetchRows < n) prefetchLines(contacts.normals[s.order[at + kPrefetchRows]]);
         const NormalRow& r = contacts.normals[s.order[at]];
-        SweepNormal& p = s.normals[at];
-        p.normal = r.normal;
-        p.normal[3] = r.mass;
-        p.crossA = r.crossA;
-        p.crossA[3] = r.pushTarget;
-        p.crossB = r.crossB;
-        p.crossB[3] = 0.0f;
-        p.turnA = r.turnA;
-        p.turnA[3] = indexLane(r.a);
-        p.turnB = r.turnB;
-        p.turnB[3] = indexLane(r.b);
+        s.normals[at] = packNormal(r, r.pushTarget);
     }
     for (int it = 0; it < iterations; ++it) {
         const float residual =
