@@ -185,6 +185,9 @@ std::vector<DeviceBuffer> World::deviceBuffers() const {
 std::uint64_t World::deviceBytesPeak() const {
     return s_->device ? gpu::deviceBytesPeak(s_->device->context().context()) : 0;
 }
+std::uint64_t World::deviceBodyReads() const {
+    return s_->device ? s_->device->bodyReads() : 0;
+}
 void World::keepDeviceCommands(bool keep) {
     if (s_->device) s_->device->keepCommands(keep);
 }

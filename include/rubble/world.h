@@ -325,6 +325,10 @@ class World {
     /// (empty and 0 on the cpu backend).
     std::vector<DeviceBuffer> deviceBuffers() const;
     std::uint64_t deviceBytesPeak() const;
+    /// How many times the device's bodies were read back to the host so far (a trajectory row,
+    /// a query after a step, the blow-up watch when its energy sum nears the allowance); 0
+    /// without a device.
+    std::uint64_t deviceBodyReads() const;
     /// Whether the steps from now on keep each device command's times for lastDeviceCommands()
     /// (off by default: two more profiling queries per command). No effect on the cpu backend.
     void keepDeviceCommands(bool keep);

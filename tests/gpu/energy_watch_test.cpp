@@ -6,7 +6,6 @@
 #include <vector>
 
 #include "gpu_fixture.h"
-#include "host/world/world_state.h"
 #include "support/physics_cases.h"
 
 namespace rubble {
@@ -29,7 +28,7 @@ class EnergyWatch : public test::GpuTest {
         }
         return worldOf(scene, run);
     }
-    static std::uint64_t bodyReads(World& w) { return WorldAccess::state(w).device->bodyReads(); }
+    static std::uint64_t bodyReads(const World& w) { return w.deviceBodyReads(); }
 };
 
 // Sixty crates settling in a block: after the watch's first step, steps with nothing asked of
