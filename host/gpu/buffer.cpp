@@ -29,7 +29,7 @@ void Buffer::release() {
     bytes_ = 0;
 }
 
-Status Buffer::reserve(cl_context context, std::size_t bytes, std::source_location where) {
+Status Buffer::reserve(cl_context context, std::size_t bytes, CallSite where) {
     bytes = std::max<std::size_t>(bytes, 16);
     if (mem_ && bytes_ >= bytes) return {};
     // Checked before the old buffer goes: a buffer that does not fit leaves this one as it was.

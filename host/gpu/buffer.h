@@ -5,12 +5,12 @@
 #include <CL/cl.h>
 
 #include <cstddef>
-#include <source_location>
 #include <span>
 #include <vector>
 
 #include "host/gpu/cl_check.h"
 #include "host/gpu/context.h"
+#include "host/gpu/memory.h"
 #include "host/gpu/profile.h"
 
 namespace rubble::gpu {
@@ -32,8 +32,7 @@ class Buffer {
     /// The context's ledger names it by `where`, the call (host/gpu/memory.h, deviceBuffers).
     /// Errors: Limit when the device or the process has no room for it (host/gpu/memory.h; the
     /// buffer then keeps what it held), Device.
-    Status reserve(cl_context context, std::size_t bytes,
-                   std::source_location where = std::source_location::current());
+    Status reserve(cl_context context, std::size_t bytes, CallSite where = CallSite::here());
     cl_mem mem() const { return mem_; }
     std::size_t bytes() const { return bytes_; }
 
@@ -61,7 +60,7 @@ Status readBytes(const Context& c, const Buffer& b, std::size_t offset, void* da
 /// `where`).
 template <class T>
 Status upload(const Context& c, Buffer& b, std::span<const T> data,
-              std::source_location where = std::source_location::current()) {
+              CallSite where = CallSite::here()) {
     RUBBLE_TRY(b.reserve(c.context(), data.size_bytes(), where));
     return writeBytes(c, b, 0, data.data(), data.size_bytes(), Wait::Done);
 }
@@ -69,7 +68,7 @@ Status upload(const Context& c, Buffer& b, std::span<const T> data,
 /// The same, of a whole vector.
 template <class T>
 Status upload(const Context& c, Buffer& b, const std::vector<T>& data,
-              std::source_location where = std::source_location::current()) {
+              CallSite where = CallSite::here()) {
     return upload(c, b, std::span<const T>(data), where);
 }
 

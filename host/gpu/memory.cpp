@@ -117,15 +117,15 @@ void releaseBuffer(cl_context context, std::size_t bytes) {
     found->second.inUse -= std::min<std::uint64_t>(bytes, found->second.inUse);
 }
 
-void nameBuffer(cl_context context, cl_mem mem, std::size_t bytes, std::source_location where) {
+void nameBuffer(cl_context context, cl_mem mem, std::size_t bytes, CallSite where) {
     // The path below host/gpu/ (or the whole name of a file elsewhere) and the line.
-    std::string file = where.file_name();
+    std::string file = where.file;
     const std::size_t at = file.rfind("host/gpu/");
     if (at != std::string::npos) file.erase(0, at + 9);
     const std::lock_guard<std::mutex> lock(ledgerMutex());
     const auto found = ledgers().find(context);
     if (found == ledgers().end()) return;
-    found->second.buffers[mem] = BufferRecord{file + ":" + std::to_string(where.line()), bytes};
+    found->second.buffers[mem] = BufferRecord{file + ":" + std::to_string(where.line), bytes};
 }
 
 void forgetBuffer(cl_context context, cl_mem mem) {

@@ -9,7 +9,6 @@
 #include <CL/cl.h>
 
 #include <cstdint>
-#include <source_location>
 #include <string>
 #include <vector>
 
@@ -34,6 +33,18 @@ Status admitBuffer(cl_context context, std::size_t bytes, std::size_t freed);
 /// A buffer of `bytes` released.
 void releaseBuffer(cl_context context, std::size_t bytes);
 
+/// Where a buffer was reserved: the calling file and line, taken as a default argument
+/// (`CallSite where = CallSite::here()`) the way std::source_location::current() is, which the
+/// sanitizer build's clang with libstdc++ 12 does not provide.
+struct CallSite {
+    const char* file = "";
+    unsigned line = 0;
+    static constexpr CallSite here(const char* file = __builtin_FILE(),
+                                   unsigned line = __builtin_LINE()) {
+        return CallSite{file, line};
+    }
+};
+
 /// A live buffer as the ledger lists it: where it was made and its size.
 struct BufferRecord {
     std::string where;       ///< the reserving call, "file.cpp:line" under host/gpu
@@ -42,7 +53,7 @@ struct BufferRecord {
 
 /// Names a buffer just made (`mem`, counted by admitBuffer) by the call that reserved it, and
 /// drops the name of a buffer released. A context not tracked keeps no names.
-void nameBuffer(cl_context context, cl_mem mem, std::size_t bytes, std::source_location where);
+void nameBuffer(cl_context context, cl_mem mem, std::size_t bytes, CallSite where);
 void forgetBuffer(cl_context context, cl_mem mem);
 /// The context's live buffers, the largest first (equal sizes by name).
 std::vector<BufferRecord> deviceBuffers(cl_context context);

@@ -8,7 +8,7 @@
 
 namespace rubble::gpu {
 
-Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes, std::source_location where) {
+Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes, CallSite where) {
     if (b.bytes() >= bytes) return {};
     return b.reserve(c.context(), std::max<std::size_t>(bytes + bytes / 2, 4096), where);
 }

@@ -45,7 +45,7 @@ struct DeviceStatus {
 /// so that a buffer that grows step by step reallocates now and then, not every step (and
 /// Oclgrind, which sees a buffer that replaces one in use as never written, sees few).
 Status reserveGrowing(const Context& c, Buffer& b, std::size_t bytes,
-                      std::source_location where = std::source_location::current());
+                      CallSite where = CallSite::here());
 
 /// The queue, profile and status block the stages of one device world share.
 class StageQueue {
