@@ -85,25 +85,29 @@ struct SweepFriction {
 };
 static_assert(sizeof(SweepFriction) == 160);
 
-/// The rows in the sweeps' packed form (packContactRows), in the sweeps' order: by island (the
-/// rows joined through the moving bodies they share), then within each island's blocks of rows by
-/// wave, then as in ContactRows. A row's wave is one more than the latest wave among the earlier
-/// rows that share a moving body with it, so that rows of one wave touch no moving body twice and
-/// each body's rows keep their order. Gauss-Seidel then gives the same bits as over ContactRows'
-/// order (a row reads and writes only its two bodies, and a body that does not move keeps its
-/// zero velocity), while consecutive rows rarely wait on each other's velocities (in ContactRows'
-/// order most rows share a body with the one before: pairs are sorted by body), and an island's
-/// rows can run all their sweeps from the caches.
-struct SweepRows {
-    std::vector<SweepNormal> normals;
-    std::vector<SweepFriction> frictions;
-    std::vector<float> normalImpulse;       ///< each point's accumulated normal impulse, N s
+/// The sweeps' order of a set of rows (orderSweepRows): by island (the rows joined through the
+/// moving bodies they share), then within each island's blocks of rows by wave, then as in
+/// ContactRows. A row's wave is one more than the latest wave among the earlier rows that share a
+/// moving body with it, so that rows of one wave touch no moving body twice and each body's rows
+/// keep their order. Gauss-Seidel then gives the same bits as over ContactRows' order (a row reads
+/// and writes only its two bodies, and a body that does not move keeps its velocity), while
+/// consecutive rows rarely wait on each other's velocities (in ContactRows' order most rows share
+/// a body with the one before: pairs are sorted by body), and an island's rows can run all their
+/// sweeps from the caches.
+struct SweepOrder {
     std::vector<std::uint32_t> place;       ///< each ContactRows row's index here
     std::vector<std::uint32_t> order;       ///< the ContactRows row at each index here
     std::vector<std::uint32_t> islandStart; ///< where each island's rows start, then the end
     // Scratch of the ordering: islands of bodies, by body, rows by island, by wave.
     UnionFind islands;
     std::vector<std::uint32_t> byBody, byIsland, waveStart;
+};
+
+/// The rows in the PGS sweeps' packed form (packContactRows), in the sweeps' order.
+struct SweepRows : SweepOrder {
+    std::vector<SweepNormal> normals;
+    std::vector<SweepFriction> frictions;
+    std::vector<float> normalImpulse; ///< each point's accumulated normal impulse, N s
 };
 
 /// The first three lanes of a packed row's vector, the fourth (which carries a scalar) cleared:

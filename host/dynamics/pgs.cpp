@@ -128,13 +128,13 @@ constexpr std::size_t kSweepBlock = 1024;
 
 constexpr std::uint32_t kNoIsland = 0xffffffffu;
 
-// The places in the sweeps' order (SweepRows) of n rows, the j-th being ContactRows' row
+// The places in the sweeps' order (SweepOrder) of n rows, the j-th being ContactRows' row
 // rowOf(j) (ascending): rows by island (numbered in the order of their first rows), then within
 // each island's blocks by wave, stably. reads: keys (each row's bodies), bodies
 // writes: s.place (by j), s.order (ContactRows' rows), s.islandStart, scratch
 template <typename RowOf>
 void orderSweepRows(const ContactRows& contacts, std::size_t n, RowOf rowOf,
-                    const SolverBodies& bodies, SweepRows& s) {
+                    const SolverBodies& bodies, SweepOrder& s) {
     const std::size_t bodyCount = bodies.velocity.size();
     // Islands: the rows joined through the moving bodies they share.
     s.islands.reset(bodyCount);
@@ -194,14 +194,18 @@ void orderSweepRows(const ContactRows& contacts, std::size_t n, RowOf rowOf,
 
 } // namespace
 
+void orderEveryRow(const ContactRows& contacts, const SolverBodies& bodies, SweepOrder& s) {
+    orderSweepRows(
+        contacts, contacts.size(), [](std::size_t i) { return i; }, bodies, s);
+}
+
 void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart) {
     SweepRows& s = contacts.sweep;
     const std::size_t n = contacts.size();
     s.normals.resize(n);
     s.frictions.resize(n);
     s.normalImpulse.resize(n);
-    const auto everyRow = [](std::size_t i) { return i; };
-    orderSweepRows(contacts, n, everyRow, bodies, s);
+    orderEveryRow(contacts, bodies, s);
     // The packed rows are written in order, the full rows read where they are; the warm start
     // in the sweeps' order gives the same bits as in ContactRows' (SweepRows).
     for (std::size_t at = 0; at < n; ++at) {

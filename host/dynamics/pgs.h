@@ -50,9 +50,13 @@ inline constexpr float kLayerMassRatio = RUBBLE_LAYER_MASS_RATIO;
 /// skip it. reads: rows, joints   writes: bodies' velocities, rows' layer lists
 void solveLayers(ContactRows& contacts, std::span<const Joint> joints, SolverBodies& bodies);
 
+/// Every row of `contacts` in the sweeps' order (SweepOrder).
+/// reads: contacts' keys, bodies   writes: s
+void orderEveryRow(const ContactRows& contacts, const SolverBodies& bodies, SweepOrder& s);
+
 /// Copies the rows into contacts.sweep, the packed form the sweeps stream through (a point's
 /// normal row in 80 bytes, its friction rows in 160, against 352 for the full rows) in the
-/// sweeps' order (SweepRows), and with `warmStart` applies the contacts' accumulated impulses in
+/// sweeps' order (SweepOrder), and with `warmStart` applies the contacts' accumulated impulses in
 /// the same pass.
 /// reads: rows   writes: contacts.sweep, bodies' velocities (warm start)
 void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart);

@@ -7,6 +7,7 @@
 
 #include "host/core/math.h"
 #include "host/dynamics/joint_rows.h"
+#include "host/dynamics/pgs.h"
 
 namespace rubble {
 namespace {
@@ -20,7 +21,6 @@ constexpr float kStillContactHertzScale = 2.0f;
 Lanes rotateLanes(shared::float4 q, glm::vec3 v) {
     return toLanes(toVec3(shared::quatRotate(q, toFloat4(v))));
 }
-
 
 // A normal row's settings in a pass: the bias speed (m/s), the mass and impulse scales.
 struct PointSoftness {
@@ -36,7 +36,6 @@ float separationNow(const SoftAnchors& p, const SoftPoses& poses) {
         poses.moved[b] + rotateLanes(poses.pose[b].orientation, fromLanes(p.anchorB));
     return p.normal[3] + sum3(p.normal * ((pointB - p.offsetB) - (pointA - p.offsetA)));
 }
-
 
 // A gap (separation > 0) is closed within the substep and no further, rigidly; an overlap is
 // pushed out by the point's spring (biased pass) or held rigidly (relax pass).
@@ -65,22 +64,31 @@ bool isLanding(std::span<const SoftContactPoint> points, const SoftManifold& m, 
 }
 
 // Sets each point's spring, and puts the rows and points into the passes' packed form
-// (SoftPassRows), with the landings that solveManifoldNormals takes (two or more points).
+// (SoftPassRows, in the sweeps' order), with the landings that solveManifoldNormals takes (two or
+// more points).
 void packSoftRows(const ContactRows& rows, std::span<SoftContactPoint> points,
-                  std::span<const SoftManifold> pointManifolds, const SoftStepSettings& s,
-                  SoftPassRows& packed) {
+                  std::span<const SoftManifold> pointManifolds, const SolverBodies& bodies,
+                  const SoftStepSettings& s, SoftPassRows& packed) {
     const std::size_t n = rows.size();
+    orderEveryRow(rows, bodies, packed.order);
     packed.normals.resize(n);
     packed.frictions.resize(n);
     packed.anchors.resize(n);
     packed.state.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t at = 0; at < n; ++at) {
+        const std::uint32_t i = packed.order.order[at];
+        if (at + kPrefetchRows < n) {
+            const std::uint32_t ahead = packed.order.order[at + kPrefetchRows];
+            prefetchLines(rows.normals[ahead]);
+            prefetchLines(rows.frictions[ahead]);
+            prefetchLines(points[ahead]);
+        }
         const NormalRow& r = rows.normals[i];
         const FrictionRows& f = rows.frictions[i];
         SoftContactPoint& p = points[i];
         p.soft = softnessFor(s.contactHertz, s.dampingRatio, s.h, r.inverseMassA, r.inverseMassB,
                              kStillContactHertzScale);
-        SoftNormal& q = packed.normals[i];
+        SoftNormal& q = packed.normals[at];
         q.normal = r.normal;
         q.normal[3] = r.mass;
         q.crossA = r.crossA;
@@ -91,8 +99,8 @@ void packSoftRows(const ContactRows& rows, std::span<SoftContactPoint> points,
         q.turnA[3] = indexLane(r.a);
         q.turnB = r.turnB;
         q.turnB[3] = indexLane(r.b);
-        packed.frictions[i] = packFriction(f);
-        SoftAnchors& c = packed.anchors[i];
+        packed.frictions[at] = packFriction(f);
+        SoftAnchors& c = packed.anchors[at];
         c.normal = r.normal;
         c.normal[3] = p.separation;
         c.offsetA = p.offsetA;
@@ -101,7 +109,7 @@ void packSoftRows(const ContactRows& rows, std::span<SoftContactPoint> points,
         c.anchorA[3] = indexLane(r.a);
         c.anchorB = toLanes(p.anchorB);
         c.anchorB[3] = indexLane(r.b);
-        packed.state[i] = SoftPointState{0.0f, p.soft.impulseScale, r.impulse, p.maxNormalImpulse};
+        packed.state[at] = SoftPointState{0.0f, p.soft.impulseScale, r.impulse, p.maxNormalImpulse};
     }
     packed.landings.clear();
     for (std::size_t m = 0; m < pointManifolds.size(); ++m)
@@ -114,12 +122,52 @@ void packSoftRows(const ContactRows& rows, std::span<SoftContactPoint> points,
 void unpackSoftRows(const SoftPassRows& packed, ContactRows& rows,
                     std::span<SoftContactPoint> points) {
     for (std::size_t i = 0; i < rows.size(); ++i) {
-        rows.normals[i].impulse = packed.state[i].impulse;
-        points[i].maxNormalImpulse = packed.state[i].maxNormalImpulse;
+        const std::uint32_t at = packed.order.place[i];
+        rows.normals[i].impulse = packed.state[at].impulse;
+        points[i].maxNormalImpulse = packed.state[at].maxNormalImpulse;
         FrictionRows& f = rows.frictions[i];
-        f.impulse[0] = packed.frictions[i].crossB[0][3];
-        f.impulse[1] = packed.frictions[i].crossB[1][3];
+        f.impulse[0] = packed.frictions[at].crossB[0][3];
+        f.impulse[1] = packed.frictions[at].crossB[1][3];
     }
+}
+
+// Each island's moving bodies and landings (a landing's island is its first point's), and the
+// bodies of no island, into `packed` (SoftPassRows).
+void groupIslands(const ContactRows& rows, std::span<const SoftManifold> pointManifolds,
+                  const SolverBodies& bodies, SoftPassRows& packed) {
+    const SweepOrder& o = packed.order;
+    const std::size_t islands = o.islandStart.size() - 1;
+    std::vector<std::uint8_t>& grouped = packed.grouped;
+    grouped.assign(bodies.velocity.size(), 0);
+    packed.islandBodies.clear();
+    packed.islandBodyStart.assign(1, 0);
+    for (std::size_t j = 0; j < islands; ++j) {
+        for (std::size_t at = o.islandStart[j]; at < o.islandStart[j + 1]; ++at) {
+            const NormalRow& r = rows.normals[o.order[at]];
+            for (const std::uint32_t body : {r.a, r.b}) {
+                if (!bodies.moves(body) || grouped[body]) continue;
+                grouped[body] = 1;
+                packed.islandBodies.push_back(body);
+            }
+        }
+        packed.islandBodyStart.push_back(std::uint32_t(packed.islandBodies.size()));
+    }
+    packed.otherBodies.clear();
+    for (std::size_t i = 0; i < grouped.size(); ++i)
+        if (!grouped[i]) packed.otherBodies.push_back(std::uint32_t(i));
+    // The landings by island, in manifold order within each.
+    const auto islandOf = [&](std::uint32_t m) {
+        const std::uint32_t at = o.place[pointManifolds[m].rows[0]];
+        return std::size_t(std::upper_bound(o.islandStart.begin(), o.islandStart.end(), at) -
+                           o.islandStart.begin() - 1);
+    };
+    std::vector<std::uint32_t>& start = packed.islandLandingStart;
+    start.assign(islands + 1, 0);
+    for (const std::uint32_t m : packed.landings) ++start[islandOf(m) + 1];
+    for (std::size_t j = 1; j < start.size(); ++j) start[j] += start[j - 1];
+    packed.islandLandings.resize(packed.landings.size());
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (const std::uint32_t m : packed.landings) packed.islandLandings[fill[islandOf(m)]++] = m;
 }
 
 // One update of a landing's normal rows together, along the direction that adds the same
@@ -140,14 +188,15 @@ float solveManifoldNormals(const ContactRows& rows, std::span<const SoftContactP
     const NormalRow& first = rows.normals[m.rows[0]];
     SolverVelocity& a = bodies.velocity[first.a];
     SolverVelocity& b = bodies.velocity[first.b];
-    float slope = 0.0f, diagonal = 0.0f, lowest = packed.state[m.rows[0]].impulse;
+    const std::vector<std::uint32_t>& place = packed.order.place;
+    float slope = 0.0f, diagonal = 0.0f, lowest = packed.state[place[m.rows[0]]].impulse;
     Lanes crossA{}, turnA{}, crossB{}, turnB{};
     for (std::uint32_t k = 0; k < m.count; ++k) {
         const NormalRow& r = rows.normals[m.rows[k]];
         const Softness& spring = points[m.rows[k]].soft;
-        const SoftPointState& p = packed.state[m.rows[k]];
+        const SoftPointState& p = packed.state[place[m.rows[k]]];
         const float separation =
-            moved ? separationNow(packed.anchors[m.rows[k]], *moved) : p.separation;
+            moved ? separationNow(packed.anchors[place[m.rows[k]]], *moved) : p.separation;
         const PointSoftness soft =
             pointSoftness(spring.biasRate, spring.massScale, spring.impulseScale, separation,
                           inverseH, s, useBias);
@@ -167,7 +216,7 @@ float solveManifoldNormals(const ContactRows& rows, std::span<const SoftContactP
     if (!(curvature > 0.0f)) return 0.0f;
     const float change = std::max(-slope / curvature, -lowest);
     for (std::uint32_t k = 0; k < m.count; ++k) {
-        SoftPointState& p = packed.state[m.rows[k]];
+        SoftPointState& p = packed.state[place[m.rows[k]]];
         p.impulse += change;
         p.maxNormalImpulse = std::max(p.maxNormalImpulse, p.impulse);
     }
@@ -178,14 +227,15 @@ float solveManifoldNormals(const ContactRows& rows, std::span<const SoftContactP
     return std::abs(change);
 }
 
-// Every landing's normal rows together (solveManifoldNormals), in manifold order. Returns the
-// largest |applied change| per point, N s.
+// The normal rows of each of `landings` together (solveManifoldNormals), in manifold order.
+// Returns the largest |applied change| per point, N s.
 float solveManifolds(const ContactRows& rows, std::span<const SoftContactPoint> points,
-                     std::span<const SoftManifold> pointManifolds, SoftPassRows& packed,
+                     std::span<const SoftManifold> pointManifolds,
+                     std::span<const std::uint32_t> landings, SoftPassRows& packed,
                      SolverBodies& bodies, const SoftPoses* moved, const SoftStepSettings& s,
                      bool useBias) {
     float residual = 0.0f;
-    for (const std::uint32_t m : packed.landings)
+    for (const std::uint32_t m : landings)
         residual = std::max(residual, solveManifoldNormals(rows, points, pointManifolds[m], packed,
                                                            bodies, moved, s, useBias));
     return residual;
@@ -212,19 +262,18 @@ void prefetchAhead(const SoftPassRows& packed, const SolverVelocity* velocity,
     }
 }
 
-// One pass over the packed contact points: each point's normal row (soft with bias, rigid
-// without; a gap is closed within the substep and no further), then its two friction rows
-// within |lambda_t| <= mu lambda_n. With `moved` (the poses, when they moved since the
+// One pass over the packed contact points [begin, end): each point's normal row (soft with
+// bias, rigid without; a gap is closed within the substep and no further), then its two friction
+// rows within |lambda_t| <= mu lambda_n. With `moved` (the poses, when they moved since the
 // separations were found) each point's separation is found first and kept for the passes until
 // the next move: the poses change only there. Returns the largest |applied change|, N s.
-float solveContacts(SoftPassRows& packed, SolverBodies& bodies, const SoftPoses* moved,
-                    const SoftStepSettings& s, bool useBias) {
+float solveContacts(SoftPassRows& packed, std::size_t begin, std::size_t end, SolverBodies& bodies,
+                    const SoftPoses* moved, const SoftStepSettings& s, bool useBias) {
     float residual = 0.0f;
     const float inverseH = 1.0f / s.h;
-    const std::size_t n = packed.normals.size();
     const float* inverseMass = bodies.inverseMass.data();
     SolverVelocity* velocity = bodies.velocity.data();
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = begin; i < end; ++i) {
         prefetchAhead(packed, velocity, moved, i);
         const SoftNormal& r = packed.normals[i];
         SoftPointState& p = packed.state[i];
@@ -261,11 +310,11 @@ float solveContacts(SoftPassRows& packed, SolverBodies& bodies, const SoftPoses*
     return residual;
 }
 
-void warmStartContacts(const SoftPassRows& packed, SolverBodies& bodies) {
-    const std::size_t n = packed.normals.size();
+void warmStartContacts(const SoftPassRows& packed, std::size_t begin, std::size_t end,
+                       SolverBodies& bodies) {
     const float* inverseMass = bodies.inverseMass.data();
     SolverVelocity* velocity = bodies.velocity.data();
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = begin; i < end; ++i) {
         prefetchAhead(packed, velocity, nullptr, i);
         const SoftNormal& r = packed.normals[i];
         const std::uint32_t ia = laneIndex(r.turnA[3]), ib = laneIndex(r.turnB[3]);
@@ -348,10 +397,11 @@ float solveJoints(std::span<Joint> joints, SolverBodies& bodies, const SoftPoses
     return residual;
 }
 
-// x += h v, q turned by h w, for the bodies that move.
-void movePoses(const SolverBodies& bodies, float h, SoftPoses& poses) {
-    for (std::size_t i = 0; i < poses.pose.size(); ++i) {
-        if (!bodies.moves(std::uint32_t(i))) continue;
+// x += h v, q turned by h w, for those of `which` that move.
+void movePoses(const SolverBodies& bodies, std::span<const std::uint32_t> which, float h,
+               SoftPoses& poses) {
+    for (const std::uint32_t i : which) {
+        if (!bodies.moves(i)) continue;
         const SolverVelocity& v = bodies.velocity[i];
         const Lanes step = v.linear * h;
         poses.moved[i] += step;
@@ -359,6 +409,61 @@ void movePoses(const SolverBodies& bodies, float h, SoftPoses& poses) {
         pose.position = toFloat4(toVec3(pose.position) + fromLanes(step));
         pose.orientation =
             shared::quatIntegrate(pose.orientation, toFloat4(fromLanes(v.angular)), h);
+    }
+}
+
+// A part of the step that runs its substeps on its own: the packed points [begin, end), their
+// landings, the bodies that take the forces' share and move, and the joints.
+struct SoftGroup {
+    std::size_t begin = 0, end = 0;
+    std::span<const std::uint32_t> landings; ///< pointManifolds' indices
+    std::span<const std::uint32_t> bodies;
+    std::span<Joint> joints;
+    std::span<const Softness> jointSoftness;
+};
+
+// The substeps of one part of the step (SoftGroup): each substep its share of the forces, the
+// warm start, a biased pass, the move, then the relax passes. Each pass's largest |applied
+// change| raises `residuals` (one per pass, N s).
+void runSubsteps(const SoftGroup& g, const ContactRows& rows,
+                 std::span<const SoftContactPoint> points,
+                 std::span<const SoftManifold> pointManifolds,
+                 std::span<const SolverVelocity> forcesShare, SolverBodies& bodies,
+                 const SoftStepSettings& s, SoftPoses& poses, SoftPassRows& packed,
+                 std::span<float> residuals) {
+    // The poses, while the points' separations have not been found since they moved.
+    const SoftPoses* moved = &poses;
+    std::size_t pass = 0;
+    const auto keep = [&](float residual) {
+        residuals[pass] = std::max(residuals[pass], residual);
+        ++pass;
+    };
+    for (int sub = 0; sub < s.substeps; ++sub) {
+        for (const std::uint32_t i : g.bodies) {
+            bodies.velocity[i].linear += forcesShare[i].linear;
+            bodies.velocity[i].angular += forcesShare[i].angular;
+        }
+        warmStartJoints(g.joints, poses, bodies);
+        warmStartContacts(packed, g.begin, g.end, bodies);
+        float residual = solveManifolds(rows, points, pointManifolds, g.landings, packed, bodies,
+                                        moved, s, true);
+        residual = std::max(residual, solveJoints(g.joints, bodies, poses, g.jointSoftness, true));
+        residual =
+            std::max(residual, solveContacts(packed, g.begin, g.end, bodies, moved, s, true));
+        moved = nullptr;
+        keep(residual);
+        movePoses(bodies, g.bodies, s.h, poses);
+        moved = &poses;
+        for (int k = 0; k < s.relaxIterations; ++k) {
+            float relaxed = solveManifolds(rows, points, pointManifolds, g.landings, packed, bodies,
+                                           moved, s, false);
+            relaxed =
+                std::max(relaxed, solveJoints(g.joints, bodies, poses, g.jointSoftness, false));
+            relaxed =
+                std::max(relaxed, solveContacts(packed, g.begin, g.end, bodies, moved, s, false));
+            moved = nullptr;
+            keep(relaxed);
+        }
     }
 }
 
@@ -501,33 +606,46 @@ void solveSoftStep(ContactRows& rows, std::span<SoftContactPoint> points,
         jointSoftness[i] =
             softnessFor(s.jointHertz, s.jointDampingRatio, s.h, bodies.inverseMass[joints[i].a],
                         bodies.inverseMass[joints[i].b], 1.0f);
-    packSoftRows(rows, points, pointManifolds, s, packed);
-    // The poses, while the points' separations have not been found since they moved.
-    const SoftPoses* moved = &poses;
-    residuals.clear();
-    for (int sub = 0; sub < s.substeps; ++sub) {
-        for (std::size_t i = 0; i < n; ++i) {
-            bodies.velocity[i].linear += forcesShare[i].linear;
-            bodies.velocity[i].angular += forcesShare[i].angular;
+    packSoftRows(rows, points, pointManifolds, bodies, s, packed);
+    residuals.assign(std::size_t(s.substeps) * std::size_t(1 + s.relaxIterations), 0.0f);
+    if (joints.empty()) {
+        // Islands share no moving body: each one's substeps alone give the same bits, and a
+        // small island's rows stay in the caches from one pass to the next.
+        groupIslands(rows, pointManifolds, bodies, packed);
+        const std::vector<std::uint32_t>& island = packed.order.islandStart;
+        const auto part = [](const std::vector<std::uint32_t>& all,
+                             const std::vector<std::uint32_t>& from, std::size_t j) {
+            return std::span(all).subspan(from[j], from[j + 1] - from[j]);
+        };
+        for (std::size_t j = 0; j + 1 < island.size(); ++j) {
+            const SoftGroup g{.begin = island[j],
+                              .end = island[j + 1],
+                              .landings = part(packed.islandLandings, packed.islandLandingStart, j),
+                              .bodies = part(packed.islandBodies, packed.islandBodyStart, j),
+                              .joints = {},
+                              .jointSoftness = {}};
+            runSubsteps(g, rows, points, pointManifolds, forcesShare, bodies, s, poses, packed,
+                        residuals);
         }
-        warmStartJoints(joints, poses, bodies);
-        warmStartContacts(packed, bodies);
-        float residual =
-            solveManifolds(rows, points, pointManifolds, packed, bodies, moved, s, true);
-        residual = std::max(residual, solveJoints(joints, bodies, poses, jointSoftness, true));
-        residual = std::max(residual, solveContacts(packed, bodies, moved, s, true));
-        moved = nullptr;
-        residuals.push_back(residual);
-        movePoses(bodies, s.h, poses);
-        moved = &poses;
-        for (int k = 0; k < s.relaxIterations; ++k) {
-            float relaxed =
-                solveManifolds(rows, points, pointManifolds, packed, bodies, moved, s, false);
-            relaxed = std::max(relaxed, solveJoints(joints, bodies, poses, jointSoftness, false));
-            relaxed = std::max(relaxed, solveContacts(packed, bodies, moved, s, false));
-            moved = nullptr;
-            residuals.push_back(relaxed);
-        }
+        const SoftGroup rest{.begin = 0,
+                             .end = 0,
+                             .landings = {},
+                             .bodies = packed.otherBodies,
+                             .joints = {},
+                             .jointSoftness = {}};
+        runSubsteps(rest, rows, points, pointManifolds, forcesShare, bodies, s, poses, packed,
+                    residuals);
+    } else {
+        std::vector<std::uint32_t> every(n);
+        for (std::size_t i = 0; i < n; ++i) every[i] = std::uint32_t(i);
+        const SoftGroup g{.begin = 0,
+                          .end = rows.size(),
+                          .landings = packed.landings,
+                          .bodies = every,
+                          .joints = joints,
+                          .jointSoftness = jointSoftness};
+        runSubsteps(g, rows, points, pointManifolds, forcesShare, bodies, s, poses, packed,
+                    residuals);
     }
     unpackSoftRows(packed, rows, points);
     applyRestitution(rows, points, bodies, s.restitutionThreshold);

@@ -109,17 +109,24 @@ struct SoftPointState {
 };
 static_assert(sizeof(SoftPointState) == 16);
 
-/// The contact points in the passes' packed form, parallel to ContactRows' arrays, filled once
-/// per step: a large scene's rows and points do not fit in the caches, and every pass streams
-/// them from memory again (352 bytes of rows and 96 of point a point, against 256 packed, and the
-/// anchors' 80 in the first pass after the bodies moved). The friction rows take PGS's packed
-/// form (SweepFriction, the friction impulses in it).
+/// The contact points in the passes' packed form, filled once per step in the sweeps' order
+/// (SweepOrder: the same bits as ContactRows' order, fewer waits): a large scene's rows and
+/// points do not fit in the caches, and every pass streams them from memory again (352 bytes of
+/// rows and 96 of point a point, against 256 packed, and the anchors' 80 in the first pass after
+/// the bodies moved). The friction rows take PGS's packed form (SweepFriction, the friction
+/// impulses in it).
 struct SoftPassRows {
+    SweepOrder order; ///< where each ContactRows row is packed (place), and the rows by place
     std::vector<SoftNormal> normals;
     std::vector<SweepFriction> frictions;
     std::vector<SoftAnchors> anchors;
     std::vector<SoftPointState> state;
     std::vector<std::uint32_t> landings; ///< the landing manifolds (pointManifolds' indices)
+    // Without joints each island (SweepOrder::islandStart) runs its substeps on its own: its
+    // moving bodies and its landings, by island, and the bodies of no island.
+    std::vector<std::uint32_t> islandBodies, islandBodyStart, islandLandings, islandLandingStart;
+    std::vector<std::uint32_t> otherBodies;
+    std::vector<std::uint8_t> grouped; ///< scratch: by body, whether an island has it
 };
 
 /// The bodies' poses during the substeps, by body index: where each body is now and how far it
