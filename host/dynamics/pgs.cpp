@@ -234,10 +234,15 @@ void packContactRows(ContactRows& contacts, SolverBodies& bodies, bool warmStart
 void unpackContactImpulses(ContactRows& contacts) {
     const SweepRows& s = contacts.sweep;
     const std::size_t n = contacts.size();
-    for (std::size_t i = 0; i < n; ++i) {
-        if (i + kPrefetchRows < n)
-            __builtin_prefetch(&s.frictions[s.place[i + kPrefetchRows]].crossB);
-        const std::uint32_t at = s.place[i];
+    // The packed rows read in order, the full rows written where they are: a store that misses
+    // the caches does not hold up the loads behind it.
+    for (std::size_t at = 0; at < n; ++at) {
+        if (at + kPrefetchRows < n) {
+            const std::uint32_t ahead = s.order[at + kPrefetchRows];
+            __builtin_prefetch(&contacts.normals[ahead].impulse, 1);
+            __builtin_prefetch(&contacts.frictions[ahead].impulse, 1);
+        }
+        const std::uint32_t i = s.order[at];
         contacts.normals[i].impulse = s.normalImpulse[at];
         FrictionRows& f = contacts.frictions[i];
         f.impulse[0] = s.frictions[at].crossB[0][3];

@@ -118,11 +118,19 @@ void packSoftRows(const ContactRows& rows, std::span<SoftContactPoint> points,
             packed.landings.push_back(std::uint32_t(m));
 }
 
-// The passes' impulses back into the rows and points.
+// The passes' impulses back into the rows and points, the packed rows read in order (as
+// unpackContactImpulses).
 void unpackSoftRows(const SoftPassRows& packed, ContactRows& rows,
                     std::span<SoftContactPoint> points) {
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        const std::uint32_t at = packed.order.place[i];
+    const std::size_t n = rows.size();
+    for (std::size_t at = 0; at < n; ++at) {
+        if (at + kPrefetchRows < n) {
+            const std::uint32_t ahead = packed.order.order[at + kPrefetchRows];
+            __builtin_prefetch(&rows.normals[ahead].impulse, 1);
+            __builtin_prefetch(&rows.frictions[ahead].impulse, 1);
+            __builtin_prefetch(&points[ahead].maxNormalImpulse, 1);
+        }
+        const std::uint32_t i = packed.order.order[at];
         rows.normals[i].impulse = packed.state[at].impulse;
         points[i].maxNormalImpulse = packed.state[at].maxNormalImpulse;
         FrictionRows& f = rows.frictions[i];
