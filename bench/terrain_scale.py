@@ -23,6 +23,14 @@ same repeats, so that the two are timed side by side on the same load (column bi
 build; ratio_to_plane against the same binary's plane runs). --extra and --base-extra add
 arguments to the runs of --rubble and of --base (column args), e.g. one binary with and without
 an option.
+With --at-rest STEPS each scene first runs --steps steps once (with --rubble; rows of phase
+drop), then a second scene is made from each run's last state (the crates where they ended,
+velocities zero, simulation.sleep false so that every crate stays awake and is solved in every
+step) and STEPS steps of it are timed (rows of phase rest, --repeat times, alternating with
+--base), adding the columns phase, the build-rows and solve stages' mean ms per step and the
+contacts after the last step; ratio_to_plane is then against the same phase's plane runs. The
+two piles at rest differ only by their floors, where after a whole drop the pile on the hills
+also moves more.
 Python's standard library only; bench/run's machine name.
 """
 import argparse
@@ -193,12 +201,30 @@ def run(rubble, scene, steps, folder, tag, backend, extra):
     return m, rows
 
 
+def rest_scene(scene, rows, prefix, shape, mass):
+    """scene with its generated crates replaced by bodies where rows' last step left them, at
+    rest (no velocity), and sleep off so that every crate is stepped in full."""
+    last = max(int(r["step"]) for r in rows)
+    rest = json.loads(json.dumps(scene))
+    rest["name"] = scene["name"] + "_at_rest"
+    rest["simulation"]["sleep"] = False
+    del rest["generators"]
+    for r in rows:
+        if int(r["step"]) == last and r["body"].startswith(prefix):
+            rest["bodies"].append({
+                "name": r["body"], "shape": shape, "mass": mass,
+                "position": [float(r[k]) for k in ("px", "py", "pz")],
+                "orientation": [float(r[k]) for k in ("qw", "qx", "qy", "qz")]})
+    return rest
+
+
 def write_rows(out, results):
     """The rows so far, each with its ms per step against the median of the same binary's plane
-    runs (blank until that binary has one)."""
+    runs in the same phase (blank until that binary has one)."""
     for r in results:
         plane = sorted(p["median_ms"] for p in results
-                       if p["scene"] == "pile_on_plane" and p["binary"] == r["binary"])
+                       if p["scene"] == "pile_on_plane" and p["binary"] == r["binary"] and
+                       p.get("phase") == r.get("phase"))
         r["ratio_to_plane"] = r["median_ms"] / plane[len(plane) // 2] if plane else ""
     os.makedirs(os.path.dirname(out) or ".", exist_ok=True)
     with open(out, "w", newline="") as f:
@@ -224,6 +250,8 @@ def main():
                     help="an argument added to --base's runs (repeat for more)")
     ap.add_argument("--backend", choices=sorted(BACKENDS), default="cpu",
                     help="cpu, or opencl (the device's SAT + PGS path)")
+    ap.add_argument("--at-rest", type=int, metavar="STEPS",
+                    help="time STEPS steps of each pile where --steps left it, at rest, no sleep")
     ap.add_argument("--work", help="folder for the meshes, scenes and runs (default: a new one)")
     ap.add_argument("--out", help="CSV (default bench/results/<machine>/terrain_scale.csv)")
     args = ap.parse_args()
@@ -271,33 +299,62 @@ def main():
     binaries = [("base", args.base, args.base_extra)] if args.base else []
     binaries.append(("build", args.rubble, args.extra))
     results = []
-    for k in range(args.repeat):
+
+    def row(name, binary, extra, k, m, rows, phase):
+        worst, who, off = deepest_below(rows, grid["name_prefix"], half, floors[name])
+        stages = m.get("stages_ms", {})
+        r = {"scene": name, "config": BACKENDS[args.backend][1], "binary": binary,
+             "args": " ".join(extra), "repeat": k,
+             "floor_triangles": mesh_triangles if name != "pile_on_plane" else 0,
+             "surface_triangles": terrain.triangles() if name != "pile_on_plane" else 0,
+             "terrain_cell_m": round(terrain.cell, 5) if name != "pile_on_plane" else "",
+             "bodies": m["bodies"], "steps": m["steps"],
+             "mean_ms": 1000.0 * m["wall_s"] / m["steps"],
+             "median_ms": m["ms_per_step"]["median"], "p90_ms": m["ms_per_step"]["p90"],
+             "stage_broad_phase_ms": stages.get("broad_phase", 0.0) / m["steps"],
+             "stage_narrow_phase_ms": stages.get("narrow_phase", 0.0) / m["steps"],
+             "deepest_below_surface_m": worst, "deepest_body": who, "off_floor": off,
+             "largest_penetration_m": m.get("largest_penetration", ""),
+             "kinetic_energy_j": m.get("kinetic_energy", {}).get("last", ""),
+             "asleep": m.get("asleep", {}).get("last", "")}
+        if args.at_rest:
+            r.update({"phase": phase,
+                      "stage_build_rows_ms": stages.get("build_contact_rows", 0.0) / m["steps"],
+                      "stage_solve_ms": stages.get("solve", 0.0) / m["steps"],
+                      "contacts": m.get("contact_count", {}).get("last", "")})
+        results.append(r)
+        write_rows(out, results)
+
+    if not args.at_rest:
+        for k in range(args.repeat):
+            for name, path in scenes.items():
+                for binary, rubble, extra in binaries:
+                    m, rows = run(rubble, path, args.steps, folder,
+                                  "%s_%s_%d" % (name, binary, k), args.backend, extra)
+                    row(name, binary, extra, k, m, rows, "")
+    else:
+        # The drop, once per scene (with --rubble), then its last state at rest, timed.
+        crate = grid["shape"]
+        rest_scenes = {}
         for name, path in scenes.items():
-            for binary, rubble, extra in binaries:
-                m, rows = run(rubble, path, args.steps, folder, "%s_%s_%d" % (name, binary, k),
-                              args.backend, extra)
-                worst, who, off = deepest_below(rows, grid["name_prefix"], half, floors[name])
-                stages = m.get("stages_ms", {})
-                results.append({
-                    "scene": name, "config": BACKENDS[args.backend][1], "binary": binary,
-                    "args": " ".join(extra), "repeat": k,
-                    "floor_triangles": mesh_triangles if name != "pile_on_plane" else 0,
-                    "surface_triangles": terrain.triangles() if name != "pile_on_plane" else 0,
-                    "terrain_cell_m": round(terrain.cell, 5) if name != "pile_on_plane" else "",
-                    "bodies": m["bodies"], "steps": m["steps"],
-                    "mean_ms": 1000.0 * m["wall_s"] / m["steps"],
-                    "median_ms": m["ms_per_step"]["median"], "p90_ms": m["ms_per_step"]["p90"],
-                    "stage_broad_phase_ms": stages.get("broad_phase", 0.0) / m["steps"],
-                    "stage_narrow_phase_ms": stages.get("narrow_phase", 0.0) / m["steps"],
-                    "deepest_below_surface_m": worst, "deepest_body": who, "off_floor": off,
-                    "largest_penetration_m": m.get("largest_penetration", ""),
-                    "kinetic_energy_j": m.get("kinetic_energy", {}).get("last", ""),
-                    "asleep": m.get("asleep", {}).get("last", ""),
-                })
-                write_rows(out, results)
+            m, rows = run(args.rubble, path, args.steps, folder, "%s_drop" % name,
+                          args.backend, args.extra)
+            row(name, "build", args.extra, 0, m, rows, "drop")
+            with open(path) as f:
+                scene = json.load(f)
+            rest_scenes[name] = os.path.join(folder, name + "_at_rest.json")
+            with open(rest_scenes[name], "w") as f:
+                json.dump(rest_scene(scene, rows, grid["name_prefix"], crate, grid["mass"]), f)
+        for k in range(args.repeat):
+            for name, path in rest_scenes.items():
+                for binary, rubble, extra in binaries:
+                    m, rows = run(rubble, path, args.at_rest, folder,
+                                  "%s_rest_%s_%d" % (name, binary, k), args.backend, extra)
+                    row(name, binary, extra, k, m, rows, "rest")
     write_rows(out, results)
     print("wrote %s (work folder %s)" % (out, folder))
     for r in results:
+        print("%-5s " % r.get("phase", ""), end="")
         print("%-22s %-5s %8d tris  mean %8.2f ms  median %8.2f ms  p90 %8.2f ms  narrow %8.2f ms"
               "  deepest %.4f m (%s)  ratio %.2f" % (
                   r["scene"], r["binary"], r["floor_triangles"], r["mean_ms"], r["median_ms"],
